@@ -1,0 +1,42 @@
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+// The seam between a server (any transport) and what answers requests: the reference device,
+// a gateway, or a test double. Sans-I/O: the server owns sockets, timers and buffers.
+namespace mblab::device {
+
+enum class Link : std::uint8_t { Tcp, Serial };
+
+struct RequestContext {
+    std::uint8_t unit = 0;  // MBAP unit id or serial address
+    Link link = Link::Tcp;
+};
+
+enum class ReplyAction : std::uint8_t {
+    Answer,    // send the `size` bytes written to the output, after `delay`
+    NoAnswer,  // send nothing (broadcast, listen-only, foreign address, fault "drop")
+    Close,     // close the connection (fault "close")
+};
+
+struct Reply {
+    ReplyAction action = ReplyAction::Answer;
+    std::size_t size = 0;  // response PDU bytes written
+    std::chrono::milliseconds delay{0};
+    // For fault "garbage": the bytes written are to go on the wire as the whole ADU body
+    // (the server still frames them, so the fault reaches the client's PDU parser).
+};
+
+class RequestHandler {
+public:
+    virtual ~RequestHandler() = default;
+    // `request` is a whole request PDU (function code first). The response PDU is written to
+    // `response`, which holds at least 253 bytes.
+    virtual Reply handle(const RequestContext& context, std::span<const std::uint8_t> request,
+                         std::span<std::uint8_t> response) = 0;
+};
+
+}  // namespace mblab::device

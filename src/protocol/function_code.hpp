@@ -1,0 +1,63 @@
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+namespace mblab::protocol {
+
+// Public function codes of [APP] plus 0x5B (SEMI object messaging, seed 000 7.13).
+enum class FunctionCode : std::uint8_t {
+    ReadCoils = 0x01,
+    ReadDiscreteInputs = 0x02,
+    ReadHoldingRegisters = 0x03,
+    ReadInputRegisters = 0x04,
+    WriteSingleCoil = 0x05,
+    WriteSingleRegister = 0x06,
+    ReadExceptionStatus = 0x07,
+    Diagnostics = 0x08,
+    GetCommEventCounter = 0x0B,
+    GetCommEventLog = 0x0C,
+    WriteMultipleCoils = 0x0F,
+    WriteMultipleRegisters = 0x10,
+    ReportServerId = 0x11,
+    ReadFileRecord = 0x14,
+    WriteFileRecord = 0x15,
+    MaskWriteRegister = 0x16,
+    ReadWriteMultipleRegisters = 0x17,
+    ReadFifoQueue = 0x18,
+    EncapsulatedInterface = 0x2B,
+    ObjectMessaging = 0x5B,
+};
+
+inline constexpr std::uint8_t kExceptionBit = 0x80;
+inline constexpr std::uint8_t kMeiReadDeviceId = 0x0E;
+inline constexpr std::uint8_t kMeiCanopen = 0x0D;
+
+// True for the codes listed above (the ones mblab decodes into typed messages).
+bool is_public_function(std::uint8_t code);
+// "read holding registers", or "function 0x41" for others.
+std::string_view function_name(std::uint8_t code);
+
+// FC 08 sub-functions of [APP] 6.8.1.
+enum class DiagnosticSub : std::uint16_t {
+    ReturnQueryData = 0x00,
+    RestartCommunications = 0x01,
+    ReturnDiagnosticRegister = 0x02,
+    ChangeAsciiDelimiter = 0x03,
+    ForceListenOnly = 0x04,
+    ClearCounters = 0x0A,
+    BusMessageCount = 0x0B,
+    BusCommunicationErrorCount = 0x0C,
+    BusExceptionErrorCount = 0x0D,
+    ServerMessageCount = 0x0E,
+    ServerNoResponseCount = 0x0F,
+    ServerNakCount = 0x10,
+    ServerBusyCount = 0x11,
+    BusCharacterOverrunCount = 0x12,
+    ClearOverrunCounter = 0x14,
+};
+
+bool is_known_diagnostic_sub(std::uint16_t sub);
+std::string_view diagnostic_sub_name(std::uint16_t sub);
+
+}  // namespace mblab::protocol

@@ -1,0 +1,148 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <variant>
+
+#include "protocol/cursor.hpp"
+#include "protocol/function_code.hpp"
+#include "protocol/register_view.hpp"
+#include "protocol/result.hpp"
+
+// Request PDUs of every public function code. Decoded messages are views into the caller's
+// buffer: they stay valid only while that buffer does. A decoded request has passed every check
+// the PDU alone allows (quantities, byte counts, lengths), so handlers never see impossible values.
+namespace mblab::protocol {
+
+struct ReadBitsRequest {  // 01, 02
+    FunctionCode function = FunctionCode::ReadCoils;
+    std::uint16_t address = 0;
+    std::uint16_t quantity = 0;
+};
+
+struct ReadRegistersRequest {  // 03, 04
+    FunctionCode function = FunctionCode::ReadHoldingRegisters;
+    std::uint16_t address = 0;
+    std::uint16_t quantity = 0;
+};
+
+struct WriteSingleCoilRequest {  // 05; value is 0x0000 or 0xFF00
+    std::uint16_t address = 0;
+    std::uint16_t value = 0;
+    bool on() const { return value == 0xFF00; }
+};
+
+struct WriteSingleRegisterRequest {  // 06
+    std::uint16_t address = 0;
+    std::uint16_t value = 0;
+};
+
+struct ReadExceptionStatusRequest {};  // 07
+
+struct DiagnosticsRequest {  // 08
+    std::uint16_t sub_function = 0;
+    std::span<const std::uint8_t> data;
+};
+
+struct GetCommEventCounterRequest {};  // 0B
+struct GetCommEventLogRequest {};      // 0C
+
+struct WriteMultipleCoilsRequest {  // 0F
+    std::uint16_t address = 0;
+    std::uint16_t quantity = 0;
+    BitView values;
+};
+
+struct WriteMultipleRegistersRequest {  // 10
+    std::uint16_t address = 0;
+    std::uint16_t quantity = 0;
+    RegisterView values;
+};
+
+struct ReportServerIdRequest {};  // 11
+
+struct FileRecordRef {
+    std::uint16_t file = 0;
+    std::uint16_t record = 0;
+    std::uint16_t length = 0;  // in registers
+};
+
+struct ReadFileRecordRequest {  // 14; sub-requests of 7 bytes each, already validated
+    std::span<const std::uint8_t> sub_requests;
+    std::size_t count() const { return sub_requests.size() / 7; }
+    FileRecordRef at(std::size_t i) const;
+};
+
+struct FileRecordData {
+    FileRecordRef ref;
+    RegisterView data;
+};
+
+struct WriteFileRecordRequest {  // 15; sub-requests of 7 + 2*length bytes, already validated
+    std::span<const std::uint8_t> sub_requests;
+    // Walks the validated sub-requests; returns false after the last.
+    bool next(std::size_t& offset, FileRecordData& out) const;
+};
+
+struct MaskWriteRegisterRequest {  // 16
+    std::uint16_t address = 0;
+    std::uint16_t and_mask = 0;
+    std::uint16_t or_mask = 0;
+};
+
+struct ReadWriteMultipleRegistersRequest {  // 17
+    std::uint16_t read_address = 0;
+    std::uint16_t read_quantity = 0;
+    std::uint16_t write_address = 0;
+    std::uint16_t write_quantity = 0;
+    RegisterView values;
+};
+
+struct ReadFifoQueueRequest {  // 18
+    std::uint16_t address = 0;
+};
+
+struct ReadDeviceIdRequest {  // 2B / 0E
+    std::uint8_t read_code = 1;  // 01 basic, 02 regular, 03 extended, 04 one object
+    std::uint8_t object_id = 0;
+};
+
+struct EncapsulatedRequest {  // 2B with MEI 0D (CANopen), carried as opaque bytes
+    std::uint8_t mei_type = kMeiCanopen;
+    std::span<const std::uint8_t> data;
+};
+
+struct ObjectMessagingRequest {  // 5B, seed 000 7.13.1.4
+    std::uint8_t fragment_byte_count = 0;
+    std::uint8_t fragment_protocol = 0;
+    std::uint16_t class_id = 0;
+    std::uint16_t instance_id = 0;
+    std::uint16_t service_code = 0;
+    std::span<const std::uint8_t> parameters;
+};
+
+struct RawRequest {  // any other function code, carried as bytes
+    std::uint8_t function = 0;
+    std::span<const std::uint8_t> data;
+};
+
+using Request =
+    std::variant<ReadBitsRequest, ReadRegistersRequest, WriteSingleCoilRequest,
+                 WriteSingleRegisterRequest, ReadExceptionStatusRequest, DiagnosticsRequest,
+                 GetCommEventCounterRequest, GetCommEventLogRequest, WriteMultipleCoilsRequest,
+                 WriteMultipleRegistersRequest, ReportServerIdRequest, ReadFileRecordRequest,
+                 WriteFileRecordRequest, MaskWriteRegisterRequest,
+                 ReadWriteMultipleRegistersRequest, ReadFifoQueueRequest, ReadDeviceIdRequest,
+                 EncapsulatedRequest, ObjectMessagingRequest, RawRequest>;
+
+// Function code byte of any request.
+std::uint8_t function_of(const Request& request);
+
+// Decodes a whole request PDU (function code first). Checks run in the order of [APP]'s state
+// diagrams: function (01) then lengths and quantities (03); address ranges are the device's job.
+Result<Request> decode_request(std::span<const std::uint8_t> pdu);
+
+// Writes the request PDU. Returns false when `out` ran out of space.
+bool encode_request(const Request& request, WriteCursor& out);
+
+}  // namespace mblab::protocol

@@ -1,0 +1,155 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <variant>
+
+#include "protocol/cursor.hpp"
+#include "protocol/exception_code.hpp"
+#include "protocol/function_code.hpp"
+#include "protocol/register_view.hpp"
+#include "protocol/request.hpp"
+#include "protocol/result.hpp"
+
+// Response PDUs of every public function code, as views into the caller's buffer.
+namespace mblab::protocol {
+
+struct ReadBitsResponse {  // 01, 02: byte count then packed bits
+    FunctionCode function = FunctionCode::ReadCoils;
+    std::span<const std::uint8_t> packed;
+};
+
+struct ReadRegistersResponse {  // 03, 04
+    FunctionCode function = FunctionCode::ReadHoldingRegisters;
+    RegisterView values;
+};
+
+struct WriteSingleCoilResponse {  // 05 (echo)
+    std::uint16_t address = 0;
+    std::uint16_t value = 0;
+};
+
+struct WriteSingleRegisterResponse {  // 06 (echo)
+    std::uint16_t address = 0;
+    std::uint16_t value = 0;
+};
+
+struct ReadExceptionStatusResponse {  // 07
+    std::uint8_t status = 0;
+};
+
+struct DiagnosticsResponse {  // 08
+    std::uint16_t sub_function = 0;
+    std::span<const std::uint8_t> data;
+};
+
+struct GetCommEventCounterResponse {  // 0B
+    std::uint16_t status = 0;
+    std::uint16_t event_count = 0;
+};
+
+struct GetCommEventLogResponse {  // 0C
+    std::uint16_t status = 0;
+    std::uint16_t event_count = 0;
+    std::uint16_t message_count = 0;
+    std::span<const std::uint8_t> events;  // at most 64
+};
+
+struct WriteMultipleCoilsResponse {  // 0F
+    std::uint16_t address = 0;
+    std::uint16_t quantity = 0;
+};
+
+struct WriteMultipleRegistersResponse {  // 10
+    std::uint16_t address = 0;
+    std::uint16_t quantity = 0;
+};
+
+struct ReportServerIdResponse {  // 11: server id, run indicator, extra data (device specific)
+    std::span<const std::uint8_t> data;
+};
+
+struct ReadFileRecordResponse {  // 14: sub-responses (length, reference type 6, data)
+    std::span<const std::uint8_t> sub_responses;
+    // Walks the validated sub-responses; returns false after the last.
+    bool next(std::size_t& offset, RegisterView& out) const;
+};
+
+struct WriteFileRecordResponse {  // 15 (echo of the request)
+    std::span<const std::uint8_t> sub_requests;
+};
+
+struct MaskWriteRegisterResponse {  // 16 (echo)
+    std::uint16_t address = 0;
+    std::uint16_t and_mask = 0;
+    std::uint16_t or_mask = 0;
+};
+
+struct ReadWriteMultipleRegistersResponse {  // 17
+    RegisterView values;
+};
+
+struct ReadFifoQueueResponse {  // 18
+    RegisterView values;
+};
+
+struct DeviceIdObject {
+    std::uint8_t id = 0;
+    std::span<const std::uint8_t> value;
+};
+
+struct ReadDeviceIdResponse {  // 2B / 0E
+    std::uint8_t read_code = 1;
+    std::uint8_t conformity_level = 0;
+    std::uint8_t more_follows = 0;
+    std::uint8_t next_object_id = 0;
+    std::uint8_t object_count = 0;
+    std::span<const std::uint8_t> objects;  // validated id / length / value triples
+    // Walks the objects; returns false after the last.
+    bool next(std::size_t& offset, DeviceIdObject& out) const;
+};
+
+struct EncapsulatedResponse {  // 2B with MEI 0D, opaque
+    std::uint8_t mei_type = kMeiCanopen;
+    std::span<const std::uint8_t> data;
+};
+
+struct ObjectMessagingResponse {  // 5B, seed 000 7.13.1.5
+    std::uint8_t fragment_byte_count = 0;
+    std::uint8_t fragment_protocol = 0;
+    std::uint16_t class_id = 0;
+    std::uint16_t instance_id = 0;
+    std::uint16_t service_code = 0;
+    std::uint16_t error_code = 0;  // 00 00 for service data
+    std::span<const std::uint8_t> parameters;
+};
+
+struct ExceptionResponse {
+    std::uint8_t function = 0;  // the request's code, without the 0x80 bit
+    ExceptionCode code = ExceptionCode::IllegalFunction;
+};
+
+struct RawResponse {
+    std::uint8_t function = 0;
+    std::span<const std::uint8_t> data;
+};
+
+using Response =
+    std::variant<ReadBitsResponse, ReadRegistersResponse, WriteSingleCoilResponse,
+                 WriteSingleRegisterResponse, ReadExceptionStatusResponse, DiagnosticsResponse,
+                 GetCommEventCounterResponse, GetCommEventLogResponse, WriteMultipleCoilsResponse,
+                 WriteMultipleRegistersResponse, ReportServerIdResponse, ReadFileRecordResponse,
+                 WriteFileRecordResponse, MaskWriteRegisterResponse,
+                 ReadWriteMultipleRegistersResponse, ReadFifoQueueResponse, ReadDeviceIdResponse,
+                 EncapsulatedResponse, ObjectMessagingResponse, ExceptionResponse, RawResponse>;
+
+// Decodes a whole response PDU; an exception response (code | 0x80) becomes ExceptionResponse.
+Result<Response> decode_response(std::span<const std::uint8_t> pdu);
+
+// Writes the response PDU. Returns false when `out` ran out of space.
+bool encode_response(const Response& response, WriteCursor& out);
+
+// Writes the two-byte exception PDU for a request's function code.
+bool encode_exception(std::uint8_t function, ExceptionCode code, WriteCursor& out);
+
+}  // namespace mblab::protocol
