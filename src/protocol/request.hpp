@@ -84,6 +84,13 @@ struct WriteFileRecordRequest {  // 15; sub-requests of 7 + 2*length bytes, alre
     bool next(std::size_t& offset, FileRecordData& out) const;
 };
 
+// Builders for the sub-request bytes that ReadFileRecordRequest / WriteFileRecordRequest view:
+// write them into a scratch buffer, then point `sub_requests` at cursor.written().
+// One FC 14 sub-request: reference type 6, file, record, length.
+void encode_file_record_ref(WriteCursor& out, const FileRecordRef& ref);
+// One FC 15 sub-request; the length field is taken from record.data, not record.ref.length.
+void encode_file_record_data(WriteCursor& out, const FileRecordData& record);
+
 struct MaskWriteRegisterRequest {  // 16
     std::uint16_t address = 0;
     std::uint16_t and_mask = 0;
@@ -102,7 +109,7 @@ struct ReadFifoQueueRequest {  // 18
     std::uint16_t address = 0;
 };
 
-struct ReadDeviceIdRequest {  // 2B / 0E
+struct ReadDeviceIdRequest {     // 2B / 0E
     std::uint8_t read_code = 1;  // 01 basic, 02 regular, 03 extended, 04 one object
     std::uint8_t object_id = 0;
 };
@@ -139,7 +146,11 @@ using Request =
 std::uint8_t function_of(const Request& request);
 
 // Decodes a whole request PDU (function code first). Checks run in the order of [APP]'s state
-// diagrams: function (01) then lengths and quantities (03); address ranges are the device's job.
+// diagrams: function (01: reserved MEI type or FC 08 sub-function), then lengths, counts and
+// values (03), then ranges no device can hold (02: address + quantity past 0xFFFF; file record
+// references outside type 6, file 1..FFFF, records 0..9999). Whether an address exists in a map
+// is the device's job. Function codes without a type here decode to RawRequest (the device
+// answers 01). The DecodeError names the wire field and the allowed range.
 Result<Request> decode_request(std::span<const std::uint8_t> pdu);
 
 // Writes the request PDU. Returns false when `out` ran out of space.

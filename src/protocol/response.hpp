@@ -75,6 +75,10 @@ struct ReadFileRecordResponse {  // 14: sub-responses (length, reference type 6,
     bool next(std::size_t& offset, RegisterView& out) const;
 };
 
+// Builds one FC 14 sub-response (length, reference type 6, registers) into a scratch buffer
+// that ReadFileRecordResponse::sub_responses then views.
+void encode_file_record_sub_response(WriteCursor& out, RegisterView data);
+
 struct WriteFileRecordResponse {  // 15 (echo of the request)
     std::span<const std::uint8_t> sub_requests;
 };
@@ -108,6 +112,11 @@ struct ReadDeviceIdResponse {  // 2B / 0E
     // Walks the objects; returns false after the last.
     bool next(std::size_t& offset, DeviceIdObject& out) const;
 };
+
+// Builds one id / length / value triple for ReadDeviceIdResponse::objects. Returns false when
+// the value is longer than 255 bytes or `out` ran out of space.
+bool encode_device_id_object(WriteCursor& out, std::uint8_t id,
+                             std::span<const std::uint8_t> value);
 
 struct EncapsulatedResponse {  // 2B with MEI 0D, opaque
     std::uint8_t mei_type = kMeiCanopen;
@@ -143,7 +152,12 @@ using Response =
                  ReadWriteMultipleRegistersResponse, ReadFifoQueueResponse, ReadDeviceIdResponse,
                  EncapsulatedResponse, ObjectMessagingResponse, ExceptionResponse, RawResponse>;
 
+// Function code byte of any response as it goes on the wire (with 0x80 for an exception).
+std::uint8_t function_of(const Response& response);
+
 // Decodes a whole response PDU; an exception response (code | 0x80) becomes ExceptionResponse.
+// Strict, for clients facing hostile servers: every count must match the bytes present and every
+// field stay inside [APP]'s ranges. Whether the answer fits the request is the caller's check.
 Result<Response> decode_response(std::span<const std::uint8_t> pdu);
 
 // Writes the response PDU. Returns false when `out` ran out of space.

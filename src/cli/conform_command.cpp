@@ -1,0 +1,267 @@
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "conformance/capture.hpp"
+#include "conformance/catalogue.hpp"
+#include "conformance/catalogue_paths.hpp"
+#include "conformance/console_report.hpp"
+#include "conformance/device_dut.hpp"
+#include "conformance/engine.hpp"
+#include "conformance/procedures.hpp"
+#include "conformance/reports.hpp"
+#include "device/profile_paths.hpp"
+#include "device/reference_device.hpp"
+#include "server/background_server.hpp"
+#include "transport/tcp_url.hpp"
+
+// `mblab conform [TARGET]`: runs conformance suites against a device, or against the built-in
+// reference device when no target is given.
+namespace mblab::cli {
+
+namespace {
+
+namespace conf = mblab::conformance;
+
+struct ConformOptions {
+    std::string target;
+    std::vector<std::string> suites;
+    bool list = false;
+    std::string dut_file;
+    int unit = 0;
+    std::uint32_t registers = 0;
+    int max_read = 125;
+    bool object_messaging = false;
+    bool alternate_encoding = false;
+    std::string profile;
+    std::string catalogue;
+    int timeout_ms = 1000;
+    int pipeline = 16;
+    std::string json;
+    std::string junit;
+    std::string pcap;
+    CLI::App* command = nullptr;
+};
+
+int usage_error(const std::string& message) {
+    fmt::print(stderr, "mblab conform: {}\n", message);
+    return kExitUsage;
+}
+
+// A suite given as a file, or by the name of a shipped one ([suite] name or file stem).
+std::optional<std::string> find_suite(const std::string& wanted,
+                                      const std::vector<std::string>& shipped,
+                                      std::string& error) {
+    namespace fs = std::filesystem;
+    std::error_code ignored;
+    if (wanted.ends_with(".toml") || wanted.find('/') != std::string::npos ||
+        fs::is_regular_file(wanted, ignored)) {
+        if (!fs::is_regular_file(wanted, ignored)) {
+            error = fmt::format("suite file {} does not exist", wanted);
+            return std::nullopt;
+        }
+        return wanted;
+    }
+    std::string names;
+    for (const auto& file : shipped) {
+        if (fs::path(file).stem() == wanted) return file;
+        auto suite = conf::load_suite_file(file);
+        if (suite && suite->name == wanted) return file;
+        names += (names.empty() ? "" : ", ") + fs::path(file).stem().string();
+    }
+    error = fmt::format("no suite named '{}' (shipped suites: {})", wanted, names);
+    return std::nullopt;
+}
+
+bool load_suites(const ConformOptions& options, std::vector<conf::Suite>& suites,
+                 std::string& error) {
+    const std::string dir =
+        options.catalogue.empty() ? conf::catalogue_dir().string() : options.catalogue;
+    const auto shipped = conf::shipped_suite_files(dir);
+    std::vector<std::string> files;
+    if (options.suites.empty()) {
+        files = shipped;
+        if (files.empty()) {
+            error = fmt::format("no suites in {} (use --catalogue DIR or --suite FILE)", dir);
+            return false;
+        }
+    }
+    for (const auto& wanted : options.suites) {
+        auto file = find_suite(wanted, shipped, error);
+        if (!file) return false;
+        files.push_back(*file);
+    }
+    for (const auto& file : files) {
+        auto suite = conf::load_suite_file(file);
+        if (!suite) {
+            error = suite.error();
+            return false;
+        }
+        suites.push_back(std::move(suite.value()));
+    }
+    return true;
+}
+
+void print_catalogue(const std::vector<conf::Suite>& suites) {
+    for (const auto& suite : suites) {
+        fmt::print("{} ({}){}\n", suite.name, suite.file,
+                   suite.title.empty() ? "" : ": " + suite.title);
+        std::size_t width = 0;
+        for (const auto& c : suite.cases) width = std::max(width, c.id.size());
+        for (const auto& c : suite.cases) {
+            std::string kind = c.procedure.empty() ? "" : fmt::format(" [{}]", c.procedure);
+            fmt::print("  {:<{}}  {}{}  ({})\n", c.id, width, c.title, kind, c.source);
+        }
+    }
+}
+
+// Flags override the DUT file, which overrides what the built-in device's profile says.
+bool declare_dut(const ConformOptions& options, conf::Dut& dut, std::string& error) {
+    if (!options.dut_file.empty()) {
+        auto loaded = conf::load_dut_file(options.dut_file);
+        if (!loaded) {
+            error = loaded.error();
+            return false;
+        }
+        dut = std::move(loaded.value());
+    }
+    const CLI::App& app = *options.command;
+    bool flags = false;
+    auto given = [&](const char* name) {
+        const bool present = app.count(name) > 0;
+        flags = flags || present;
+        return present;
+    };
+    if (given("--unit")) dut.unit = static_cast<std::uint8_t>(options.unit);
+    if (given("--registers")) dut.registers = options.registers;
+    if (given("--max-read")) dut.max_read = static_cast<std::uint16_t>(options.max_read);
+    if (given("--object-messaging")) dut.object_messaging = true;
+    if (given("--alternate-encoding")) dut.alternate_encoding = true;
+    if (flags) dut.declared_by = dut.declared_by == "defaults" ? "flags" : dut.declared_by + " and flags";
+    return true;
+}
+
+bool write_reports(const ConformOptions& options, const conf::RunResult& result,
+                   const conf::Capture& capture, std::string& error) {
+    if (!options.json.empty() &&
+        !conf::write_text_file(options.json, conf::json_report(result), error)) {
+        return false;
+    }
+    if (!options.junit.empty() &&
+        !conf::write_text_file(options.junit, conf::junit_report(result), error)) {
+        return false;
+    }
+    return options.pcap.empty() || conf::write_pcap(options.pcap, capture.events(), error);
+}
+
+int run_conform(const ConformOptions& options) {
+    std::vector<conf::Suite> suites;
+    std::string error;
+    if (!load_suites(options, suites, error)) return usage_error(error);
+    if (options.list) {
+        print_catalogue(suites);
+        return kExitOk;
+    }
+
+    conf::Dut dut;
+    std::string target = options.target;
+    std::string note;
+    std::unique_ptr<device::ReferenceDevice> device;
+    std::unique_ptr<server::BackgroundServer> server;
+    client::Endpoint endpoint;
+    if (target.empty()) {
+        const auto profile = options.profile.empty() ? device::default_profile_path()
+                                                     : std::filesystem::path(options.profile);
+        auto loaded = device::read_profile(profile);
+        if (!loaded) return usage_error(loaded.error());
+        dut = conf::dut_from_profile(*loaded, "profile " + profile.filename().string());
+        device = std::make_unique<device::ReferenceDevice>(std::move(loaded.value()));
+        server = std::make_unique<server::BackgroundServer>(*device);
+        auto port = server->start();
+        if (!port) return usage_error("cannot start the reference device: " + port.error());
+        endpoint = {"127.0.0.1", *port};
+        target = fmt::format("tcp://127.0.0.1:{}", *port);
+        note = fmt::format("built-in reference device, profile {}", profile.string());
+    } else {
+        if (target.starts_with("rtu+tcp://")) {
+            return usage_error(fmt::format("{}: RTU over TCP is not yet supported", target));
+        }
+        auto parsed = transport::parse_tcp_url(target);
+        if (!parsed) return usage_error(parsed.error());
+        endpoint = {parsed->address().to_string(), parsed->port()};
+        target = transport::format_tcp_url(*parsed);
+    }
+    if (!declare_dut(options, dut, error)) return usage_error(error);
+
+    conf::EngineOptions engine_options;
+    engine_options.timeout = std::chrono::milliseconds(options.timeout_ms);
+    engine_options.pipeline_depth = static_cast<std::size_t>(options.pipeline);
+    conf::ConsoleReport console(stdout, stderr, ::isatty(STDERR_FILENO) != 0);
+    conf::Capture capture;
+    conf::Session session(endpoint, dut, engine_options,
+                          options.pcap.empty() ? nullptr : &capture, &console);
+    client::LinkError link_error;
+    if (session.link(link_error) == nullptr) {
+        return usage_error(fmt::format("cannot connect to {}: {}", target, link_error.message));
+    }
+
+    console.header(target, session.dut(), note);
+    conf::Engine engine(session, &console);
+    conf::RunResult result = engine.run(suites, target);
+    console.summary(result);
+    if (!write_reports(options, result, capture, error)) return usage_error(error);
+    return result.all_passed() ? kExitOk : kExitFailed;
+}
+
+}  // namespace
+
+void add_conform_command(CLI::App& app, CommandRunner& runner) {
+    auto options = std::make_shared<ConformOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "conform",
+        "Run the conformance suites against a device (tcp://HOST[:PORT]); with no target, "
+        "against the built-in reference device");
+    options->command = cmd;
+    cmd->add_option("target", options->target,
+                    "tcp://HOST[:PORT] of the device under test (port 502 by default)");
+    cmd->add_option("--suite", options->suites,
+                    "suite to run, by name or TOML file; repeatable (default: every shipped "
+                    "suite, policy first)");
+    cmd->add_flag("--list", options->list, "print the catalogue of the chosen suites and exit");
+    cmd->add_option("--dut", options->dut_file,
+                    "TOML file declaring the device under test (keys as the flags below)")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--unit", options->unit, "unit identifier of the DUT (seed 000 6.4)")
+        ->check(CLI::Range(0, 255));
+    cmd->add_option("--registers", options->registers,
+                    "number of holding registers of the DUT (seed 000 6.6)")
+        ->check(CLI::Range(1, 65536));
+    cmd->add_option("--max-read", options->max_read,
+                    "most registers one FC 03 request may read (seed 000 6.6)")
+        ->check(CLI::Range(1, 125));
+    cmd->add_flag("--object-messaging", options->object_messaging,
+                  "the DUT supports function code 0x5B (seed 000 6.5)");
+    cmd->add_flag("--alternate-encoding", options->alternate_encoding,
+                  "the DUT supports the 0x5B alternate encoding (seed 000 6.5)");
+    cmd->add_option("--profile", options->profile,
+                    "profile of the built-in reference device (no target only)");
+    cmd->add_option("--catalogue", options->catalogue, "directory of the shipped suites");
+    cmd->add_option("--timeout", options->timeout_ms, "milliseconds to wait for each answer")
+        ->check(CLI::Range(1, 60000));
+    cmd->add_option("--pipeline", options->pipeline,
+                    "requests in flight during the register sweep and SEMI scan (1: none)")
+        ->check(CLI::Range(1, 64));
+    cmd->add_option("--json", options->json, "write the report as JSON to FILE");
+    cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
+    cmd->add_option("--pcap", options->pcap, "write every exchange as a pcap capture to FILE");
+    cmd->callback([options, &runner] { runner = [options] { return run_conform(*options); }; });
+}
+
+}  // namespace mblab::cli

@@ -1,0 +1,291 @@
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
+#include <asio/experimental/as_tuple.hpp>
+#include <asio/io_context.hpp>
+#include <asio/signal_set.hpp>
+#include <asio/steady_timer.hpp>
+#include <asio/use_awaitable.hpp>
+#include <chrono>
+#include <csignal>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "device/profile_paths.hpp"
+#include "device/reference_device.hpp"
+#include "server/server_options.hpp"
+#include "server/state_file.hpp"
+#include "server/tcp_server.hpp"
+#include "transport/tcp_url.hpp"
+
+// `mblab serve [PROFILE]`: the reference device over Modbus/TCP until SIGINT or SIGTERM.
+namespace mblab::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+using Seconds = std::chrono::duration<double>;
+constexpr auto use_tuple = asio::experimental::as_tuple(asio::use_awaitable);
+
+struct ServeOptions {
+    std::string profile = "reference";
+    std::string listen = "tcp://127.0.0.1:1502";
+    std::size_t max_connections = server::ServerOptions{}.max_connections;
+    double idle_timeout = 60;
+    std::vector<std::string> allow;
+    std::size_t max_outstanding = server::ServerOptions{}.max_outstanding;
+    int frame_timeout_ms = 250;
+    std::string state;
+    double save_interval = 10;
+    bool stats = false;
+    int devices = 1;
+};
+
+int usage_error(const std::string& message) {
+    fmt::print(stderr, "mblab serve: {}\n", message);
+    return kExitUsage;
+}
+
+// A profile given as a file, or by the name of a shipped one ("reference").
+std::optional<fs::path> find_profile(const std::string& wanted, std::string& error) {
+    std::error_code ignored;
+    if (fs::is_regular_file(wanted, ignored)) return fs::path(wanted);
+    auto shipped = device::profiles_dir() / (wanted + ".toml");
+    if (wanted.find('/') == std::string::npos && fs::is_regular_file(shipped, ignored)) {
+        return shipped;
+    }
+    std::string names;
+    for (const auto& entry : fs::directory_iterator(device::profiles_dir(), ignored)) {
+        if (entry.path().extension() != ".toml") continue;
+        names += (names.empty() ? "" : ", ") + entry.path().stem().string();
+    }
+    error = fmt::format("no profile file or shipped profile named '{}' (shipped: {})", wanted,
+                        names.empty() ? "none found" : names);
+    return std::nullopt;
+}
+
+std::string describe_units(const device::ReferenceDevice& device) {
+    auto ids = device.unit_ids();
+    std::string text = ids.size() == 1 ? "unit " : "units ";
+    for (std::size_t i = 0; i < ids.size(); ++i)
+        text += (i ? "," : "") + std::to_string(ids[i]);
+    return text + fmt::format(" (0 and 255 answer as {})", ids.front());
+}
+
+server::ServerOptions server_options(const ServeOptions& options, std::string& error) {
+    server::ServerOptions out;
+    out.max_connections = options.max_connections;
+    out.idle_timeout =
+        std::chrono::duration_cast<std::chrono::milliseconds>(Seconds(options.idle_timeout));
+    out.max_outstanding = options.max_outstanding;
+    out.partial_frame_timeout = std::chrono::milliseconds(options.frame_timeout_ms);
+    for (const auto& entry : options.allow) {
+        if (!out.allow.add(entry, error)) break;
+    }
+    return out;
+}
+
+// The counters of every server, summed, on one line once a second: a live line on a terminal,
+// a line per second in a log.
+class StatsLine {
+  public:
+    explicit StatsLine(const std::vector<std::unique_ptr<server::TcpServer>>& servers)
+        : servers_(servers), live_(::isatty(STDERR_FILENO) != 0) {}
+
+    void print() {
+        using server::ServerStats;
+        std::uint64_t open = 0, requests = 0, exceptions = 0, busy = 0, refused = 0, evicted = 0;
+        for (const auto& s : servers_) {
+            open += ServerStats::read(s->stats().connections_open);
+            requests += ServerStats::read(s->stats().requests);
+            exceptions += ServerStats::read(s->stats().exceptions);
+            busy += ServerStats::read(s->stats().busy);
+            refused += s->listener_counters().refused_address.load() +
+                       s->listener_counters().refused_full.load();
+            evicted += s->listener_counters().evicted_idle.load();
+        }
+        fmt::print(stderr,
+                   "{}mblab serve: {} connections, {} req/s, {} exc/s; total {} requests, {} "
+                   "exceptions, {} busy, {} refused, {} evicted{}",
+                   live_ ? "\r\033[K" : "", open, requests - last_requests_,
+                   exceptions - last_exceptions_, requests, exceptions, busy, refused, evicted,
+                   live_ ? "" : "\n");
+        std::fflush(stderr);
+        last_requests_ = requests;
+        last_exceptions_ = exceptions;
+    }
+    void finish() const {
+        if (live_) fmt::print(stderr, "\n");
+    }
+
+  private:
+    const std::vector<std::unique_ptr<server::TcpServer>>& servers_;
+    bool live_;
+    std::uint64_t last_requests_ = 0;
+    std::uint64_t last_exceptions_ = 0;
+};
+
+template <class Action>
+asio::awaitable<void> every(asio::steady_timer& timer, std::chrono::milliseconds period,
+                            Action action) {
+    for (;;) {
+        timer.expires_after(period);
+        auto [ec] = co_await timer.async_wait(use_tuple);
+        if (ec) co_return;
+        action();
+    }
+}
+
+bool save_state(const device::ReferenceDevice& device, const fs::path& path) {
+    std::string error;
+    if (server::write_file_atomically(path, device.save_state(), error)) return true;
+    fmt::print(stderr, "mblab serve: cannot save state: {}\n", error);
+    return false;
+}
+
+int run_serve(const ServeOptions& options) {
+    std::string error;
+    auto endpoint = transport::parse_tcp_url(options.listen);
+    if (!endpoint) return usage_error(endpoint.error());
+    auto profile_path = find_profile(options.profile, error);
+    if (!profile_path) return usage_error(error);
+    auto server_config = server_options(options, error);
+    if (!error.empty()) return usage_error(error);
+    if (!options.state.empty() && options.devices != 1) {
+        return usage_error("--state keeps one device's data; use it without --devices");
+    }
+    auto first_port = static_cast<unsigned>(endpoint->port());
+    if (first_port != 0 && first_port + static_cast<unsigned>(options.devices) - 1 > 65535) {
+        return usage_error(fmt::format("{} devices from port {} run past port 65535",
+                                       options.devices, first_port));
+    }
+
+    std::vector<std::unique_ptr<device::ReferenceDevice>> devices;
+    for (int i = 0; i < options.devices; ++i) {
+        auto loaded = device::load_profile(*profile_path);
+        if (!loaded) return usage_error(loaded.error());
+        devices.push_back(std::move(loaded.value()));
+    }
+    auto& first_device = *devices.front();
+    if (!options.state.empty()) {
+        auto text = server::read_state_file(options.state, error);
+        if (!error.empty()) return usage_error(error);
+        if (text && !first_device.load_state(*text, error)) {
+            return usage_error(fmt::format("state file {}: {}", options.state, error));
+        }
+    }
+
+    std::signal(SIGPIPE, SIG_IGN);
+    asio::io_context io(1);
+    std::vector<std::unique_ptr<server::TcpServer>> servers;
+    std::vector<std::string> urls;
+    for (std::size_t i = 0; i < devices.size(); ++i) {
+        auto config = server_config;
+        auto* device = devices[i].get();
+        config.on_busy_reply = [device](std::uint8_t unit) { device->count_busy_reply(unit); };
+        servers.push_back(std::make_unique<server::TcpServer>(io, *device, std::move(config)));
+        auto at = *endpoint;
+        if (first_port != 0) at.port(static_cast<std::uint16_t>(first_port + i));
+        auto port = servers.back()->start(at);
+        if (!port) return usage_error(port.error());
+        at.port(*port);
+        urls.push_back(transport::format_tcp_url(at));
+    }
+
+    std::string where = urls.front();
+    if (urls.size() > 1 && first_port != 0) {
+        where += fmt::format("..{}", first_port + urls.size() - 1);
+    } else {
+        for (std::size_t i = 1; i < urls.size(); ++i)
+            where += ", " + urls[i];
+    }
+    fmt::print("mblab serve: {} {} on {}, {}; stop with Ctrl-C\n",
+               devices.size() > 1
+                   ? fmt::format("{} {}", devices.size(), first_device.profile().name)
+                   : first_device.profile().name,
+               devices.size() > 1 ? "devices" : "profile", where, describe_units(first_device));
+    std::fflush(stdout);
+
+    asio::steady_timer save_timer(io);
+    asio::steady_timer stats_timer(io);
+    StatsLine stats_line(servers);
+    if (!options.state.empty() && options.save_interval > 0) {
+        auto period =
+            std::chrono::duration_cast<std::chrono::milliseconds>(Seconds(options.save_interval));
+        asio::co_spawn(io,
+                       every(save_timer, period, [&] { save_state(first_device, options.state); }),
+                       asio::detached);
+    }
+    if (options.stats) {
+        asio::co_spawn(io, every(stats_timer, std::chrono::seconds(1), [&] { stats_line.print(); }),
+                       asio::detached);
+    }
+    asio::signal_set signals(io, SIGINT, SIGTERM);
+    signals.async_wait([&](const asio::error_code& ec, int) {
+        if (ec) return;
+        for (auto& s : servers)
+            s->stop();
+        save_timer.cancel();
+        stats_timer.cancel();
+    });
+    io.run();
+
+    // Every session has ended, so every write the device acknowledged is in it now.
+    if (options.stats) {
+        stats_line.print();
+        stats_line.finish();
+    }
+    if (!options.state.empty() && !save_state(first_device, options.state)) return kExitFailed;
+    return kExitOk;
+}
+
+}  // namespace
+
+void add_serve_command(CLI::App& app, CommandRunner& runner) {
+    auto options = std::make_shared<ServeOptions>();
+    auto* cmd = app.add_subcommand("serve", "run the reference device as a Modbus/TCP server");
+    cmd->add_option("profile", options->profile,
+                    "device profile: a TOML file or a shipped profile's name")
+        ->capture_default_str();
+    cmd->add_option("--listen", options->listen, "address to listen on (port 0: any free port)")
+        ->capture_default_str();
+    cmd->add_option("--max-connections", options->max_connections,
+                    "connections at once; when full the oldest idle one is closed (0: no limit)")
+        ->capture_default_str();
+    cmd->add_option("--idle-timeout", options->idle_timeout,
+                    "seconds without a request before a connection is closed (0: never)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    cmd->add_option("--allow", options->allow,
+                    "admit only clients from this address or CIDR network (repeatable)");
+    cmd->add_option("--max-outstanding", options->max_outstanding,
+                    "requests a connection may have unanswered; more are answered 06 busy")
+        ->check(CLI::Range(1, 4096))
+        ->capture_default_str();
+    cmd->add_option("--frame-timeout", options->frame_timeout_ms,
+                    "milliseconds an unfinished frame may wait before it is answered 03")
+        ->check(CLI::Range(1, 60000))
+        ->capture_default_str();
+    cmd->add_option("--state", options->state,
+                    "keep the writable data in FILE: restored at start, saved periodically and "
+                    "on exit");
+    cmd->add_option("--save-interval", options->save_interval,
+                    "seconds between saves of --state (0: only on exit)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    cmd->add_flag("--stats", options->stats, "print a line of counters on stderr every second");
+    cmd->add_option("--devices", options->devices,
+                    "run K devices on consecutive ports from the --listen port")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    cmd->callback([options, &runner] { runner = [options] { return run_serve(*options); }; });
+}
+
+}  // namespace mblab::cli

@@ -1,0 +1,247 @@
+#include "client/raw_link.hpp"
+
+#include <arpa/inet.h>
+#include <fcntl.h>
+#include <netdb.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "protocol/limits.hpp"
+
+namespace mblab::client {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+std::string errno_text(int code) {
+    switch (code) {
+        case ECONNREFUSED: return "connection refused";
+        case ETIMEDOUT: return "connection timed out";
+        case EHOSTUNREACH: return "host unreachable";
+        case ENETUNREACH: return "network unreachable";
+        case ECONNRESET: return "connection reset by peer";
+        case EPIPE: return "connection closed by peer";
+        default: return std::strerror(code);
+    }
+}
+
+int remaining_ms(Clock::time_point deadline) {
+    auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+    return left.count() < 0 ? 0 : static_cast<int>(left.count());
+}
+
+// Non-blocking connect bounded by the deadline; returns the socket or -1 with `error` set.
+int connect_one(const addrinfo& info, Clock::time_point deadline, std::string& error) {
+    int fd = ::socket(info.ai_family, info.ai_socktype | SOCK_CLOEXEC | SOCK_NONBLOCK,
+                      info.ai_protocol);
+    if (fd < 0) {
+        error = errno_text(errno);
+        return -1;
+    }
+    if (::connect(fd, info.ai_addr, info.ai_addrlen) != 0 && errno != EINPROGRESS) {
+        error = errno_text(errno);
+        ::close(fd);
+        return -1;
+    }
+    pollfd pfd{fd, POLLOUT, 0};
+    int ready = ::poll(&pfd, 1, remaining_ms(deadline));
+    int so_error = 0;
+    socklen_t len = sizeof so_error;
+    if (ready <= 0) {
+        error = ready == 0 ? "connection timed out" : errno_text(errno);
+    } else if (::getsockopt(fd, SOL_SOCKET, SO_ERROR, &so_error, &len) != 0 || so_error != 0) {
+        error = errno_text(so_error != 0 ? so_error : errno);
+    } else {
+        return fd;
+    }
+    ::close(fd);
+    return -1;
+}
+
+void describe(const sockaddr_storage& address, std::uint32_t& ip, std::uint16_t& port) {
+    if (address.ss_family == AF_INET) {
+        const auto* v4 = reinterpret_cast<const sockaddr_in*>(&address);
+        ip = ntohl(v4->sin_addr.s_addr);
+        port = ntohs(v4->sin_port);
+    } else if (address.ss_family == AF_INET6) {
+        port = ntohs(reinterpret_cast<const sockaddr_in6*>(&address)->sin6_port);
+    }
+}
+
+}  // namespace
+
+long mbap_frame_size(std::span<const std::uint8_t> head) {
+    if (head.size() < 6) return 0;
+    long length = (head[4] << 8) | head[5];
+    if (length == 0 ||
+        length + 6 > static_cast<long>(protocol::limits::kMaxTcpAdu)) {
+        return -1;
+    }
+    return length + 6;
+}
+
+protocol::Result<RawLink, LinkError> RawLink::connect(const Endpoint& endpoint,
+                                                      std::chrono::milliseconds timeout,
+                                                      LinkObserver* observer) {
+    addrinfo hints{};
+    hints.ai_family = AF_UNSPEC;
+    hints.ai_socktype = SOCK_STREAM;
+    addrinfo* found = nullptr;
+    std::string port = std::to_string(endpoint.port);
+    if (int rc = ::getaddrinfo(endpoint.host.c_str(), port.c_str(), &hints, &found); rc != 0) {
+        return LinkError{std::string("cannot resolve host: ") + ::gai_strerror(rc)};
+    }
+    const auto deadline = Clock::now() + timeout;
+    std::string error = "no address";
+    int fd = -1;
+    for (addrinfo* info = found; info != nullptr && fd < 0; info = info->ai_next) {
+        fd = connect_one(*info, deadline, error);
+    }
+    ::freeaddrinfo(found);
+    if (fd < 0) return LinkError{error};
+
+    // Blocking from here on: every wait is bounded by poll().
+    ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+    int one = 1;
+    ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    LinkAddresses addresses;
+    sockaddr_storage local{};
+    sockaddr_storage peer{};
+    socklen_t local_len = sizeof local;
+    socklen_t peer_len = sizeof peer;
+    if (::getsockname(fd, reinterpret_cast<sockaddr*>(&local), &local_len) == 0 &&
+        ::getpeername(fd, reinterpret_cast<sockaddr*>(&peer), &peer_len) == 0) {
+        describe(local, addresses.local_ip, addresses.local_port);
+        describe(peer, addresses.peer_ip, addresses.peer_port);
+    }
+    if (observer != nullptr) observer->on_open(addresses);
+    return RawLink(fd, addresses, observer);
+}
+
+RawLink::RawLink(int fd, const LinkAddresses& addresses, LinkObserver* observer)
+    : fd_(fd), addresses_(addresses), observer_(observer) {}
+
+RawLink::RawLink(RawLink&& other) noexcept
+    : fd_(std::exchange(other.fd_, -1)),
+      addresses_(other.addresses_),
+      observer_(other.observer_),
+      buffer_(std::move(other.buffer_)) {}
+
+RawLink& RawLink::operator=(RawLink&& other) noexcept {
+    if (this != &other) {
+        close();
+        fd_ = std::exchange(other.fd_, -1);
+        addresses_ = other.addresses_;
+        observer_ = other.observer_;
+        buffer_ = std::move(other.buffer_);
+    }
+    return *this;
+}
+
+RawLink::~RawLink() { close(); }
+
+void RawLink::close() {
+    if (fd_ >= 0) drop(false);
+}
+
+void RawLink::drop(bool by_peer) {
+    ::close(fd_);
+    fd_ = -1;
+    buffer_.clear();
+    if (observer_ != nullptr) observer_->on_close(by_peer);
+}
+
+bool RawLink::send(std::span<const std::uint8_t> bytes, LinkError& error) {
+    if (fd_ < 0) {
+        error.message = "connection closed";
+        return false;
+    }
+    std::size_t sent = 0;
+    while (sent < bytes.size()) {
+        ssize_t n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            error.message = errno_text(errno);
+            drop(true);
+            return false;
+        }
+        sent += static_cast<std::size_t>(n);
+    }
+    if (observer_ != nullptr) observer_->on_sent(bytes);
+    return true;
+}
+
+RawLink::Fill RawLink::fill(Clock::time_point deadline, std::string& detail) {
+    if (fd_ < 0) {
+        detail = "connection closed";
+        return Fill::Closed;
+    }
+    pollfd pfd{fd_, POLLIN, 0};
+    int ready = ::poll(&pfd, 1, remaining_ms(deadline));
+    if (ready < 0 && errno == EINTR) return Fill::Data;  // caller loops and re-checks the deadline
+    if (ready <= 0) return Fill::Timeout;
+    std::uint8_t chunk[1024];
+    ssize_t n = ::recv(fd_, chunk, sizeof chunk, 0);
+    if (n <= 0) {
+        detail = n == 0 ? "connection closed by peer" : errno_text(errno);
+        return Fill::Closed;
+    }
+    auto got = std::span<const std::uint8_t>(chunk, static_cast<std::size_t>(n));
+    buffer_.insert(buffer_.end(), got.begin(), got.end());
+    if (observer_ != nullptr) observer_->on_received(got);
+    return Fill::Data;
+}
+
+Received RawLink::take(ReceiveStatus status, std::size_t count, std::string detail) {
+    Received out{status, {}, std::move(detail)};
+    out.bytes.assign(buffer_.begin(), buffer_.begin() + static_cast<long>(count));
+    buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<long>(count));
+    return out;
+}
+
+std::optional<Received> RawLink::wait(Clock::time_point deadline) {
+    std::string detail;
+    switch (fill(deadline, detail)) {
+        case Fill::Data: return std::nullopt;
+        case Fill::Timeout: return take(ReceiveStatus::Timeout, buffer_.size());
+        case Fill::Closed: break;
+    }
+    Received out = take(ReceiveStatus::Closed, buffer_.size(), detail);
+    if (fd_ >= 0) drop(true);
+    return out;
+}
+
+Received RawLink::receive_frame(std::chrono::milliseconds timeout) {
+    const auto deadline = Clock::now() + timeout;
+    while (true) {
+        long size = mbap_frame_size(buffer_);
+        if (size < 0) {
+            // Nothing after a broken header can be trusted to start a frame: hand it all over.
+            return take(ReceiveStatus::Malformed, buffer_.size(),
+                        "length field does not describe an MBAP frame");
+        }
+        if (size > 0 && buffer_.size() >= static_cast<std::size_t>(size)) {
+            return take(ReceiveStatus::Frame, static_cast<std::size_t>(size));
+        }
+        if (auto done = wait(deadline)) return std::move(*done);
+    }
+}
+
+Received RawLink::receive_any(std::chrono::milliseconds timeout) {
+    const auto deadline = Clock::now() + timeout;
+    while (true) {
+        if (auto done = wait(deadline)) return std::move(*done);
+    }
+}
+
+}  // namespace mblab::client

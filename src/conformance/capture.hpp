@@ -1,0 +1,43 @@
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "client/raw_link.hpp"
+
+namespace mblab::conformance {
+
+// Everything the tester's connections carried, in order, for a pcap file.
+struct CaptureEvent {
+    enum class Kind : std::uint8_t { Open, Sent, Received, Close };
+    Kind kind = Kind::Open;
+    std::chrono::system_clock::time_point time;
+    std::vector<std::uint8_t> bytes;  // Sent, Received
+    client::LinkAddresses addresses;  // Open
+    bool by_peer = false;             // Close
+};
+
+class Capture : public client::LinkObserver {
+public:
+    void on_open(const client::LinkAddresses& addresses) override;
+    void on_sent(std::span<const std::uint8_t> bytes) override;
+    void on_received(std::span<const std::uint8_t> bytes) override;
+    void on_close(bool by_peer) override;
+
+    const std::vector<CaptureEvent>& events() const { return events_; }
+
+private:
+    std::vector<CaptureEvent> events_;
+};
+
+// Writes the capture with libpcap as raw IPv4 (LINKTYPE_RAW) packets: each connection opens with
+// a three-way handshake and ends with FINs, segments hold whole MBAP frames (a partial frame is
+// written when the other side speaks or the connection closes), sequence and acknowledgement
+// numbers follow the bytes, and the device's side is port 502 whatever port it really used, so
+// Wireshark decodes Modbus/TCP. False with `error` set when the file cannot be written.
+bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events,
+                std::string& error);
+
+}  // namespace mblab::conformance

@@ -1,0 +1,35 @@
+#pragma once
+
+#include <cstdio>
+#include <string>
+
+#include "conformance/engine.hpp"
+#include "conformance/session.hpp"
+
+namespace mblab::conformance {
+
+// The console report: one line per case as it finishes, the evidence under each failure, a
+// summary at the end. The progress line of long procedures goes to its own stream (stderr) and
+// only when that is a terminal.
+class ConsoleReport : public RunListener, public Progress {
+public:
+    ConsoleReport(std::FILE* out, std::FILE* progress, bool show_progress)
+        : out_(out), progress_(progress), show_progress_(show_progress) {}
+
+    void header(const std::string& target, const Dut& dut, const std::string& note);
+    void suite_started(const Suite& suite) override;
+    void case_finished(const Suite& suite, const CaseResult& result) override;
+    void summary(const RunResult& result);
+
+    void update(std::string_view what, std::size_t done, std::size_t total) override;
+    void clear() override;
+
+private:
+    std::FILE* out_;
+    std::FILE* progress_;
+    bool show_progress_;
+    bool progress_shown_ = false;
+    std::size_t id_width_ = 8;
+};
+
+}  // namespace mblab::conformance

@@ -1,0 +1,187 @@
+#include "conformance/dut.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+
+#include "conformance/toml_reader.hpp"
+
+namespace mblab::conformance {
+
+namespace {
+
+constexpr std::uint32_t kAddressSpace = 65536;
+constexpr std::uint16_t kPolicyOutOfRange = 0x8001;  // seed 000 9.1.2.2
+
+std::vector<std::uint8_t> be16(std::uint32_t value) {
+    return {static_cast<std::uint8_t>(value >> 8), static_cast<std::uint8_t>(value & 0xFF)};
+}
+
+template <class T>
+std::optional<std::int64_t> widen(const std::optional<T>& value) {
+    if (!value) return std::nullopt;
+    return static_cast<std::int64_t>(*value);
+}
+
+// Numbers `requires` can compare; booleans count as 1 when declared true.
+std::optional<std::int64_t> number_of(const Dut& dut, std::string_view name) {
+    if (name == "unit") return dut.unit;
+    if (name == "registers") return widen(dut.registers);
+    if (name == "max_read") return dut.max_read;
+    if (name == "object_messaging") return dut.object_messaging ? std::optional<std::int64_t>(1) : std::nullopt;
+    if (name == "alternate_encoding") return dut.alternate_encoding ? std::optional<std::int64_t>(1) : std::nullopt;
+    if (name == "coils") return widen(dut.coils);
+    if (name == "discrete_inputs") return widen(dut.discrete_inputs);
+    if (name == "input_registers") return widen(dut.input_registers);
+    if (name == "read_only_register") return widen(dut.read_only_register);
+    if (name == "read_only_coil") return widen(dut.read_only_coil);
+    if (name == "fifo_address") return widen(dut.fifo_address);
+    if (name == "file_number") return widen(dut.file_number);
+    if (name == "echo_max_words") return widen(dut.echo_max_words);
+    return std::nullopt;
+}
+
+// Seed 000 9.1.2: 0x8001 unless that offset is valid; then the first offset past the end, or,
+// when all 65536 offsets are valid, a two-register read from the last one.
+std::vector<std::uint8_t> out_of_range_read(const Dut& dut) {
+    std::uint32_t offset = kPolicyOutOfRange;
+    std::uint32_t count = 1;
+    if (dut.registers && *dut.registers > kPolicyOutOfRange) {
+        if (*dut.registers < kAddressSpace) {
+            offset = *dut.registers;
+        } else {
+            offset = kAddressSpace - 1;
+            count = 2;
+        }
+    }
+    auto out = be16(offset);
+    auto tail = be16(count);
+    out.insert(out.end(), tail.begin(), tail.end());
+    return out;
+}
+
+std::vector<std::uint8_t> echo_words(std::uint32_t words) {
+    std::vector<std::uint8_t> out;
+    for (std::uint32_t i = 0; i < words; ++i) {
+        // Distinct words so a device that reorders or truncates the echo is caught.
+        out.push_back(static_cast<std::uint8_t>(0xA0 + (i >> 8)));
+        out.push_back(static_cast<std::uint8_t>(i & 0xFF));
+    }
+    return out;
+}
+
+constexpr std::array kComputedFacts = {std::string_view("out_of_range_registers"),
+                                       std::string_view("echo_max_data"),
+                                       std::string_view("echo_over_data")};
+
+}  // namespace
+
+const std::vector<std::string_view>& dut_keys() {
+    static const std::vector<std::string_view> keys = {
+        "unit",          "registers",          "max_read",       "object_messaging",
+        "alternate_encoding", "coils",         "discrete_inputs", "input_registers",
+        "read_only_register", "read_only_coil", "fifo_address",   "file_number",
+        "echo_max_words"};
+    return keys;
+}
+
+bool is_known_fact(std::string_view name) {
+    const auto& keys = dut_keys();
+    return std::find(keys.begin(), keys.end(), name) != keys.end() ||
+           std::find(kComputedFacts.begin(), kComputedFacts.end(), name) != kComputedFacts.end();
+}
+
+std::optional<std::vector<std::uint8_t>> DutFacts::fact(std::string_view name) const {
+    if (name == "unit") return std::vector<std::uint8_t>{dut_.unit};
+    if (name == "out_of_range_registers") return out_of_range_read(dut_);
+    if (name == "echo_max_data" || name == "echo_over_data") {
+        if (!dut_.echo_max_words) return std::nullopt;
+        return echo_words(*dut_.echo_max_words + (name == "echo_over_data" ? 1U : 0U));
+    }
+    auto value = number_of(dut_, name);
+    if (!value) return std::nullopt;
+    return be16(static_cast<std::uint32_t>(*value));
+}
+
+protocol::Result<Dut, std::string> load_dut_file(const std::string& path) {
+    TomlReader reader(path);
+    auto table = reader.parse_file();
+    Dut dut;
+    dut.declared_by = path;
+    std::int64_t unit = dut.unit;
+    std::int64_t max_read = dut.max_read;
+    bool ok = table && reader.only_keys(*table, dut_keys()) &&
+              reader.get(*table, "unit", unit, 0, 255) &&
+              reader.get_number(*table, "registers", dut.registers, 1, kAddressSpace) &&
+              reader.get(*table, "max_read", max_read, 1, 125) &&
+              reader.get(*table, "object_messaging", dut.object_messaging) &&
+              reader.get(*table, "alternate_encoding", dut.alternate_encoding) &&
+              reader.get_number(*table, "coils", dut.coils, 1, kAddressSpace) &&
+              reader.get_number(*table, "discrete_inputs", dut.discrete_inputs, 1, kAddressSpace) &&
+              reader.get_number(*table, "input_registers", dut.input_registers, 1, kAddressSpace) &&
+              reader.get_number(*table, "read_only_register", dut.read_only_register, 0, 65535) &&
+              reader.get_number(*table, "read_only_coil", dut.read_only_coil, 0, 65535) &&
+              reader.get_number(*table, "fifo_address", dut.fifo_address, 0, 65535) &&
+              reader.get_number(*table, "file_number", dut.file_number, 1, 65535) &&
+              reader.get_number(*table, "echo_max_words", dut.echo_max_words, 1, 124);
+    if (!ok) return reader.error();
+    dut.unit = static_cast<std::uint8_t>(unit);
+    dut.max_read = static_cast<std::uint16_t>(max_read);
+    return dut;
+}
+
+protocol::Result<Requirement, std::string> parse_requirement(std::string_view text) {
+    Requirement out;
+    out.text = std::string(text);
+    std::size_t i = 0;
+    auto skip_space = [&] {
+        while (i < text.size() && text[i] == ' ') ++i;
+    };
+    skip_space();
+    std::size_t start = i;
+    while (i < text.size() && (std::islower(static_cast<unsigned char>(text[i])) || text[i] == '_')) ++i;
+    out.fact = std::string(text.substr(start, i - start));
+    if (!is_known_fact(out.fact)) {
+        return fmt::format("requirement '{}' names no DUT fact", text);
+    }
+    skip_space();
+    if (i == text.size()) return out;
+    for (std::string_view op : {">=", "<=", "==", "!=", ">", "<"}) {
+        if (text.substr(i, op.size()) == op) {
+            out.op = std::string(op);
+            i += op.size();
+            break;
+        }
+    }
+    skip_space();
+    std::string_view number = text.substr(i);
+    if (out.op.empty() || number.empty() ||
+        !std::all_of(number.begin(), number.end(),
+                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
+        return fmt::format("requirement '{}' is not 'fact' or 'fact OP number'", text);
+    }
+    out.value = std::stoll(std::string(number));
+    return out;
+}
+
+std::optional<std::string> unmet(const Requirement& requirement, const Dut& dut) {
+    auto value = number_of(dut, requirement.fact);
+    if (!value) {
+        return fmt::format("the DUT does not declare {}", requirement.fact);
+    }
+    if (requirement.op.empty()) return std::nullopt;
+    const std::int64_t v = *value;
+    const std::int64_t want = requirement.value;
+    bool met = requirement.op == ">="   ? v >= want
+               : requirement.op == "<=" ? v <= want
+               : requirement.op == ">"  ? v > want
+               : requirement.op == "<"  ? v < want
+               : requirement.op == "==" ? v == want
+                                        : v != want;
+    if (met) return std::nullopt;
+    return fmt::format("needs {}; the DUT declares {} = {}", requirement.text, requirement.fact, v);
+}
+
+}  // namespace mblab::conformance

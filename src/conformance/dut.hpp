@@ -1,0 +1,68 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "conformance/pattern.hpp"
+#include "protocol/result.hpp"
+
+// What is declared about the device under test (seed 000 section 6, plus the facts extended
+// suites need). Anything not declared stays empty, and cases that need it are N/A.
+namespace mblab::conformance {
+
+struct Dut {
+    std::uint8_t unit = 0;                  // 6.4: 0 unless the vendor says otherwise
+    std::optional<std::uint32_t> registers;  // 6.6: holding registers, 1..65536
+    std::uint16_t max_read = 125;            // 6.6: most registers one FC 03 may read
+    bool object_messaging = false;           // 6.5: FC 5B
+    bool alternate_encoding = false;         // 6.5: SEMI signature in the registers
+
+    std::optional<std::uint32_t> coils;
+    std::optional<std::uint32_t> discrete_inputs;
+    std::optional<std::uint32_t> input_registers;
+    std::optional<std::uint16_t> read_only_register;
+    std::optional<std::uint16_t> read_only_coil;
+    std::optional<std::uint16_t> fifo_address;
+    std::optional<std::uint16_t> file_number;
+    std::optional<std::uint16_t> echo_max_words;  // FC 08/00 data limit (seed 001: 100)
+
+    std::string declared_by = "defaults";  // "flags", "dut.toml", "profile reference.toml"
+};
+
+// Keys of a DUT file, which are also the names `requires` and placeholders may use.
+const std::vector<std::string_view>& dut_keys();
+
+// Loads a DUT file (TOML, the keys above at top level). Errors name the file, line and reason.
+protocol::Result<Dut, std::string> load_dut_file(const std::string& path);
+
+// Facts as placeholders see them: {unit} (1 byte) and 16-bit values, plus computed ones:
+//   {out_of_range_registers}  offset and count for seed 000 9.1.2 (4 bytes)
+//   {echo_max_data} / {echo_over_data}  FC 08 data words at and one past the echo limit
+class DutFacts : public FactSource {
+public:
+    explicit DutFacts(const Dut& dut) : dut_(dut) {}
+    std::optional<std::vector<std::uint8_t>> fact(std::string_view name) const override;
+
+private:
+    const Dut& dut_;
+};
+
+bool is_known_fact(std::string_view name);
+
+// A `requires` entry: a fact name, optionally compared with a number ("coils >= 2000").
+struct Requirement {
+    std::string fact;
+    std::string op;  // "", ">=", "<=", ">", "<", "==", "!="
+    std::int64_t value = 0;
+    std::string text;
+};
+
+protocol::Result<Requirement, std::string> parse_requirement(std::string_view text);
+
+// Nothing when the DUT meets the requirement; otherwise why not, for the N/A line.
+std::optional<std::string> unmet(const Requirement& requirement, const Dut& dut);
+
+}  // namespace mblab::conformance

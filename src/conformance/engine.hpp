@@ -1,0 +1,37 @@
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "conformance/catalogue.hpp"
+#include "conformance/session.hpp"
+#include "conformance/verdict.hpp"
+
+namespace mblab::conformance {
+
+// Hears about results as they come, so a console can print them while the run goes on.
+class RunListener {
+public:
+    virtual ~RunListener() = default;
+    virtual void suite_started(const Suite& suite) = 0;
+    virtual void case_finished(const Suite& suite, const CaseResult& result) = 0;
+};
+
+// Runs suites case by case over one session. Cases that do not apply are N/A with the reason;
+// cases whose prerequisites failed are NOT RUN.
+class Engine {
+public:
+    explicit Engine(Session& session, RunListener* listener = nullptr)
+        : session_(session), listener_(listener) {}
+
+    RunResult run(const std::vector<Suite>& suites, const std::string& target);
+    SuiteResult run_suite(const Suite& suite);
+    Outcome run_case(const Case& c);
+
+private:
+    Outcome run_steps(const Case& c);
+    Session& session_;
+    RunListener* listener_;
+};
+
+}  // namespace mblab::conformance

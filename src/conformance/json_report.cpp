@@ -1,0 +1,104 @@
+#include <nlohmann/json.hpp>
+
+#include "conformance/reports.hpp"
+
+namespace mblab::conformance {
+
+namespace {
+
+using nlohmann::json;
+
+std::string_view status_name(client::ReceiveStatus status) {
+    switch (status) {
+        case client::ReceiveStatus::Frame: return "frame";
+        case client::ReceiveStatus::Timeout: return "timeout";
+        case client::ReceiveStatus::Closed: return "closed";
+        case client::ReceiveStatus::Malformed: return "malformed";
+    }
+    return "unknown";
+}
+
+double millis(std::chrono::microseconds elapsed) {
+    return static_cast<double>(elapsed.count()) / 1000.0;
+}
+
+json exchange_json(const Exchange& exchange) {
+    json out = {{"sent", hex_text(exchange.sent)},
+                {"status", status_name(exchange.status)},
+                {"received", hex_text(exchange.received)},
+                {"waited_ms", exchange.waited.count()}};
+    if (!exchange.detail.empty()) out["detail"] = exchange.detail;
+    if (exchange.silence_expected) {
+        out["expected"] = nullptr;
+    } else {
+        out["expected"] = exchange.expected;
+        out["differs"] = exchange.match.differs;
+    }
+    return out;
+}
+
+json dut_json(const Dut& dut) {
+    json out = {{"unit", dut.unit},
+                {"max_read", dut.max_read},
+                {"object_messaging", dut.object_messaging},
+                {"alternate_encoding", dut.alternate_encoding},
+                {"declared_by", dut.declared_by}};
+    auto optional = [&](const char* key, const auto& value) {
+        if (value) out[key] = *value;
+    };
+    optional("registers", dut.registers);
+    optional("coils", dut.coils);
+    optional("discrete_inputs", dut.discrete_inputs);
+    optional("input_registers", dut.input_registers);
+    optional("read_only_register", dut.read_only_register);
+    optional("read_only_coil", dut.read_only_coil);
+    optional("fifo_address", dut.fifo_address);
+    optional("file_number", dut.file_number);
+    optional("echo_max_words", dut.echo_max_words);
+    return out;
+}
+
+json counts_json(const Counts& counts) {
+    return {{"passed", counts.passed},
+            {"failed", counts.failed},
+            {"not_applicable", counts.not_applicable},
+            {"not_run", counts.not_run},
+            {"total", counts.total()}};
+}
+
+}  // namespace
+
+std::string json_report(const RunResult& result) {
+    json suites = json::array();
+    for (const auto& suite : result.suites) {
+        json cases = json::array();
+        for (const auto& c : suite.cases) {
+            json evidence = json::array();
+            for (const auto& exchange : c.outcome.evidence) evidence.push_back(exchange_json(exchange));
+            cases.push_back({{"id", c.id},
+                             {"source", c.source},
+                             {"title", c.title},
+                             {"verdict", verdict_label(c.outcome.verdict)},
+                             {"reason", c.outcome.reason},
+                             {"elapsed_ms", millis(c.elapsed)},
+                             {"requests", c.requests},
+                             {"evidence", evidence}});
+        }
+        suites.push_back({{"name", suite.name},
+                          {"title", suite.title},
+                          {"file", suite.file},
+                          {"summary", counts_json(count(suite))},
+                          {"cases", cases}});
+    }
+    json report = {{"tool", "mblab conform"},
+                   {"target", result.target},
+                   {"dut", dut_json(result.dut)},
+                   {"passed", result.all_passed()},
+                   {"summary", counts_json(result.counts())},
+                   {"elapsed_ms", millis(result.elapsed)},
+                   {"requests", result.requests},
+                   {"suites", suites}};
+    return report.dump(2) + "\n";
+}
+
+}  // namespace mblab::conformance

@@ -1,0 +1,209 @@
+#include <pcap/pcap.h>
+
+#include <fmt/core.h>
+
+#include <array>
+#include <memory>
+#include <optional>
+
+#include "conformance/capture.hpp"
+
+namespace mblab::conformance {
+
+namespace {
+
+constexpr std::uint16_t kModbusPort = 502;
+constexpr std::uint32_t kLoopback = 0x7F000001;
+constexpr std::uint8_t kFin = 0x01;
+constexpr std::uint8_t kSyn = 0x02;
+constexpr std::uint8_t kPsh = 0x08;
+constexpr std::uint8_t kAck = 0x10;
+constexpr std::size_t kIpHeader = 20;
+constexpr std::size_t kTcpHeader = 20;
+
+void put16(std::vector<std::uint8_t>& out, std::size_t at, std::uint32_t value) {
+    out[at] = static_cast<std::uint8_t>(value >> 8);
+    out[at + 1] = static_cast<std::uint8_t>(value);
+}
+
+void put32(std::vector<std::uint8_t>& out, std::size_t at, std::uint32_t value) {
+    put16(out, at, value >> 16);
+    put16(out, at + 2, value & 0xFFFF);
+}
+
+std::uint32_t sum16(const std::uint8_t* bytes, std::size_t size, std::uint32_t sum = 0) {
+    for (std::size_t i = 0; i + 1 < size; i += 2) sum += (bytes[i] << 8) | bytes[i + 1];
+    if (size % 2 != 0) sum += bytes[size - 1] << 8;
+    return sum;
+}
+
+std::uint16_t fold(std::uint32_t sum) {
+    while (sum >> 16) sum = (sum & 0xFFFF) + (sum >> 16);
+    return static_cast<std::uint16_t>(~sum);
+}
+
+struct Peer {
+    std::uint32_t ip = 0;
+    std::uint16_t port = 0;
+    std::uint32_t next_seq = 0;  // sequence number of the next byte this side sends
+};
+
+// One TCP connection's packets: the client is the tester, the server the device.
+class Stream {
+public:
+    Stream(const client::LinkAddresses& addresses, std::uint32_t index) {
+        client_.ip = addresses.local_ip != 0 ? addresses.local_ip : kLoopback;
+        client_.port = addresses.local_port != 0 ? addresses.local_port
+                                                 : static_cast<std::uint16_t>(40000 + index);
+        server_.ip = addresses.peer_ip != 0 ? addresses.peer_ip : kLoopback;
+        server_.port = kModbusPort;
+        // Distinct, recognisable initial sequence numbers per connection.
+        client_.next_seq = 0x10000000U * (index % 8 + 1);
+        server_.next_seq = 0x80000000U + 0x01000000U * (index % 8);
+    }
+
+    template <class Emit>
+    void open(Emit&& emit) {
+        emit(packet(client_, server_, kSyn, {}, false));
+        client_.next_seq += 1;
+        emit(packet(server_, client_, kSyn | kAck, {}, true));
+        server_.next_seq += 1;
+        emit(packet(client_, server_, kAck, {}, true));
+    }
+
+    std::vector<std::uint8_t> data(bool from_client, std::span<const std::uint8_t> bytes) {
+        Peer& from = from_client ? client_ : server_;
+        Peer& to = from_client ? server_ : client_;
+        auto out = packet(from, to, kPsh | kAck, bytes, true);
+        from.next_seq += static_cast<std::uint32_t>(bytes.size());
+        return out;
+    }
+
+    template <class Emit>
+    void close(bool by_server, Emit&& emit) {
+        Peer& first = by_server ? server_ : client_;
+        Peer& second = by_server ? client_ : server_;
+        emit(packet(first, second, kFin | kAck, {}, true));
+        first.next_seq += 1;
+        emit(packet(second, first, kFin | kAck, {}, true));
+        second.next_seq += 1;
+        emit(packet(first, second, kAck, {}, true));
+    }
+
+private:
+    std::vector<std::uint8_t> packet(const Peer& from, const Peer& to, std::uint8_t flags,
+                                     std::span<const std::uint8_t> payload, bool ack) {
+        const std::size_t tcp_size = kTcpHeader + payload.size();
+        std::vector<std::uint8_t> out(kIpHeader + tcp_size, 0);
+        out[0] = 0x45;  // IPv4, 20-byte header
+        put16(out, 2, static_cast<std::uint32_t>(out.size()));
+        put16(out, 4, ip_id_++);
+        put16(out, 6, 0x4000);  // don't fragment
+        out[8] = 64;            // TTL
+        out[9] = 6;             // TCP
+        put32(out, 12, from.ip);
+        put32(out, 16, to.ip);
+        put16(out, 10, fold(sum16(out.data(), kIpHeader)));
+
+        const std::size_t t = kIpHeader;
+        put16(out, t, from.port);
+        put16(out, t + 2, to.port);
+        put32(out, t + 4, from.next_seq);
+        put32(out, t + 8, ack ? to.next_seq : 0);
+        out[t + 12] = 5 << 4;  // 20-byte header
+        out[t + 13] = flags;
+        put16(out, t + 14, 65535);  // window
+        std::copy(payload.begin(), payload.end(), out.begin() + static_cast<long>(t + kTcpHeader));
+        // Checksum over the pseudo-header (addresses, protocol, length) and the segment.
+        std::uint32_t sum = sum16(out.data() + 12, 8);
+        sum += 6 + static_cast<std::uint32_t>(tcp_size);
+        put16(out, t + 16, fold(sum16(out.data() + t, tcp_size, sum)));
+        return out;
+    }
+
+    Peer client_;
+    Peer server_;
+    std::uint16_t ip_id_ = 1;
+};
+
+}  // namespace
+
+bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events,
+                std::string& error) {
+    std::unique_ptr<pcap_t, void (*)(pcap_t*)> handle(pcap_open_dead(DLT_RAW, 65535), &pcap_close);
+    if (!handle) {
+        error = "libpcap cannot open a capture";
+        return false;
+    }
+    std::unique_ptr<pcap_dumper_t, void (*)(pcap_dumper_t*)> dumper(
+        pcap_dump_open(handle.get(), path.c_str()), &pcap_dump_close);
+    if (!dumper) {
+        error = fmt::format("cannot write {}: {}", path, pcap_geterr(handle.get()));
+        return false;
+    }
+    std::optional<Stream> stream;
+    std::uint32_t streams = 0;
+    // Bytes not yet written as segments, per direction (0: tester, 1: device).
+    std::array<std::vector<std::uint8_t>, 2> pending;
+    for (const auto& e : events) {
+        const auto since_epoch = std::chrono::duration_cast<std::chrono::microseconds>(
+            e.time.time_since_epoch());
+        auto emit = [&](const std::vector<std::uint8_t>& packet) {
+            pcap_pkthdr header{};
+            header.ts.tv_sec = static_cast<time_t>(since_epoch.count() / 1'000'000);
+            header.ts.tv_usec = static_cast<suseconds_t>(since_epoch.count() % 1'000'000);
+            header.caplen = static_cast<bpf_u_int32>(packet.size());
+            header.len = header.caplen;
+            pcap_dump(reinterpret_cast<u_char*>(dumper.get()), &header, packet.data());
+        };
+        auto flush = [&](std::size_t side, bool whole_frames_only) {
+            auto& bytes = pending[side];
+            std::size_t cut = bytes.size();
+            if (whole_frames_only) {
+                cut = 0;
+                while (true) {
+                    long size = client::mbap_frame_size(std::span(bytes).subspan(cut));
+                    if (size < 0) {
+                        cut = bytes.size();  // not MBAP: nothing to wait for
+                        break;
+                    }
+                    if (size == 0 || cut + static_cast<std::size_t>(size) > bytes.size()) break;
+                    cut += static_cast<std::size_t>(size);
+                }
+            }
+            if (cut == 0 || !stream) return;
+            emit(stream->data(side == 0, std::span(bytes).first(cut)));
+            bytes.erase(bytes.begin(), bytes.begin() + static_cast<long>(cut));
+        };
+        switch (e.kind) {
+            case CaptureEvent::Kind::Open:
+                stream.emplace(e.addresses, streams++);
+                pending = {};
+                stream->open(emit);
+                break;
+            case CaptureEvent::Kind::Sent:
+            case CaptureEvent::Kind::Received: {
+                // Segments are cut at frame boundaries, as a device or Wireshark sees frames;
+                // how the bytes really left the socket is in the report, not here.
+                const std::size_t side = e.kind == CaptureEvent::Kind::Sent ? 0 : 1;
+                flush(1 - side, false);
+                pending[side].insert(pending[side].end(), e.bytes.begin(), e.bytes.end());
+                flush(side, true);
+                break;
+            }
+            case CaptureEvent::Kind::Close:
+                flush(0, false);
+                flush(1, false);
+                if (stream) stream->close(e.by_peer, emit);
+                stream.reset();
+                break;
+        }
+    }
+    if (pcap_dump_flush(dumper.get()) != 0) {
+        error = fmt::format("cannot write {}", path);
+        return false;
+    }
+    return true;
+}
+
+}  // namespace mblab::conformance

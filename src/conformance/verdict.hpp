@@ -1,0 +1,77 @@
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "client/raw_link.hpp"
+#include "conformance/dut.hpp"
+#include "conformance/pattern.hpp"
+
+// What a run found: a verdict per case, with the evidence for every failure.
+namespace mblab::conformance {
+
+enum class Verdict : std::uint8_t { Pass, Fail, NotApplicable, NotRun };
+
+std::string_view verdict_label(Verdict verdict);  // "PASS", "FAIL", "N/A", "NOT RUN"
+
+// One request and what came back, kept for failures.
+struct Exchange {
+    std::vector<std::uint8_t> sent;
+    client::ReceiveStatus status = client::ReceiveStatus::Timeout;
+    std::vector<std::uint8_t> received;
+    std::string detail;  // why a connection closed or a frame was malformed
+    std::chrono::milliseconds waited{0};
+    bool silence_expected = false;  // the device was to say nothing
+    std::string expected;           // the expected pattern as text; empty for silence
+    MatchResult match;              // against the closest expected pattern
+};
+
+// The verdict of a case, with a reason for every verdict that is not a plain PASS.
+struct Outcome {
+    Verdict verdict = Verdict::Pass;
+    std::string reason;  // failure summary, N/A or NOT RUN cause, or a PASS remark
+    std::vector<Exchange> evidence;
+};
+
+struct CaseResult {
+    std::string id;
+    std::string source;
+    std::string title;
+    Outcome outcome;
+    std::chrono::microseconds elapsed{0};
+    std::size_t requests = 0;
+};
+
+struct SuiteResult {
+    std::string name;
+    std::string title;
+    std::string file;
+    std::vector<CaseResult> cases;
+};
+
+struct Counts {
+    std::size_t passed = 0;
+    std::size_t failed = 0;
+    std::size_t not_applicable = 0;
+    std::size_t not_run = 0;
+    std::size_t total() const { return passed + failed + not_applicable + not_run; }
+};
+
+struct RunResult {
+    std::string target;
+    Dut dut;
+    std::vector<SuiteResult> suites;
+    std::chrono::microseconds elapsed{0};
+    std::size_t requests = 0;
+
+    Counts counts() const;
+    bool all_passed() const { return counts().failed == 0; }
+};
+
+Counts count(const SuiteResult& suite);
+
+}  // namespace mblab::conformance

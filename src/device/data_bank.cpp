@@ -1,0 +1,87 @@
+#include "device/data_bank.hpp"
+
+#include <algorithm>
+
+namespace mblab::device {
+
+DataBank::DataBank(const std::vector<RangeSpec>& ranges) {
+    std::size_t total = 0;
+    for (const auto& range : ranges)
+        total += range.count;
+    values_.reserve(total);
+    for (const auto& range : ranges) {
+        segments_.push_back({range.start, range.start + range.count, range.access,
+                             static_cast<std::uint32_t>(values_.size())});
+        values_.insert(values_.end(), range.values.begin(), range.values.end());
+    }
+}
+
+std::size_t DataBank::segment_of(std::uint32_t address) const {
+    auto it = std::upper_bound(segments_.begin(), segments_.end(), address,
+                               [](std::uint32_t a, const Segment& s) { return a < s.start; });
+    if (it == segments_.begin()) return segments_.size();
+    --it;
+    if (address >= it->end) return segments_.size();
+    return static_cast<std::size_t>(it - segments_.begin());
+}
+
+DataBank::Span DataBank::find(std::uint32_t address, std::uint32_t count) const {
+    Span span;
+    std::size_t i = segment_of(address);
+    if (i == segments_.size() || count == 0) return span;
+    span.index = segments_[i].index + (address - segments_[i].start);
+    const std::uint32_t end = address + count;
+    for (;; ++i) {
+        const Segment& s = segments_[i];
+        span.has_read_only |= s.access == Access::ReadOnly;
+        span.has_write_only |= s.access == Access::WriteOnly;
+        if (end <= s.end) break;
+        if (i + 1 == segments_.size() || segments_[i + 1].start != s.end) return span;
+    }
+    span.mapped = true;
+    return span;
+}
+
+template <class Visit>
+void DataBank::each_part(std::uint32_t address, std::uint32_t count, Visit visit) const {
+    std::size_t i = segment_of(address);
+    std::uint32_t done = 0;
+    while (done < count) {
+        const Segment& s = segments_[i++];
+        const std::uint32_t from = address + done - s.start;
+        const std::uint32_t n = std::min(s.end - s.start - from, count - done);
+        visit(s, s.index + from, done, n);
+        done += n;
+    }
+}
+
+void DataBank::read(std::uint32_t address, std::span<std::uint16_t> out, const Access* skip) const {
+    each_part(address, static_cast<std::uint32_t>(out.size()),
+              [&](const Segment& s, std::uint32_t stored, std::uint32_t done, std::uint32_t n) {
+                  if (skip && s.access == *skip) {
+                      std::fill_n(out.begin() + done, n, 0);
+                  } else {
+                      std::copy_n(values_.begin() + stored, n, out.begin() + done);
+                  }
+              });
+}
+
+void DataBank::write(std::uint32_t address, std::span<const std::uint16_t> values,
+                     const Access* skip) {
+    each_part(address, static_cast<std::uint32_t>(values.size()),
+              [&](const Segment& s, std::uint32_t stored, std::uint32_t done, std::uint32_t n) {
+                  if (skip && s.access == *skip) return;
+                  std::copy_n(values.begin() + done, n, values_.begin() + stored);
+              });
+}
+
+std::uint32_t DataBank::contiguous_from_zero() const {
+    std::uint32_t end = 0;
+    for (const auto& s : segments_) {
+        if (s.start != end || s.access == Access::WriteOnly) break;
+        end = s.end;
+    }
+    return end;
+}
+
+}  // namespace mblab::device

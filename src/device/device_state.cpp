@@ -1,0 +1,176 @@
+// ReferenceDevice::save_state / load_state: the writable data as JSON (docs/profiles.md).
+#include <nlohmann/json.hpp>
+
+#include "device/reference_device.hpp"
+
+namespace mblab::device {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr std::string_view kFormat = "mblab-device-state";
+constexpr int kVersion = 1;
+constexpr std::array<BankKind, 2> kWritableBanks = {BankKind::Coils, BankKind::HoldingRegisters};
+
+bool writable(Access access) {
+    return access != Access::ReadOnly;
+}
+
+// One change load_state will make once the whole text has been checked.
+struct Assignment {
+    UnitModel* unit = nullptr;
+    BankKind kind = BankKind::Coils;
+    std::uint32_t start = 0;
+    std::size_t file = 0;  // index in the unit's files when is_file
+    bool is_file = false;
+    std::vector<std::uint16_t> values;
+};
+
+// Reads an array of 16-bit values (or bits) of exactly `size` elements.
+bool read_values(const json& node, std::size_t size, std::uint16_t max, const std::string& path,
+                 std::vector<std::uint16_t>& out, std::string& error) {
+    if (!node.is_array() || node.size() != size) {
+        error = path + ": expected an array of " + std::to_string(size) + " values";
+        return false;
+    }
+    out.clear();
+    out.reserve(size);
+    for (const auto& element : node) {
+        if (!element.is_number_unsigned() || element.get<std::uint64_t>() > max) {
+            error = path + ": values must be integers from 0 to " + std::to_string(max);
+            return false;
+        }
+        out.push_back(static_cast<std::uint16_t>(element.get<std::uint64_t>()));
+    }
+    return true;
+}
+
+}  // namespace
+
+std::string ReferenceDevice::save_state() const {
+    std::lock_guard lock(mutex_);
+    json root;
+    root["format"] = kFormat;
+    root["version"] = kVersion;
+    root["profile"] = profile_.name;
+    json units = json::array();
+    for (const auto& unit : units_) {
+        json entry;
+        entry["id"] = unit.spec().id;
+        for (BankKind kind : kWritableBanks) {
+            json ranges = json::array();
+            const DataBank& bank = unit.bank(kind);
+            for (const auto& segment : bank.segments()) {
+                if (!writable(segment.access)) continue;
+                json values = json::array();
+                for (std::uint32_t i = 0; i < segment.end - segment.start; ++i) {
+                    values.push_back(bank.at(segment.index + i));
+                }
+                ranges.push_back({{"start", segment.start}, {"values", std::move(values)}});
+            }
+            entry[std::string(bank_key(kind))] = std::move(ranges);
+        }
+        json files = json::array();
+        for (const auto& file : unit.files().files()) {
+            files.push_back({{"number", file.number}, {"records", file.records}});
+        }
+        entry["files"] = std::move(files);
+        units.push_back(std::move(entry));
+    }
+    root["units"] = std::move(units);
+    return root.dump(1) + "\n";
+}
+
+bool ReferenceDevice::load_state(std::string_view text, std::string& error) {
+    std::lock_guard lock(mutex_);
+    const json root = json::parse(text, nullptr, false);
+    if (root.is_discarded() || !root.is_object()) {
+        error = "the state is not valid JSON";
+        return false;
+    }
+    if (root.value("format", "") != kFormat || root.value("version", 0) != kVersion) {
+        error = "format: expected \"" + std::string(kFormat) + "\" version " +
+                std::to_string(kVersion) + " (a file written by mblab serve --state)";
+        return false;
+    }
+    const json* units = root.contains("units") ? &root["units"] : nullptr;
+    if (!units || !units->is_array()) {
+        error = "units: expected an array";
+        return false;
+    }
+    std::vector<Assignment> plan;
+    for (std::size_t u = 0; u < units->size(); ++u) {
+        const json& entry = (*units)[u];
+        const std::string path = "units[" + std::to_string(u) + "]";
+        if (!entry.is_object() || !entry.contains("id") || !entry["id"].is_number_unsigned() ||
+            entry["id"].get<std::uint64_t>() > 255) {
+            error = path + ".id: expected a unit id";
+            return false;
+        }
+        UnitModel* unit = find_unit(static_cast<std::uint8_t>(entry["id"].get<std::uint64_t>()));
+        if (!unit) {
+            error = path + ".id: the profile has no unit " + entry["id"].dump();
+            return false;
+        }
+        for (BankKind kind : kWritableBanks) {
+            const std::string key(bank_key(kind));
+            if (!entry.contains(key)) continue;
+            const json& ranges = entry[key];
+            const std::uint16_t max = is_bit_bank(kind) ? 1 : 0xFFFF;
+            for (std::size_t r = 0; r < ranges.size(); ++r) {
+                const std::string rpath = path + "." + key + "[" + std::to_string(r) + "]";
+                const json& range = ranges[r];
+                const auto& segments = unit->bank(kind).segments();
+                const auto segment =
+                    std::find_if(segments.begin(), segments.end(), [&](const auto& s) {
+                        return writable(s.access) && range.is_object() && range.contains("start") &&
+                               range["start"] == s.start;
+                    });
+                if (segment == segments.end()) {
+                    error = rpath + ".start: no writable range of the profile starts there";
+                    return false;
+                }
+                Assignment change{unit, kind, segment->start, 0, false, {}};
+                if (!read_values(range.contains("values") ? range["values"] : json(),
+                                 segment->end - segment->start, max, rpath + ".values",
+                                 change.values, error)) {
+                    return false;
+                }
+                plan.push_back(std::move(change));
+            }
+        }
+        if (!entry.contains("files")) continue;
+        const auto& files = unit->files().files();
+        for (std::size_t f = 0; f < entry["files"].size(); ++f) {
+            const json& file = entry["files"][f];
+            const std::string fpath = path + ".files[" + std::to_string(f) + "]";
+            const auto match = std::find_if(files.begin(), files.end(), [&](const FileSpec& s) {
+                return file.is_object() && file.contains("number") && file["number"] == s.number;
+            });
+            if (match == files.end()) {
+                error = fpath + ".number: the profile has no such file";
+                return false;
+            }
+            Assignment change{unit, BankKind::HoldingRegisters,
+                              0,    static_cast<std::size_t>(match - files.begin()),
+                              true, {}};
+            if (!read_values(file.contains("records") ? file["records"] : json(),
+                             match->records.size(), 0xFFFF, fpath + ".records", change.values,
+                             error)) {
+                return false;
+            }
+            plan.push_back(std::move(change));
+        }
+    }
+    for (auto& change : plan) {
+        if (change.is_file) {
+            change.unit->files().files()[change.file].records = std::move(change.values);
+        } else {
+            change.unit->bank(change.kind).write(change.start, change.values, nullptr);
+        }
+    }
+    return true;
+}
+
+}  // namespace mblab::device

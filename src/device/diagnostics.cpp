@@ -1,0 +1,125 @@
+#include "device/diagnostics.hpp"
+
+#include <algorithm>
+
+namespace mblab::device {
+
+namespace {
+
+using protocol::DiagnosticSub;
+using protocol::ExceptionCode;
+
+constexpr auto kFc = static_cast<std::uint8_t>(protocol::FunctionCode::Diagnostics);
+
+Outcome answer(std::uint16_t sub, std::span<const std::uint8_t> data) {
+    return protocol::Response{protocol::DiagnosticsResponse{sub, data}};
+}
+
+Outcome answer_word(std::uint16_t sub, std::uint16_t value, std::span<std::uint8_t> scratch) {
+    scratch[0] = static_cast<std::uint8_t>(value >> 8);
+    scratch[1] = static_cast<std::uint8_t>(value & 0xFF);
+    return answer(sub, scratch.first(2));
+}
+
+bool is_word(std::span<const std::uint8_t> data, std::uint16_t value) {
+    return data.size() == 2 && data[0] == (value >> 8) && data[1] == (value & 0xFF);
+}
+
+std::uint16_t counter(const CommCounters& c, DiagnosticSub sub) {
+    switch (sub) {
+        case DiagnosticSub::BusMessageCount:
+            return c.bus_messages;
+        case DiagnosticSub::BusCommunicationErrorCount:
+            return c.bus_errors;
+        case DiagnosticSub::BusExceptionErrorCount:
+            return c.bus_exceptions;
+        case DiagnosticSub::ServerMessageCount:
+            return c.server_messages;
+        case DiagnosticSub::ServerNoResponseCount:
+            return c.no_response;
+        case DiagnosticSub::ServerNakCount:
+            return c.naks;
+        case DiagnosticSub::ServerBusyCount:
+            return c.busy;
+        case DiagnosticSub::BusCharacterOverrunCount:
+            return c.overruns;
+        default:
+            return 0;
+    }
+}
+
+Outcome echo(const protocol::DiagnosticsRequest& request, const DiagnosticsSpec& spec) {
+    if (spec.echo_min_words || spec.echo_max_words) {
+        const std::size_t words = request.data.size() / 2;
+        if (request.data.size() % 2 != 0 || words < spec.echo_min_words.value_or(0) ||
+            words > spec.echo_max_words.value_or(125)) {
+            return exception_outcome(kFc, ExceptionCode::IllegalDataValue);
+        }
+    }
+    return answer(request.sub_function, request.data);
+}
+
+}  // namespace
+
+bool resets_event_counter(std::uint16_t sub_function) {
+    return sub_function == static_cast<std::uint16_t>(DiagnosticSub::RestartCommunications) ||
+           sub_function == static_cast<std::uint16_t>(DiagnosticSub::ClearCounters);
+}
+
+Outcome serve_diagnostics(const protocol::DiagnosticsRequest& request, const DiagnosticsSpec& spec,
+                          CommState& state, std::span<std::uint8_t> scratch) {
+    const std::uint16_t sub = request.sub_function;
+    if (!std::binary_search(spec.sub_functions.begin(), spec.sub_functions.end(), sub)) {
+        return exception_outcome(kFc, ExceptionCode::IllegalFunction);
+    }
+    const auto which = static_cast<DiagnosticSub>(sub);
+    switch (which) {
+        case DiagnosticSub::ReturnQueryData:
+            return echo(request, spec);
+        case DiagnosticSub::RestartCommunications: {
+            const bool clear_log = is_word(request.data, 0xFF00);
+            if (!clear_log && !is_word(request.data, 0x0000)) break;
+            state.pending = clear_log ? PendingReset::RestartClearLog : PendingReset::Restart;
+            if (state.listen_only) return std::nullopt;  // [APP]: no answer from listen-only
+            return answer(sub, request.data);
+        }
+        case DiagnosticSub::ChangeAsciiDelimiter:
+            if (request.data.size() != 2 || request.data[1] != 0) break;
+            state.ascii_delimiter = request.data[0];
+            return answer(sub, request.data);
+        default:
+            break;
+    }
+    if (which == DiagnosticSub::RestartCommunications ||
+        which == DiagnosticSub::ChangeAsciiDelimiter || !is_word(request.data, 0)) {
+        return exception_outcome(kFc, ExceptionCode::IllegalDataValue);
+    }
+    switch (which) {
+        case DiagnosticSub::ReturnDiagnosticRegister:
+            return answer_word(sub, state.diagnostic_register, scratch);
+        case DiagnosticSub::ForceListenOnly:
+            state.listen_only = true;
+            state.log.add(event::kEnteredListenOnly);
+            return std::nullopt;
+        case DiagnosticSub::ClearCounters:
+            state.pending = PendingReset::ClearCounters;
+            return answer(sub, request.data);
+        case DiagnosticSub::ClearOverrunCounter:
+            state.counters.overruns = 0;
+            return answer(sub, request.data);
+        default:
+            return answer_word(sub, counter(state.counters, which), scratch);
+    }
+}
+
+Outcome serve_event_counter(const CommState& state) {
+    return protocol::Response{protocol::GetCommEventCounterResponse{0x0000, state.event_count}};
+}
+
+Outcome serve_event_log(const CommState& state, std::span<std::uint8_t> scratch) {
+    const std::size_t n = state.log.copy(scratch.first(EventLog::kCapacity));
+    return protocol::Response{protocol::GetCommEventLogResponse{
+        0x0000, state.event_count, state.counters.bus_messages, scratch.first(n)}};
+}
+
+}  // namespace mblab::device

@@ -1,0 +1,38 @@
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "device/prng.hpp"
+#include "device/profile.hpp"
+
+// The fault rules of one unit: which rule, if any, fires for a request. Counting and chance are
+// kept here so a run with the same seed and requests fires the same faults.
+namespace mblab::device {
+
+struct RequestScope {
+    std::uint8_t function = 0;
+    bool has_addresses = false;  // false when the request names no data address (or is bad)
+    std::uint32_t first = 0;
+    std::uint32_t last = 0;  // inclusive
+};
+
+class FaultRules {
+  public:
+    FaultRules() = default;
+    explicit FaultRules(std::vector<FaultSpec> rules)
+        : rules_(std::move(rules)), seen_(rules_.size(), 0) {}
+
+    // The first rule that matches the request and fires; rules that match but do not fire
+    // still count the request (for "every").
+    const FaultSpec* fire(const RequestScope& scope, Prng& prng);
+
+  private:
+    static bool matches(const FaultSpec& rule, const RequestScope& scope);
+
+    std::vector<FaultSpec> rules_;
+    std::vector<std::uint32_t> seen_;
+};
+
+}  // namespace mblab::device

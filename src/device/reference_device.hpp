@@ -1,0 +1,113 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "device/comm_state.hpp"
+#include "device/prng.hpp"
+#include "device/profile.hpp"
+#include "device/profile_loader.hpp"
+#include "device/request_handler.hpp"
+#include "device/unit_model.hpp"
+
+// The reference device: a profile's units behind the RequestHandler seam. It routes by unit id
+// (serial broadcast and foreign addresses, TCP unit 0 / 0xFF), applies listen-only mode and the
+// fault rules, serves the request in [APP]'s check order (function 01, values 03, map 02,
+// execution 04), encodes the answer and keeps the FC 08 / 0B / 0C counters and log.
+// Calls are serialized by an internal mutex, so several sessions may share one device.
+namespace mblab::device {
+
+struct UnitStats {
+    std::uint8_t unit = 0;
+    CommCounters counters;
+    std::uint16_t event_count = 0;
+    bool listen_only = false;
+};
+
+// What a tester is told about a unit before it runs (seed 000 6.4-6.6).
+struct UnitDeclaration {
+    std::uint8_t unit = 0;
+    std::uint16_t max_read_registers = 125;
+    std::uint16_t max_read_bits = 2000;
+    // Holding registers readable from address 0 without a hole: what a 7.5.2 sweep covers.
+    std::uint32_t holding_registers = 0;
+    std::optional<std::uint16_t> semi_signature;  // holding address of the SEMI signature
+    bool object_messaging = false;                // FC 5B served
+    std::array<bool, 256> functions{};
+};
+
+class ReferenceDevice final : public RequestHandler {
+  public:
+    explicit ReferenceDevice(Profile profile);
+
+    Reply handle(const RequestContext& context, std::span<const std::uint8_t> request,
+                 std::span<std::uint8_t> response) override;
+
+    // Line events the serial server sees before a frame reaches handle(); every unit on the
+    // line counts them (FC 08 sub 0C and 12).
+    void count_crc_error();  // CRC-16 or LRC mismatch
+    void count_parity_error();
+    void count_short_frame();  // fewer than 3 bytes, or cut by a t1.5 gap
+    void count_overrun();
+    // The server answered exception 06 itself (too many requests in flight) for `unit`.
+    void count_busy_reply(std::uint8_t unit);
+
+    const Profile& profile() const { return profile_; }
+    std::vector<std::uint8_t> unit_ids() const;
+    // nullopt when the profile has no such unit.
+    std::optional<UnitDeclaration> declaration(std::uint8_t unit) const;
+    UnitDeclaration declaration() const;  // of the first unit
+    std::optional<UnitStats> stats(std::uint8_t unit) const;
+    // The FC 08 sub 03 delimiter the ASCII framer should expect (default LF).
+    std::uint8_t ascii_delimiter(std::uint8_t unit) const;
+
+    // Data access without Modbus, for the CLI and tests; nullopt / false for holes.
+    std::optional<std::uint16_t> value(std::uint8_t unit, BankKind kind,
+                                       std::uint16_t address) const;
+    bool set_value(std::uint8_t unit, BankKind kind, std::uint16_t address, std::uint16_t value);
+
+    // Writable data (coils, holding registers, file records) as JSON, and back; see
+    // docs/profiles.md "State files". load_state changes nothing unless the whole text fits
+    // the profile.
+    std::string save_state() const;
+    bool load_state(std::string_view text, std::string& error);
+
+  private:
+    enum class RouteKind : std::uint8_t { Unit, Broadcast, Silent, Gateway };
+    struct Route {
+        RouteKind kind = RouteKind::Silent;
+        UnitModel* unit = nullptr;
+        protocol::ExceptionCode gateway = protocol::ExceptionCode::GatewayPathUnavailable;
+    };
+    Route route(const RequestContext& context);
+    UnitModel* find_unit(std::uint8_t id);
+    const UnitModel* find_unit(std::uint8_t id) const;
+
+    Reply serve(UnitModel& unit, std::span<const std::uint8_t> request,
+                std::span<std::uint8_t> response, bool broadcast);
+    Reply answer(UnitModel& unit, std::uint8_t function, const Outcome& outcome,
+                 std::span<std::uint8_t> response, bool counts_as_event);
+    Reply garbage(std::size_t size, std::span<std::uint8_t> response);
+    void count_bus_error();
+
+    Profile profile_;
+    std::vector<UnitModel> units_;
+    std::array<std::int16_t, 256> unit_index_{};
+    Prng prng_;
+    std::array<std::uint8_t, 256> scratch_{};
+    mutable std::mutex mutex_;
+};
+
+Loaded<std::unique_ptr<ReferenceDevice>> load_profile(const std::filesystem::path& path);
+Loaded<std::unique_ptr<ReferenceDevice>> load_profile_text(std::string_view text,
+                                                           std::string_view name);
+
+}  // namespace mblab::device

@@ -1,0 +1,39 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "protocol/cursor.hpp"
+
+// Encoding support shared by the request and response codecs (not part of the public API).
+namespace mblab::protocol::detail {
+
+// Big-endian 16-bit fields in order; returns true so writers can end with it.
+template <class... Words>
+bool put_words(WriteCursor& out, Words... words) {
+    (out.put_u16(static_cast<std::uint16_t>(words)), ...);
+    return true;
+}
+
+// A one-byte count, then the bytes it counts. False when they are too many for the count byte.
+inline bool put_counted(WriteCursor& out, std::span<const std::uint8_t> bytes) {
+    if (bytes.size() > 0xFF) return false;
+    out.put_u8(static_cast<std::uint8_t>(bytes.size()));
+    out.put_bytes(bytes);
+    return true;
+}
+
+// FC 5B, both directions: the fields up to the service code. The caller derives `fragment` (the
+// fragment byte count) from what it writes after, so an encoded message agrees with itself.
+template <class Message>
+bool put_object_messaging_header(WriteCursor& out, const Message& message, std::size_t fragment) {
+    if (fragment > 0xFF) return false;
+    out.put_u8(static_cast<std::uint8_t>(fragment));
+    out.put_u8(message.fragment_protocol);
+    out.put_u16(message.class_id);
+    out.put_u16(message.instance_id);
+    out.put_u16(message.service_code);
+    return true;
+}
+
+}  // namespace mblab::protocol::detail

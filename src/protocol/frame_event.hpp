@@ -1,0 +1,39 @@
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "protocol/mbap_header.hpp"
+
+namespace mblab::protocol {
+
+enum class FrameStatus : std::uint8_t { NeedMore, Frame, Error };
+
+// What a framer reports after a feed(): nothing yet, a whole frame, or a frame it dropped.
+// The spans point into the caller's input or into the framer's own buffer; either way they stay
+// valid until the next call on that framer (feed, on_silence, reset) and while the input is
+// unchanged.
+struct FrameEvent {
+    FrameStatus status = FrameStatus::NeedMore;
+    // The whole frame as received: MBAP header .. PDU end; RTU address .. CRC; ASCII ':' .. LF.
+    // Errors about a whole received frame (bad CRC, LRC, protocol id) set it too, for logging.
+    std::span<const std::uint8_t> adu;
+    // The PDU inside it, function code first (for ASCII: decoded from hex).
+    std::span<const std::uint8_t> pdu;
+    std::uint8_t unit = 0;  // unit id (MBAP) or serial address (RTU, ASCII)
+    MbapHeader mbap{};      // MbapFramer only
+    // When status == Error: why, e.g. "MBAP length 300 exceeds 254". Owned by the framer.
+    const char* error = "";
+
+    bool is_frame() const { return status == FrameStatus::Frame; }
+    bool is_error() const { return status == FrameStatus::Error; }
+};
+
+inline FrameEvent frame_error(const char* reason) {
+    FrameEvent event;
+    event.status = FrameStatus::Error;
+    event.error = reason;
+    return event;
+}
+
+}  // namespace mblab::protocol

@@ -1,0 +1,93 @@
+#include "protocol/mbap_framer.hpp"
+
+#include <algorithm>
+#include <cstring>
+
+namespace mblab::protocol {
+
+namespace {
+
+constexpr std::size_t kHeader = limits::kMbapHeader;
+constexpr unsigned kMinLength = 2;                    // unit id + function code
+constexpr unsigned kMaxLength = limits::kMaxPdu + 1;  // unit id + 253-byte PDU
+
+// The length field counts from the unit id, the header's last byte.
+std::size_t adu_size(const MbapHeader& header) {
+    return kHeader - 1 + header.length;
+}
+
+}  // namespace
+
+std::optional<MbapHeader> MbapFramer::partial_header() const {
+    if (held_ < kHeader) return std::nullopt;
+    return read_mbap_header(buffer_);
+}
+
+std::optional<FrameEvent> MbapFramer::check_length(const MbapHeader& header) {
+    FrameEvent event;
+    if (header.length < kMinLength) {
+        event = frame_error(error_.format("MBAP length %u is under %u (unit id and function code)",
+                                          unsigned{header.length}, kMinLength));
+    } else if (header.length > kMaxLength) {
+        event = frame_error(error_.format("MBAP length %u exceeds %u (ADU over %zu bytes)",
+                                          unsigned{header.length}, kMaxLength, limits::kMaxTcpAdu));
+    } else {
+        return std::nullopt;
+    }
+    event.mbap = header;
+    event.unit = header.unit_id;
+    return event;
+}
+
+FrameEvent MbapFramer::finish(std::span<const std::uint8_t> adu) {
+    FrameEvent event;
+    event.mbap = read_mbap_header(adu);
+    event.adu = adu;
+    event.pdu = adu.subspan(kHeader);
+    event.unit = event.mbap.unit_id;
+    if (event.mbap.protocol_id == 0) {
+        event.status = FrameStatus::Frame;
+    } else {
+        event.status = FrameStatus::Error;
+        event.error =
+            error_.format("MBAP protocol id 0x%04X is not 0 (Modbus); %zu-byte frame skipped",
+                          unsigned{event.mbap.protocol_id}, adu.size());
+    }
+    return event;
+}
+
+FrameEvent MbapFramer::feed(std::span<const std::uint8_t> input, std::size_t& consumed) {
+    consumed = 0;
+    if (held_ == 0 && input.size() >= kHeader) {
+        const MbapHeader header = read_mbap_header(input);
+        if (auto bad = check_length(header)) {
+            consumed = kHeader;
+            return *bad;
+        }
+        const std::size_t size = adu_size(header);
+        if (input.size() >= size) {
+            consumed = size;
+            return finish(input.first(size));
+        }
+    }
+    for (;;) {
+        const bool in_header = held_ < kHeader;
+        const std::size_t need = in_header ? kHeader : adu_size(read_mbap_header(buffer_));
+        const std::size_t take = std::min(need - held_, input.size() - consumed);
+        if (take > 0) std::memcpy(buffer_.data() + held_, input.data() + consumed, take);
+        held_ += take;
+        consumed += take;
+        if (held_ < need) return FrameEvent{};
+        if (in_header) {
+            if (auto bad = check_length(read_mbap_header(buffer_))) {
+                held_ = 0;
+                return *bad;
+            }
+            continue;
+        }
+        held_ = 0;
+        return finish({buffer_.data(), need});
+    }
+}
+
+}  // namespace mblab::protocol

@@ -1,0 +1,49 @@
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+
+#include "protocol/frame_error_text.hpp"
+#include "protocol/frame_event.hpp"
+#include "protocol/limits.hpp"
+#include "protocol/mbap_header.hpp"
+
+namespace mblab::protocol {
+
+// Splits a Modbus/TCP byte stream into MBAP frames. Sans-I/O and allocation-free: it holds at
+// most one unfinished frame (260 bytes).
+//
+// Errors:
+// - length < 2 or > 254 (an ADU over 260 bytes): Error after the 7 header bytes; the framer
+//   resets. The stream cannot be trusted after this, so a server closes the connection.
+// - protocol id != 0 with a sane length: the framer takes the frame's declared bytes and then
+//   reports Error (with adu, pdu, unit and mbap filled, so a caller can log what it dropped). The
+//   stream stays in step, so a server keeps serving [TCPG 4.4.2.2].
+class MbapFramer {
+  public:
+    // Consumes bytes from `input` (sets `consumed`, never past input.size()) and reports the
+    // first event. Call again with the unconsumed rest until it reports NeedMore, which always
+    // means everything was consumed. Every Frame or Error consumes at least one byte.
+    // A whole frame inside `input` is reported without copying (adu points into `input`).
+    FrameEvent feed(std::span<const std::uint8_t> input, std::size_t& consumed);
+
+    // Some bytes of an unfinished frame are held (a server's idle timer wants to know).
+    bool has_partial() const { return held_ > 0; }
+    // The header of the unfinished frame, once its 7 bytes arrived.
+    std::optional<MbapHeader> partial_header() const;
+    void reset() { held_ = 0; }
+
+  private:
+    // Checks the length of a complete header; returns an Error event or nullopt.
+    std::optional<FrameEvent> check_length(const MbapHeader& header);
+    FrameEvent finish(std::span<const std::uint8_t> adu);
+
+    std::array<std::uint8_t, limits::kMaxTcpAdu> buffer_{};
+    std::size_t held_ = 0;
+    FrameErrorText error_;
+};
+
+}  // namespace mblab::protocol

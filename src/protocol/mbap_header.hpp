@@ -1,0 +1,23 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+namespace mblab::protocol {
+
+// The 7-byte MBAP header of Modbus/TCP [TCPG 3.1.3]. `length` counts the bytes that follow it:
+// the unit id and the PDU.
+struct MbapHeader {
+    std::uint16_t transaction_id = 0;
+    std::uint16_t protocol_id = 0;
+    std::uint16_t length = 0;
+    std::uint8_t unit_id = 0;
+
+    friend bool operator==(const MbapHeader&, const MbapHeader&) = default;
+};
+
+// Parses the first 7 bytes of `bytes`; the caller has checked there are at least 7.
+MbapHeader read_mbap_header(std::span<const std::uint8_t> bytes);
+
+}  // namespace mblab::protocol

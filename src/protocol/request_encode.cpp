@@ -1,0 +1,96 @@
+#include "protocol/encode_support.hpp"
+#include "protocol/limits.hpp"
+#include "protocol/message_function.hpp"
+#include "protocol/request.hpp"
+
+namespace mblab::protocol {
+
+namespace {
+
+// Writes the fields after the function code. False when a length does not fit its count field.
+struct RequestBodyWriter {
+    WriteCursor& out;
+
+    template <class Range>  // 01..04, and the head of 0F and 10
+    bool range(const Range& r) const {
+        return detail::put_words(out, r.address, r.quantity);
+    }
+    bool operator()(const ReadBitsRequest& r) const { return range(r); }
+    bool operator()(const ReadRegistersRequest& r) const { return range(r); }
+    bool operator()(const WriteSingleCoilRequest& r) const {
+        return detail::put_words(out, r.address, r.value);
+    }
+    bool operator()(const WriteSingleRegisterRequest& r) const {
+        return detail::put_words(out, r.address, r.value);
+    }
+    bool operator()(const ReadExceptionStatusRequest&) const { return true; }
+    bool operator()(const DiagnosticsRequest& r) const {
+        detail::put_words(out, r.sub_function);
+        out.put_bytes(r.data);
+        return true;
+    }
+    bool operator()(const GetCommEventCounterRequest&) const { return true; }
+    bool operator()(const GetCommEventLogRequest&) const { return true; }
+    bool operator()(const WriteMultipleCoilsRequest& r) const {
+        return range(r) && detail::put_counted(out, r.values.bytes());
+    }
+    bool operator()(const WriteMultipleRegistersRequest& r) const {
+        return range(r) && detail::put_counted(out, r.values.bytes());
+    }
+    bool operator()(const ReportServerIdRequest&) const { return true; }
+    bool operator()(const ReadFileRecordRequest& r) const {
+        return detail::put_counted(out, r.sub_requests);
+    }
+    bool operator()(const WriteFileRecordRequest& r) const {
+        return detail::put_counted(out, r.sub_requests);
+    }
+    bool operator()(const MaskWriteRegisterRequest& r) const {
+        return detail::put_words(out, r.address, r.and_mask, r.or_mask);
+    }
+    bool operator()(const ReadWriteMultipleRegistersRequest& r) const {
+        detail::put_words(out, r.read_address, r.read_quantity, r.write_address, r.write_quantity);
+        return detail::put_counted(out, r.values.bytes());
+    }
+    bool operator()(const ReadFifoQueueRequest& r) const {
+        return detail::put_words(out, r.address);
+    }
+    bool operator()(const ReadDeviceIdRequest& r) const {
+        out.put_u8(kMeiReadDeviceId);
+        out.put_u8(r.read_code);
+        out.put_u8(r.object_id);
+        return true;
+    }
+    bool operator()(const EncapsulatedRequest& r) const {
+        out.put_u8(r.mei_type);
+        out.put_bytes(r.data);
+        return true;
+    }
+    bool operator()(const ObjectMessagingRequest& r) const {
+        const std::size_t fragment =
+            limits::kMinObjectMessagingRequestFragment + r.parameters.size();
+        if (!detail::put_object_messaging_header(out, r, fragment)) return false;
+        out.put_bytes(r.parameters);
+        return true;
+    }
+    bool operator()(const RawRequest& r) const {
+        out.put_bytes(r.data);
+        return true;
+    }
+};
+
+}  // namespace
+
+std::uint8_t function_of(const Request& request) {
+    static_assert(std::variant_size_v<Request> == detail::kFunctionByIndex.size() + 1);
+    static_assert(std::is_same_v<std::variant_alternative_t<18, Request>, ObjectMessagingRequest>);
+    return std::visit(
+        [&](const auto& message) { return detail::function_byte(message, request.index()); },
+        request);
+}
+
+bool encode_request(const Request& request, WriteCursor& out) {
+    out.put_u8(function_of(request));
+    return std::visit(RequestBodyWriter{out}, request) && out.ok();
+}
+
+}  // namespace mblab::protocol

@@ -1,0 +1,49 @@
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "protocol/limits.hpp"
+
+namespace mblab::server {
+
+using Clock = std::chrono::steady_clock;
+
+// One answer waiting to go out on a connection, built in place (no copy to send it).
+struct PendingReply {
+    Clock::time_point ready_at{};  // a fault delay holds it (and every answer behind it) back
+    std::uint16_t size = 0;        // ADU bytes in `adu`
+    bool close = false;            // a "close" fault: close the connection instead of answering
+    std::array<std::uint8_t, protocol::limits::kMaxTcpAdu> adu{};
+};
+
+// Answers of one connection in request order. A fixed ring, allocated at the first answer so
+// that idle connections hold none: slots never move, so the writer can send straight from them
+// while the reader queues more.
+class ReplyQueue {
+  public:
+    explicit ReplyQueue(std::size_t capacity) : capacity_(capacity) {}
+
+    bool empty() const { return count_ == 0; }
+    std::size_t size() const { return count_; }
+
+    // nullptr when the ring is full.
+    PendingReply* push_back();
+    void pop_back() { --count_; }  // undoes the last push_back
+    PendingReply& at(std::size_t i) { return slots_[(head_ + i) % slots_.size()]; }
+    const PendingReply& at(std::size_t i) const { return slots_[(head_ + i) % slots_.size()]; }
+    PendingReply& front() { return at(0); }
+    const PendingReply& front() const { return at(0); }
+    void pop_front(std::size_t n);
+
+  private:
+    std::size_t capacity_;
+    std::vector<PendingReply> slots_;
+    std::size_t head_ = 0;
+    std::size_t count_ = 0;
+};
+
+}  // namespace mblab::server

@@ -1,0 +1,76 @@
+#include "server/state_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+namespace mblab::server {
+
+namespace {
+
+std::string errno_text(const std::string& what, const std::filesystem::path& path) {
+    return what + " " + path.string() + ": " + std::strerror(errno);
+}
+
+bool write_all(int fd, std::string_view text) {
+    while (!text.empty()) {
+        auto n = ::write(fd, text.data(), text.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) return false;
+        text.remove_prefix(static_cast<std::size_t>(n));
+    }
+    return true;
+}
+
+}  // namespace
+
+bool write_file_atomically(const std::filesystem::path& path, std::string_view text,
+                           std::string& error) {
+    auto temporary = path;
+    temporary += ".tmp";
+    int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) {
+        error = errno_text("cannot create", temporary);
+        return false;
+    }
+    bool written = write_all(fd, text) && ::fsync(fd) == 0;
+    if (!written) error = errno_text("cannot write", temporary);
+    ::close(fd);
+    if (!written) {
+        ::unlink(temporary.c_str());
+        return false;
+    }
+    if (::rename(temporary.c_str(), path.c_str()) != 0) {
+        error = errno_text("cannot replace", path);
+        ::unlink(temporary.c_str());
+        return false;
+    }
+    // The rename itself is durable only once the directory is.
+    auto directory = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
+    int dir_fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+    if (dir_fd >= 0) {
+        ::fsync(dir_fd);
+        ::close(dir_fd);
+    }
+    return true;
+}
+
+std::optional<std::string> read_state_file(const std::filesystem::path& path, std::string& error) {
+    error.clear();
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) return std::nullopt;
+    std::ifstream in(path, std::ios::binary);
+    if (!in) {
+        error = errno_text("cannot read", path);
+        return std::nullopt;
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+}  // namespace mblab::server

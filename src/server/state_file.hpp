@@ -1,0 +1,19 @@
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+
+// The file that keeps a device's writable data across restarts (`mblab serve --state FILE`).
+namespace mblab::server {
+
+// Replaces `path` so that a crash at any moment leaves either the old or the new text, never a
+// mix: write a temporary file beside it, fsync it, rename it over `path`, fsync the directory.
+bool write_file_atomically(const std::filesystem::path& path, std::string_view text,
+                           std::string& error);
+
+// The whole file; nullopt with an empty `error` when it does not exist (a first start).
+std::optional<std::string> read_state_file(const std::filesystem::path& path, std::string& error);
+
+}  // namespace mblab::server

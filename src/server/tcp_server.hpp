@@ -1,0 +1,45 @@
+#pragma once
+
+#include <asio/io_context.hpp>
+#include <asio/ip/tcp.hpp>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "device/request_handler.hpp"
+#include "protocol/result.hpp"
+#include "server/server_options.hpp"
+#include "server/server_stats.hpp"
+#include "transport/tcp_listener.hpp"
+
+// A Modbus/TCP server on a caller's io_context: one coroutine set per connection, the handler
+// called on the io_context's thread only (a device need not be thread-safe). Run the io_context
+// on one thread.
+namespace mblab::server {
+
+struct ServerCore;
+
+class TcpServer {
+  public:
+    // `handler` must outlive every run of the io_context that may still serve a connection.
+    TcpServer(asio::io_context& io, device::RequestHandler& handler, ServerOptions options);
+    ~TcpServer();
+    TcpServer(const TcpServer&) = delete;
+    TcpServer& operator=(const TcpServer&) = delete;
+
+    // Binds and starts accepting; returns the bound port (an ephemeral one for port 0) or an
+    // error such as "cannot listen on 127.0.0.1:502: Address already in use".
+    protocol::Result<std::uint16_t, std::string> start(const asio::ip::tcp::endpoint& endpoint);
+    // Stops accepting and closes every connection. Call on the io_context's thread (or while
+    // it does not run); idempotent.
+    void stop();
+
+    asio::ip::tcp::endpoint local_endpoint() const;
+    const ServerStats& stats() const;
+    const transport::ListenerCounters& listener_counters() const;
+
+  private:
+    std::shared_ptr<ServerCore> core_;
+};
+
+}  // namespace mblab::server

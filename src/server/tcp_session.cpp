@@ -1,0 +1,347 @@
+#include "server/tcp_session.hpp"
+
+#include <algorithm>
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
+#include <asio/experimental/as_tuple.hpp>
+#include <asio/use_awaitable.hpp>
+#include <asio/write.hpp>
+
+#include "protocol/adu_writer.hpp"
+#include "protocol/function_code.hpp"
+#include "protocol/limits.hpp"
+
+namespace mblab::server {
+
+namespace {
+
+constexpr auto use_tuple = asio::experimental::as_tuple(asio::use_awaitable);
+// Busy answers a connection may queue past its outstanding limit before the reader stops
+// reading (and TCP flow control slows the client down).
+constexpr std::size_t kBusySlack = 16;
+// Room for the answers queued outside the reader's checks: a timed-out partial frame's
+// exception and a close marker.
+constexpr std::size_t kReserveSlots = 2;
+// Answers sent in one gathered write.
+constexpr std::size_t kMaxGather = 32;
+
+std::size_t outstanding_limit(const ServerOptions& options) {
+    return std::max<std::size_t>(1, options.max_outstanding);
+}
+
+protocol::MbapHeader answer_header(const protocol::MbapHeader& request) {
+    return {request.transaction_id, 0, 0, request.unit_id};
+}
+
+}  // namespace
+
+TcpSession::TcpSession(asio::ip::tcp::socket socket, std::shared_ptr<ServerCore> core)
+    : socket_(std::move(socket)),
+      core_(std::move(core)),
+      writer_timer_(socket_.get_executor()),
+      reader_timer_(socket_.get_executor()),
+      watchdog_timer_(socket_.get_executor()),
+      replies_(outstanding_limit(core_->options) + kBusySlack + kReserveSlots),
+      last_activity_(Clock::now()) {}
+
+TcpSession::~TcpSession() {
+    core_->listener->connections().remove(*this);
+    core_->stats.connections_open.fetch_sub(1, std::memory_order_relaxed);
+}
+
+void TcpSession::start() {
+    core_->listener->connections().add(*this);
+    ServerStats::bump(core_->stats.connections_open);
+    auto executor = socket_.get_executor();
+    asio::co_spawn(executor, read_loop(shared_from_this()), asio::detached);
+    asio::co_spawn(executor, write_loop(shared_from_this()), asio::detached);
+    asio::co_spawn(executor, watchdog_loop(shared_from_this()), asio::detached);
+}
+
+bool TcpSession::idle() const {
+    return !closed_ && replies_.empty() && !framer_.has_partial() && !partial_.overlong;
+}
+
+void TcpSession::close() {
+    if (closed_) return;
+    closed_ = true;
+    reading_ = false;
+    asio::error_code ignored;
+    socket_.close(ignored);
+    writer_timer_.cancel();
+    reader_timer_.cancel();
+    watchdog_timer_.cancel();
+}
+
+void TcpSession::shutdown_and_close() {
+    asio::error_code ignored;
+    socket_.shutdown(asio::ip::tcp::socket::shutdown_send, ignored);
+    close();
+}
+
+asio::awaitable<void> TcpSession::read_loop(std::shared_ptr<TcpSession> /*self*/) {
+    while (!closed_) {
+        auto progress = process_input();
+        if (progress == Progress::Paused) {
+            reader_paused_ = true;
+            reader_timer_.expires_at(Clock::time_point::max());
+            co_await reader_timer_.async_wait(use_tuple);
+            reader_paused_ = false;
+            continue;
+        }
+        if (progress == Progress::Stopped) break;
+        auto [ec, n] = co_await socket_.async_read_some(asio::buffer(input_), use_tuple);
+        if (closed_) break;
+        if (ec) {
+            if (ec != asio::error::eof) {
+                close();
+                break;
+            }
+            // The client finished sending: answer what came, an unfinished frame included
+            // (its missing bytes can no longer arrive), then close.
+            auto now = Clock::now();
+            if (framer_.has_partial() || partial_.overlong) on_partial_timeout(now);
+            reading_ = false;
+            wake_writer();
+            break;
+        }
+        input_begin_ = 0;
+        input_end_ = n;
+    }
+}
+
+TcpSession::Progress TcpSession::process_input() {
+    auto now = Clock::now();
+    while (input_begin_ < input_end_ && reading_) {
+        auto input =
+            std::span<const std::uint8_t>(input_.data() + input_begin_, input_end_ - input_begin_);
+        if (partial_.overlong) {
+            if (!partial_.function) partial_.function = input.front();
+            partial_.skipped += input.size();
+            input_begin_ = input_end_;
+            if (partial_.skipped > protocol::limits::kMaxPdu) {
+                // The body really is longer than any PDU: not a length typo but a flood.
+                ServerStats::bump(core_->stats.closed_bad_frame);
+                close_after_answers(now);
+            } else {
+                arm_partial_deadline(now);
+            }
+            continue;
+        }
+        if (must_pause(now)) return Progress::Paused;
+        std::size_t consumed = 0;
+        auto event = framer_.feed(input, consumed);
+        input_begin_ += consumed;
+        switch (event.status) {
+            case protocol::FrameStatus::NeedMore:
+                on_partial_bytes(input.first(consumed), now);
+                break;
+            case protocol::FrameStatus::Frame:
+                partial_ = {};
+                on_frame(event, now);
+                break;
+            case protocol::FrameStatus::Error:
+                partial_ = {};
+                on_frame_error(event, now);
+                break;
+        }
+    }
+    return reading_ ? Progress::Consumed : Progress::Stopped;
+}
+
+bool TcpSession::must_pause(Clock::time_point now) {
+    auto limit = outstanding_limit(core_->options);
+    auto queued = replies_.size();
+    if (queued >= limit + kBusySlack) return true;
+    // Answers that are ready only wait for the socket: wait with them rather than call the
+    // device busy. Busy is for answers the device itself holds back (a delay fault).
+    return queued >= limit && replies_.front().ready_at <= now;
+}
+
+void TcpSession::on_partial_bytes(std::span<const std::uint8_t> bytes, Clock::time_point now) {
+    auto function_at = protocol::limits::kMbapHeader;
+    if (partial_.bytes <= function_at && function_at < partial_.bytes + bytes.size()) {
+        partial_.function = bytes[function_at - partial_.bytes];
+    }
+    partial_.bytes += bytes.size();
+    partial_.header = framer_.partial_header();
+    arm_partial_deadline(now);
+}
+
+void TcpSession::arm_partial_deadline(Clock::time_point now) {
+    partial_deadline_ = now + core_->options.partial_frame_timeout;
+    // The watchdog may be asleep until a later idle deadline: wake it to sleep less.
+    if (watchdog_timer_.expiry() > partial_deadline_) watchdog_timer_.cancel();
+}
+
+void TcpSession::on_frame(const protocol::FrameEvent& frame, Clock::time_point now) {
+    last_activity_ = now;
+    ServerStats::bump(core_->stats.requests);
+    if (replies_.size() >= outstanding_limit(core_->options)) {
+        ServerStats::bump(core_->stats.busy);
+        if (core_->options.on_busy_reply) core_->options.on_busy_reply(frame.unit);
+        queue_exception(frame.mbap, frame.pdu.front(), protocol::ExceptionCode::ServerDeviceBusy,
+                        now);
+        return;
+    }
+    auto* slot = replies_.push_back();
+    if (!slot) return;  // must_pause() keeps room; never reached
+    auto response = std::span(slot->adu).subspan(protocol::limits::kMbapHeader);
+    auto reply = core_->handler.handle({frame.unit, device::Link::Tcp}, frame.pdu, response);
+    switch (reply.action) {
+        case device::ReplyAction::NoAnswer:
+            replies_.pop_back();
+            return;
+        case device::ReplyAction::Close:
+            slot->close = true;
+            reading_ = false;
+            break;
+        case device::ReplyAction::Answer: {
+            auto size = std::min(reply.size, protocol::limits::kMaxPdu);
+            slot->size = static_cast<std::uint16_t>(protocol::write_mbap_adu(
+                answer_header(frame.mbap), response.first(size), slot->adu));
+            if (size > 0 && (response.front() & protocol::kExceptionBit)) {
+                ServerStats::bump(core_->stats.exceptions);
+            }
+            break;
+        }
+    }
+    slot->ready_at = now + reply.delay;
+    wake_writer();
+}
+
+void TcpSession::on_frame_error(const protocol::FrameEvent& frame, Clock::time_point now) {
+    const auto& header = frame.mbap;
+    bool length_ok = header.length >= 2 && header.length <= protocol::limits::kMaxPdu + 1;
+    if (length_ok) {
+        // Protocol id != 0: the framer skipped the frame, the stream is in step [TCPG 4.4.2.2].
+        ServerStats::bump(core_->stats.frames_dropped);
+        return;
+    }
+    if (header.length > protocol::limits::kMaxPdu + 1 && header.protocol_id == 0) {
+        // Seed 000 9.1.3 sends length 0xFF with a 6-byte body: wait for the body like any
+        // unfinished frame, then answer 03 and carry on.
+        partial_.header = header;
+        partial_.bytes = protocol::limits::kMbapHeader;
+        partial_.overlong = true;
+        arm_partial_deadline(now);
+        return;
+    }
+    ServerStats::bump(core_->stats.closed_bad_frame);
+    close_after_answers(now);
+}
+
+void TcpSession::on_partial_timeout(Clock::time_point now) {
+    if (partial_.header && partial_.header->protocol_id == 0 && partial_.function) {
+        queue_exception(*partial_.header, *partial_.function,
+                        protocol::ExceptionCode::IllegalDataValue, now);
+    }
+    ServerStats::bump(core_->stats.frames_dropped);
+    framer_.reset();
+    partial_ = {};
+}
+
+void TcpSession::queue_exception(const protocol::MbapHeader& header, std::uint8_t function,
+                                 protocol::ExceptionCode code, Clock::time_point now) {
+    auto* slot = replies_.push_back();
+    if (!slot) return;
+    const std::uint8_t pdu[] = {static_cast<std::uint8_t>(function | protocol::kExceptionBit),
+                                static_cast<std::uint8_t>(code)};
+    slot->size =
+        static_cast<std::uint16_t>(protocol::write_mbap_adu(answer_header(header), pdu, slot->adu));
+    slot->ready_at = now;
+    ServerStats::bump(core_->stats.exceptions);
+    wake_writer();
+}
+
+void TcpSession::close_after_answers(Clock::time_point now) {
+    reading_ = false;
+    if (auto* slot = replies_.push_back()) {
+        slot->close = true;
+        slot->ready_at = now;
+        wake_writer();
+    } else {
+        close();
+    }
+}
+
+void TcpSession::wake_writer() {
+    if (writer_waiting_) writer_timer_.cancel();
+}
+
+asio::awaitable<void> TcpSession::write_loop(std::shared_ptr<TcpSession> /*self*/) {
+    std::array<asio::const_buffer, kMaxGather> buffers;
+    while (!closed_) {
+        if (replies_.empty()) {
+            if (!reading_) {
+                shutdown_and_close();
+                break;
+            }
+            writer_waiting_ = true;
+            writer_timer_.expires_at(Clock::time_point::max());
+            co_await writer_timer_.async_wait(use_tuple);
+            writer_waiting_ = false;
+            continue;
+        }
+        auto now = Clock::now();
+        auto& head = replies_.front();
+        if (head.ready_at > now) {
+            writer_timer_.expires_at(head.ready_at);
+            co_await writer_timer_.async_wait(use_tuple);
+            continue;
+        }
+        if (head.close) {
+            shutdown_and_close();
+            break;
+        }
+        std::size_t count = 0;
+        auto limit = std::min(kMaxGather, replies_.size());
+        while (count < limit) {
+            auto& reply = replies_.at(count);
+            if (reply.close || reply.ready_at > now) break;
+            buffers[count++] = asio::buffer(reply.adu.data(), reply.size);
+        }
+        auto [ec, written] = co_await asio::async_write(
+            socket_, std::span<const asio::const_buffer>(buffers.data(), count), use_tuple);
+        (void)written;
+        if (ec || closed_) {
+            close();
+            break;
+        }
+        replies_.pop_front(count);
+        last_activity_ = Clock::now();
+        if (reader_paused_) reader_timer_.cancel();
+    }
+}
+
+Clock::time_point TcpSession::idle_deadline() const {
+    auto timeout = core_->options.idle_timeout;
+    if (timeout.count() <= 0) return Clock::time_point::max();
+    // An answer a fault delays is activity still to come; an answer stuck behind a client
+    // that does not read is not.
+    auto since = last_activity_;
+    if (!replies_.empty()) since = std::max(since, replies_.front().ready_at);
+    return since + timeout;
+}
+
+asio::awaitable<void> TcpSession::watchdog_loop(std::shared_ptr<TcpSession> /*self*/) {
+    while (!closed_) {
+        auto deadline = idle_deadline();
+        bool partial = framer_.has_partial() || partial_.overlong;
+        if (partial) deadline = std::min(deadline, partial_deadline_);
+        watchdog_timer_.expires_at(deadline);
+        co_await watchdog_timer_.async_wait(use_tuple);
+        if (closed_) break;
+        auto now = Clock::now();
+        if ((framer_.has_partial() || partial_.overlong) && now >= partial_deadline_) {
+            on_partial_timeout(now);
+        }
+        if (now >= idle_deadline()) {
+            ServerStats::bump(core_->stats.closed_idle);
+            close();
+            break;
+        }
+    }
+}
+
+}  // namespace mblab::server

@@ -1,0 +1,41 @@
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <memory>
+
+#include "blocking_client.hpp"
+#include "device/profile_paths.hpp"
+#include "device/reference_device.hpp"
+#include "device/request_handler.hpp"
+#include "server/background_server.hpp"
+#include "server/server_options.hpp"
+
+namespace mblab::test {
+
+// Runs a server on 127.0.0.1 and an ephemeral port, in-process on its own thread.
+class ServerFixture : public ::testing::Test {
+protected:
+    void start_server(device::RequestHandler& handler, server::ServerOptions options = {}) {
+        server_ = std::make_unique<server::BackgroundServer>(handler, std::move(options));
+        auto port = server_->start();
+        ASSERT_TRUE(port) << port.error();
+        port_ = *port;
+    }
+    // The shipped reference profile behind the server.
+    void start_reference_server(server::ServerOptions options = {}) {
+        auto loaded = device::load_profile(device::default_profile_path());
+        ASSERT_TRUE(loaded) << loaded.error();
+        device_ = std::move(loaded.value());
+        start_server(*device_, std::move(options));
+    }
+    BlockingClient connect() const { return BlockingClient(port_); }
+    const server::ServerStats& stats() const { return server_->stats(); }
+
+    std::unique_ptr<device::ReferenceDevice> device_;  // outlives the server
+    std::unique_ptr<server::BackgroundServer> server_;
+    std::uint16_t port_ = 0;
+};
+
+}  // namespace mblab::test

@@ -1,0 +1,231 @@
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "device/reference_device.hpp"
+#include "support/faulty_server.hpp"
+
+// `mblab conform` as users run it: exit statuses, console lines, report files.
+namespace mblab::conformance {
+namespace {
+
+struct Ran {
+    int status = -1;
+    std::string out;
+    std::string err;
+};
+
+std::string slurp(const std::string& path) {
+    std::ifstream file(path);
+    std::stringstream text;
+    text << file.rdbuf();
+    return text.str();
+}
+
+std::string temp(const std::string& name) {
+    return ::testing::TempDir() + "conform_cli_" + name;
+}
+
+// Runs build/mblab with `args` under a 60 s limit.
+Ran mblab(const std::string& args) {
+    const std::string err = temp("stderr.txt");
+    const std::string command =
+        "timeout 60 " + std::string(MBLAB_BINARY) + " " + args + " 2>" + err;
+    Ran ran;
+    std::unique_ptr<FILE, int (*)(FILE*)> pipe(::popen(command.c_str(), "r"), &::pclose);
+    if (!pipe) return ran;
+    char buffer[4096];
+    std::size_t n = 0;
+    while ((n = std::fread(buffer, 1, sizeof buffer, pipe.get())) > 0) ran.out.append(buffer, n);
+    int status = ::pclose(pipe.release());
+    ran.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    ran.err = slurp(err);
+    return ran;
+}
+
+// A port nothing listens on: bound, then released.
+std::uint16_t closed_port() {
+    int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t length = sizeof address;
+    ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address);
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length);
+    ::close(fd);
+    return ntohs(address.sin_port);
+}
+
+TEST(ConformCli, TheReferenceDevicePassesEveryApplicableCase) {
+    const std::string json = temp("reference.json");
+    auto ran = mblab("conform --json " + json);
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    auto report = nlohmann::json::parse(slurp(json));
+    EXPECT_EQ(report["passed"], true);
+    EXPECT_EQ(report["summary"]["failed"], 0);
+    EXPECT_GT(report["summary"]["passed"], 100);
+    EXPECT_EQ(report["dut"]["unit"], 1);
+    EXPECT_EQ(report["dut"]["registers"], 65536);
+    std::vector<std::string> suites;
+    for (const auto& suite : report["suites"]) {
+        suites.push_back(suite["name"]);
+        for (const auto& c : suite["cases"]) {
+            const std::string verdict = c["verdict"];
+            if (c["id"] == "7.2") {
+                // Ping depends on the machine's ICMP permissions, never on the device.
+                EXPECT_TRUE(verdict == "PASS" || verdict == "NOT RUN") << c["reason"];
+            } else if (suite["name"] == "policy-2.1") {
+                EXPECT_EQ(verdict, "PASS") << c["id"] << ": " << c["reason"];
+            } else {
+                EXPECT_TRUE(verdict == "PASS" || verdict == "N/A") << c["id"] << ": "
+                                                                    << c["reason"];
+            }
+        }
+    }
+    EXPECT_EQ(suites, (std::vector<std::string>{"policy-2.1", "device-id", "diagnostics",
+                                                "exceptions", "function-codes", "mbap"}));
+    EXPECT_NE(ran.out.find("  PASS     7.5.2   Multiple register test: the register sweep  (775 "
+                           "reads of up to 125 registers over 65536 registers)\n"),
+              std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("\nSummary: "), std::string::npos);
+}
+
+TEST(ConformCli, AnUnreachableTargetIsAUsageErrorOnOneLine) {
+    const auto port = closed_port();
+    auto ran = mblab("conform tcp://127.0.0.1:" + std::to_string(port));
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err, "mblab conform: cannot connect to tcp://127.0.0.1:" +
+                           std::to_string(port) + ": connection refused\n");
+    EXPECT_EQ(ran.out, "");
+}
+
+TEST(ConformCli, RtuOverTcpIsNotYetSupported) {
+    auto ran = mblab("conform rtu+tcp://127.0.0.1:502");
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err, "mblab conform: rtu+tcp://127.0.0.1:502: RTU over TCP is not yet supported\n");
+}
+
+TEST(ConformCli, AMalformedUserSuiteIsRefusedWithFileAndLine) {
+    const std::string suite = temp("bad_suite.toml");
+    std::ofstream(suite) << "[suite]\nname = \"mine\"\n\n[[case]]\nid = \"m.1\"\nsource = \"me\"\n"
+                            "title = \"t\"\nrequest = \"00 00 00 00 {len} {unit} 03 00 00 00 ZZ\"\n"
+                            "expect = \"00\"\n";
+    auto ran = mblab("conform --suite " + suite);
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err, "mblab conform: " + suite +
+                           ":8: request: column 38: 'ZZ': expected hex bytes, XX, {placeholder} "
+                           "or ...\n");
+}
+
+TEST(ConformCli, AUserSuiteRunsAgainstTheReferenceDevice) {
+    const std::string suite = temp("good_suite.toml");
+    std::ofstream(suite) << "[suite]\nname = \"mine\"\n\n[[case]]\nid = \"m.1\"\nsource = \"me\"\n"
+                            "title = \"read 2 registers\"\n"
+                            "request = \"00 2A 00 00 {len} {unit} 03 00 00 00 02\"\n"
+                            "expect = \"00 2A 00 00 {len} {unit} 03 04 XX XX XX XX\"\n";
+    auto ran = mblab("conform --suite " + suite);
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("\nmine\n  PASS     m.1  read 2 registers\n"), std::string::npos)
+        << ran.out;
+}
+
+TEST(ConformCli, ListPrintsTheCatalogue) {
+    auto ran = mblab("conform --list --suite policy-2.1");
+    EXPECT_EQ(ran.status, 0);
+    EXPECT_NE(ran.out.find("  9.1.3   Improper message length answers exception 03  (seed 000 "
+                           "9.1.3)\n"),
+              std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("  7.5.2   Multiple register test: the register sweep "
+                           "[register_sweep]  (seed 000 7.5.2)\n"),
+              std::string::npos);
+}
+
+class ConformCliFaultyTarget : public ::testing::Test {
+protected:
+    void SetUp() override {
+        auto loaded = device::load_profile(std::string(MBLAB_SOURCE_DIR) +
+                                           "/profiles/reference.toml");
+        ASSERT_TRUE(loaded.ok());
+        device_ = std::move(loaded.value());
+        server_ = std::make_unique<test::FaultyServer>(
+            *device_, test::FaultRule{test::Fault::WrongTransactionId, 0x01});
+        port_ = server_->start();
+        ASSERT_NE(port_, 0);
+    }
+    std::string target() const { return "tcp://127.0.0.1:" + std::to_string(port_); }
+
+    std::unique_ptr<device::ReferenceDevice> device_;
+    std::unique_ptr<test::FaultyServer> server_;
+    std::uint16_t port_ = 0;
+};
+
+TEST_F(ConformCliFaultyTarget, AFailureExitsOneAndShowsTheEvidenceInEveryReport) {
+    const std::string json = temp("faulty.json");
+    const std::string junit = temp("faulty.xml");
+    const std::string pcap = temp("faulty.pcap");
+    auto ran = mblab("conform " + target() +
+                     " --suite policy-2.1 --unit 1 --registers 65536 --object-messaging "
+                     "--alternate-encoding --json " + json + " --junit " + junit + " --pcap " + pcap);
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("DUT: unit 1, 65536 registers, max read 125, object messaging: yes, "
+                           "alternate encoding: yes (declared by flags)\n"),
+              std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("  FAIL     7.3.1   Function 0x01 read coils  (wrong transaction id)\n"
+                           "           sent      00 00 00 00 00 06 01 01 00 00 00 01\n"
+                           "           received  00 01 00 00 00 04 01 01 01 00\n"
+                           "           expected  00 00 00 00 00 04 01 01 01 XX\n"
+                           "                        ^^\n"),
+              std::string::npos)
+        << ran.out;
+    auto report = nlohmann::json::parse(slurp(json));
+    EXPECT_EQ(report["summary"]["failed"], 1);
+    EXPECT_EQ(report["suites"][0]["cases"][1]["id"], "7.3.1");
+    EXPECT_EQ(report["suites"][0]["cases"][1]["verdict"], "FAIL");
+    const std::string xml = slurp(junit);
+    EXPECT_NE(xml.find("<testsuite name=\"policy-2.1\" tests=\"18\" failures=\"1\""),
+              std::string::npos)
+        << xml;
+    EXPECT_NE(xml.find("<failure message=\"wrong transaction id\" type=\"FAIL\">"),
+              std::string::npos);
+    ASSERT_TRUE(std::filesystem::exists(pcap));
+    if (std::filesystem::exists("/usr/bin/tshark")) {
+        std::unique_ptr<FILE, int (*)(FILE*)> pipe(
+            ::popen(("/usr/bin/tshark -r " + pcap +
+                     " -Y '_ws.malformed || mbtcp.prot_id != 0' 2>/dev/null | wc -l")
+                        .c_str(),
+                    "r"),
+            &::pclose);
+        char line[64] = {};
+        ASSERT_NE(std::fgets(line, sizeof line, pipe.get()), nullptr);
+        EXPECT_STREQ(line, "0\n");
+    }
+}
+
+TEST_F(ConformCliFaultyTarget, ADutFileDeclaresTheDevice) {
+    const std::string dut = temp("dut.toml");
+    std::ofstream(dut) << "unit = 1\nregisters = 65536\nmax_read = 125\n";
+    auto ran = mblab("conform " + target() + " --suite policy-2.1 --dut " + dut);
+    EXPECT_EQ(ran.status, 1);
+    EXPECT_NE(ran.out.find("(declared by " + dut + ")\n"), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("  N/A      7.13.1  Function 0x5B object messaging: class 1, instance "
+                           "1, get attribute 1  (the DUT does not declare object_messaging)\n"),
+              std::string::npos)
+        << ran.out;
+}
+
+}  // namespace
+}  // namespace mblab::conformance

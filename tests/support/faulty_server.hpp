@@ -1,0 +1,60 @@
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <thread>
+
+#include "device/request_handler.hpp"
+
+// A small Modbus/TCP server on 127.0.0.1 that answers through any RequestHandler and breaks its
+// answers on purpose, so tests can show the conformance tester catches each kind of defect (and
+// does not fault devices that are right but unusual). One connection at a time, one thread.
+namespace mblab::test {
+
+enum class Fault : std::uint8_t {
+    None,
+    WrongTransactionId,  // transaction id + 1
+    WrongLength,         // length field one short of the bytes that follow
+    WrongUnitId,         // unit id + 1
+    WrongByteCount,      // a read's byte count + 1
+    WrongExceptionCode,  // exception code 04 (or 01 where 04 was right)
+    NoAnswer,            // nothing is sent
+    CloseConnection,     // the connection is closed instead of answering
+    WrongEcho,           // the last byte of an echoed answer changed
+    SplitAnswer,         // right, but written in three pieces 30 ms apart
+    LateAnswer,          // right, but 150 ms late
+};
+
+struct FaultRule {
+    Fault fault = Fault::None;
+    std::uint8_t function = 0;  // request function code the fault applies to; 0: every one
+};
+
+class FaultyServer {
+public:
+    FaultyServer(device::RequestHandler& handler, FaultRule rule);
+    ~FaultyServer();
+    FaultyServer(const FaultyServer&) = delete;
+    FaultyServer& operator=(const FaultyServer&) = delete;
+
+    // Listens on 127.0.0.1, an ephemeral port, and returns it (0 when it cannot listen).
+    std::uint16_t start();
+    void stop();
+
+    // How long a partial frame may wait for its missing bytes before exception 03 (9.1.3).
+    static constexpr std::chrono::milliseconds kPartialFrameWait{200};
+
+private:
+    void serve();
+    void serve_connection(int fd);
+    void answer(int fd, const std::uint8_t* frame, std::size_t size);
+
+    device::RequestHandler& handler_;
+    FaultRule rule_;
+    int listener_ = -1;
+    int wake_[2] = {-1, -1};
+    std::thread thread_;
+};
+
+}  // namespace mblab::test

@@ -1,0 +1,214 @@
+#include <gtest/gtest.h>
+#include <pcap/pcap.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "conformance/capture.hpp"
+#include "conformance/evidence_text.hpp"
+#include "conformance/reports.hpp"
+#include "support/hex.hpp"
+
+namespace mblab::conformance {
+namespace {
+
+using test::hex;
+
+Exchange failed_read() {
+    Exchange exchange;
+    exchange.sent = hex("00 00 00 00 00 06 01 01 00 00 00 01");
+    exchange.status = client::ReceiveStatus::Frame;
+    exchange.received = hex("00 01 00 00 00 04 01 01 01 00");
+    exchange.expected = "00 00 00 00 00 04 01 01 01 XX";
+    exchange.match = match(
+        ResolvedPattern{Pattern::parse("00 00 00 00 00 04 01 01 01 XX")->tokens()},
+        exchange.received);
+    return exchange;
+}
+
+RunResult sample_run() {
+    RunResult run;
+    run.target = "tcp://127.0.0.1:1502";
+    run.dut.unit = 1;
+    run.dut.registers = 100;
+    run.dut.declared_by = "flags";
+    run.elapsed = std::chrono::microseconds(250000);
+    run.requests = 12;
+    SuiteResult suite{"policy-2.1", "Policy", "policy-2.1.toml", {}};
+    suite.cases.push_back({"7.3.1", "seed 000 7.3.1", "Read coils",
+                           Outcome{Verdict::Fail, "wrong transaction id", {failed_read()}},
+                           std::chrono::microseconds(1500), 1});
+    suite.cases.push_back({"7.5.1", "seed 000 7.5.1", "Read <registers> & \"more\"",
+                           Outcome{Verdict::Pass, "", {}}, std::chrono::microseconds(500), 1});
+    suite.cases.push_back({"7.13.1", "seed 000 7.13.1", "Object messaging",
+                           Outcome{Verdict::NotApplicable,
+                                   "the DUT does not declare object_messaging", {}},
+                           std::chrono::microseconds(0), 0});
+    suite.cases.push_back({"7.2", "seed 000 7.2", "Ping",
+                           Outcome{Verdict::NotRun, "no ICMP socket", {}},
+                           std::chrono::microseconds(0), 0});
+    run.suites.push_back(suite);
+    return run;
+}
+
+TEST(EvidenceText, MarksTheDifferingBytes) {
+    EXPECT_EQ(evidence_lines(failed_read()),
+              (std::vector<std::string>{"sent      00 00 00 00 00 06 01 01 00 00 00 01",
+                                        "received  00 01 00 00 00 04 01 01 01 00",
+                                        "expected  00 00 00 00 00 04 01 01 01 XX",
+                                        "             ^^"}));
+}
+
+TEST(EvidenceText, SaysTimeoutWhenNothingCame) {
+    Exchange exchange;
+    exchange.sent = hex("00 00 00 00 00 02 01 07");
+    exchange.status = client::ReceiveStatus::Timeout;
+    exchange.waited = std::chrono::milliseconds(1000);
+    exchange.expected = "00 00 00 00 00 03 01 07 XX";
+    exchange.match = match(ResolvedPattern{Pattern::parse(exchange.expected)->tokens()}, {});
+    auto lines = evidence_lines(exchange);
+    ASSERT_EQ(lines.size(), 3U);
+    EXPECT_EQ(lines[1], "received  timeout after 1000 ms");
+    EXPECT_EQ(lines[2], "expected  00 00 00 00 00 03 01 07 XX");
+}
+
+TEST(JsonReport, CarriesVerdictsEvidenceAndSummary) {
+    auto report = nlohmann::json::parse(json_report(sample_run()));
+    EXPECT_EQ(report["target"], "tcp://127.0.0.1:1502");
+    EXPECT_EQ(report["passed"], false);
+    EXPECT_EQ(report["requests"], 12);
+    EXPECT_EQ(report["summary"]["passed"], 1);
+    EXPECT_EQ(report["summary"]["failed"], 1);
+    EXPECT_EQ(report["summary"]["not_applicable"], 1);
+    EXPECT_EQ(report["summary"]["not_run"], 1);
+    EXPECT_EQ(report["dut"]["registers"], 100);
+    EXPECT_FALSE(report["dut"].contains("coils"));
+    const auto& failed = report["suites"][0]["cases"][0];
+    EXPECT_EQ(failed["id"], "7.3.1");
+    EXPECT_EQ(failed["verdict"], "FAIL");
+    EXPECT_EQ(failed["evidence"][0]["received"], "00 01 00 00 00 04 01 01 01 00");
+    EXPECT_EQ(failed["evidence"][0]["status"], "frame");
+    EXPECT_EQ(failed["evidence"][0]["differs"], nlohmann::json::array({1}));
+    EXPECT_EQ(report["suites"][0]["cases"][2]["verdict"], "N/A");
+    EXPECT_EQ(report["suites"][0]["cases"][3]["verdict"], "NOT RUN");
+}
+
+TEST(JunitReport, IsTheExpectedDocument) {
+    EXPECT_EQ(junit_report(sample_run()),
+              R"(<?xml version="1.0" encoding="UTF-8"?>
+<testsuites name="mblab conform tcp://127.0.0.1:1502" tests="4" failures="1" errors="0" skipped="2" time="0.250000">
+  <testsuite name="policy-2.1" tests="4" failures="1" errors="0" skipped="2" time="0.002000">
+    <testcase classname="policy-2.1" name="7.3.1 Read coils" time="0.001500">
+      <failure message="wrong transaction id" type="FAIL">seed 000 7.3.1 (wrong transaction id)
+sent      00 00 00 00 00 06 01 01 00 00 00 01
+received  00 01 00 00 00 04 01 01 01 00
+expected  00 00 00 00 00 04 01 01 01 XX
+             ^^
+</failure>
+    </testcase>
+    <testcase classname="policy-2.1" name="7.5.1 Read &lt;registers&gt; &amp; &quot;more&quot;" time="0.000500"/>
+    <testcase classname="policy-2.1" name="7.13.1 Object messaging" time="0.000000">
+      <skipped message="N/A: the DUT does not declare object_messaging"/>
+    </testcase>
+    <testcase classname="policy-2.1" name="7.2 Ping" time="0.000000">
+      <skipped message="NOT RUN: no ICMP socket"/>
+    </testcase>
+  </testsuite>
+</testsuites>
+)");
+}
+
+struct Packet {
+    std::vector<std::uint8_t> bytes;
+    std::uint16_t source_port() const { return static_cast<std::uint16_t>(bytes[20] << 8 | bytes[21]); }
+    std::uint16_t dest_port() const { return static_cast<std::uint16_t>(bytes[22] << 8 | bytes[23]); }
+    std::uint32_t word(std::size_t at) const {
+        return static_cast<std::uint32_t>(bytes[at] << 24 | bytes[at + 1] << 16 |
+                                          bytes[at + 2] << 8 | bytes[at + 3]);
+    }
+    std::uint32_t seq() const { return word(24); }
+    std::uint32_t ack() const { return word(28); }
+    std::uint8_t flags() const { return bytes[33]; }
+    std::vector<std::uint8_t> payload() const { return {bytes.begin() + 40, bytes.end()}; }
+};
+
+std::vector<Packet> read_pcap(const std::string& path, int& link_type) {
+    char error[PCAP_ERRBUF_SIZE];
+    std::unique_ptr<pcap_t, void (*)(pcap_t*)> handle(pcap_open_offline(path.c_str(), error),
+                                                      &pcap_close);
+    std::vector<Packet> packets;
+    if (!handle) return packets;
+    link_type = pcap_datalink(handle.get());
+    pcap_pkthdr* header = nullptr;
+    const u_char* data = nullptr;
+    while (pcap_next_ex(handle.get(), &header, &data) == 1) {
+        packets.push_back({std::vector<std::uint8_t>(data, data + header->caplen)});
+    }
+    return packets;
+}
+
+std::vector<CaptureEvent> sample_capture() {
+    Capture capture;
+    capture.on_open({0x7F000001, 40001, 0x7F000001, 1502});
+    capture.on_sent(hex("00 00 00 00 00 06 01 03 00 00 00 01"));
+    capture.on_received(hex("00 00 00 00 00 05 01"));
+    capture.on_received(hex("03 02 12 34"));
+    capture.on_close(true);
+    return capture.events();
+}
+
+TEST(PcapWriter, WritesRawIpv4WithConsistentSequenceNumbers) {
+    const std::string path = ::testing::TempDir() + "conform_test.pcap";
+    std::string error;
+    ASSERT_TRUE(write_pcap(path, sample_capture(), error)) << error;
+    int link_type = 0;
+    auto packets = read_pcap(path, link_type);
+    EXPECT_EQ(link_type, DLT_RAW);
+    // SYN, SYN-ACK, ACK, request, the answer (two reads, one frame), FIN, FIN, ACK.
+    ASSERT_EQ(packets.size(), 8U);
+    EXPECT_EQ(packets[0].flags(), 0x02);
+    EXPECT_EQ(packets[1].flags(), 0x12);
+    EXPECT_EQ(packets[1].ack(), packets[0].seq() + 1);
+    const Packet& request = packets[3];
+    EXPECT_EQ(request.source_port(), 40001);
+    EXPECT_EQ(request.dest_port(), 502);  // the device's side is always 502
+    EXPECT_EQ(request.payload(), hex("00 00 00 00 00 06 01 03 00 00 00 01"));
+    EXPECT_EQ(request.seq(), packets[0].seq() + 1);
+    const Packet& answer = packets[4];
+    EXPECT_EQ(answer.source_port(), 502);
+    EXPECT_EQ(answer.seq(), packets[1].seq() + 1);
+    EXPECT_EQ(answer.ack(), request.seq() + 12);
+    EXPECT_EQ(answer.payload(), hex("00 00 00 00 00 05 01 03 02 12 34"));
+    EXPECT_EQ(packets[5].source_port(), 502);  // the device closed first
+    EXPECT_EQ(packets[5].flags(), 0x11);
+    EXPECT_EQ(packets[5].seq(), answer.seq() + 11);
+    EXPECT_EQ(packets[6].ack(), packets[5].seq() + 1);
+    EXPECT_EQ(packets[7].flags(), 0x10);
+}
+
+TEST(PcapWriter, TsharkDissectsModbusWithoutMalformedPackets) {
+    if (!std::filesystem::exists("/usr/bin/tshark")) GTEST_SKIP() << "tshark is not installed";
+    const std::string path = ::testing::TempDir() + "conform_tshark.pcap";
+    std::string error;
+    ASSERT_TRUE(write_pcap(path, sample_capture(), error)) << error;
+    const std::string command = "/usr/bin/tshark -r " + path +
+                                " -Y mbtcp -T fields -e mbtcp.trans_id -e modbus.func_code "
+                                "-e _ws.malformed 2>/dev/null";
+    std::unique_ptr<FILE, int (*)(FILE*)> pipe(::popen(command.c_str(), "r"), &::pclose);
+    ASSERT_TRUE(pipe);
+    std::string output;
+    char buffer[256];
+    while (std::fgets(buffer, sizeof buffer, pipe.get()) != nullptr) output += buffer;
+    EXPECT_EQ(output, "0\t3\t\n0\t3\t\n");
+}
+
+TEST(PcapWriter, ReportsAnUnwritablePath) {
+    std::string error;
+    EXPECT_FALSE(write_pcap("/nonexistent/dir/x.pcap", sample_capture(), error));
+    EXPECT_EQ(error.rfind("cannot write /nonexistent/dir/x.pcap", 0), 0U) << error;
+}
+
+}  // namespace
+}  // namespace mblab::conformance

@@ -1,0 +1,53 @@
+#include "protocol/function_code.hpp"
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+namespace mblab::protocol {
+namespace {
+
+TEST(FunctionCode, PublicCodesAreTheOnesMblabDecodes) {
+    const std::uint8_t expected[] = {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x0B, 0x0C,
+                                     0x0F, 0x10, 0x11, 0x14, 0x15, 0x16, 0x17, 0x18, 0x2B, 0x5B};
+    std::string listed;
+    for (int code = 0; code <= 0xFF; ++code) {
+        if (is_public_function(static_cast<std::uint8_t>(code))) listed += char(code);
+    }
+    EXPECT_EQ(listed, std::string(std::begin(expected), std::end(expected)));
+}
+
+TEST(FunctionCode, NamesKnownCodes) {
+    EXPECT_EQ(function_name(0x03), "read holding registers");
+    EXPECT_EQ(function_name(0x17), "read/write multiple registers");
+    EXPECT_EQ(function_name(0x2B), "encapsulated interface transport");
+    EXPECT_EQ(function_name(0x5B), "object messaging");
+}
+
+TEST(FunctionCode, NamesUnknownCodesByNumber) {
+    EXPECT_EQ(function_name(0x00), "function 0x00");
+    EXPECT_EQ(function_name(0x25), "function 0x25");
+    EXPECT_EQ(function_name(0x41), "function 0x41");
+    EXPECT_EQ(function_name(0xAB), "function 0xAB");
+    EXPECT_EQ(function_name(0xFF), "function 0xFF");
+}
+
+TEST(DiagnosticSub, KnownSubFunctionsAreThoseOfApp681) {
+    std::string listed;
+    for (int sub = 0; sub <= 0xFFFF; ++sub) {
+        if (is_known_diagnostic_sub(static_cast<std::uint16_t>(sub))) listed += char(sub);
+    }
+    EXPECT_EQ(listed,
+              std::string("\x00\x01\x02\x03\x04\x0A\x0B\x0C\x0D\x0E\x0F\x10\x11\x12\x14", 15));
+}
+
+TEST(DiagnosticSub, Names) {
+    EXPECT_EQ(diagnostic_sub_name(0x00), "return query data");
+    EXPECT_EQ(diagnostic_sub_name(0x04), "force listen only mode");
+    EXPECT_EQ(diagnostic_sub_name(0x14), "clear overrun counter and flag");
+    EXPECT_EQ(diagnostic_sub_name(0x13), "reserved sub-function");
+    EXPECT_EQ(diagnostic_sub_name(0xFFFF), "reserved sub-function");
+}
+
+}  // namespace
+}  // namespace mblab::protocol
