@@ -16,5 +16,12 @@ inline constexpr int kExitUsage = 2;   // bad arguments, bad files, unreachable 
 
 void add_serve_command(CLI::App& app, CommandRunner& runner);
 void add_conform_command(CLI::App& app, CommandRunner& runner);
+void add_read_command(CLI::App& app, CommandRunner& runner);
+void add_write_command(CLI::App& app, CommandRunner& runner);
+void add_diag_command(CLI::App& app, CommandRunner& runner);
+void add_devid_command(CLI::App& app, CommandRunner& runner);
+void add_raw_command(CLI::App& app, CommandRunner& runner);
+void add_watch_command(CLI::App& app, CommandRunner& runner);
+void add_load_command(CLI::App& app, CommandRunner& runner);
 
 }  // namespace mblab::cli

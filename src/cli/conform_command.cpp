@@ -57,8 +57,7 @@ int usage_error(const std::string& message) {
 
 // A suite given as a file, or by the name of a shipped one ([suite] name or file stem).
 std::optional<std::string> find_suite(const std::string& wanted,
-                                      const std::vector<std::string>& shipped,
-                                      std::string& error) {
+                                      const std::vector<std::string>& shipped, std::string& error) {
     namespace fs = std::filesystem;
     std::error_code ignored;
     if (wanted.ends_with(".toml") || wanted.find('/') != std::string::npos ||
@@ -114,7 +113,8 @@ void print_catalogue(const std::vector<conf::Suite>& suites) {
         fmt::print("{} ({}){}\n", suite.name, suite.file,
                    suite.title.empty() ? "" : ": " + suite.title);
         std::size_t width = 0;
-        for (const auto& c : suite.cases) width = std::max(width, c.id.size());
+        for (const auto& c : suite.cases)
+            width = std::max(width, c.id.size());
         for (const auto& c : suite.cases) {
             std::string kind = c.procedure.empty() ? "" : fmt::format(" [{}]", c.procedure);
             fmt::print("  {:<{}}  {}{}  ({})\n", c.id, width, c.title, kind, c.source);
@@ -144,7 +144,8 @@ bool declare_dut(const ConformOptions& options, conf::Dut& dut, std::string& err
     if (given("--max-read")) dut.max_read = static_cast<std::uint16_t>(options.max_read);
     if (given("--object-messaging")) dut.object_messaging = true;
     if (given("--alternate-encoding")) dut.alternate_encoding = true;
-    if (flags) dut.declared_by = dut.declared_by == "defaults" ? "flags" : dut.declared_by + " and flags";
+    if (flags)
+        dut.declared_by = dut.declared_by == "defaults" ? "flags" : dut.declared_by + " and flags";
     return true;
 }
 
@@ -205,8 +206,8 @@ int run_conform(const ConformOptions& options) {
     engine_options.pipeline_depth = static_cast<std::size_t>(options.pipeline);
     conf::ConsoleReport console(stdout, stderr, ::isatty(STDERR_FILENO) != 0);
     conf::Capture capture;
-    conf::Session session(endpoint, dut, engine_options,
-                          options.pcap.empty() ? nullptr : &capture, &console);
+    conf::Session session(endpoint, dut, engine_options, options.pcap.empty() ? nullptr : &capture,
+                          &console);
     client::LinkError link_error;
     if (session.link(link_error) == nullptr) {
         return usage_error(fmt::format("cannot connect to {}: {}", target, link_error.message));

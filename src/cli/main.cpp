@@ -14,6 +14,13 @@ int main(int argc, char** argv) {
     CommandRunner runner;
     add_conform_command(app, runner);
     add_serve_command(app, runner);
+    add_read_command(app, runner);
+    add_write_command(app, runner);
+    add_diag_command(app, runner);
+    add_devid_command(app, runner);
+    add_raw_command(app, runner);
+    add_watch_command(app, runner);
+    add_load_command(app, runner);
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

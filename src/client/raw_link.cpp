@@ -25,13 +25,20 @@ using Clock = std::chrono::steady_clock;
 
 std::string errno_text(int code) {
     switch (code) {
-        case ECONNREFUSED: return "connection refused";
-        case ETIMEDOUT: return "connection timed out";
-        case EHOSTUNREACH: return "host unreachable";
-        case ENETUNREACH: return "network unreachable";
-        case ECONNRESET: return "connection reset by peer";
-        case EPIPE: return "connection closed by peer";
-        default: return std::strerror(code);
+        case ECONNREFUSED:
+            return "connection refused";
+        case ETIMEDOUT:
+            return "connection timed out";
+        case EHOSTUNREACH:
+            return "host unreachable";
+        case ENETUNREACH:
+            return "network unreachable";
+        case ECONNRESET:
+            return "connection reset by peer";
+        case EPIPE:
+            return "connection closed by peer";
+        default:
+            return std::strerror(code);
     }
 }
 
@@ -42,8 +49,8 @@ int remaining_ms(Clock::time_point deadline) {
 
 // Non-blocking connect bounded by the deadline; returns the socket or -1 with `error` set.
 int connect_one(const addrinfo& info, Clock::time_point deadline, std::string& error) {
-    int fd = ::socket(info.ai_family, info.ai_socktype | SOCK_CLOEXEC | SOCK_NONBLOCK,
-                      info.ai_protocol);
+    int fd =
+        ::socket(info.ai_family, info.ai_socktype | SOCK_CLOEXEC | SOCK_NONBLOCK, info.ai_protocol);
     if (fd < 0) {
         error = errno_text(errno);
         return -1;
@@ -83,8 +90,7 @@ void describe(const sockaddr_storage& address, std::uint32_t& ip, std::uint16_t&
 long mbap_frame_size(std::span<const std::uint8_t> head) {
     if (head.size() < 6) return 0;
     long length = (head[4] << 8) | head[5];
-    if (length == 0 ||
-        length + 6 > static_cast<long>(protocol::limits::kMaxTcpAdu)) {
+    if (length == 0 || length + 6 > static_cast<long>(protocol::limits::kMaxTcpAdu)) {
         return -1;
     }
     return length + 6;
@@ -148,7 +154,9 @@ RawLink& RawLink::operator=(RawLink&& other) noexcept {
     return *this;
 }
 
-RawLink::~RawLink() { close(); }
+RawLink::~RawLink() {
+    close();
+}
 
 void RawLink::close() {
     if (fd_ >= 0) drop(false);
@@ -212,9 +220,12 @@ Received RawLink::take(ReceiveStatus status, std::size_t count, std::string deta
 std::optional<Received> RawLink::wait(Clock::time_point deadline) {
     std::string detail;
     switch (fill(deadline, detail)) {
-        case Fill::Data: return std::nullopt;
-        case Fill::Timeout: return take(ReceiveStatus::Timeout, buffer_.size());
-        case Fill::Closed: break;
+        case Fill::Data:
+            return std::nullopt;
+        case Fill::Timeout:
+            return take(ReceiveStatus::Timeout, buffer_.size());
+        case Fill::Closed:
+            break;
     }
     Received out = take(ReceiveStatus::Closed, buffer_.size(), detail);
     if (fd_ >= 0) drop(true);

@@ -34,7 +34,7 @@ struct LinkAddresses {
 
 // Watches traffic for captures (pcap); every callback sees the bytes as they crossed the socket.
 class LinkObserver {
-public:
+  public:
     virtual ~LinkObserver() = default;
     virtual void on_open(const LinkAddresses& addresses) = 0;
     virtual void on_sent(std::span<const std::uint8_t> bytes) = 0;
@@ -57,7 +57,7 @@ struct Received {
 };
 
 class RawLink {
-public:
+  public:
     static protocol::Result<RawLink, LinkError> connect(const Endpoint& endpoint,
                                                         std::chrono::milliseconds timeout,
                                                         LinkObserver* observer = nullptr);
@@ -84,7 +84,7 @@ public:
 
     void close();
 
-private:
+  private:
     RawLink(int fd, const LinkAddresses& addresses, LinkObserver* observer);
     // Reads once from the socket into the buffer.
     enum class Fill : std::uint8_t { Data, Timeout, Closed };

@@ -57,11 +57,11 @@ std::optional<Outcome> read_blocks(Session& session, const std::vector<BlockRead
         ++answered;
         if (progress != nullptr) progress->update(what, answered, reads.size());
         if (judgement.matched < 0) {
-            failure = Outcome{Verdict::Fail,
-                              fmt::format("{}, read of {} registers at {:04X}: {}", read.phase,
-                                          read.count, read.offset,
-                                          describe_failure(judgement.exchange)),
-                              {judgement.exchange}};
+            failure =
+                Outcome{Verdict::Fail,
+                        fmt::format("{}, read of {} registers at {:04X}: {}", read.phase,
+                                    read.count, read.offset, describe_failure(judgement.exchange)),
+                        {judgement.exchange}};
             break;
         }
         const auto& frame = judgement.exchange.received;

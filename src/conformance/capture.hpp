@@ -20,7 +20,7 @@ struct CaptureEvent {
 };
 
 class Capture : public client::LinkObserver {
-public:
+  public:
     void on_open(const client::LinkAddresses& addresses) override;
     void on_sent(std::span<const std::uint8_t> bytes) override;
     void on_received(std::span<const std::uint8_t> bytes) override;
@@ -28,7 +28,7 @@ public:
 
     const std::vector<CaptureEvent>& events() const { return events_; }
 
-private:
+  private:
     std::vector<CaptureEvent> events_;
 };
 

@@ -23,9 +23,9 @@ struct Step {
     Pattern request;
     std::vector<std::size_t> split;  // the request is written in pieces cut at these offsets
     std::chrono::milliseconds split_delay{20};
-    std::vector<Alternative> expect;        // first is preferred; empty when silence is expected
+    std::vector<Alternative> expect;  // first is preferred; empty when silence is expected
     std::optional<std::chrono::milliseconds> silence;  // the device must say nothing this long
-    std::optional<std::string> accept_close;  // a close by the device passes, with this remark
+    std::optional<std::string> accept_close;    // a close by the device passes, with this remark
     std::optional<std::string> accept_silence;  // no answer before the timeout passes, ditto
     std::optional<std::chrono::milliseconds> timeout;
     std::uint32_t line = 0;

@@ -13,16 +13,16 @@ namespace mblab::conformance {
 namespace {
 
 const std::vector<std::string_view> kSuiteKeys = {"name", "title", "source"};
-const std::vector<std::string_view> kStepKeys = {"request",        "expect",     "accept",
-                                                  "silence_ms",     "accept_close", "accept_silence",
-                                                  "timeout_ms",     "split",        "split_delay_ms"};
+const std::vector<std::string_view> kStepKeys = {"request",    "expect",       "accept",
+                                                 "silence_ms", "accept_close", "accept_silence",
+                                                 "timeout_ms", "split",        "split_delay_ms"};
 const std::vector<std::string_view> kCaseOnlyKeys = {
-    "id",       "source",   "title",    "procedure",         "params", "step",
-    "requires", "depends_on", "pipeline", "isolated", "unsupported_is_na"};
+    "id",       "source",     "title",    "procedure", "params",           "step",
+    "requires", "depends_on", "pipeline", "isolated",  "unsupported_is_na"};
 const std::vector<std::string_view> kAcceptKeys = {"expect", "remark"};
 
 class SuiteLoader {
-public:
+  public:
     explicit SuiteLoader(const std::string& file) : reader_(file) {}
 
     protocol::Result<Suite, std::string> load(std::optional<toml::table> root) {
@@ -34,7 +34,7 @@ public:
 
     TomlReader& reader() { return reader_; }
 
-private:
+  private:
     bool read_suite(const toml::table& root, Suite& suite) {
         if (!reader_.only_keys(root, {"suite", "case"})) return false;
         const toml::table* header = root["suite"].as_table();
@@ -84,8 +84,8 @@ private:
             !reader_.get(table, "unsupported_is_na", c.unsupported_is_na)) {
             return false;
         }
-        for (auto [key, value] : {std::pair{"id", &c.id}, {"source", &c.source},
-                                  {"title", &c.title}}) {
+        for (auto [key, value] :
+             {std::pair{"id", &c.id}, {"source", &c.source}, {"title", &c.title}}) {
             if (value->empty()) {
                 return reader_.fail(&table, fmt::format("a case needs '{}'", key));
             }
@@ -141,7 +141,8 @@ private:
     bool read_dependencies(const toml::table& table, Case& c) {
         std::vector<std::pair<std::string, const toml::node*>> texts;
         if (!reader_.get_strings(table, "depends_on", texts)) return false;
-        for (auto& entry : texts) c.depends_on.push_back(std::move(entry.first));
+        for (auto& entry : texts)
+            c.depends_on.push_back(std::move(entry.first));
         return true;
     }
 
@@ -150,16 +151,18 @@ private:
         const toml::node* node = table.get("procedure");
         if (info == nullptr) {
             std::string known;
-            for (const auto& p : procedures()) known += (known.empty() ? "" : ", ") + std::string(p.name);
-            return reader_.fail(node, fmt::format("unknown procedure '{}' (known: {})",
-                                                  c.procedure, known));
+            for (const auto& p : procedures())
+                known += (known.empty() ? "" : ", ") + std::string(p.name);
+            return reader_.fail(
+                node, fmt::format("unknown procedure '{}' (known: {})", c.procedure, known));
         }
         const toml::node* params_node = table.get("params");
         if (params_node == nullptr) return true;
         const toml::table* params = params_node->as_table();
         if (params == nullptr) return reader_.fail(params_node, "'params' must be a table");
         std::vector<std::string_view> names;
-        for (const auto& [name, value] : info->params) names.push_back(name);
+        for (const auto& [name, value] : info->params)
+            names.push_back(name);
         if (!reader_.only_keys(*params, names)) return false;
         for (auto name : names) {
             std::int64_t value = 0;
@@ -176,17 +179,19 @@ private:
         auto parsed = Pattern::parse(text);
         std::string_view what = is_request ? "request" : "expected pattern";
         if (!parsed) {
-            return reader_.fail(node, fmt::format("{}: column {}: {}", what,
-                                                  parsed.error().column, parsed.error().reason));
+            return reader_.fail(node, fmt::format("{}: column {}: {}", what, parsed.error().column,
+                                                  parsed.error().reason));
         }
         for (const auto& name : parsed->facts()) {
             if (!is_known_fact(name)) {
-                return reader_.fail(node, fmt::format("{}: unknown placeholder {{{}}}", what, name));
+                return reader_.fail(node,
+                                    fmt::format("{}: unknown placeholder {{{}}}", what, name));
             }
         }
         if (is_request && !parsed->is_concrete()) {
-            return reader_.fail(node, "request: XX and ... are for expected patterns; a request "
-                                      "is exact bytes");
+            return reader_.fail(node,
+                                "request: XX and ... are for expected patterns; a request "
+                                "is exact bytes");
         }
         out = std::move(parsed.value());
         return true;
@@ -231,8 +236,8 @@ private:
         }
         for (const char* key : {"accept", "accept_silence"}) {
             if (step.silence && table.contains(key)) {
-                return fail(table.get(key), fmt::format("'{}' goes with 'expect', not 'silence_ms'",
-                                                        key));
+                return fail(table.get(key),
+                            fmt::format("'{}' goes with 'expect', not 'silence_ms'", key));
             }
         }
         std::optional<std::chrono::milliseconds> delay;
@@ -261,8 +266,8 @@ private:
         for (const toml::node& item : *list) {
             const toml::table* entry = item.as_table();
             if (entry == nullptr) {
-                return reader_.fail(&item, fmt::format("case {}: each 'accept' entry is a table",
-                                                       c.id));
+                return reader_.fail(&item,
+                                    fmt::format("case {}: each 'accept' entry is a table", c.id));
             }
             Alternative alternative;
             std::string expect;
@@ -271,8 +276,8 @@ private:
                 return false;
             }
             if (expect.empty()) {
-                return reader_.fail(entry, fmt::format("case {}: an 'accept' entry needs 'expect'",
-                                                       c.id));
+                return reader_.fail(entry,
+                                    fmt::format("case {}: an 'accept' entry needs 'expect'", c.id));
             }
             if (!read_pattern(expect, entry->get("expect"), false, alternative.pattern)) {
                 return false;

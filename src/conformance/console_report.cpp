@@ -15,7 +15,8 @@ void ConsoleReport::header(const std::string& target, const Dut& dut, const std:
 
 void ConsoleReport::suite_started(const Suite& suite) {
     id_width_ = 0;
-    for (const auto& c : suite.cases) id_width_ = std::max(id_width_, c.id.size());
+    for (const auto& c : suite.cases)
+        id_width_ = std::max(id_width_, c.id.size());
     fmt::print(out_, "\n{}{}\n", suite.name, suite.title.empty() ? "" : ": " + suite.title);
     std::fflush(out_);
 }
@@ -23,23 +24,25 @@ void ConsoleReport::suite_started(const Suite& suite) {
 void ConsoleReport::case_finished(const Suite&, const CaseResult& result) {
     clear();
     const auto& outcome = result.outcome;
-    std::string line = fmt::format("  {:<8} {:<{}}  {}", verdict_label(outcome.verdict),
-                                   result.id, id_width_, result.title);
+    std::string line = fmt::format("  {:<8} {:<{}}  {}", verdict_label(outcome.verdict), result.id,
+                                   id_width_, result.title);
     if (!outcome.reason.empty()) line += fmt::format("  ({})", outcome.reason);
     fmt::print(out_, "{}\n", line);
     const std::string indent(11, ' ');
     for (const auto& exchange : outcome.evidence) {
-        for (const auto& text : evidence_lines(exchange)) fmt::print(out_, "{}{}\n", indent, text);
+        for (const auto& text : evidence_lines(exchange))
+            fmt::print(out_, "{}{}\n", indent, text);
     }
     std::fflush(out_);
 }
 
 void ConsoleReport::summary(const RunResult& result) {
     const Counts counts = result.counts();
-    fmt::print(out_, "\nSummary: {} passed, {} failed, {} N/A, {} not run ({} cases) in {}, {} "
-                     "requests\n",
-               counts.passed, counts.failed, counts.not_applicable, counts.not_run,
-               counts.total(), format_duration(result.elapsed), result.requests);
+    fmt::print(out_,
+               "\nSummary: {} passed, {} failed, {} N/A, {} not run ({} cases) in {}, {} "
+               "requests\n",
+               counts.passed, counts.failed, counts.not_applicable, counts.not_run, counts.total(),
+               format_duration(result.elapsed), result.requests);
     std::fflush(out_);
 }
 

@@ -12,7 +12,7 @@ namespace mblab::conformance {
 // summary at the end. The progress line of long procedures goes to its own stream (stderr) and
 // only when that is a terminal.
 class ConsoleReport : public RunListener, public Progress {
-public:
+  public:
     ConsoleReport(std::FILE* out, std::FILE* progress, bool show_progress)
         : out_(out), progress_(progress), show_progress_(show_progress) {}
 
@@ -24,7 +24,7 @@ public:
     void update(std::string_view what, std::size_t done, std::size_t total) override;
     void clear() override;
 
-private:
+  private:
     std::FILE* out_;
     std::FILE* progress_;
     bool show_progress_;

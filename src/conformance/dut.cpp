@@ -30,8 +30,10 @@ std::optional<std::int64_t> number_of(const Dut& dut, std::string_view name) {
     if (name == "unit") return dut.unit;
     if (name == "registers") return widen(dut.registers);
     if (name == "max_read") return dut.max_read;
-    if (name == "object_messaging") return dut.object_messaging ? std::optional<std::int64_t>(1) : std::nullopt;
-    if (name == "alternate_encoding") return dut.alternate_encoding ? std::optional<std::int64_t>(1) : std::nullopt;
+    if (name == "object_messaging")
+        return dut.object_messaging ? std::optional<std::int64_t>(1) : std::nullopt;
+    if (name == "alternate_encoding")
+        return dut.alternate_encoding ? std::optional<std::int64_t>(1) : std::nullopt;
     if (name == "coils") return widen(dut.coils);
     if (name == "discrete_inputs") return widen(dut.discrete_inputs);
     if (name == "input_registers") return widen(dut.input_registers);
@@ -79,11 +81,19 @@ constexpr std::array kComputedFacts = {std::string_view("out_of_range_registers"
 }  // namespace
 
 const std::vector<std::string_view>& dut_keys() {
-    static const std::vector<std::string_view> keys = {
-        "unit",          "registers",          "max_read",       "object_messaging",
-        "alternate_encoding", "coils",         "discrete_inputs", "input_registers",
-        "read_only_register", "read_only_coil", "fifo_address",   "file_number",
-        "echo_max_words"};
+    static const std::vector<std::string_view> keys = {"unit",
+                                                       "registers",
+                                                       "max_read",
+                                                       "object_messaging",
+                                                       "alternate_encoding",
+                                                       "coils",
+                                                       "discrete_inputs",
+                                                       "input_registers",
+                                                       "read_only_register",
+                                                       "read_only_coil",
+                                                       "fifo_address",
+                                                       "file_number",
+                                                       "echo_max_words"};
     return keys;
 }
 
@@ -137,11 +147,13 @@ protocol::Result<Requirement, std::string> parse_requirement(std::string_view te
     out.text = std::string(text);
     std::size_t i = 0;
     auto skip_space = [&] {
-        while (i < text.size() && text[i] == ' ') ++i;
+        while (i < text.size() && text[i] == ' ')
+            ++i;
     };
     skip_space();
     std::size_t start = i;
-    while (i < text.size() && (std::islower(static_cast<unsigned char>(text[i])) || text[i] == '_')) ++i;
+    while (i < text.size() && (std::islower(static_cast<unsigned char>(text[i])) || text[i] == '_'))
+        ++i;
     out.fact = std::string(text.substr(start, i - start));
     if (!is_known_fact(out.fact)) {
         return fmt::format("requirement '{}' names no DUT fact", text);
@@ -157,9 +169,9 @@ protocol::Result<Requirement, std::string> parse_requirement(std::string_view te
     }
     skip_space();
     std::string_view number = text.substr(i);
-    if (out.op.empty() || number.empty() ||
-        !std::all_of(number.begin(), number.end(),
-                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)); })) {
+    if (out.op.empty() || number.empty() || !std::all_of(number.begin(), number.end(), [](char c) {
+            return std::isdigit(static_cast<unsigned char>(c));
+        })) {
         return fmt::format("requirement '{}' is not 'fact' or 'fact OP number'", text);
     }
     out.value = std::stoll(std::string(number));

@@ -14,7 +14,7 @@
 namespace mblab::conformance {
 
 struct Dut {
-    std::uint8_t unit = 0;                  // 6.4: 0 unless the vendor says otherwise
+    std::uint8_t unit = 0;                   // 6.4: 0 unless the vendor says otherwise
     std::optional<std::uint32_t> registers;  // 6.6: holding registers, 1..65536
     std::uint16_t max_read = 125;            // 6.6: most registers one FC 03 may read
     bool object_messaging = false;           // 6.5: FC 5B
@@ -42,11 +42,11 @@ protocol::Result<Dut, std::string> load_dut_file(const std::string& path);
 //   {out_of_range_registers}  offset and count for seed 000 9.1.2 (4 bytes)
 //   {echo_max_data} / {echo_over_data}  FC 08 data words at and one past the echo limit
 class DutFacts : public FactSource {
-public:
+  public:
     explicit DutFacts(const Dut& dut) : dut_(dut) {}
     std::optional<std::vector<std::uint8_t>> fact(std::string_view name) const override;
 
-private:
+  private:
     const Dut& dut_;
 };
 

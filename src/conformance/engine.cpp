@@ -21,7 +21,9 @@ struct ResolvedStep {
     std::vector<ResolvedPattern> expect;
 };
 
-Outcome verdict(Verdict v, std::string reason) { return Outcome{v, std::move(reason), {}}; }
+Outcome verdict(Verdict v, std::string reason) {
+    return Outcome{v, std::move(reason), {}};
+}
 
 std::optional<Outcome> check_requirements(const Case& c, const Dut& dut) {
     for (const auto& requirement : c.requirements) {
@@ -46,7 +48,8 @@ RunResult Engine::run(const std::vector<Suite>& suites, const std::string& targe
     result.dut = session_.dut();
     const auto start = Clock::now();
     const std::size_t requests_before = session_.requests();
-    for (const auto& suite : suites) result.suites.push_back(run_suite(suite));
+    for (const auto& suite : suites)
+        result.suites.push_back(run_suite(suite));
     session_.close();
     result.elapsed = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start);
     result.requests = session_.requests() - requests_before;
@@ -144,10 +147,10 @@ Outcome Engine::run_steps(const Case& c) {
                 judge(resolved.request, std::move(none), {}, resolved.expect).exchange);
             break;
         }
-        const auto waited = step.silence ? *step.silence
-                                         : step.timeout.value_or(session_.options().timeout);
-        auto received = step.silence ? session_.receive_any(waited)
-                                     : session_.receive_frame(waited);
+        const auto waited =
+            step.silence ? *step.silence : step.timeout.value_or(session_.options().timeout);
+        auto received =
+            step.silence ? session_.receive_any(waited) : session_.receive_frame(waited);
         const bool closed = received.status == client::ReceiveStatus::Closed;
         Judgement judgement = judge(resolved.request, std::move(received), waited, resolved.expect);
         judgement.exchange.silence_expected = step.silence.has_value();
@@ -162,10 +165,10 @@ Outcome Engine::run_steps(const Case& c) {
         bool passed = false;
         const bool silent =
             exchange.status == client::ReceiveStatus::Timeout && exchange.received.empty();
-        const std::optional<std::string>& tolerated =
-            closed && exchange.received.empty() ? step.accept_close
-            : silent                            ? step.accept_silence
-                                                : std::nullopt;
+        const std::optional<std::string>& tolerated = closed && exchange.received.empty()
+                                                          ? step.accept_close
+                                                      : silent ? step.accept_silence
+                                                               : std::nullopt;
         if (tolerated && !step.silence) {
             passed = true;
             if (!tolerated->empty()) remarks.push_back(*tolerated);
@@ -180,8 +183,8 @@ Outcome Engine::run_steps(const Case& c) {
             outcome.verdict = Verdict::Fail;
             outcome.reason = describe_failure(exchange);
             if (steps.size() > 1) {
-                outcome.reason = fmt::format("step {} of {}: {}", i + 1, steps.size(),
-                                             outcome.reason);
+                outcome.reason =
+                    fmt::format("step {} of {}: {}", i + 1, steps.size(), outcome.reason);
             }
             outcome.evidence.push_back(judgement.exchange);
             break;

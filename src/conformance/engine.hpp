@@ -11,7 +11,7 @@ namespace mblab::conformance {
 
 // Hears about results as they come, so a console can print them while the run goes on.
 class RunListener {
-public:
+  public:
     virtual ~RunListener() = default;
     virtual void suite_started(const Suite& suite) = 0;
     virtual void case_finished(const Suite& suite, const CaseResult& result) = 0;
@@ -20,7 +20,7 @@ public:
 // Runs suites case by case over one session. Cases that do not apply are N/A with the reason;
 // cases whose prerequisites failed are NOT RUN.
 class Engine {
-public:
+  public:
     explicit Engine(Session& session, RunListener* listener = nullptr)
         : session_(session), listener_(listener) {}
 
@@ -28,7 +28,7 @@ public:
     SuiteResult run_suite(const Suite& suite);
     Outcome run_case(const Case& c);
 
-private:
+  private:
     Outcome run_steps(const Case& c);
     Session& session_;
     RunListener* listener_;

@@ -14,13 +14,18 @@ std::string received_text(const Exchange& exchange) {
     std::string bytes = hex_text(exchange.received);
     std::string why;
     switch (exchange.status) {
-        case client::ReceiveStatus::Frame: return bytes;
+        case client::ReceiveStatus::Frame:
+            return bytes;
         case client::ReceiveStatus::Timeout:
             if (exchange.silence_expected) return bytes.empty() ? "nothing" : bytes;
             why = fmt::format("timeout after {} ms", exchange.waited.count());
             break;
-        case client::ReceiveStatus::Closed: why = exchange.detail; break;
-        case client::ReceiveStatus::Malformed: why = exchange.detail; break;
+        case client::ReceiveStatus::Closed:
+            why = exchange.detail;
+            break;
+        case client::ReceiveStatus::Malformed:
+            why = exchange.detail;
+            break;
     }
     return bytes.empty() ? why : fmt::format("{}  ({})", bytes, why);
 }
@@ -38,7 +43,8 @@ std::string marks(const std::vector<std::size_t>& differs) {
 
 std::string join(const std::vector<std::string>& cells) {
     std::string out;
-    for (const auto& cell : cells) out += (out.empty() ? "" : " ") + cell;
+    for (const auto& cell : cells)
+        out += (out.empty() ? "" : " ") + cell;
     return out;
 }
 

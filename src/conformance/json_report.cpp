@@ -10,10 +10,14 @@ using nlohmann::json;
 
 std::string_view status_name(client::ReceiveStatus status) {
     switch (status) {
-        case client::ReceiveStatus::Frame: return "frame";
-        case client::ReceiveStatus::Timeout: return "timeout";
-        case client::ReceiveStatus::Closed: return "closed";
-        case client::ReceiveStatus::Malformed: return "malformed";
+        case client::ReceiveStatus::Frame:
+            return "frame";
+        case client::ReceiveStatus::Timeout:
+            return "timeout";
+        case client::ReceiveStatus::Closed:
+            return "closed";
+        case client::ReceiveStatus::Malformed:
+            return "malformed";
     }
     return "unknown";
 }
@@ -74,7 +78,8 @@ std::string json_report(const RunResult& result) {
         json cases = json::array();
         for (const auto& c : suite.cases) {
             json evidence = json::array();
-            for (const auto& exchange : c.outcome.evidence) evidence.push_back(exchange_json(exchange));
+            for (const auto& exchange : c.outcome.evidence)
+                evidence.push_back(exchange_json(exchange));
             cases.push_back({{"id", c.id},
                              {"source", c.source},
                              {"title", c.title},

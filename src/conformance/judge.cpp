@@ -56,29 +56,31 @@ std::string describe_failure(const Exchange& exchange) {
     switch (exchange.status) {
         case client::ReceiveStatus::Timeout:
             if (exchange.silence_expected) break;
-            return got.empty() ? fmt::format("no answer: timeout after {} ms",
-                                             exchange.waited.count())
-                               : fmt::format("incomplete answer ({} bytes): timeout after {} ms",
-                                             got.size(), exchange.waited.count());
+            return got.empty()
+                       ? fmt::format("no answer: timeout after {} ms", exchange.waited.count())
+                       : fmt::format("incomplete answer ({} bytes): timeout after {} ms",
+                                     got.size(), exchange.waited.count());
         case client::ReceiveStatus::Closed:
             return got.empty() ? fmt::format("no answer: {}", exchange.detail)
                                : fmt::format("incomplete answer ({} bytes): {}", got.size(),
                                              exchange.detail);
         case client::ReceiveStatus::Malformed:
             return fmt::format("malformed answer: {}", exchange.detail);
-        case client::ReceiveStatus::Frame: break;
+        case client::ReceiveStatus::Frame:
+            break;
     }
     if (exchange.silence_expected) {
-        return got.empty() ? std::string("the device was to stay silent")
-                           : fmt::format("the device was to stay silent but sent {} bytes",
-                                         got.size());
+        return got.empty()
+                   ? std::string("the device was to stay silent")
+                   : fmt::format("the device was to stay silent but sent {} bytes", got.size());
     }
     // An exception answer to a request that expected data is the most common failure: name it.
     const auto& cells = exchange.match.expected_cells;
     const bool expected_exception = cells.size() > 7 && cells[7] != "XX" && cells[7][0] >= '8';
     if (got.size() == 9 && (got[7] & protocol::kExceptionBit) != 0) {
         auto code = static_cast<protocol::ExceptionCode>(got[8]);
-        std::string text = fmt::format("exception {:02X} ({})", got[8], protocol::exception_name(code));
+        std::string text =
+            fmt::format("exception {:02X} ({})", got[8], protocol::exception_name(code));
         if (!expected_exception) return text;
         if (cells.size() > 8 && cells[8] != "XX" && exchange.match.differs.size() == 1 &&
             exchange.match.differs.front() == 8) {

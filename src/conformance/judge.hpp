@@ -19,8 +19,7 @@ struct Judgement {
 // Compares what came back with each expected pattern; the exchange keeps the comparison with the
 // matching one, or with the closest when none matches.
 Judgement judge(std::span<const std::uint8_t> sent, client::Received received,
-                std::chrono::milliseconds waited,
-                const std::vector<ResolvedPattern>& alternatives);
+                std::chrono::milliseconds waited, const std::vector<ResolvedPattern>& alternatives);
 
 // One line saying what went wrong: "timeout after 1000 ms", "exception 02 (illegal data
 // address)", "wrong transaction id, length field", ...

@@ -17,11 +17,21 @@ std::string xml(std::string_view text) {
     out.reserve(text.size());
     for (char c : text) {
         switch (c) {
-            case '&': out += "&amp;"; break;
-            case '<': out += "&lt;"; break;
-            case '>': out += "&gt;"; break;
-            case '"': out += "&quot;"; break;
-            case '\'': out += "&apos;"; break;
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            case '\'':
+                out += "&apos;";
+                break;
             default:
                 if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') {
                     out += ' ';
@@ -49,11 +59,13 @@ std::string testcase(const std::string& suite, const CaseResult& c) {
         case Verdict::Fail: {
             std::string body = fmt::format("{} ({})\n", c.source, outcome.reason);
             for (const auto& exchange : outcome.evidence) {
-                for (const auto& line : evidence_lines(exchange)) body += line + "\n";
+                for (const auto& line : evidence_lines(exchange))
+                    body += line + "\n";
             }
-            return out + fmt::format(">\n      <failure message=\"{}\" type=\"FAIL\">{}</failure>\n"
-                                     "    </testcase>\n",
-                                     xml(outcome.reason), xml(body));
+            return out + fmt::format(
+                             ">\n      <failure message=\"{}\" type=\"FAIL\">{}</failure>\n"
+                             "    </testcase>\n",
+                             xml(outcome.reason), xml(body));
         }
         case Verdict::NotApplicable:
         case Verdict::NotRun:
@@ -76,13 +88,15 @@ std::string junit_report(const RunResult& result) {
     for (const auto& suite : result.suites) {
         const Counts counts = count(suite);
         std::chrono::microseconds elapsed{0};
-        for (const auto& c : suite.cases) elapsed += c.elapsed;
+        for (const auto& c : suite.cases)
+            elapsed += c.elapsed;
         out += fmt::format(
             "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"0\" skipped=\"{}\" "
             "time=\"{}\">\n",
             xml(suite.name), counts.total(), counts.failed, counts.not_applicable + counts.not_run,
             seconds(elapsed));
-        for (const auto& c : suite.cases) out += testcase(suite.name, c);
+        for (const auto& c : suite.cases)
+            out += testcase(suite.name, c);
         out += "  </testsuite>\n";
     }
     out += "</testsuites>\n";
@@ -91,7 +105,7 @@ std::string junit_report(const RunResult& result) {
 
 bool write_text_file(const std::string& path, const std::string& text, std::string& error) {
     std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "wb"),
-                                                        &std::fclose);
+                                                         &std::fclose);
     if (!file || std::fwrite(text.data(), 1, text.size(), file.get()) != text.size()) {
         error = fmt::format("cannot write {}", path);
         return false;

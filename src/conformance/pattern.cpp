@@ -24,7 +24,9 @@ bool is_fact_name(std::string_view name) {
     });
 }
 
-std::string cell(std::uint8_t value) { return fmt::format("{:02X}", value); }
+std::string cell(std::uint8_t value) {
+    return fmt::format("{:02X}", value);
+}
 
 }  // namespace
 
@@ -37,7 +39,8 @@ protocol::Result<Pattern, PatternError> Pattern::parse(std::string_view text) {
             continue;
         }
         std::size_t start = i;
-        while (i < text.size() && !std::isspace(static_cast<unsigned char>(text[i]))) ++i;
+        while (i < text.size() && !std::isspace(static_cast<unsigned char>(text[i])))
+            ++i;
         std::string_view token = text.substr(start, i - start);
         auto fail = [&](std::string reason) {
             return PatternError{start + 1, fmt::format("'{}': {}", token, reason)};
@@ -67,7 +70,8 @@ protocol::Result<Pattern, PatternError> Pattern::parse(std::string_view text) {
             int high = hex_digit(token[0]);
             int low = hex_digit(token[1]);
             if (high < 0 || low < 0) return fail("a repeat is one byte or XX, '*', and a count");
-            for (std::size_t k = 0; k < repeat; ++k) out.byte(static_cast<std::uint8_t>(high << 4 | low));
+            for (std::size_t k = 0; k < repeat; ++k)
+                out.byte(static_cast<std::uint8_t>(high << 4 | low));
         } else if (token == "...") {
             out.tokens_.push_back({PatternToken::Kind::Rest, 0, {}});
         } else if (token.front() == '{') {
@@ -108,7 +112,8 @@ Pattern& Pattern::u16(std::uint16_t value) {
 }
 
 Pattern& Pattern::any(std::size_t count) {
-    for (std::size_t i = 0; i < count; ++i) tokens_.push_back({PatternToken::Kind::Any, 0, {}});
+    for (std::size_t i = 0; i < count; ++i)
+        tokens_.push_back({PatternToken::Kind::Any, 0, {}});
     return *this;
 }
 
@@ -163,9 +168,14 @@ std::optional<std::size_t> fixed_size_after(const ResolvedPattern& pattern, std:
     std::size_t size = 0;
     for (std::size_t i = index + 1; i < pattern.tokens.size(); ++i) {
         switch (pattern.tokens[i].kind) {
-            case PatternToken::Kind::Rest: return std::nullopt;
-            case PatternToken::Kind::Length: size += 2; break;
-            default: size += 1; break;
+            case PatternToken::Kind::Rest:
+                return std::nullopt;
+            case PatternToken::Kind::Length:
+                size += 2;
+                break;
+            default:
+                size += 1;
+                break;
         }
     }
     return size;
@@ -202,13 +212,18 @@ MatchResult match(const ResolvedPattern& pattern, std::span<const std::uint8_t> 
     for (std::size_t i = 0; i < pattern.tokens.size(); ++i) {
         const auto& token = pattern.tokens[i];
         switch (token.kind) {
-            case PatternToken::Kind::Byte: expect_byte(token.value, cell(token.value)); break;
-            case PatternToken::Kind::Any: expect_byte(std::nullopt, "XX"); break;
+            case PatternToken::Kind::Byte:
+                expect_byte(token.value, cell(token.value));
+                break;
+            case PatternToken::Kind::Any:
+                expect_byte(std::nullopt, "XX");
+                break;
             case PatternToken::Kind::Length: {
                 // With a fixed-size pattern the length is known; after "..." it must agree with
                 // the bytes that really came.
-                std::size_t after = fixed_size_after(pattern, i).value_or(
-                    received.size() > pos + 2 ? received.size() - pos - 2 : 0);
+                std::size_t after =
+                    fixed_size_after(pattern, i)
+                        .value_or(received.size() > pos + 2 ? received.size() - pos - 2 : 0);
                 auto high = static_cast<std::uint8_t>((after >> 8) & 0xFF);
                 auto low = static_cast<std::uint8_t>(after & 0xFF);
                 expect_byte(high, cell(high));
@@ -219,11 +234,13 @@ MatchResult match(const ResolvedPattern& pattern, std::span<const std::uint8_t> 
                 open_ended = true;
                 out.expected_cells.emplace_back("...");
                 break;
-            case PatternToken::Kind::Fact: break;  // resolved away before matching
+            case PatternToken::Kind::Fact:
+                break;  // resolved away before matching
         }
     }
     if (!open_ended) {
-        for (; pos < received.size(); ++pos) out.differs.push_back(pos);
+        for (; pos < received.size(); ++pos)
+            out.differs.push_back(pos);
     }
     out.matched = out.differs.empty();
     return out;
@@ -234,11 +251,21 @@ std::string to_text(const ResolvedPattern& pattern) {
     for (const auto& token : pattern.tokens) {
         if (!out.empty()) out += ' ';
         switch (token.kind) {
-            case PatternToken::Kind::Byte: out += cell(token.value); break;
-            case PatternToken::Kind::Any: out += "XX"; break;
-            case PatternToken::Kind::Length: out += "{len}"; break;
-            case PatternToken::Kind::Rest: out += "..."; break;
-            case PatternToken::Kind::Fact: out += "{" + token.name + "}"; break;
+            case PatternToken::Kind::Byte:
+                out += cell(token.value);
+                break;
+            case PatternToken::Kind::Any:
+                out += "XX";
+                break;
+            case PatternToken::Kind::Length:
+                out += "{len}";
+                break;
+            case PatternToken::Kind::Rest:
+                out += "...";
+                break;
+            case PatternToken::Kind::Fact:
+                out += "{" + token.name + "}";
+                break;
         }
     }
     return out;

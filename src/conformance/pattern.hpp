@@ -32,7 +32,7 @@ struct PatternError {
 };
 
 class Pattern {
-public:
+  public:
     static protocol::Result<Pattern, PatternError> parse(std::string_view text);
 
     // Builders for procedures that compute what they expect.
@@ -48,13 +48,13 @@ public:
     // True when the pattern is fixed bytes once facts are put in (no XX, no ...).
     bool is_concrete() const;
 
-private:
+  private:
     std::vector<PatternToken> tokens_;
 };
 
 // Looks up a fact's bytes; nullopt when the device under test does not declare it.
 class FactSource {
-public:
+  public:
     virtual ~FactSource() = default;
     virtual std::optional<std::vector<std::uint8_t>> fact(std::string_view name) const = 0;
 };

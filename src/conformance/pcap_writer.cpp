@@ -1,6 +1,5 @@
-#include <pcap/pcap.h>
-
 #include <fmt/core.h>
+#include <pcap/pcap.h>
 
 #include <array>
 #include <memory>
@@ -32,13 +31,15 @@ void put32(std::vector<std::uint8_t>& out, std::size_t at, std::uint32_t value) 
 }
 
 std::uint32_t sum16(const std::uint8_t* bytes, std::size_t size, std::uint32_t sum = 0) {
-    for (std::size_t i = 0; i + 1 < size; i += 2) sum += (bytes[i] << 8) | bytes[i + 1];
+    for (std::size_t i = 0; i + 1 < size; i += 2)
+        sum += (bytes[i] << 8) | bytes[i + 1];
     if (size % 2 != 0) sum += bytes[size - 1] << 8;
     return sum;
 }
 
 std::uint16_t fold(std::uint32_t sum) {
-    while (sum >> 16) sum = (sum & 0xFFFF) + (sum >> 16);
+    while (sum >> 16)
+        sum = (sum & 0xFFFF) + (sum >> 16);
     return static_cast<std::uint16_t>(~sum);
 }
 
@@ -50,7 +51,7 @@ struct Peer {
 
 // One TCP connection's packets: the client is the tester, the server the device.
 class Stream {
-public:
+  public:
     Stream(const client::LinkAddresses& addresses, std::uint32_t index) {
         client_.ip = addresses.local_ip != 0 ? addresses.local_ip : kLoopback;
         client_.port = addresses.local_port != 0 ? addresses.local_port
@@ -90,7 +91,7 @@ public:
         emit(packet(first, second, kAck, {}, true));
     }
 
-private:
+  private:
     std::vector<std::uint8_t> packet(const Peer& from, const Peer& to, std::uint8_t flags,
                                      std::span<const std::uint8_t> payload, bool ack) {
         const std::size_t tcp_size = kTcpHeader + payload.size();
@@ -146,8 +147,8 @@ bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events
     // Bytes not yet written as segments, per direction (0: tester, 1: device).
     std::array<std::vector<std::uint8_t>, 2> pending;
     for (const auto& e : events) {
-        const auto since_epoch = std::chrono::duration_cast<std::chrono::microseconds>(
-            e.time.time_since_epoch());
+        const auto since_epoch =
+            std::chrono::duration_cast<std::chrono::microseconds>(e.time.time_since_epoch());
         auto emit = [&](const std::vector<std::uint8_t>& packet) {
             pcap_pkthdr header{};
             header.ts.tv_sec = static_cast<time_t>(since_epoch.count() / 1'000'000);

@@ -1,12 +1,11 @@
 #include <arpa/inet.h>
+#include <fmt/core.h>
 #include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/ip.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
-
-#include <fmt/core.h>
 
 #include <cerrno>
 #include <chrono>
@@ -30,7 +29,7 @@ constexpr std::uint8_t kEchoRequest = 8;
 constexpr std::uint8_t kEchoReply = 0;
 
 class Socket {
-public:
+  public:
     explicit Socket(int fd) : fd_(fd) {}
     Socket(const Socket&) = delete;
     Socket& operator=(const Socket&) = delete;
@@ -39,15 +38,17 @@ public:
     }
     int get() const { return fd_; }
 
-private:
+  private:
     int fd_;
 };
 
 std::uint16_t checksum(const std::vector<std::uint8_t>& bytes) {
     std::uint32_t sum = 0;
-    for (std::size_t i = 0; i + 1 < bytes.size(); i += 2) sum += (bytes[i] << 8) | bytes[i + 1];
+    for (std::size_t i = 0; i + 1 < bytes.size(); i += 2)
+        sum += (bytes[i] << 8) | bytes[i + 1];
     if (bytes.size() % 2 != 0) sum += bytes.back() << 8;
-    while (sum >> 16) sum = (sum & 0xFFFF) + (sum >> 16);
+    while (sum >> 16)
+        sum = (sum & 0xFFFF) + (sum >> 16);
     return static_cast<std::uint16_t>(~sum);
 }
 
@@ -61,7 +62,8 @@ std::vector<std::uint8_t> echo_request(std::uint16_t id, std::uint16_t sequence,
                                         static_cast<std::uint8_t>(id & 0xFF),
                                         static_cast<std::uint8_t>(sequence >> 8),
                                         static_cast<std::uint8_t>(sequence & 0xFF)};
-    for (std::size_t i = 0; i < payload; ++i) packet.push_back(static_cast<std::uint8_t>('a' + i % 23));
+    for (std::size_t i = 0; i < payload; ++i)
+        packet.push_back(static_cast<std::uint8_t>('a' + i % 23));
     std::uint16_t sum = checksum(packet);
     packet[2] = static_cast<std::uint8_t>(sum >> 8);
     packet[3] = static_cast<std::uint8_t>(sum & 0xFF);
@@ -136,8 +138,7 @@ Outcome run_ping(Session& session, const Case& c) {
         const std::uint8_t* icmp = buffer + offset;
         const auto reply_id = static_cast<std::uint16_t>(icmp[4] << 8 | icmp[5]);
         const auto sequence = static_cast<std::uint16_t>(icmp[6] << 8 | icmp[7]);
-        if (icmp[0] != kEchoReply || (raw && reply_id != id) || sequence < 1 ||
-            sequence > count) {
+        if (icmp[0] != kEchoReply || (raw && reply_id != id) || sequence < 1 || sequence > count) {
             continue;
         }
         replies.insert(sequence);

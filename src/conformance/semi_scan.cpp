@@ -18,8 +18,8 @@ constexpr std::uint32_t kAddressSpace = 65536;
 
 Outcome run_semi_scan(Session& session, const Case& c) {
     const Dut& dut = session.dut();
-    const auto block = static_cast<std::uint32_t>(
-        std::min<std::int64_t>(dut.max_read, param(c, "block")));
+    const auto block =
+        static_cast<std::uint32_t>(std::min<std::int64_t>(dut.max_read, param(c, "block")));
     const std::uint32_t end = dut.registers.value_or(kAddressSpace);
     std::vector<BlockRead> reads;
     for (std::uint32_t offset = 0; offset < end; offset += block) {

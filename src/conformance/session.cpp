@@ -25,11 +25,12 @@ client::RawLink* Session::link(client::LinkError& error) {
     return &*link_;
 }
 
-void Session::close() { link_.reset(); }
+void Session::close() {
+    link_.reset();
+}
 
-bool Session::send(std::span<const std::uint8_t> bytes, std::size_t count,
-                   client::LinkError& error, std::span<const std::size_t> split,
-                   std::chrono::milliseconds delay) {
+bool Session::send(std::span<const std::uint8_t> bytes, std::size_t count, client::LinkError& error,
+                   std::span<const std::size_t> split, std::chrono::milliseconds delay) {
     client::RawLink* open = link(error);
     if (open == nullptr) return false;
     requests_ += count;

@@ -21,7 +21,7 @@ struct EngineOptions {
 
 // Told how far a long procedure has come; the console shows it on a TTY.
 class Progress {
-public:
+  public:
     virtual ~Progress() = default;
     virtual void update(std::string_view what, std::size_t done, std::size_t total) = 0;
     virtual void clear() = 0;
@@ -30,7 +30,7 @@ public:
 // The connection to the device under test, shared by every case of a run. It reconnects when a
 // case left it closed or out of step, and counts the requests sent.
 class Session {
-public:
+  public:
     Session(client::Endpoint endpoint, Dut dut, EngineOptions options,
             client::LinkObserver* observer = nullptr, Progress* progress = nullptr);
 
@@ -56,7 +56,7 @@ public:
 
     std::size_t requests() const { return requests_; }
 
-private:
+  private:
     client::Endpoint endpoint_;
     Dut dut_;
     DutFacts facts_;

@@ -56,7 +56,8 @@ bool TomlReader::only_keys(const toml::table& table, const std::vector<std::stri
     for (const auto& [key, node] : table) {
         if (std::find(known.begin(), known.end(), key.str()) == known.end()) {
             std::string list;
-            for (auto name : known) list += (list.empty() ? "" : ", ") + std::string(name);
+            for (auto name : known)
+                list += (list.empty() ? "" : ", ") + std::string(name);
             return fail(&node, fmt::format("unknown key '{}' (known keys: {})", key.str(), list));
         }
     }
@@ -83,8 +84,7 @@ bool TomlReader::get(const toml::table& table, std::string_view key, std::int64_
                      std::int64_t min, std::int64_t max) {
     const toml::node* node = table.get(key);
     if (node == nullptr) return true;
-    if (!node->is_integer() || node->as_integer()->get() < min ||
-        node->as_integer()->get() > max) {
+    if (!node->is_integer() || node->as_integer()->get() < min || node->as_integer()->get() > max) {
         return fail(node, fmt::format("'{}' must be an integer from {} to {}", key, min, max));
     }
     out = node->as_integer()->get();

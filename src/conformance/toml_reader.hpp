@@ -12,7 +12,7 @@
 namespace mblab::conformance {
 
 class TomlReader {
-public:
+  public:
     explicit TomlReader(std::string file) : file_(std::move(file)) {}
 
     const std::string& file() const { return file_; }
@@ -47,7 +47,7 @@ public:
     bool get_strings(const toml::table& table, std::string_view key,
                      std::vector<std::pair<std::string, const toml::node*>>& out);
 
-private:
+  private:
     std::string file_;
     std::string error_;
 };

@@ -59,6 +59,8 @@ struct Counts {
     std::size_t not_applicable = 0;
     std::size_t not_run = 0;
     std::size_t total() const { return passed + failed + not_applicable + not_run; }
+    void add(Verdict verdict);
+    Counts& operator+=(const Counts& other);
 };
 
 struct RunResult {

@@ -6,7 +6,15 @@
 namespace mblab::server {
 
 TcpServer::TcpServer(asio::io_context& io, device::RequestHandler& handler, ServerOptions options)
-    : core_(std::make_shared<ServerCore>(handler, std::move(options))) {
+    : TcpServer(io, handler, std::move(options),
+                [](asio::ip::tcp::socket socket, std::shared_ptr<ServerCore> core) {
+                    std::make_shared<TcpSession>(std::move(socket), std::move(core))->start();
+                }) {}
+
+TcpServer::TcpServer(asio::io_context& io, device::RequestHandler& handler, ServerOptions options,
+                     SessionStarter start_session)
+    : core_(std::make_shared<ServerCore>(handler, std::move(options))),
+      start_session_(std::move(start_session)) {
     core_->listener = transport::TcpListener::create(
         io.get_executor(),
         transport::ListenerLimits{core_->options.max_connections, core_->options.allow});
@@ -21,10 +29,10 @@ protocol::Result<std::uint16_t, std::string> TcpServer::start(
     auto port = core_->listener->listen(endpoint);
     if (!port) return port;
     std::weak_ptr<ServerCore> weak = core_;
-    core_->listener->start([weak](asio::ip::tcp::socket socket) {
+    core_->listener->start([weak, start = start_session_](asio::ip::tcp::socket socket) {
         auto core = weak.lock();
         if (!core || core->stopped) return;
-        std::make_shared<TcpSession>(std::move(socket), core)->start();
+        start(std::move(socket), std::move(core));
     });
     return port;
 }

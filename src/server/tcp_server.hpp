@@ -3,6 +3,7 @@
 #include <asio/io_context.hpp>
 #include <asio/ip/tcp.hpp>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -21,8 +22,16 @@ struct ServerCore;
 
 class TcpServer {
   public:
-    // `handler` must outlive every run of the io_context that may still serve a connection.
+    // Starts the session of one admitted connection: how another framing (RTU over TCP, say)
+    // reuses the listener, limits and lifetime rules of this server.
+    using SessionStarter =
+        std::function<void(asio::ip::tcp::socket socket, std::shared_ptr<ServerCore> core)>;
+
+    // Modbus/TCP (MBAP) sessions. `handler` must outlive every run of the io_context that may
+    // still serve a connection.
     TcpServer(asio::io_context& io, device::RequestHandler& handler, ServerOptions options);
+    TcpServer(asio::io_context& io, device::RequestHandler& handler, ServerOptions options,
+              SessionStarter start_session);
     ~TcpServer();
     TcpServer(const TcpServer&) = delete;
     TcpServer& operator=(const TcpServer&) = delete;
@@ -40,6 +49,7 @@ class TcpServer {
 
   private:
     std::shared_ptr<ServerCore> core_;
+    SessionStarter start_session_;
 };
 
 }  // namespace mblab::server

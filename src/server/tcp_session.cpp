@@ -22,8 +22,6 @@ constexpr std::size_t kBusySlack = 16;
 // Room for the answers queued outside the reader's checks: a timed-out partial frame's
 // exception and a close marker.
 constexpr std::size_t kReserveSlots = 2;
-// Answers sent in one gathered write.
-constexpr std::size_t kMaxGather = 32;
 
 std::size_t outstanding_limit(const ServerOptions& options) {
     return std::max<std::size_t>(1, options.max_outstanding);
@@ -52,6 +50,8 @@ TcpSession::~TcpSession() {
 void TcpSession::start() {
     core_->listener->connections().add(*this);
     ServerStats::bump(core_->stats.connections_open);
+    asio::error_code ignored;
+    socket_.non_blocking(true, ignored);  // for send_now_or_wake_writer()'s direct write
     auto executor = socket_.get_executor();
     asio::co_spawn(executor, read_loop(shared_from_this()), asio::detached);
     asio::co_spawn(executor, write_loop(shared_from_this()), asio::detached);
@@ -128,7 +128,10 @@ TcpSession::Progress TcpSession::process_input() {
             }
             continue;
         }
-        if (must_pause(now)) return Progress::Paused;
+        if (must_pause(now)) {
+            send_now_or_wake_writer();
+            if (must_pause(now)) return Progress::Paused;
+        }
         std::size_t consumed = 0;
         auto event = framer_.feed(input, consumed);
         input_begin_ += consumed;
@@ -146,6 +149,7 @@ TcpSession::Progress TcpSession::process_input() {
                 break;
         }
     }
+    send_now_or_wake_writer();
     return reading_ ? Progress::Consumed : Progress::Stopped;
 }
 
@@ -207,7 +211,6 @@ void TcpSession::on_frame(const protocol::FrameEvent& frame, Clock::time_point n
         }
     }
     slot->ready_at = now + reply.delay;
-    wake_writer();
 }
 
 void TcpSession::on_frame_error(const protocol::FrameEvent& frame, Clock::time_point now) {
@@ -269,6 +272,45 @@ void TcpSession::wake_writer() {
     if (writer_waiting_) writer_timer_.cancel();
 }
 
+void TcpSession::send_now_or_wake_writer() {
+    if (replies_.empty() || !writer_waiting_) return;
+    std::array<asio::const_buffer, kMaxGather> buffers;
+    auto count = gather_ready(Clock::now(), buffers);
+    if (count > 0) {
+        asio::error_code ec;  // would_block: the writer waits for room
+        auto written =
+            socket_.write_some(std::span<const asio::const_buffer>(buffers.data(), count), ec);
+        if (!ec) consume_sent(count, written);
+    }
+    if (!replies_.empty()) wake_writer();
+}
+
+std::size_t TcpSession::gather_ready(Clock::time_point now,
+                                     std::span<asio::const_buffer> out) const {
+    std::size_t count = 0;
+    auto limit = std::min(out.size(), replies_.size());
+    while (count < limit) {
+        const auto& reply = replies_.at(count);
+        if (reply.close || reply.ready_at > now) break;
+        auto skip = count == 0 ? head_sent_ : 0;
+        out[count++] = asio::buffer(reply.adu.data() + skip, reply.size - skip);
+    }
+    return count;
+}
+
+void TcpSession::consume_sent(std::size_t count, std::size_t written) {
+    written += head_sent_;
+    std::size_t done = 0;
+    while (done < count && written >= replies_.at(done).size) {
+        written -= replies_.at(done).size;
+        ++done;
+    }
+    replies_.pop_front(done);
+    head_sent_ = written;
+    last_activity_ = Clock::now();
+    if (reader_paused_) reader_timer_.cancel();
+}
+
 asio::awaitable<void> TcpSession::write_loop(std::shared_ptr<TcpSession> /*self*/) {
     std::array<asio::const_buffer, kMaxGather> buffers;
     while (!closed_) {
@@ -294,23 +336,14 @@ asio::awaitable<void> TcpSession::write_loop(std::shared_ptr<TcpSession> /*self*
             shutdown_and_close();
             break;
         }
-        std::size_t count = 0;
-        auto limit = std::min(kMaxGather, replies_.size());
-        while (count < limit) {
-            auto& reply = replies_.at(count);
-            if (reply.close || reply.ready_at > now) break;
-            buffers[count++] = asio::buffer(reply.adu.data(), reply.size);
-        }
+        auto count = gather_ready(now, buffers);
         auto [ec, written] = co_await asio::async_write(
             socket_, std::span<const asio::const_buffer>(buffers.data(), count), use_tuple);
-        (void)written;
         if (ec || closed_) {
             close();
             break;
         }
-        replies_.pop_front(count);
-        last_activity_ = Clock::now();
-        if (reader_paused_) reader_timer_.cancel();
+        consume_sent(count, written);
     }
 }
 

@@ -49,6 +49,7 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
         std::size_t skipped = 0;
     };
     enum class Progress : std::uint8_t { Consumed, Paused, Stopped };
+    static constexpr std::size_t kMaxGather = 32;  // answers sent in one gathered write
 
     // Each loop holds `self` so the session lives until its last loop ends.
     asio::awaitable<void> read_loop(std::shared_ptr<TcpSession> self);
@@ -68,6 +69,14 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     // Stops reading; the answers already queued go out, then the connection closes.
     void close_after_answers(Clock::time_point now);
     void wake_writer();
+    // After a batch of requests: when the writer is idle and every answer is ready, write them
+    // at once without blocking (saving the writer's wake-up); otherwise, or for what the socket
+    // did not take, wake the writer.
+    void send_now_or_wake_writer();
+    // The ready answers from the head (the head's unsent part first), at most out.size().
+    std::size_t gather_ready(Clock::time_point now, std::span<asio::const_buffer> out) const;
+    // Drops the answers `written` bytes completed out of the first `count`.
+    void consume_sent(std::size_t count, std::size_t written);
     void shutdown_and_close();
 
     asio::ip::tcp::socket socket_;
@@ -80,6 +89,7 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     PartialFrame partial_;
     Clock::time_point partial_deadline_{};
     ReplyQueue replies_;
+    std::size_t head_sent_ = 0;  // bytes of the head answer a partial write already sent
     Clock::time_point last_activity_;
 
     std::array<std::uint8_t, 1024> input_{};

@@ -2,20 +2,17 @@
 
 #include <charconv>
 
+#include "transport/bad_address.hpp"
+
 namespace mblab::transport {
 
 namespace {
 
 constexpr std::string_view kScheme = "tcp://";
-constexpr std::string_view kExpected = " (expected tcp://HOST:PORT, e.g. tcp://127.0.0.1:502)";
+constexpr std::string_view kExpected = "expected tcp://HOST:PORT, e.g. tcp://127.0.0.1:502";
 
 std::string url_error(std::string_view url, std::string_view why) {
-    std::string out = "bad address '";
-    out.append(url);
-    out += "': ";
-    out.append(why);
-    out.append(kExpected);
-    return out;
+    return bad_address(url, why, kExpected);
 }
 
 }  // namespace

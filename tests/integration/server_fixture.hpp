@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <initializer_list>
 #include <memory>
 
 #include "blocking_client.hpp"
@@ -14,9 +15,22 @@
 
 namespace mblab::test {
 
+// One request and the answer it must get, both as hex.
+struct Exchange {
+    const char* request;
+    const char* answer;
+};
+
+inline void expect_exchanges(BlockingClient& client, std::initializer_list<Exchange> exchanges) {
+    for (const auto& exchange : exchanges) {
+        EXPECT_EQ(client.transact(exchange.request), exchange.answer)
+            << "request " << exchange.request;
+    }
+}
+
 // Runs a server on 127.0.0.1 and an ephemeral port, in-process on its own thread.
 class ServerFixture : public ::testing::Test {
-protected:
+  protected:
     void start_server(device::RequestHandler& handler, server::ServerOptions options = {}) {
         server_ = std::make_unique<server::BackgroundServer>(handler, std::move(options));
         auto port = server_->start();

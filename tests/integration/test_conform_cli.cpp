@@ -1,11 +1,5 @@
-#include <arpa/inet.h>
 #include <gtest/gtest.h>
-#include <netinet/in.h>
-#include <sys/socket.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
@@ -13,8 +7,10 @@
 #include <set>
 #include <sstream>
 
+#include "child_process.hpp"
 #include "device/reference_device.hpp"
 #include "support/faulty_server.hpp"
+#include "support/ports.hpp"
 
 // `mblab conform` as users run it: exit statuses, console lines, report files.
 namespace mblab::conformance {
@@ -37,39 +33,21 @@ std::string temp(const std::string& name) {
     return ::testing::TempDir() + "conform_cli_" + name;
 }
 
-// Runs build/mblab with `args` under a 60 s limit.
-Ran mblab(const std::string& args) {
-    const std::string err = temp("stderr.txt");
-    const std::string command =
-        "timeout 60 " + std::string(MBLAB_BINARY) + " " + args + " 2>" + err;
+// Runs build/mblab with `args`; every wait is bounded.
+Ran mblab(std::vector<std::string> args) {
+    args.insert(args.begin(), MBLAB_BINARY);
+    test::ChildProcess child(args);
     Ran ran;
-    std::unique_ptr<FILE, int (*)(FILE*)> pipe(::popen(command.c_str(), "r"), &::pclose);
-    if (!pipe) return ran;
-    char buffer[4096];
-    std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, pipe.get())) > 0) ran.out.append(buffer, n);
-    int status = ::pclose(pipe.release());
-    ran.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    ran.err = slurp(err);
+    while (auto line = child.read_stdout_line(std::chrono::seconds(60)))
+        ran.out += *line + "\n";
+    ran.status = child.wait_exit(std::chrono::seconds(60)).value_or(-1);
+    ran.err = child.drain_stderr();
     return ran;
-}
-
-// A port nothing listens on: bound, then released.
-std::uint16_t closed_port() {
-    int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t length = sizeof address;
-    ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address);
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length);
-    ::close(fd);
-    return ntohs(address.sin_port);
 }
 
 TEST(ConformCli, TheReferenceDevicePassesEveryApplicableCase) {
     const std::string json = temp("reference.json");
-    auto ran = mblab("conform --json " + json);
+    auto ran = mblab({"conform", "--json", json});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
     auto report = nlohmann::json::parse(slurp(json));
     EXPECT_EQ(report["passed"], true);
@@ -88,8 +66,8 @@ TEST(ConformCli, TheReferenceDevicePassesEveryApplicableCase) {
             } else if (suite["name"] == "policy-2.1") {
                 EXPECT_EQ(verdict, "PASS") << c["id"] << ": " << c["reason"];
             } else {
-                EXPECT_TRUE(verdict == "PASS" || verdict == "N/A") << c["id"] << ": "
-                                                                    << c["reason"];
+                EXPECT_TRUE(verdict == "PASS" || verdict == "N/A")
+                    << c["id"] << ": " << c["reason"];
             }
         }
     }
@@ -103,18 +81,19 @@ TEST(ConformCli, TheReferenceDevicePassesEveryApplicableCase) {
 }
 
 TEST(ConformCli, AnUnreachableTargetIsAUsageErrorOnOneLine) {
-    const auto port = closed_port();
-    auto ran = mblab("conform tcp://127.0.0.1:" + std::to_string(port));
+    const auto port = test::closed_port();
+    auto ran = mblab({"conform", "tcp://127.0.0.1:" + std::to_string(port)});
     EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: cannot connect to tcp://127.0.0.1:" +
-                           std::to_string(port) + ": connection refused\n");
+    EXPECT_EQ(ran.err, "mblab conform: cannot connect to tcp://127.0.0.1:" + std::to_string(port) +
+                           ": connection refused\n");
     EXPECT_EQ(ran.out, "");
 }
 
 TEST(ConformCli, RtuOverTcpIsNotYetSupported) {
-    auto ran = mblab("conform rtu+tcp://127.0.0.1:502");
+    auto ran = mblab({"conform", "rtu+tcp://127.0.0.1:502"});
     EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: rtu+tcp://127.0.0.1:502: RTU over TCP is not yet supported\n");
+    EXPECT_EQ(ran.err,
+              "mblab conform: rtu+tcp://127.0.0.1:502: RTU over TCP is not yet supported\n");
 }
 
 TEST(ConformCli, AMalformedUserSuiteIsRefusedWithFileAndLine) {
@@ -122,7 +101,7 @@ TEST(ConformCli, AMalformedUserSuiteIsRefusedWithFileAndLine) {
     std::ofstream(suite) << "[suite]\nname = \"mine\"\n\n[[case]]\nid = \"m.1\"\nsource = \"me\"\n"
                             "title = \"t\"\nrequest = \"00 00 00 00 {len} {unit} 03 00 00 00 ZZ\"\n"
                             "expect = \"00\"\n";
-    auto ran = mblab("conform --suite " + suite);
+    auto ran = mblab({"conform", "--suite", suite});
     EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.err, "mblab conform: " + suite +
                            ":8: request: column 38: 'ZZ': expected hex bytes, XX, {placeholder} "
@@ -135,14 +114,14 @@ TEST(ConformCli, AUserSuiteRunsAgainstTheReferenceDevice) {
                             "title = \"read 2 registers\"\n"
                             "request = \"00 2A 00 00 {len} {unit} 03 00 00 00 02\"\n"
                             "expect = \"00 2A 00 00 {len} {unit} 03 04 XX XX XX XX\"\n";
-    auto ran = mblab("conform --suite " + suite);
+    auto ran = mblab({"conform", "--suite", suite});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
     EXPECT_NE(ran.out.find("\nmine\n  PASS     m.1  read 2 registers\n"), std::string::npos)
         << ran.out;
 }
 
 TEST(ConformCli, ListPrintsTheCatalogue) {
-    auto ran = mblab("conform --list --suite policy-2.1");
+    auto ran = mblab({"conform", "--list", "--suite", "policy-2.1"});
     EXPECT_EQ(ran.status, 0);
     EXPECT_NE(ran.out.find("  9.1.3   Improper message length answers exception 03  (seed 000 "
                            "9.1.3)\n"),
@@ -154,10 +133,10 @@ TEST(ConformCli, ListPrintsTheCatalogue) {
 }
 
 class ConformCliFaultyTarget : public ::testing::Test {
-protected:
+  protected:
     void SetUp() override {
-        auto loaded = device::load_profile(std::string(MBLAB_SOURCE_DIR) +
-                                           "/profiles/reference.toml");
+        auto loaded =
+            device::load_profile(std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml");
         ASSERT_TRUE(loaded.ok());
         device_ = std::move(loaded.value());
         server_ = std::make_unique<test::FaultyServer>(
@@ -176,9 +155,9 @@ TEST_F(ConformCliFaultyTarget, AFailureExitsOneAndShowsTheEvidenceInEveryReport)
     const std::string json = temp("faulty.json");
     const std::string junit = temp("faulty.xml");
     const std::string pcap = temp("faulty.pcap");
-    auto ran = mblab("conform " + target() +
-                     " --suite policy-2.1 --unit 1 --registers 65536 --object-messaging "
-                     "--alternate-encoding --json " + json + " --junit " + junit + " --pcap " + pcap);
+    auto ran = mblab({"conform", target(), "--suite", "policy-2.1", "--unit", "1", "--registers",
+                      "65536", "--object-messaging", "--alternate-encoding", "--json", json,
+                      "--junit", junit, "--pcap", pcap});
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
     EXPECT_NE(ran.out.find("DUT: unit 1, 65536 registers, max read 125, object messaging: yes, "
                            "alternate encoding: yes (declared by flags)\n"),
@@ -203,22 +182,29 @@ TEST_F(ConformCliFaultyTarget, AFailureExitsOneAndShowsTheEvidenceInEveryReport)
               std::string::npos);
     ASSERT_TRUE(std::filesystem::exists(pcap));
     if (std::filesystem::exists("/usr/bin/tshark")) {
-        std::unique_ptr<FILE, int (*)(FILE*)> pipe(
-            ::popen(("/usr/bin/tshark -r " + pcap +
-                     " -Y '_ws.malformed || mbtcp.prot_id != 0' 2>/dev/null | wc -l")
-                        .c_str(),
-                    "r"),
-            &::pclose);
-        char line[64] = {};
-        ASSERT_NE(std::fgets(line, sizeof line, pipe.get()), nullptr);
-        EXPECT_STREQ(line, "0\n");
+        // Every exchange dissects as Modbus/TCP: the requests and answers are all there, and
+        // nothing is malformed.
+        test::ChildProcess tshark({"/usr/bin/tshark", "-r", pcap, "-Y", "mbtcp", "-T", "fields",
+                                   "-e", "_ws.malformed", "-e", "mbtcp.prot_id"});
+        // One line per packet: the malformed flag (empty), then the protocol id of each PDU
+        // in it ("0,0,0" when a pipelined write carried three requests).
+        std::size_t pdus = 0;
+        while (auto line = tshark.read_stdout_line(std::chrono::seconds(60))) {
+            ASSERT_EQ(line->rfind("\t0", 0), 0U) << *line;
+            for (std::size_t at = 1; at < line->size(); at += 2) {
+                EXPECT_EQ(line->substr(at, 1), "0") << *line;
+                ++pdus;
+            }
+        }
+        EXPECT_EQ(tshark.wait_exit(std::chrono::seconds(60)), 0);
+        EXPECT_GT(pdus, 1500U);  // about 806 requests and their answers
     }
 }
 
 TEST_F(ConformCliFaultyTarget, ADutFileDeclaresTheDevice) {
     const std::string dut = temp("dut.toml");
     std::ofstream(dut) << "unit = 1\nregisters = 65536\nmax_read = 125\n";
-    auto ran = mblab("conform " + target() + " --suite policy-2.1 --dut " + dut);
+    auto ran = mblab({"conform", target(), "--suite", "policy-2.1", "--dut", dut});
     EXPECT_EQ(ran.status, 1);
     EXPECT_NE(ran.out.find("(declared by " + dut + ")\n"), std::string::npos) << ran.out;
     EXPECT_NE(ran.out.find("  N/A      7.13.1  Function 0x5B object messaging: class 1, instance "

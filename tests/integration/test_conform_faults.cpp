@@ -19,7 +19,7 @@ using test::FaultRule;
 const std::string kProfile = std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml";
 
 class FaultyDeviceRun {
-public:
+  public:
     explicit FaultyDeviceRun(FaultRule rule) {
         auto profile = device::read_profile(kProfile);
         EXPECT_TRUE(profile.ok());
@@ -45,7 +45,7 @@ public:
         return engine.run({suite.value()}, "faulty");
     }
 
-private:
+  private:
     Dut dut_;
     std::unique_ptr<device::ReferenceDevice> device_;
     std::unique_ptr<test::FaultyServer> server_;
@@ -111,15 +111,15 @@ TEST(ConformFaults, WrongByteCountIsCaughtInTheSweep) {
     FaultyDeviceRun device({Fault::WrongByteCount, 0x03});
     auto run = device.run_policy();
     expect_only_failures(run, {"7.5.1", "7.5.2"}, {"7.13.2"});
-    EXPECT_EQ(find(run, "7.5.1").outcome.evidence.at(0).match.differs,
-              std::vector<std::size_t>{8});
+    EXPECT_EQ(find(run, "7.5.1").outcome.evidence.at(0).match.differs, std::vector<std::size_t>{8});
 }
 
 TEST(ConformFaults, WrongExceptionCodeIsCaught) {
     FaultyDeviceRun device({Fault::WrongExceptionCode, 0x25});
     auto run = device.run_policy();
     expect_only_failures(run, {"9.1.1"});
-    EXPECT_EQ(find(run, "9.1.1").outcome.reason, "exception 04 (server device failure) instead of 01");
+    EXPECT_EQ(find(run, "9.1.1").outcome.reason,
+              "exception 04 (server device failure) instead of 01");
 }
 
 TEST(ConformFaults, MissingAnswerIsCaughtAndTheRunGoesOn) {

@@ -11,7 +11,7 @@ namespace mblab::test {
 namespace {
 
 class ServerBadInput : public ServerFixture {
-protected:
+  protected:
     void SetUp() override {
         start_reference_server();
         client_ = connect();
@@ -43,16 +43,21 @@ TEST_F(ServerBadInput, OversizeFrameClosesTheConnection_3) {
 }
 
 TEST_F(ServerBadInput, TruncatedPduIsAnswered03_4) {
-    EXPECT_EQ(client_.transact("00 04 00 00 00 02 01 03"), "00 04 00 00 00 03 01 83 03");
-    EXPECT_EQ(client_.transact("00 05 00 00 00 04 01 10 00 10"), "00 05 00 00 00 03 01 90 03");
+    expect_exchanges(client_, {
+                                  {"00 04 00 00 00 02 01 03", "00 04 00 00 00 03 01 83 03"},
+                                  {"00 05 00 00 00 04 01 10 00 10", "00 05 00 00 00 03 01 90 03"},
+                              });
     expect_in_step();
 }
 
 TEST_F(ServerBadInput, QuantityZeroOrOverTheLimitIsAnswered03_5) {
-    EXPECT_EQ(client_.transact("00 06 00 00 00 06 01 03 00 00 00 00"), "00 06 00 00 00 03 01 83 03");
-    EXPECT_EQ(client_.transact("00 07 00 00 00 06 01 03 00 00 00 7E"), "00 07 00 00 00 03 01 83 03");
-    EXPECT_EQ(client_.transact("00 08 00 00 00 06 01 01 00 00 07 D1"), "00 08 00 00 00 03 01 81 03");
-    EXPECT_EQ(client_.transact("00 09 00 00 00 06 01 04 00 00 00 00"), "00 09 00 00 00 03 01 84 03");
+    expect_exchanges(client_,
+                     {
+                         {"00 06 00 00 00 06 01 03 00 00 00 00", "00 06 00 00 00 03 01 83 03"},
+                         {"00 07 00 00 00 06 01 03 00 00 00 7E", "00 07 00 00 00 03 01 83 03"},
+                         {"00 08 00 00 00 06 01 01 00 00 07 D1", "00 08 00 00 00 03 01 81 03"},
+                         {"00 09 00 00 00 06 01 04 00 00 00 00", "00 09 00 00 00 03 01 84 03"},
+                     });
     expect_in_step();
 }
 
@@ -77,8 +82,10 @@ TEST_F(ServerBadInput, ReadWriteWithWriteRangeOutsideTheMapIsAnswered02_7) {
 }
 
 TEST_F(ServerBadInput, UnknownFunctionCodeIsAnswered01_8) {
-    EXPECT_EQ(client_.transact("00 0E 00 00 00 02 01 41"), "00 0E 00 00 00 03 01 C1 01");
-    EXPECT_EQ(client_.transact("00 0F 00 00 00 04 01 25 00 01"), "00 0F 00 00 00 03 01 A5 01");
+    expect_exchanges(client_, {
+                                  {"00 0E 00 00 00 02 01 41", "00 0E 00 00 00 03 01 C1 01"},
+                                  {"00 0F 00 00 00 04 01 25 00 01", "00 0F 00 00 00 03 01 A5 01"},
+                              });
     expect_in_step();
 }
 
@@ -90,15 +97,19 @@ TEST_F(ServerBadInput, FileRecordSubRequestOverrunningTheFrameIsAnException_9) {
 }
 
 TEST_F(ServerBadInput, UnitIdsZeroAndFFAreAnsweredNotBroadcast_11) {
-    EXPECT_EQ(client_.transact("00 11 00 00 00 06 00 06 00 20 AB CD"), "00 11 00 00 00 06 00 06 00 20 AB CD");
-    EXPECT_EQ(client_.transact("00 12 00 00 00 06 FF 03 00 20 00 01"), "00 12 00 00 00 05 FF 03 02 AB CD");
+    expect_exchanges(
+        client_, {
+                     {"00 11 00 00 00 06 00 06 00 20 AB CD", "00 11 00 00 00 06 00 06 00 20 AB CD"},
+                     {"00 12 00 00 00 06 FF 03 00 20 00 01", "00 12 00 00 00 05 FF 03 02 AB CD"},
+                 });
 }
 
 TEST_F(ServerBadInput, PipelinedRequestsAreAnsweredInOrder_10) {
-    ASSERT_TRUE(client_.send_hex("00 13 00 00 00 06 01 06 00 21 00 01"
-                                 "00 14 00 00 00 06 01 03 00 21 00 01"
-                                 "00 15 00 00 00 06 01 06 00 21 00 02"
-                                 "00 16 00 00 00 06 01 03 00 21 00 01"));
+    ASSERT_TRUE(
+        client_.send_hex("00 13 00 00 00 06 01 06 00 21 00 01"
+                         "00 14 00 00 00 06 01 03 00 21 00 01"
+                         "00 15 00 00 00 06 01 06 00 21 00 02"
+                         "00 16 00 00 00 06 01 03 00 21 00 01"));
     EXPECT_EQ(client_.read_adu(), "00 13 00 00 00 06 01 06 00 21 00 01");
     EXPECT_EQ(client_.read_adu(), "00 14 00 00 00 05 01 03 02 00 01");
     EXPECT_EQ(client_.read_adu(), "00 15 00 00 00 06 01 06 00 21 00 02");

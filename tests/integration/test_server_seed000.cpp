@@ -15,7 +15,7 @@ namespace mblab::test {
 namespace {
 
 class Seed000 : public ServerFixture, public ::testing::WithParamInterface<int> {
-protected:
+  protected:
     void SetUp() override {
         start_reference_server();
         client_ = connect();
@@ -35,11 +35,13 @@ protected:
 };
 
 TEST_P(Seed000, ReadCoils_7_3) {
-    EXPECT_EQ(transact("00 00 00 00 00 06 XX 01 00 00 00 01"), frame("00 00 00 00 00 04 XX 01 01 00"));
+    EXPECT_EQ(transact("00 00 00 00 00 06 XX 01 00 00 00 01"),
+              frame("00 00 00 00 00 04 XX 01 01 00"));
 }
 
 TEST_P(Seed000, ReadInputDiscretes_7_4) {
-    EXPECT_EQ(transact("00 00 00 00 00 06 XX 02 00 00 00 01"), frame("00 00 00 00 00 04 XX 02 01 00"));
+    EXPECT_EQ(transact("00 00 00 00 00 06 XX 02 00 00 00 01"),
+              frame("00 00 00 00 00 04 XX 02 01 00"));
 }
 
 // Holding register 0 is the first word of the SEMI signature ("SE").
@@ -58,15 +60,16 @@ TEST_P(Seed000, MultipleRegisterSweep_7_5_2) {
         request.push_back(0);
         request.push_back(static_cast<std::uint8_t>(quantity));
         auto answer = hex(client_.transact(to_hex(request)));
-        ASSERT_EQ(answer.size(), 9 + 2 * quantity) << "address " << address << " quantity "
-                                                   << quantity;
+        ASSERT_EQ(answer.size(), 9 + 2 * quantity)
+            << "address " << address << " quantity " << quantity;
         EXPECT_EQ(answer[5], 3 + 2 * quantity);
         EXPECT_EQ(answer[7], 0x03);
         EXPECT_EQ(answer[8], 2 * quantity);
     };
     constexpr std::uint32_t kMax = 125;
     constexpr std::uint32_t kRegisters = 0x10000;
-    for (std::uint32_t quantity = 1; quantity <= kMax; ++quantity) check(0, quantity);
+    for (std::uint32_t quantity = 1; quantity <= kMax; ++quantity)
+        check(0, quantity);
     for (std::uint32_t address = 0; address + kMax <= kRegisters; address += kMax) {
         check(address, kMax);
     }
@@ -83,7 +86,8 @@ TEST_P(Seed000, ReadInputRegister_7_6) {
 TEST_P(Seed000, WriteCoil_7_7) {
     EXPECT_EQ(transact("00 00 00 00 00 06 XX 05 00 00 FF 00"),
               frame("00 00 00 00 00 06 XX 05 00 00 FF 00"));
-    EXPECT_EQ(transact("00 00 00 00 00 06 XX 01 00 00 00 01"), frame("00 00 00 00 00 04 XX 01 01 01"));
+    EXPECT_EQ(transact("00 00 00 00 00 06 XX 01 00 00 00 01"),
+              frame("00 00 00 00 00 04 XX 01 01 01"));
 }
 
 TEST_P(Seed000, WriteSingleRegister_7_8) {

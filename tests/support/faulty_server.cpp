@@ -32,14 +32,18 @@ bool is_echo(std::uint8_t function) {
            function == 0x10;
 }
 
-bool is_read(std::uint8_t function) { return function >= 0x01 && function <= 0x04; }
+bool is_read(std::uint8_t function) {
+    return function >= 0x01 && function <= 0x04;
+}
 
 }  // namespace
 
 FaultyServer::FaultyServer(device::RequestHandler& handler, FaultRule rule)
     : handler_(handler), rule_(rule) {}
 
-FaultyServer::~FaultyServer() { stop(); }
+FaultyServer::~FaultyServer() {
+    stop();
+}
 
 std::uint16_t FaultyServer::start() {
     listener_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
@@ -119,8 +123,9 @@ void FaultyServer::serve_connection(int fd) {
             // 9.1.3: a frame whose length promised more than came is answered with 03.
             if (buffer.size() >= 8) {
                 const std::array<std::uint8_t, 9> refusal = {
-                    buffer[0], buffer[1], 0, 0, 0, 3, buffer[6],
-                    static_cast<std::uint8_t>(buffer[7] | 0x80), 0x03};
+                    buffer[0], buffer[1], 0,         0,
+                    0,         3,         buffer[6], static_cast<std::uint8_t>(buffer[7] | 0x80),
+                    0x03};
                 write_all(fd, refusal.data(), refusal.size());
             }
             buffer.clear();
@@ -136,8 +141,8 @@ void FaultyServer::serve_connection(int fd) {
 void FaultyServer::answer(int fd, const std::uint8_t* frame, std::size_t size) {
     std::array<std::uint8_t, 260> adu{};
     device::RequestContext context{frame[6], device::Link::Tcp};
-    auto reply = handler_.handle(context, std::span(frame + 7, size - 7),
-                                 std::span(adu).subspan(7, 253));
+    auto reply =
+        handler_.handle(context, std::span(frame + 7, size - 7), std::span(adu).subspan(7, 253));
     if (reply.action != device::ReplyAction::Answer) return;
     const std::uint8_t function = frame[7];
     const bool faulty = rule_.function == 0 || rule_.function == function;
@@ -150,9 +155,15 @@ void FaultyServer::answer(int fd, const std::uint8_t* frame, std::size_t size) {
     std::uint8_t* pdu = adu.data() + 7;
     const bool exception = (pdu[0] & 0x80) != 0;
     switch (fault) {
-        case Fault::WrongTransactionId: adu[1] = static_cast<std::uint8_t>(adu[1] + 1); break;
-        case Fault::WrongLength: adu[5] = static_cast<std::uint8_t>(adu[5] - 1); break;
-        case Fault::WrongUnitId: adu[6] = static_cast<std::uint8_t>(adu[6] + 1); break;
+        case Fault::WrongTransactionId:
+            adu[1] = static_cast<std::uint8_t>(adu[1] + 1);
+            break;
+        case Fault::WrongLength:
+            adu[5] = static_cast<std::uint8_t>(adu[5] - 1);
+            break;
+        case Fault::WrongUnitId:
+            adu[6] = static_cast<std::uint8_t>(adu[6] + 1);
+            break;
         case Fault::WrongByteCount:
             if (!exception && is_read(function)) pdu[1] = static_cast<std::uint8_t>(pdu[1] + 1);
             break;
@@ -163,10 +174,14 @@ void FaultyServer::answer(int fd, const std::uint8_t* frame, std::size_t size) {
             if (!exception && is_echo(function)) pdu[reply.size - 1] ^= 0x01;
             break;
         case Fault::NoAnswer:
-        case Fault::CloseConnection: return;
-        case Fault::LateAnswer: std::this_thread::sleep_for(std::chrono::milliseconds(150)); break;
+        case Fault::CloseConnection:
+            return;
+        case Fault::LateAnswer:
+            std::this_thread::sleep_for(std::chrono::milliseconds(150));
+            break;
         case Fault::None:
-        case Fault::SplitAnswer: break;
+        case Fault::SplitAnswer:
+            break;
     }
     const std::size_t total = 7 + reply.size;
     if (fault == Fault::SplitAnswer && total >= 6) {

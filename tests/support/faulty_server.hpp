@@ -32,7 +32,7 @@ struct FaultRule {
 };
 
 class FaultyServer {
-public:
+  public:
     FaultyServer(device::RequestHandler& handler, FaultRule rule);
     ~FaultyServer();
     FaultyServer(const FaultyServer&) = delete;
@@ -45,7 +45,7 @@ public:
     // How long a partial frame may wait for its missing bytes before exception 03 (9.1.3).
     static constexpr std::chrono::milliseconds kPartialFrameWait{200};
 
-private:
+  private:
     void serve();
     void serve_connection(int fd);
     void answer(int fd, const std::uint8_t* frame, std::size_t size);

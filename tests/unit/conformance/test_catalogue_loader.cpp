@@ -93,8 +93,9 @@ TEST(CatalogueLoader, RefusesMalformedSuitesWithFileLineAndReason) {
          "bad.toml:8: unknown key 'expected' (known keys: id, source, title, procedure, params, "
          "step, requires, depends_on, pipeline, isolated, unsupported_is_na, request, expect, "
          "accept, silence_ms, accept_close, accept_silence, timeout_ms, split, split_delay_ms)"},
-        {case_head + "request = \"00\"\n", "bad.toml:3: case x: a step gives either 'expect' or "
-                                           "'silence_ms'"},
+        {case_head + "request = \"00\"\n",
+         "bad.toml:3: case x: a step gives either 'expect' or "
+         "'silence_ms'"},
         {case_head + "request = \"00\"\nexpect = \"00\"\nsilence_ms = 5\n",
          "bad.toml:3: case x: a step gives either 'expect' or 'silence_ms'"},
         {case_head + "procedure = \"sweep\"\n",
@@ -121,7 +122,8 @@ TEST(CatalogueLoader, RefusesMalformedSuitesWithFileLineAndReason) {
          "bad.toml:9: case id 'x' is used twice"},
         {"", "bad.toml:1: the suite has no [[case]] tables"},
     };
-    for (const auto& bad : cases) EXPECT_EQ(load_error(bad.body), bad.error) << bad.body;
+    for (const auto& bad : cases)
+        EXPECT_EQ(load_error(bad.body), bad.error) << bad.body;
 }
 
 TEST(CatalogueLoader, RefusesASuiteWithoutHeaderOrWithBrokenToml) {
@@ -154,8 +156,8 @@ TEST(ShippedCatalogue, EverySuiteLoadsAndCitesItsSources) {
             EXPECT_FALSE(c.title.empty()) << c.id;
         }
     }
-    for (const char* name : {"policy-2.1", "mbap", "exceptions", "diagnostics", "device-id",
-                             "function-codes"}) {
+    for (const char* name :
+         {"policy-2.1", "mbap", "exceptions", "diagnostics", "device-id", "function-codes"}) {
         EXPECT_TRUE(names.count(name)) << name;
     }
 }
@@ -164,11 +166,12 @@ TEST(ShippedCatalogue, PolicyEncodesEveryTestOfSeed000) {
     auto suite = load_suite_file(std::string(MBLAB_SOURCE_DIR) + "/catalogue/policy-2.1.toml");
     ASSERT_TRUE(suite.ok()) << suite.error();
     std::vector<std::string> ids;
-    for (const auto& c : suite->cases) ids.push_back(c.id);
-    EXPECT_EQ(ids, (std::vector<std::string>{"7.2", "7.3.1", "7.4.1", "7.5.1", "7.5.2", "7.6.1",
-                                             "7.7.1", "7.8.1", "7.9.1", "7.10.1", "7.11.1",
-                                             "7.12.1", "7.13.1", "7.13.2", "9.1.1", "9.1.2",
-                                             "9.1.3", "9.1.4"}));
+    for (const auto& c : suite->cases)
+        ids.push_back(c.id);
+    EXPECT_EQ(ids,
+              (std::vector<std::string>{"7.2", "7.3.1", "7.4.1", "7.5.1", "7.5.2", "7.6.1", "7.7.1",
+                                        "7.8.1", "7.9.1", "7.10.1", "7.11.1", "7.12.1", "7.13.1",
+                                        "7.13.2", "9.1.1", "9.1.2", "9.1.3", "9.1.4"}));
     Dut dut;
     dut.unit = 0x11;
     DutFacts facts(dut);

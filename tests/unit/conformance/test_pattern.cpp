@@ -9,7 +9,7 @@ namespace {
 using test::hex;
 
 class Facts : public FactSource {
-public:
+  public:
     std::optional<std::vector<std::uint8_t>> fact(std::string_view name) const override {
         if (name == "unit") return std::vector<std::uint8_t>{0x11};
         if (name == "address") return std::vector<std::uint8_t>{0x12, 0x34};
@@ -74,20 +74,19 @@ TEST(Pattern, ConcreteMeansNoWildcards) {
 }
 
 TEST(Match, ExactAnswerMatches) {
-    auto result = match(resolved("00 00 00 00 00 04 {unit} 01 01 XX"),
-                        hex("00 00 00 00 00 04 11 01 01 5A"));
+    auto result =
+        match(resolved("00 00 00 00 00 04 {unit} 01 01 XX"), hex("00 00 00 00 00 04 11 01 01 5A"));
     EXPECT_TRUE(result.matched);
     EXPECT_TRUE(result.differs.empty());
 }
 
 TEST(Match, MarksEachDifferingByte) {
-    auto result = match(resolved("00 00 00 00 00 04 {unit} 01 01 XX"),
-                        hex("00 01 00 00 00 04 12 01 01 5A"));
+    auto result =
+        match(resolved("00 00 00 00 00 04 {unit} 01 01 XX"), hex("00 01 00 00 00 04 12 01 01 5A"));
     EXPECT_FALSE(result.matched);
     EXPECT_EQ(result.differs, (std::vector<std::size_t>{1, 6}));
-    EXPECT_EQ(result.expected_cells,
-              (std::vector<std::string>{"00", "00", "00", "00", "00", "04", "11", "01", "01",
-                                        "XX"}));
+    EXPECT_EQ(result.expected_cells, (std::vector<std::string>{"00", "00", "00", "00", "00", "04",
+                                                               "11", "01", "01", "XX"}));
 }
 
 TEST(Match, MarksMissingAndExtraBytes) {
@@ -116,7 +115,9 @@ TEST(Match, RestAcceptsNothingMore) {
     EXPECT_FALSE(match(resolved("01 02 XX ..."), hex("01 02")).matched);
 }
 
-TEST(HexText, UppercaseSpaced) { EXPECT_EQ(hex_text(hex("0a ff 00")), "0A FF 00"); }
+TEST(HexText, UppercaseSpaced) {
+    EXPECT_EQ(hex_text(hex("0a ff 00")), "0A FF 00");
+}
 
 }  // namespace
 }  // namespace mblab::conformance

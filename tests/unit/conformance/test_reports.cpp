@@ -22,9 +22,9 @@ Exchange failed_read() {
     exchange.status = client::ReceiveStatus::Frame;
     exchange.received = hex("00 01 00 00 00 04 01 01 01 00");
     exchange.expected = "00 00 00 00 00 04 01 01 01 XX";
-    exchange.match = match(
-        ResolvedPattern{Pattern::parse("00 00 00 00 00 04 01 01 01 XX")->tokens()},
-        exchange.received);
+    exchange.match =
+        match(ResolvedPattern{Pattern::parse("00 00 00 00 00 04 01 01 01 XX")->tokens()},
+              exchange.received);
     return exchange;
 }
 
@@ -42,10 +42,10 @@ RunResult sample_run() {
                            std::chrono::microseconds(1500), 1});
     suite.cases.push_back({"7.5.1", "seed 000 7.5.1", "Read <registers> & \"more\"",
                            Outcome{Verdict::Pass, "", {}}, std::chrono::microseconds(500), 1});
-    suite.cases.push_back({"7.13.1", "seed 000 7.13.1", "Object messaging",
-                           Outcome{Verdict::NotApplicable,
-                                   "the DUT does not declare object_messaging", {}},
-                           std::chrono::microseconds(0), 0});
+    suite.cases.push_back(
+        {"7.13.1", "seed 000 7.13.1", "Object messaging",
+         Outcome{Verdict::NotApplicable, "the DUT does not declare object_messaging", {}},
+         std::chrono::microseconds(0), 0});
     suite.cases.push_back({"7.2", "seed 000 7.2", "Ping",
                            Outcome{Verdict::NotRun, "no ICMP socket", {}},
                            std::chrono::microseconds(0), 0});
@@ -54,11 +54,11 @@ RunResult sample_run() {
 }
 
 TEST(EvidenceText, MarksTheDifferingBytes) {
-    EXPECT_EQ(evidence_lines(failed_read()),
-              (std::vector<std::string>{"sent      00 00 00 00 00 06 01 01 00 00 00 01",
-                                        "received  00 01 00 00 00 04 01 01 01 00",
-                                        "expected  00 00 00 00 00 04 01 01 01 XX",
-                                        "             ^^"}));
+    EXPECT_EQ(
+        evidence_lines(failed_read()),
+        (std::vector<std::string>{"sent      00 00 00 00 00 06 01 01 00 00 00 01",
+                                  "received  00 01 00 00 00 04 01 01 01 00",
+                                  "expected  00 00 00 00 00 04 01 01 01 XX", "             ^^"}));
 }
 
 TEST(EvidenceText, SaysTimeoutWhenNothingCame) {
@@ -122,8 +122,12 @@ expected  00 00 00 00 00 04 01 01 01 XX
 
 struct Packet {
     std::vector<std::uint8_t> bytes;
-    std::uint16_t source_port() const { return static_cast<std::uint16_t>(bytes[20] << 8 | bytes[21]); }
-    std::uint16_t dest_port() const { return static_cast<std::uint16_t>(bytes[22] << 8 | bytes[23]); }
+    std::uint16_t source_port() const {
+        return static_cast<std::uint16_t>(bytes[20] << 8 | bytes[21]);
+    }
+    std::uint16_t dest_port() const {
+        return static_cast<std::uint16_t>(bytes[22] << 8 | bytes[23]);
+    }
     std::uint32_t word(std::size_t at) const {
         return static_cast<std::uint32_t>(bytes[at] << 24 | bytes[at + 1] << 16 |
                                           bytes[at + 2] << 8 | bytes[at + 3]);
@@ -200,7 +204,8 @@ TEST(PcapWriter, TsharkDissectsModbusWithoutMalformedPackets) {
     ASSERT_TRUE(pipe);
     std::string output;
     char buffer[256];
-    while (std::fgets(buffer, sizeof buffer, pipe.get()) != nullptr) output += buffer;
+    while (std::fgets(buffer, sizeof buffer, pipe.get()) != nullptr)
+        output += buffer;
     EXPECT_EQ(output, "0\t3\t\n0\t3\t\n");
 }
 

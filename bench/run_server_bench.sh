@@ -1,0 +1,127 @@
+#!/bin/bash
+# Server throughput: mblab serve against libmodbus's server, pymodbus's asyncio server and a
+# canned-answer epoll server (the ceiling), with 1, 16 and 1000 closed-loop connections each
+# reading 125 holding registers (FC 03). Then mblab's resident memory with 10,000 idle
+# connections. Prints a table; run it on an otherwise idle machine.
+#
+# Usage: bench/run_server_bench.sh [MBLAB] [SECONDS_PER_RUN]   (defaults: build/mblab, 5)
+set -euo pipefail
+HERE=$(cd "$(dirname "$0")" && pwd)
+MBLAB=$(realpath "${1:-$HERE/../build/mblab}")
+RUN_SECONDS=${2:-5}
+TOOLS=$(dirname "$MBLAB")/bench-tools
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/mblab-bench.XXXXXX")
+SERVER_PID=""
+trap '[ -n "$SERVER_PID" ] && kill "$SERVER_PID" 2>/dev/null; wait 2>/dev/null; rm -rf "$WORK"' EXIT
+
+# 10,000 idle connections need 10,000 descriptors in the server and in the client.
+ulimit -n "$(ulimit -Hn)" 2>/dev/null || true
+[ "$(ulimit -n)" -ge 10100 ] || { echo "need ulimit -n >= 10100 (have $(ulimit -n))" >&2; exit 2; }
+
+mkdir -p "$TOOLS"
+cc -std=c11 -O2 -Wall -Wextra -o "$TOOLS/server_load" "$HERE/server_load.c"
+cc -std=c11 -O2 -Wall -Wextra -o "$TOOLS/canned_server" "$HERE/canned_server.c"
+# shellcheck disable=SC2046 # pkg-config prints several words on purpose
+cc -std=c11 -O2 -Wall -Wextra -o "$TOOLS/libmodbus_server" "$HERE/libmodbus_server.c" \
+    $(pkg-config --cflags --libs libmodbus)
+
+free_port() {
+    /usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])'
+}
+wait_listening() {
+    for _ in $(seq 100); do
+        (exec 3<>"/dev/tcp/127.0.0.1/$1") 2>/dev/null && return 0
+        sleep 0.1
+    done
+    echo "server on port $1 did not start" >&2
+    return 1
+}
+# wait_line FILE SED_EXPR: the first match of SED_EXPR in FILE once the server printed it.
+wait_line() {
+    for _ in $(seq 100); do
+        value=$(sed -n "$2" "$1" | head -1)
+        [ -n "$value" ] && { echo "$value"; return 0; }
+        sleep 0.1
+    done
+    return 1
+}
+
+# start_server NAME: sets SERVER_PID and PORT.
+start_server() {
+    case $1 in
+        mblab)
+            "$MBLAB" serve --listen tcp://127.0.0.1:0 --max-connections 20000 --idle-timeout 0 \
+                >"$WORK/server.out" 2>&1 &
+            SERVER_PID=$!
+            PORT=$(wait_line "$WORK/server.out" 's/.* on tcp:\/\/127\.0\.0\.1:\([0-9]*\).*/\1/p') ;;
+        canned)
+            "$TOOLS/canned_server" 0 >"$WORK/server.out" 2>&1 &
+            SERVER_PID=$!
+            PORT=$(wait_line "$WORK/server.out" 's/^port=//p') ;;
+        libmodbus)
+            PORT=$(free_port)
+            "$TOOLS/libmodbus_server" "$PORT" >"$WORK/server.out" 2>&1 &
+            SERVER_PID=$!
+            wait_listening "$PORT" ;;
+        pymodbus)
+            PORT=$(free_port)
+            /usr/bin/python3 "$HERE/pymodbus_server.py" "$PORT" >"$WORK/server.out" 2>&1 &
+            SERVER_PID=$!
+            wait_listening "$PORT" ;;
+    esac
+}
+stop_server() {
+    kill "$SERVER_PID" 2>/dev/null || true
+    wait "$SERVER_PID" 2>/dev/null || true
+    SERVER_PID=""
+}
+field() { sed -n "s/.*$1=\([0-9]*\).*/\1/p" <<<"$2"; }
+
+SERVERS="mblab libmodbus pymodbus canned"
+CONNECTIONS="1 16 1000"
+declare -A RPS P50 P99
+for server in $SERVERS; do
+    for n in $CONNECTIONS; do
+        start_server "$server"
+        if result=$("$TOOLS/server_load" 127.0.0.1 "$PORT" "$n" "$RUN_SECONDS" 2>&1); then
+            RPS[$server.$n]=$(field rps "$result")
+            P50[$server.$n]=$(field p50_us "$result")
+            P99[$server.$n]=$(field p99_us "$result")
+        else
+            RPS[$server.$n]=0
+            P50[$server.$n]="-"
+            P99[$server.$n]="-"
+            echo "$server, $n connections: $result" >&2
+        fi
+        stop_server
+    done
+done
+
+echo
+echo "FC 03 x125, closed loop, ${RUN_SECONDS}s per run ($(nproc) cores; client and server share them)"
+printf "%-10s %6s %10s %8s %8s %12s\n" server conns "req/s" "p50 us" "p99 us" "mblab / it"
+for n in $CONNECTIONS; do
+    for server in $SERVERS; do
+        rps=${RPS[$server.$n]}
+        ratio="-"
+        [ "$rps" -gt 0 ] && ratio=$(awk -v a="${RPS[mblab.$n]}" -v b="$rps" 'BEGIN { printf "%.2fx", a / b }')
+        printf "%-10s %6s %10s %8s %8s %12s\n" "$server" "$n" "$rps" "${P50[$server.$n]}" \
+            "${P99[$server.$n]}" "$ratio"
+    done
+done
+
+# Resident memory of mblab serve, before and with 10,000 idle connections.
+rss_kb() { sed -n 's/^VmRSS:[[:space:]]*\([0-9]*\) kB/\1/p' "/proc/$1/status"; }
+start_server mblab
+before=$(rss_kb "$SERVER_PID")
+"$TOOLS/server_load" 127.0.0.1 "$PORT" 10000 --idle "$WORK/ready" &
+client=$!
+for _ in $(seq 600); do [ -f "$WORK/ready" ] && break; sleep 0.1; done
+sleep 1
+with=$(rss_kb "$SERVER_PID")
+kill -TERM "$client"
+wait "$client" || true
+stop_server
+echo
+echo "mblab serve RSS: ${before} kB idle, ${with} kB with 10000 idle connections" \
+    "($(( (with - before) * 1024 / 10000 )) bytes per connection)"

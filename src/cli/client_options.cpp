@@ -1,0 +1,123 @@
+#include "cli/client_options.hpp"
+
+#include <fmt/core.h>
+
+#include <cstdio>
+#include <optional>
+
+#include "cli/commands.hpp"
+#include "cli/frame_log.hpp"
+#include "client/target.hpp"
+#include "client/transactor.hpp"
+
+namespace mblab::cli {
+
+void add_client_options(CLI::App& command, ClientOptions& options) {
+    command
+        .add_option("target", options.target,
+                    "tcp://HOST[:PORT] of the device (port 502 by default)")
+        ->required();
+    command.add_option("--unit,-u", options.unit, "unit id (default 1)")
+        ->check(CLI::Range(0, 255));
+    command.add_option("--timeout", options.timeout_ms,
+                       "milliseconds to wait for the connection and for each answer (default 1000)")
+        ->check(CLI::Range(1, 600000));
+    command.add_option("--retries", options.retries,
+                       "tries again after a timeout or a lost connection, up to N times "
+                       "(default 0)")
+        ->check(CLI::Range(0, 100));
+    command.add_option("--decode", options.decode,
+                       "print every frame sent and received on stderr: app (PDU fields), frame "
+                       "(also MBAP header), bytes (also hex)")
+        ->check(CLI::IsMember({"app", "frame", "bytes"}));
+    command.add_flag("--json", options.json, "print one JSON document on stdout");
+}
+
+void add_format_options(CLI::App& command, FormatOptions& options) {
+    command.add_option("--type,-t", options.type,
+                       "register value type: " + std::string(kValueTypeNames) + " (default u16)")
+        ->check(CLI::IsMember({"u16", "i16", "u32", "i32", "f32", "f64", "hex", "ascii"}));
+    command.add_option("--word-order", options.word_order,
+                       "big: the first register holds the high word (default); little: the low")
+        ->check(CLI::IsMember({"big", "little"}));
+    command.add_option("--byte-order", options.byte_order,
+                       "big: each register's high byte first (default); little: swapped")
+        ->check(CLI::IsMember({"big", "little"}));
+}
+
+protocol::Result<ValueFormat, std::string> parse_format(const FormatOptions& options) {
+    ValueFormat format;
+    auto type = parse_value_type(options.type);
+    auto words = parse_order(options.word_order);
+    auto bytes = parse_order(options.byte_order);
+    if (!type) return fmt::format("unknown --type '{}' (one of {})", options.type, kValueTypeNames);
+    if (!words || !bytes) return std::string("--word-order and --byte-order take big or little");
+    format.type = *type;
+    format.word_order = *words;
+    format.byte_order = *bytes;
+    return format;
+}
+
+CommandOutput::CommandOutput(std::string command, const ClientOptions& options)
+    : command_(std::move(command)), json_(options.json) {
+    document_["command"] = command_;
+    document_["target"] = options.target;
+    document_["unit"] = options.unit;
+}
+
+void CommandOutput::warn(const std::string& message) const {
+    fmt::print(stderr, "mblab {}: {}\n", command_, message);
+}
+
+int CommandOutput::finish(int status) {
+    if (json_) {
+        document_["ok"] = status == kExitOk;
+        fmt::print("{}\n", document_.dump(2));
+    }
+    std::fflush(stdout);
+    return status;
+}
+
+int CommandOutput::usage(const std::string& message) {
+    warn(message);
+    document_["error"] = {{"kind", "usage"}, {"message", message}};
+    return finish(kExitUsage);
+}
+
+int CommandOutput::fail(const client::ClientError& error) {
+    warn(error.message);
+    nlohmann::json detail = {{"kind", client::error_kind_name(error.kind)},
+                             {"message", error.message}};
+    if (error.exception) {
+        detail["exception"] = {{"code", static_cast<int>(*error.exception)},
+                               {"name", protocol::exception_name(*error.exception)}};
+    }
+    document_["error"] = detail;
+    const bool usage = error.kind == client::ErrorKind::Invalid ||
+                       error.kind == client::ErrorKind::Connect;
+    return finish(usage ? kExitUsage : kExitFailed);
+}
+
+int CommandOutput::done() { return finish(kExitOk); }
+
+int with_client(const ClientOptions& options, CommandOutput& output, const ClientBody& body) {
+    auto target = client::parse_target(options.target);
+    if (!target) return output.usage(target.error());
+    output.document()["target"] = target->name;
+
+    std::optional<FrameLog> log;
+    if (auto depth = parse_decode_depth(options.decode)) log.emplace(stderr, *depth);
+    client::TransactionOptions transaction;
+    transaction.unit = static_cast<std::uint8_t>(options.unit);
+    transaction.timeout = std::chrono::milliseconds(options.timeout_ms);
+    transaction.retries = static_cast<unsigned>(options.retries);
+    const auto timeout = transaction.timeout;
+    client::Transactor transactor(
+        target->name, [&target, timeout] { return client::open_link(*target, timeout); },
+        transaction, log ? &*log : nullptr);
+    if (auto connected = transactor.connect(); !connected) return output.fail(connected.error());
+    client::Client client(transactor);
+    return body(client, output);
+}
+
+}  // namespace mblab::cli

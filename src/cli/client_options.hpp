@@ -1,0 +1,71 @@
+#pragma once
+
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli/value_format.hpp"
+#include "client/client.hpp"
+#include "client/client_error.hpp"
+
+// What the client commands (read, write, diag, devid, raw, watch) share: TARGET and the
+// connection flags, the typed-value flags, and how a command reports its result and its errors.
+namespace mblab::cli {
+
+struct ClientOptions {
+    std::string target;
+    int unit = 1;
+    int timeout_ms = 1000;
+    int retries = 0;
+    std::string decode;
+    bool json = false;
+};
+
+// TARGET (the first positional argument), --unit, --timeout, --retries, --decode, --json.
+void add_client_options(CLI::App& command, ClientOptions& options);
+
+struct FormatOptions {
+    std::string type = "u16";
+    std::string word_order = "big";
+    std::string byte_order = "big";
+};
+
+// --type, --word-order, --byte-order.
+void add_format_options(CLI::App& command, FormatOptions& options);
+protocol::Result<ValueFormat, std::string> parse_format(const FormatOptions& options);
+
+// How a command ends. Text goes to stdout, errors to stderr as one line "mblab NAME: ...". With
+// --json, stdout gets exactly one JSON document, errors included. Exit status: 0 done, 1 the
+// device answered with an exception or did not answer properly, 2 usage errors and unreachable
+// targets.
+class CommandOutput {
+  public:
+    CommandOutput(std::string command, const ClientOptions& options);
+
+    bool json() const { return json_; }
+    // The fields every document carries: command, target, unit.
+    nlohmann::json& document() { return document_; }
+
+    int usage(const std::string& message);
+    int fail(const client::ClientError& error);
+    // Prints the document (JSON mode) and returns kExitOk.
+    int done();
+    // The line on stderr, without ending the command (watch keeps going).
+    void warn(const std::string& message) const;
+
+  private:
+    int finish(int status);
+
+    std::string command_;
+    bool json_;
+    nlohmann::json document_;
+};
+
+using ClientBody = std::function<int(client::Client& client, CommandOutput& output)>;
+
+// Connects to the target (unit, timeout, retries and frame log as the options say), then runs
+// `body`. An unusable option or target and a connection failure end here.
+int with_client(const ClientOptions& options, CommandOutput& output, const ClientBody& body);
+
+}  // namespace mblab::cli

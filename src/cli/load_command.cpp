@@ -1,0 +1,278 @@
+#include <fmt/core.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli/commands.hpp"
+#include "client/raw_link.hpp"
+#include "conformance/catalogue.hpp"
+#include "conformance/catalogue_paths.hpp"
+#include "conformance/load_mix.hpp"
+#include "conformance/load_plan.hpp"
+#include "conformance/load_report.hpp"
+#include "conformance/load_runner.hpp"
+#include "conformance/reports.hpp"
+#include "transport/tcp_url.hpp"
+
+// `mblab load TARGET...`: the interoperability test of seed 000 section 8. The protocol tests
+// run in a loop on every node at once while a traffic generator loads them; any failure
+// anywhere fails the run. Also a load generator for Modbus/TCP servers.
+namespace mblab::cli {
+
+namespace {
+
+namespace conf = mblab::conformance;
+namespace fs = std::filesystem;
+
+constexpr auto kLiveStatusPeriod = std::chrono::seconds(1);
+constexpr auto kLogStatusPeriod = std::chrono::seconds(10);
+
+struct LoadOptions {
+    std::vector<std::string> targets;
+    std::vector<std::string> suites;
+    std::vector<std::string> cases;
+    std::string catalogue;
+    bool no_tests = false;
+    std::string duration = "1h";
+    std::size_t connections = 8;
+    double rate = 0;
+    std::string mix = "fc3:125=70,fc16:10=20,fc1:100=10";
+    std::size_t pipeline = 1;
+    int unit = 0;
+    std::uint32_t registers = 0;
+    bool object_messaging = false;
+    std::string dut_file;
+    int timeout_ms = 1000;
+    std::size_t threads = std::max(1U, std::thread::hardware_concurrency() / 2);
+    std::uint64_t seed = 1;
+    std::string json;
+    std::string junit;
+    CLI::App* command = nullptr;
+};
+
+std::atomic<bool> g_stop{false};
+
+extern "C" void on_stop_signal(int) {
+    g_stop.store(true);
+}
+
+int usage_error(const std::string& message) {
+    fmt::print(stderr, "mblab load: {}\n", message);
+    return kExitUsage;
+}
+
+// A suite given as a file, or a shipped one by its name or file stem.
+protocol::Result<conf::Suite, std::string> find_suite(const std::string& wanted,
+                                                      const std::string& directory) {
+    std::error_code ignored;
+    if (fs::is_regular_file(wanted, ignored)) return conf::load_suite_file(wanted);
+    for (const auto& file : conf::shipped_suite_files(directory)) {
+        auto suite = conf::load_suite_file(file);
+        if (suite && (suite->name == wanted || fs::path(file).stem() == wanted)) return suite;
+    }
+    return fmt::format("no suite file or shipped suite named '{}' (looked in {})", wanted,
+                       directory);
+}
+
+// What the nodes declare: a DUT file, then the flags over it (as `mblab conform` takes them).
+protocol::Result<conf::Dut, std::string> declared_dut(const LoadOptions& options) {
+    conf::Dut dut;
+    if (!options.dut_file.empty()) {
+        auto loaded = conf::load_dut_file(options.dut_file);
+        if (!loaded) return loaded.error();
+        dut = std::move(loaded.value());
+    }
+    const CLI::App& app = *options.command;
+    if (app.count("--unit") > 0) dut.unit = static_cast<std::uint8_t>(options.unit);
+    if (app.count("--registers") > 0) dut.registers = options.registers;
+    if (options.object_messaging) dut.object_messaging = true;
+    return dut;
+}
+
+protocol::Result<conf::LoadTarget, std::string> make_target(const std::string& text,
+                                                            std::chrono::milliseconds timeout) {
+    auto endpoint = transport::parse_tcp_url(text);
+    if (!endpoint) return endpoint.error();
+    conf::LoadTarget target;
+    target.url = transport::format_tcp_url(*endpoint);
+    std::memcpy(&target.address, endpoint->data(), endpoint->size());
+    target.address_size = static_cast<socklen_t>(endpoint->size());
+    // Seed 000 8.3 loads devices that work; one that cannot be reached is a setup error.
+    auto link =
+        client::RawLink::connect({endpoint->address().to_string(), endpoint->port()}, timeout);
+    if (!link) return fmt::format("cannot connect to {}: {}", target.url, link.error().message);
+    return target;
+}
+
+protocol::Result<conf::LoadPlan, std::string> make_plan(const LoadOptions& options) {
+    conf::LoadPlan plan;
+    auto& s = plan.settings;
+    auto duration = conf::parse_duration(options.duration);
+    if (!duration) return duration.error();
+    s.duration = *duration;
+    s.connections = options.connections;
+    s.rate = options.rate;
+    s.pipeline = options.pipeline;
+    s.timeout = std::chrono::milliseconds(options.timeout_ms);
+    s.threads = options.threads;
+    s.seed = options.seed;
+    s.tests = !options.no_tests;
+
+    auto dut = declared_dut(options);
+    if (!dut) return dut.error();
+    if (s.tests) {
+        const std::string dir =
+            options.catalogue.empty() ? conf::catalogue_dir().string() : options.catalogue;
+        std::vector<conf::Suite> suites;
+        for (const auto& wanted :
+             options.suites.empty() ? std::vector<std::string>{"policy-2.1"} : options.suites) {
+            auto suite = find_suite(wanted, dir);
+            if (!suite) return suite.error();
+            suites.push_back(std::move(suite.value()));
+        }
+        auto added = conf::add_protocol_tests(plan, suites, *dut, options.cases);
+        if (!added) return added.error();
+    }
+    if (s.connections > 0) {
+        auto mix = conf::parse_mix(options.mix);
+        if (!mix) return mix.error();
+        conf::add_mix(plan, *mix, *dut);
+    }
+    if (plan.total_connections() == 0) {
+        return std::string(
+            "nothing to run: no protocol test applies and --connections is 0 (see --case, "
+            "--suite, --connections)");
+    }
+    std::set<std::string> seen;
+    for (const auto& text : options.targets) {
+        auto target = make_target(text, s.timeout);
+        if (!target) return target.error();
+        if (!seen.insert(target->url).second) {
+            return fmt::format("{} is given twice; each node is one device", target->url);
+        }
+        plan.targets.push_back(std::move(target.value()));
+    }
+    return plan;
+}
+
+// Every connection is a descriptor; lift the soft limit so 1000 connections fit.
+void raise_descriptor_limit() {
+    rlimit limit{};
+    if (::getrlimit(RLIMIT_NOFILE, &limit) == 0 && limit.rlim_cur < limit.rlim_max) {
+        limit.rlim_cur = limit.rlim_max;
+        ::setrlimit(RLIMIT_NOFILE, &limit);
+    }
+}
+
+void catch_stop_signals() {
+    struct sigaction action {};
+    action.sa_handler = on_stop_signal;
+    // A second Ctrl-C ends the program at once, without the summary.
+    action.sa_flags = SA_RESETHAND;
+    sigemptyset(&action.sa_mask);
+    ::sigaction(SIGINT, &action, nullptr);
+    ::sigaction(SIGTERM, &action, nullptr);
+    std::signal(SIGPIPE, SIG_IGN);
+}
+
+int run_load(const LoadOptions& options) {
+    auto plan = make_plan(options);
+    if (!plan) return usage_error(plan.error());
+    fmt::print("{}", conf::load_header(*plan));
+    std::fflush(stdout);
+
+    raise_descriptor_limit();
+    catch_stop_signals();
+    const bool live = ::isatty(STDERR_FILENO) != 0;
+    conf::LoadRunner runner(*plan);
+    auto result = runner.run(
+        g_stop, live ? kLiveStatusPeriod : kLogStatusPeriod, [&](const conf::LoadStatus& status) {
+            fmt::print(stderr, "{}{}{}", live ? "\r\033[K" : "",
+                       conf::load_status_line(*plan, status), live ? "" : "\n");
+            std::fflush(stderr);
+        });
+    if (live) fmt::print(stderr, "\r\033[K");
+    fmt::print("{}", conf::load_summary(*plan, result));
+    std::fflush(stdout);
+
+    std::string error;
+    if (!options.json.empty() &&
+        !conf::write_text_file(options.json, conf::load_json_report(*plan, result), error)) {
+        return usage_error(error);
+    }
+    if (!options.junit.empty() &&
+        !conf::write_text_file(options.junit, conf::load_junit_report(*plan, result), error)) {
+        return usage_error(error);
+    }
+    return result.verdict() == conf::LoadVerdict::Pass ? kExitOk : kExitFailed;
+}
+
+}  // namespace
+
+void add_load_command(CLI::App& app, CommandRunner& runner) {
+    auto options = std::make_shared<LoadOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "load",
+        "Interoperability test (seed 000 section 8): the protocol tests in a loop on every "
+        "node at once under generated traffic, counting every failure; also a load generator");
+    options->command = cmd;
+    cmd->add_option("targets", options->targets, "tcp://HOST[:PORT] of each node")->required();
+    cmd->add_option("--duration", options->duration,
+                    "how long to run: 1h (the policy's), 10m, 30s, 1500ms, 1h30m")
+        ->capture_default_str();
+    cmd->add_option("--connections", options->connections,
+                    "traffic generator connections, spread over the nodes (0: none)")
+        ->check(CLI::Range(0, 100000))
+        ->capture_default_str();
+    cmd->add_option("--rate", options->rate,
+                    "requests per second over all connections (0: as fast as answered)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    cmd->add_option("--mix", options->mix,
+                    "generator requests: fcCODE[:QUANTITY][@ADDRESS][=WEIGHT],... (docs/load.md)")
+        ->capture_default_str();
+    cmd->add_option("--pipeline", options->pipeline, "requests in flight per generator connection")
+        ->check(CLI::Range(1, 1024))
+        ->capture_default_str();
+    cmd->add_option("--unit", options->unit, "unit identifier of the nodes (seed 000 6.4)")
+        ->check(CLI::Range(0, 255));
+    cmd->add_option("--registers", options->registers,
+                    "holding registers of the nodes (seed 000 6.6; the 9.1.2 read goes past them)")
+        ->check(CLI::Range(1, 65536));
+    cmd->add_flag("--object-messaging", options->object_messaging,
+                  "the nodes support function code 0x5B (seed 000 6.5)");
+    cmd->add_option("--dut", options->dut_file, "TOML file declaring the nodes (as mblab conform)")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--timeout", options->timeout_ms, "milliseconds to wait for each answer")
+        ->check(CLI::Range(1, 600000))
+        ->capture_default_str();
+    cmd->add_option("--suite", options->suites,
+                    "suite whose request/response cases loop, by name or file; repeatable "
+                    "(default: policy-2.1)");
+    cmd->add_option("--case", options->cases, "only this case id; repeatable");
+    cmd->add_option("--catalogue", options->catalogue, "directory of the shipped suites");
+    cmd->add_flag("--no-tests", options->no_tests,
+                  "no protocol tests: only the traffic generator (a plain load test)");
+    cmd->add_option("--threads", options->threads,
+                    "worker threads (default: half the cores, leaving the rest to devices on "
+                    "this machine)")
+        ->check(CLI::Range(1, 256))
+        ->capture_default_str();
+    cmd->add_option("--seed", options->seed, "seed of the generator's choices from the mix")
+        ->capture_default_str();
+    cmd->add_option("--json", options->json, "write the report as JSON to FILE");
+    cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
+    cmd->callback([options, &runner] { runner = [options] { return run_load(*options); }; });
+}
+
+}  // namespace mblab::cli

@@ -1,0 +1,357 @@
+#include "cli/read_query.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+
+#include "cli/number_text.hpp"
+#include "cli/pdu_text.hpp"
+#include "protocol/limits.hpp"
+
+namespace mblab::cli {
+
+namespace {
+
+struct KindInfo {
+    const char* name;
+    ReadKind kind;
+    std::size_t min_args;
+    std::size_t max_args;
+    const char* usage;  // the arguments, for messages
+    const char* what;   // for describe_query
+};
+
+constexpr std::array<KindInfo, 10> kKinds = {{
+    {"coils", ReadKind::Coils, 1, 2, "coils ADDR [COUNT]", "coils"},
+    {"discretes", ReadKind::Discretes, 1, 2, "discretes ADDR [COUNT]", "discrete inputs"},
+    {"holding", ReadKind::Holding, 1, 2, "holding ADDR [COUNT]", "holding registers"},
+    {"input", ReadKind::Input, 1, 2, "input ADDR [COUNT]", "input registers"},
+    {"exception-status", ReadKind::ExceptionStatus, 0, 0, "exception-status", "exception status"},
+    {"event-counter", ReadKind::EventCounter, 0, 0, "event-counter", "comm event counter"},
+    {"event-log", ReadKind::EventLog, 0, 0, "event-log", "comm event log"},
+    {"server-id", ReadKind::ServerId, 0, 0, "server-id", "server id"},
+    {"fifo", ReadKind::Fifo, 1, 1, "fifo ADDR", "FIFO queue"},
+    {"file", ReadKind::File, 2, 3, "file FILE RECORD [COUNT]", "file"},
+}};
+
+const KindInfo& info(ReadKind kind) { return kKinds[static_cast<std::size_t>(kind)]; }
+
+bool is_register_kind(ReadKind kind) {
+    return kind == ReadKind::Holding || kind == ReadKind::Input || kind == ReadKind::Fifo ||
+           kind == ReadKind::File;
+}
+
+using Parsed = protocol::Result<std::uint16_t, std::string>;
+
+Parsed number(const std::string& text, const char* name, std::uint64_t min, std::uint64_t max) {
+    auto value = parse_unsigned(text, max);
+    if (!value || *value < min) {
+        return fmt::format("{} must be a number from {} to {} (decimal or 0x hex), got '{}'", name,
+                           min, max, text);
+    }
+    return static_cast<std::uint16_t>(*value);
+}
+
+std::string on_off(bool on) { return on ? "on" : "off"; }
+
+// [APP] 6.9: what each byte of the comm event log means.
+std::string event_text(std::uint8_t event) {
+    if (event == 0x00) return "communication restart";
+    if (event == 0x04) return "entered listen only mode";
+    std::vector<std::string> flags;
+    auto flag = [&](unsigned bit, const char* name) {
+        if (event & bit) flags.emplace_back(name);
+    };
+    std::string kind;
+    if (event & 0x80) {
+        kind = "receive";
+        flag(0x02, "communication error");
+        flag(0x10, "character overrun");
+        flag(0x20, "in listen only mode");
+        flag(0x40, "broadcast");
+    } else if (event & 0x40) {
+        kind = "send";
+        flag(0x01, "read exception");
+        flag(0x02, "abort exception");
+        flag(0x04, "busy exception");
+        flag(0x08, "NAK exception");
+        flag(0x10, "write timeout");
+        flag(0x20, "in listen only mode");
+    } else {
+        return "reserved";
+    }
+    std::string text = kind;
+    for (std::size_t i = 0; i < flags.size(); ++i) text += (i == 0 ? ": " : ", ") + flags[i];
+    return text;
+}
+
+std::string printable_text(std::span<const std::uint8_t> bytes) {
+    std::string text;
+    for (auto c : bytes) text += (c >= 0x20 && c < 0x7F) ? static_cast<char>(c) : '.';
+    return text;
+}
+
+Reading field_reading() {
+    Reading reading;
+    reading.header = {"field", "raw", "value"};
+    return reading;
+}
+
+void add_field(Reading& reading, const char* name, std::string raw, std::string value,
+               nlohmann::json json) {
+    reading.rows.push_back({name, std::move(raw), std::move(value)});
+    reading.json[name] = std::move(json);
+}
+
+Reading bits_reading(const std::vector<bool>& bits, std::uint16_t first) {
+    Reading reading;
+    reading.header = {"address", "raw", "value"};
+    auto& values = reading.json["values"] = nlohmann::json::array();
+    for (std::size_t i = 0; i < bits.size(); ++i) {
+        const auto address = static_cast<unsigned>(first + i);
+        reading.rows.push_back({address_text(address), bits[i] ? "1" : "0", on_off(bits[i])});
+        values.push_back({{"address", address}, {"value", bool{bits[i]}}});
+    }
+    return reading;
+}
+
+Reading exception_status_reading(std::uint8_t status) {
+    Reading reading = field_reading();
+    std::string outputs;
+    for (unsigned bit = 0; bit < 8; ++bit) outputs += fmt::format("{}{}", bit ? " " : "", (status >> bit) & 1U);
+    add_field(reading, "exception status", fmt::format("0x{:02X}", status),
+              "outputs 0..7: " + outputs, status);
+    return reading;
+}
+
+void add_status(Reading& reading, std::uint16_t status) {
+    add_field(reading, "status", fmt::format("0x{:04X}", status),
+              status == 0xFFFF ? "busy" : status == 0 ? "ready" : "not a status [APP] defines",
+              status);
+}
+
+void add_count(Reading& reading, const char* name, std::uint16_t count) {
+    add_field(reading, name, fmt::format("0x{:04X}", count), std::to_string(count), count);
+}
+
+Reading event_counter_reading(const client::EventCounter& counter) {
+    Reading reading = field_reading();
+    add_status(reading, counter.status);
+    add_count(reading, "event count", counter.event_count);
+    return reading;
+}
+
+Reading event_log_reading(const client::EventLog& log) {
+    Reading reading = field_reading();
+    add_status(reading, log.status);
+    add_count(reading, "event count", log.event_count);
+    add_count(reading, "message count", log.message_count);
+    auto& events = reading.json["events"] = nlohmann::json::array();
+    for (std::size_t i = 0; i < log.events.size(); ++i) {
+        const auto event = log.events[i];
+        reading.rows.push_back({fmt::format("event {}", i), fmt::format("0x{:02X}", event),
+                                event_text(event)});
+        events.push_back({{"byte", event}, {"meaning", event_text(event)}});
+    }
+    return reading;
+}
+
+Reading server_id_reading(const std::vector<std::uint8_t>& data) {
+    Reading reading = field_reading();
+    add_field(reading, "server id data", hex_bytes(data), printable_text(data), hex_bytes(data));
+    reading.notes.push_back(
+        "the layout (server id, run indicator 0x00/0xFF, additional data) is device specific");
+    return reading;
+}
+
+// Registers of one value each and a remainder too short for a value are reported, not dropped.
+void check_whole_values(Reading& reading, std::size_t registers, const ValueFormat& format) {
+    const std::size_t per = registers_per_value(format.type);
+    if (registers % per != 0) {
+        reading.notes.push_back(fmt::format("{} registers left over: not a whole {} value",
+                                            registers % per, value_type_name(format.type)));
+    }
+}
+
+std::uint16_t register_count(const ReadQuery& query) {
+    return static_cast<std::uint16_t>(query.count * registers_per_value(query.format.type));
+}
+
+}  // namespace
+
+RowLabel address_label(std::uint16_t first) {
+    return [first](std::size_t index) {
+        const auto address = static_cast<unsigned>(first + index);
+        return RowName{address_text(address), "address", address};
+    };
+}
+
+Reading register_reading(std::span<const std::uint16_t> registers, const ValueFormat& format,
+                         const RowLabel& label) {
+    Reading reading;
+    reading.header = {"address", "raw", std::string(value_type_name(format.type))};
+    const std::size_t per = registers_per_value(format.type);
+    auto& values = reading.json["values"] = nlohmann::json::array();
+    for (std::size_t i = 0; i + per <= registers.size(); i += per) {
+        const auto value = registers.subspan(i, per);
+        const RowName name = label(i);
+        reading.rows.push_back({name.text, raw_text(value), format_value(value, format)});
+        values.push_back({{name.key, name.number},
+                          {"raw", std::vector<std::uint16_t>(value.begin(), value.end())},
+                          {"value", json_value(value, format)}});
+    }
+    reading.json["type"] = value_type_name(format.type);
+    if (format.type == ValueType::Ascii) {
+        const std::string text = ascii_text(registers, format);
+        reading.notes.push_back(nlohmann::json(text).dump());
+        reading.json["text"] = text;
+    }
+    check_whole_values(reading, registers.size(), format);
+    return reading;
+}
+
+protocol::Result<ReadQuery, std::string> parse_read_query(const std::string& kind,
+                                                          const std::vector<std::string>& args,
+                                                          const ValueFormat& format,
+                                                          bool type_given) {
+    auto found = std::find_if(kKinds.begin(), kKinds.end(),
+                              [&](const KindInfo& k) { return kind == k.name; });
+    if (found == kKinds.end()) {
+        return fmt::format("unknown kind '{}' (one of: {})", kind, kReadKindsHelp);
+    }
+    ReadQuery query;
+    query.kind = found->kind;
+    query.format = format;
+    if (args.size() < found->min_args || args.size() > found->max_args) {
+        return fmt::format("'{}' takes {} argument{}: {}", kind,
+                           found->min_args == found->max_args
+                               ? std::to_string(found->min_args)
+                               : fmt::format("{} to {}", found->min_args, found->max_args),
+                           found->max_args == 1 ? "" : "s", found->usage);
+    }
+    if (type_given && !is_register_kind(query.kind)) {
+        return fmt::format("--type applies to registers (holding, input, fifo, file), not {}", kind);
+    }
+    std::size_t next = 0;
+    if (query.kind == ReadKind::File) {
+        auto file = number(args[next++], "FILE", 1, 0xFFFF);
+        if (!file) return file.error();
+        auto record = number(args[next++], "RECORD", 0, protocol::limits::kMaxFileRecordNumber);
+        if (!record) return record.error();
+        query.address = *file;
+        query.record = *record;
+    } else if (found->min_args > 0) {
+        auto address = number(args[next++], "ADDR", 0, 0xFFFF);
+        if (!address) return address.error();
+        query.address = *address;
+    }
+    if (next < args.size()) {
+        auto count = number(args[next], "COUNT", 1, 0xFFFF);
+        if (!count) return count.error();
+        query.count = *count;
+    }
+    if (is_register_kind(query.kind) && query.kind != ReadKind::Fifo &&
+        query.count * registers_per_value(format.type) > protocol::limits::kMaxReadRegisters) {
+        return fmt::format("{} {} values take {} registers; one read takes at most {}",
+                           query.count, value_type_name(format.type),
+                           query.count * registers_per_value(format.type),
+                           protocol::limits::kMaxReadRegisters);
+    }
+    return query;
+}
+
+client::Outcome<Reading> perform_read(client::Client& client, const ReadQuery& query) {
+    auto done = [](auto outcome, auto make) -> client::Outcome<Reading> {
+        if (!outcome) return outcome.error();
+        return make(*outcome);
+    };
+    auto registers = [&](const std::vector<std::uint16_t>& values) {
+        return register_reading(values, query.format, address_label(query.address));
+    };
+    const auto count = register_count(query);
+    switch (query.kind) {
+        case ReadKind::Coils:
+            return done(client.read_coils(query.address, query.count),
+                        [&](const auto& bits) { return bits_reading(bits, query.address); });
+        case ReadKind::Discretes:
+            return done(client.read_discrete_inputs(query.address, query.count),
+                        [&](const auto& bits) { return bits_reading(bits, query.address); });
+        case ReadKind::Holding:
+            return done(client.read_holding_registers(query.address, count), registers);
+        case ReadKind::Input:
+            return done(client.read_input_registers(query.address, count), registers);
+        case ReadKind::ExceptionStatus:
+            return done(client.read_exception_status(), exception_status_reading);
+        case ReadKind::EventCounter:
+            return done(client.get_comm_event_counter(), event_counter_reading);
+        case ReadKind::EventLog:
+            return done(client.get_comm_event_log(), event_log_reading);
+        case ReadKind::ServerId:
+            return done(client.report_server_id(), server_id_reading);
+        case ReadKind::Fifo:
+            return done(client.read_fifo_queue(query.address), [&](const auto& values) {
+                Reading reading = register_reading(
+                    values, query.format, [](std::size_t i) {
+                        return RowName{fmt::format("entry {}", i), "entry",
+                                       static_cast<unsigned>(i)};
+                    });
+                reading.json["fifo_count"] = values.size();
+                if (values.empty()) reading.notes.push_back("the FIFO queue is empty");
+                return reading;
+            });
+        case ReadKind::File: {
+            const protocol::FileRecordRef ref{query.address, query.record, count};
+            return done(client.read_file_records(std::span(&ref, 1)), [&](const auto& records) {
+                const unsigned first = query.record;
+                return register_reading(records.front(), query.format, [first](std::size_t i) {
+                    const auto record = static_cast<unsigned>(first + i);
+                    return RowName{fmt::format("record {}", record), "record", record};
+                });
+            });
+        }
+    }
+    return client::ClientError{client::ErrorKind::Invalid, "unknown read kind", std::nullopt};
+}
+
+std::vector<std::string> table_lines(const Reading& reading) {
+    std::array<std::size_t, 3> width{};
+    for (std::size_t c = 0; c < 3; ++c) width[c] = reading.header[c].size();
+    for (const auto& row : reading.rows) {
+        for (std::size_t c = 0; c < 3; ++c) width[c] = std::max(width[c], row[c].size());
+    }
+    std::vector<std::string> lines;
+    auto line = [&](const std::array<std::string, 3>& cells) {
+        std::string text = fmt::format("{:<{}}  {:<{}}  {}", cells[0], width[0], cells[1],
+                                       width[1], cells[2]);
+        while (!text.empty() && text.back() == ' ') text.pop_back();
+        lines.push_back(std::move(text));
+    };
+    line(reading.header);
+    for (const auto& row : reading.rows) line(row);
+    for (const auto& note : reading.notes) lines.push_back(note);
+    return lines;
+}
+
+std::string describe_query(const ReadQuery& query) {
+    const auto& kind = info(query.kind);
+    switch (query.kind) {
+        case ReadKind::Coils:
+        case ReadKind::Discretes:
+            return fmt::format("{} {}, {}", kind.what, address_text(query.address), query.count);
+        case ReadKind::Holding:
+        case ReadKind::Input:
+            return fmt::format("{} {}, {} {} value{}", kind.what, address_text(query.address),
+                               query.count, value_type_name(query.format.type),
+                               query.count == 1 ? "" : "s");
+        case ReadKind::Fifo:
+            return fmt::format("{} {}", kind.what, address_text(query.address));
+        case ReadKind::File:
+            return fmt::format("file {} record {}, {} {} value{}", query.address, query.record,
+                               query.count, value_type_name(query.format.type),
+                               query.count == 1 ? "" : "s");
+        default:
+            return kind.what;
+    }
+}
+
+}  // namespace mblab::cli

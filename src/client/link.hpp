@@ -1,0 +1,37 @@
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include "client/raw_link.hpp"
+
+// The seam between the client's transactions and a transport. A link moves whole ADUs: it sends
+// the bytes it is given and hands back one frame at a time, cut by its own framing rules. How a
+// PDU is wrapped for it (MBAP header, RTU CRC, ASCII hex and LRC) depends on framing(), so a new
+// transport plugs in by implementing this interface and naming its framing.
+namespace mblab::client {
+
+enum class Framing : std::uint8_t {
+    Mbap,   // Modbus/TCP: MBAP header, transaction ids
+    Rtu,    // address, PDU, CRC-16
+    Ascii,  // ':' hex(address, PDU, LRC) CR LF
+};
+
+class Link {
+  public:
+    virtual ~Link() = default;
+
+    virtual Framing framing() const = 0;
+    // "tcp://127.0.0.1:502": what the user names in messages.
+    virtual const std::string& name() const = 0;
+    virtual bool is_open() const = 0;
+    // Writes a whole ADU. False with `error` set when the link is gone.
+    virtual bool send(std::span<const std::uint8_t> adu, LinkError& error) = 0;
+    // One whole frame in the link's framing, or why none came before `timeout`.
+    virtual Received receive_frame(std::chrono::milliseconds timeout) = 0;
+    virtual void close() = 0;
+};
+
+}  // namespace mblab::client

@@ -1,0 +1,33 @@
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "client/link.hpp"
+#include "client/raw_link.hpp"
+#include "protocol/result.hpp"
+
+namespace mblab::client {
+
+// Modbus/TCP over the conformance tester's RawLink: frames are cut by the MBAP length field.
+class TcpLink final : public Link {
+  public:
+    static protocol::Result<std::unique_ptr<Link>, LinkError> open(
+        const Endpoint& endpoint, std::string name, std::chrono::milliseconds timeout);
+
+    Framing framing() const override { return Framing::Mbap; }
+    const std::string& name() const override { return name_; }
+    bool is_open() const override { return raw_.is_open(); }
+    bool send(std::span<const std::uint8_t> adu, LinkError& error) override;
+    Received receive_frame(std::chrono::milliseconds timeout) override;
+    void close() override { raw_.close(); }
+
+  private:
+    TcpLink(RawLink raw, std::string name) : raw_(std::move(raw)), name_(std::move(name)) {}
+
+    RawLink raw_;
+    std::string name_;
+};
+
+}  // namespace mblab::client

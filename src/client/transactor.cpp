@@ -1,0 +1,223 @@
+#include "client/transactor.hpp"
+
+#include <algorithm>
+#include <array>
+#include <utility>
+
+#include "client/adu_codec.hpp"
+#include "protocol/function_code.hpp"
+#include "protocol/limits.hpp"
+
+namespace mblab::client {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// Room for the largest ADU of any framing (ASCII: 513 characters).
+constexpr std::size_t kAduBuffer = 520;
+// Answers a transaction may skip before its own: a device replaying old answers must not keep
+// the client waiting past its deadline, and the deadline bounds this anyway.
+constexpr std::size_t kMaxUnanswered = 64;
+
+std::string function_text(std::uint8_t code) {
+    return hex8(code) + " (" + std::string(protocol::function_name(code)) + ")";
+}
+
+std::string byte_count(std::size_t count) {
+    return std::to_string(count) + (count == 1 ? " byte" : " bytes");
+}
+
+}  // namespace
+
+const char* error_kind_name(ErrorKind kind) {
+    switch (kind) {
+        case ErrorKind::Invalid: return "invalid";
+        case ErrorKind::Connect: return "connect";
+        case ErrorKind::Timeout: return "timeout";
+        case ErrorKind::Closed: return "closed";
+        case ErrorKind::BadAnswer: return "bad-answer";
+        case ErrorKind::Exception: return "exception";
+    }
+    return "error";
+}
+
+Transactor::Transactor(std::string target, LinkOpener opener, TransactionOptions options,
+                       FrameObserver* observer)
+    : target_(std::move(target)),
+      opener_(std::move(opener)),
+      options_(options),
+      observer_(observer) {}
+
+protocol::Result<Done, ClientError> Transactor::connect() { return ensure_link(); }
+
+protocol::Result<Done, ClientError> Transactor::ensure_link() {
+    if (link_ && link_->is_open()) return Done{};
+    link_.reset();
+    unanswered_.clear();
+    auto opened = opener_();
+    if (!opened) {
+        return ClientError{ErrorKind::Connect,
+                           "cannot connect to " + target_ + ": " + opened.error().message,
+                           std::nullopt};
+    }
+    link_ = std::move(opened.value());
+    return Done{};
+}
+
+void Transactor::drop_link() {
+    if (link_) link_->close();
+    link_.reset();
+    unanswered_.clear();
+}
+
+void Transactor::note(const std::string& text) {
+    if (observer_ != nullptr) observer_->on_note(text);
+}
+
+Transactor::Failure Transactor::bad_answer(std::string message) {
+    // After a frame that broke the rules, nothing later on the stream can be trusted to line up.
+    drop_link();
+    return {{ErrorKind::BadAnswer, "bad answer: " + std::move(message), std::nullopt}, false};
+}
+
+Transactor::Failure Transactor::lost(std::string message) {
+    drop_link();
+    return {{ErrorKind::Closed, std::move(message), std::nullopt}, true};
+}
+
+protocol::Result<std::uint16_t, Transactor::Failure> Transactor::send(
+    std::span<const std::uint8_t> request) {
+    if (auto linked = ensure_link(); !linked) return Failure{linked.error(), false};
+    const std::uint16_t transaction_id = next_transaction_id_++;
+    std::array<std::uint8_t, kAduBuffer> adu{};
+    const std::size_t size =
+        wrap_pdu(link_->framing(), options_.unit, transaction_id, request, adu);
+    if (request.empty() || size == 0) {
+        return Failure{{ErrorKind::Invalid,
+                        "a request of " + byte_count(request.size()) + " does not fit a frame",
+                        std::nullopt},
+                       false};
+    }
+    const auto bytes = std::span<const std::uint8_t>(adu).first(size);
+    if (observer_ != nullptr) observer_->on_frame(FrameDirection::Sent, link_->framing(), bytes);
+    LinkError error;
+    if (!link_->send(bytes, error)) return lost("cannot send to " + target_ + ": " + error.message);
+    return transaction_id;
+}
+
+protocol::Result<Done, ClientError> Transactor::send_only(std::span<const std::uint8_t> request) {
+    auto sent = send(request);
+    if (!sent) return sent.error().error;
+    return Done{};
+}
+
+protocol::Result<std::vector<std::uint8_t>, ClientError> Transactor::transact(
+    std::span<const std::uint8_t> request) {
+    const unsigned tries = options_.retries + 1;
+    for (unsigned attempt_number = 1;; ++attempt_number) {
+        auto result = attempt(request);
+        if (result) return std::move(result.value());
+        Failure failure = result.error();
+        if (!failure.retry || attempt_number == tries) {
+            if (tries > 1 && failure.retry) {
+                failure.error.message += " (" + std::to_string(tries) + " tries)";
+            }
+            return failure.error;
+        }
+        note("retry " + std::to_string(attempt_number) + " of " +
+             std::to_string(options_.retries) + " after: " + failure.error.message);
+    }
+}
+
+Transactor::Attempt Transactor::attempt(std::span<const std::uint8_t> request) {
+    auto sent = send(request);
+    if (!sent) return sent.error();
+    return await_answer(*sent, request.front());
+}
+
+Transactor::Attempt Transactor::await_answer(std::uint16_t transaction_id,
+                                             std::uint8_t function) {
+    const auto deadline = Clock::now() + options_.timeout;
+    while (true) {
+        const auto left = std::max(Clock::duration::zero(), deadline - Clock::now());
+        Received received =
+            link_->receive_frame(std::chrono::duration_cast<std::chrono::milliseconds>(left));
+        switch (received.status) {
+            case ReceiveStatus::Frame:
+                if (observer_ != nullptr) {
+                    observer_->on_frame(FrameDirection::Received, link_->framing(),
+                                        received.bytes);
+                }
+                if (auto judged = judge(received.bytes, transaction_id, function)) {
+                    return std::move(*judged);
+                }
+                continue;
+            case ReceiveStatus::Timeout: {
+                const std::string within = " within " +
+                                           std::to_string(options_.timeout.count()) + " ms";
+                if (!received.bytes.empty()) {
+                    // The rest of that frame may still come and would put every later answer
+                    // out of step: start again on a new connection.
+                    drop_link();
+                    return Failure{{ErrorKind::Timeout,
+                                    "no complete answer from " + target_ + within + " (" +
+                                        byte_count(received.bytes.size()) + " of a frame came)",
+                                    std::nullopt},
+                                   true};
+                }
+                if (unanswered_.size() < kMaxUnanswered) unanswered_.push_back(transaction_id);
+                return Failure{{ErrorKind::Timeout, "no answer from " + target_ + within,
+                                std::nullopt},
+                               true};
+            }
+            case ReceiveStatus::Closed:
+                return lost(received.bytes.empty()
+                                ? "the device closed the connection without answering"
+                                : "the device closed the connection after " +
+                                      byte_count(received.bytes.size()) + " of an answer");
+            case ReceiveStatus::Malformed: {
+                if (observer_ != nullptr) {
+                    observer_->on_frame(FrameDirection::Received, link_->framing(),
+                                        received.bytes);
+                }
+                const unsigned length = (received.bytes[4] << 8) | received.bytes[5];
+                return bad_answer("MBAP length " + std::to_string(length) +
+                                  " cannot describe a frame (must be 2..254)");
+            }
+        }
+    }
+}
+
+std::optional<Transactor::Attempt> Transactor::judge(std::span<const std::uint8_t> frame,
+                                                     std::uint16_t transaction_id,
+                                                     std::uint8_t function) {
+    auto parts = unwrap_frame(link_->framing(), frame);
+    if (!parts) return Attempt(bad_answer(parts.error()));
+    if (parts->mbap && parts->mbap->transaction_id != transaction_id) {
+        auto late = std::find(unanswered_.begin(), unanswered_.end(), parts->mbap->transaction_id);
+        if (late != unanswered_.end()) {
+            unanswered_.erase(late);
+            note("skipped a late answer to transaction " + hex16(parts->mbap->transaction_id));
+            return std::nullopt;
+        }
+        return Attempt(bad_answer("transaction id is " + hex16(parts->mbap->transaction_id) +
+                                  ", expected " + hex16(transaction_id)));
+    }
+    if (parts->unit != options_.unit) {
+        return Attempt(bad_answer("unit id is " + std::to_string(parts->unit) + ", expected " +
+                                  std::to_string(options_.unit)));
+    }
+    if (parts->pdu.empty()) {
+        return Attempt(bad_answer(parts->mbap ? "MBAP length 1 leaves no room for a function code"
+                                              : "the frame holds no function code"));
+    }
+    const std::uint8_t answered = parts->pdu.front();
+    if (answered != function && answered != (function | protocol::kExceptionBit)) {
+        return Attempt(bad_answer("function code is " + function_text(answered) + ", expected " +
+                                  function_text(function)));
+    }
+    return Attempt(std::move(parts->pdu));
+}
+
+}  // namespace mblab::client

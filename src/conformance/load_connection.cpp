@@ -1,0 +1,458 @@
+#include "conformance/load_connection.hpp"
+
+#include <fmt/core.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <cerrno>
+#include <cstring>
+
+#include "conformance/judge.hpp"
+#include "protocol/limits.hpp"
+
+namespace mblab::conformance {
+
+namespace {
+
+namespace limits = protocol::limits;
+using std::chrono::duration_cast;
+using std::chrono::microseconds;
+
+// A refused or dropped connection is tried again after this; long enough not to spin on a
+// device that is down, short enough to keep loading one that closes connections on purpose.
+constexpr std::chrono::milliseconds kReconnectDelay{100};
+constexpr std::size_t kMinInput = 4096;
+constexpr std::size_t kMaxFrameLength = limits::kMaxTcpAdu - 6;  // MBAP length field
+
+std::string socket_error_text(int code) {
+    switch (code) {
+        case ECONNREFUSED:
+            return "connection refused";
+        case ECONNRESET:
+            return "connection reset by the device";
+        case EPIPE:
+            return "connection closed by the device";
+        case ETIMEDOUT:
+            return "connection timed out";
+        default:
+            return std::strerror(code);
+    }
+}
+
+void put_tid(std::span<std::uint8_t> adu, std::uint16_t tid) {
+    adu[0] = static_cast<std::uint8_t>(tid >> 8);
+    adu[1] = static_cast<std::uint8_t>(tid & 0xFF);
+}
+
+// The expected answers as they apply to one request on the wire: with its transaction id in
+// place of the catalogue's, so the evidence marks only bytes that really differ.
+std::vector<ResolvedPattern> with_transaction_id(const std::vector<ResolvedPattern>& expect,
+                                                 std::uint16_t tid) {
+    std::vector<ResolvedPattern> out = expect;
+    for (auto& pattern : out) {
+        const std::uint8_t bytes[2] = {static_cast<std::uint8_t>(tid >> 8),
+                                       static_cast<std::uint8_t>(tid & 0xFF)};
+        for (std::size_t i = 0; i < 2 && i < pattern.tokens.size(); ++i) {
+            auto& token = pattern.tokens[i];
+            if (token.kind == PatternToken::Kind::Byte || token.kind == PatternToken::Kind::Any) {
+                token = {PatternToken::Kind::Byte, bytes[i], {}};
+            }
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
+LoadConnection::LoadConnection(WorkerContext& context, NodeTally& tally, std::size_t node,
+                               Role role, std::uint64_t seed)
+    : context_(context),
+      tally_(tally),
+      target_(context.plan.targets[node]),
+      role_(role),
+      prng_(seed) {
+    window_ = role == Role::Tests ? 1 : std::max<std::size_t>(1, context.plan.settings.pipeline);
+    slot_bits_ = static_cast<unsigned>(std::bit_width(window_ - 1));
+    slots_.resize(window_);
+    for (std::size_t i = window_; i > 0; --i) {
+        free_slots_.push_back(static_cast<std::uint16_t>(i - 1));
+    }
+    in_.resize(std::max(kMinInput, (window_ + 1) * limits::kMaxTcpAdu));
+    out_.resize(window_ * limits::kMaxTcpAdu);
+}
+
+LoadConnection::~LoadConnection() {
+    if (fd_ >= 0) ::close(fd_);
+}
+
+bool LoadConnection::settled() const {
+    return state_ == State::Done || (state_ == State::Open && outstanding_ == 0);
+}
+
+void LoadConnection::connect(LoadClock::time_point now) {
+    const auto& address = target_.address;
+    fd_ = ::socket(address.ss_family, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
+    if (fd_ < 0) {
+        fail(FailureKind::Refused, nullptr,
+             {client::ReceiveStatus::Closed, {}, std::strerror(errno)}, now,
+             fmt::format("cannot open a socket: {}", std::strerror(errno)));
+        state_ = State::Closed;
+        retry_at_ = now + kReconnectDelay;
+        return;
+    }
+    int one = 1;
+    ::setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    state_ = State::Connecting;
+    connect_deadline_ = now + context_.plan.settings.timeout;
+    if (::connect(fd_, reinterpret_cast<const sockaddr*>(&address), target_.address_size) == 0) {
+        opened(now);
+        return;
+    }
+    if (errno != EINPROGRESS) {
+        const int code = errno;
+        disconnect(now);
+        fail(FailureKind::Refused, nullptr,
+             {client::ReceiveStatus::Closed, {}, socket_error_text(code)}, now,
+             "cannot connect: " + socket_error_text(code));
+        return;
+    }
+    want_write_ = true;
+    context_.loop.add(fd_, this, true);
+}
+
+void LoadConnection::finish_connect(LoadClock::time_point now) {
+    int code = 0;
+    socklen_t size = sizeof code;
+    if (::getsockopt(fd_, SOL_SOCKET, SO_ERROR, &code, &size) != 0) code = errno;
+    if (code != 0) {
+        disconnect(now);
+        fail(FailureKind::Refused, nullptr,
+             {client::ReceiveStatus::Closed, {}, socket_error_text(code)}, now,
+             "cannot connect: " + socket_error_text(code));
+        return;
+    }
+    opened(now);
+}
+
+void LoadConnection::opened(LoadClock::time_point now) {
+    const bool registered = want_write_;
+    state_ = State::Open;
+    want_write_ = false;
+    if (registered) {
+        context_.loop.modify(fd_, this, false);
+    } else {
+        context_.loop.add(fd_, this, false);
+    }
+    const auto interval = context_.send_interval;
+    if (interval.count() > 0) {
+        // Spread the connections' sends over the interval rather than all at once.
+        next_send_ = now + interval * static_cast<long>(prng_.next() % 1000) / 1000;
+    }
+    fill(now);
+}
+
+void LoadConnection::disconnect(LoadClock::time_point now) {
+    if (fd_ >= 0) {
+        context_.loop.remove(fd_);
+        ::close(fd_);
+        fd_ = -1;
+    }
+    for (auto& slot : slots_) {
+        if (slot.active) release(slot);
+        slot.has_expired = false;
+    }
+    in_begin_ = in_end_ = out_begin_ = out_end_ = 0;
+    want_write_ = false;
+    earliest_deadline_ = LoadClock::time_point::max();
+    state_ = context_.running ? State::Closed : State::Done;
+    retry_at_ = now + kReconnectDelay;
+}
+
+void LoadConnection::lost(LoadClock::time_point now, const std::string& detail) {
+    fail(FailureKind::Dropped, oldest_slot(),
+         {client::ReceiveStatus::Closed, {held().begin(), held().end()}, detail}, now);
+    disconnect(now);
+}
+
+void LoadConnection::on_event(std::uint32_t events, LoadClock::time_point now) {
+    if (state_ == State::Connecting) {
+        if ((events & (EPOLLOUT | EPOLLERR | EPOLLHUP)) != 0) finish_connect(now);
+        return;
+    }
+    if (state_ != State::Open) return;
+    if ((events & (EPOLLIN | EPOLLERR | EPOLLHUP)) != 0) read(now);
+    if (state_ == State::Open && (events & EPOLLOUT) != 0) flush(now);
+}
+
+void LoadConnection::tick(LoadClock::time_point now) {
+    switch (state_) {
+        case State::Closed:
+            if (!context_.running) {
+                state_ = State::Done;
+            } else if (now >= retry_at_) {
+                connect(now);
+            }
+            return;
+        case State::Connecting:
+            if (!context_.running) {
+                disconnect(now);
+            } else if (now >= connect_deadline_) {
+                disconnect(now);
+                fail(FailureKind::Refused, nullptr,
+                     {client::ReceiveStatus::Timeout, {}, "connection timed out"}, now,
+                     fmt::format("cannot connect: no answer to the connection request in {} ms",
+                                 context_.plan.settings.timeout.count()));
+            }
+            return;
+        case State::Open:
+            if (now >= earliest_deadline_) expire(now);
+            fill(now);
+            return;
+        case State::Done:
+            return;
+    }
+}
+
+bool LoadConnection::next_exchange(std::uint32_t& out) {
+    const LoadPlan& plan = context_.plan;
+    if (role_ == Role::Traffic) {
+        const auto& sums = plan.mix_cumulative;
+        const std::uint64_t pick = prng_.next() % sums.back();
+        const auto at = std::upper_bound(sums.begin(), sums.end(), pick) - sums.begin();
+        out = static_cast<std::uint32_t>(plan.test_exchanges + static_cast<std::size_t>(at));
+        return true;
+    }
+    for (std::size_t tried = 0; tried < plan.test_exchanges; ++tried) {
+        const std::size_t index = test_cursor_;
+        test_cursor_ = (test_cursor_ + 1) % plan.test_exchanges;
+        if (tally_.not_applicable[plan.exchanges[index].test_case].empty()) {
+            out = static_cast<std::uint32_t>(index);
+            return true;
+        }
+    }
+    return false;
+}
+
+LoadConnection::Slot& LoadConnection::take_slot() {
+    const std::uint16_t index = free_slots_.back();
+    free_slots_.pop_back();
+    Slot& slot = slots_[index];
+    ++slot.generation;
+    const unsigned generation_bits = 16 - slot_bits_;
+    const auto generation = static_cast<std::uint16_t>(
+        generation_bits >= 16 ? slot.generation : slot.generation & ((1U << generation_bits) - 1));
+    slot.tid = static_cast<std::uint16_t>((generation << slot_bits_) | index);
+    slot.active = true;
+    ++outstanding_;
+    return slot;
+}
+
+void LoadConnection::release(Slot& slot) {
+    slot.active = false;
+    --outstanding_;
+    free_slots_.push_back(static_cast<std::uint16_t>(&slot - slots_.data()));
+}
+
+LoadConnection::Slot* LoadConnection::find_slot(std::uint16_t tid) {
+    const std::size_t index = tid & ((1U << slot_bits_) - 1);
+    if (index >= slots_.size()) return nullptr;
+    Slot& slot = slots_[index];
+    return slot.active && slot.tid == tid ? &slot : nullptr;
+}
+
+LoadConnection::Slot* LoadConnection::oldest_slot() {
+    Slot* oldest = nullptr;
+    for (auto& slot : slots_) {
+        if (slot.active && (oldest == nullptr || slot.sent_at < oldest->sent_at)) oldest = &slot;
+    }
+    return oldest;
+}
+
+void LoadConnection::fill(LoadClock::time_point now) {
+    if (!context_.running || state_ != State::Open) return;
+    const auto interval = context_.send_interval;
+    const auto timeout = context_.plan.settings.timeout;
+    while (outstanding_ < window_) {
+        if (interval.count() > 0) {
+            if (now < next_send_) break;
+            // After a stall, catch up by at most one window's worth rather than a burst.
+            const auto burst = interval * static_cast<long>(window_);
+            if (next_send_ + burst < now) next_send_ = now - burst;
+            next_send_ += interval;
+        }
+        std::uint32_t index = 0;
+        if (!next_exchange(index)) break;
+        const auto& request = context_.plan.exchanges[index].request;
+        if (out_end_ + request.size() > out_.size()) break;
+        Slot& slot = take_slot();
+        slot.exchange = index;
+        slot.sent_at = now;
+        earliest_deadline_ = std::min(earliest_deadline_, now + timeout);
+        std::memcpy(out_.data() + out_end_, request.data(), request.size());
+        put_tid({out_.data() + out_end_, request.size()}, slot.tid);
+        out_end_ += request.size();
+        tally_.sent.add();
+        tally_.exchange(index).sent.add();
+    }
+    flush(now);
+}
+
+void LoadConnection::flush(LoadClock::time_point now) {
+    while (out_begin_ < out_end_) {
+        const ssize_t n = ::send(fd_, out_.data() + out_begin_, out_end_ - out_begin_,
+                                 MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n > 0) {
+            out_begin_ += static_cast<std::size_t>(n);
+            continue;
+        }
+        if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+            set_write_interest(true);
+            return;
+        }
+        if (n < 0 && errno == EINTR) continue;
+        lost(now, socket_error_text(n < 0 ? errno : EPIPE));
+        return;
+    }
+    out_begin_ = out_end_ = 0;
+    set_write_interest(false);
+}
+
+void LoadConnection::set_write_interest(bool want) {
+    if (want == want_write_) return;
+    want_write_ = want;
+    context_.loop.modify(fd_, this, want);
+}
+
+void LoadConnection::read(LoadClock::time_point now) {
+    if (in_end_ == in_.size()) {  // only a partial frame at the front can be held: compact
+        std::memmove(in_.data(), in_.data() + in_begin_, in_end_ - in_begin_);
+        in_end_ -= in_begin_;
+        in_begin_ = 0;
+    }
+    const ssize_t n = ::recv(fd_, in_.data() + in_end_, in_.size() - in_end_, MSG_DONTWAIT);
+    if (n == 0) {
+        lost(now, "connection closed by the device");
+        return;
+    }
+    if (n < 0) {
+        if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
+            lost(now, socket_error_text(errno));
+        }
+        return;
+    }
+    in_end_ += static_cast<std::size_t>(n);
+    while (in_end_ - in_begin_ >= 6) {
+        const std::uint8_t* head = in_.data() + in_begin_;
+        const std::size_t length = (std::size_t{head[4]} << 8) | head[5];
+        if (length < 2 || length > kMaxFrameLength) {
+            // The stream cannot be split into frames any more: start a fresh connection.
+            const std::string detail = fmt::format(
+                "MBAP length field {} cannot describe an answer (2..{})", length, kMaxFrameLength);
+            fail(FailureKind::Malformed, oldest_slot(),
+                 {client::ReceiveStatus::Malformed, {held().begin(), held().end()}, detail}, now);
+            disconnect(now);
+            return;
+        }
+        if (in_end_ - in_begin_ < length + 6) break;
+        answer({head, length + 6}, now);
+        in_begin_ += length + 6;
+    }
+    if (in_begin_ == in_end_) {
+        in_begin_ = in_end_ = 0;
+    } else if (in_.size() - in_end_ < limits::kMaxTcpAdu) {
+        std::memmove(in_.data(), in_.data() + in_begin_, in_end_ - in_begin_);
+        in_end_ -= in_begin_;
+        in_begin_ = 0;
+    }
+    fill(now);
+}
+
+void LoadConnection::answer(std::span<const std::uint8_t> frame, LoadClock::time_point now) {
+    const auto tid = static_cast<std::uint16_t>((frame[0] << 8) | frame[1]);
+    Slot* slot = find_slot(tid);
+    bool tid_matches = slot != nullptr;
+    if (slot == nullptr) {
+        const std::size_t index = tid & ((1U << slot_bits_) - 1);
+        if (index < slots_.size() && slots_[index].has_expired &&
+            slots_[index].expired_tid == tid) {
+            slots_[index].has_expired = false;
+            tally_.late.add();
+            return;
+        }
+        // Modbus/TCP servers answer in order: take it as the answer to the oldest request.
+        slot = oldest_slot();
+    }
+    tally_.answered.add();
+    if (slot == nullptr) {
+        fail(FailureKind::WrongAnswer, nullptr,
+             {client::ReceiveStatus::Frame, {frame.begin(), frame.end()}, {}}, now,
+             "an answer that no request asked for");
+        return;
+    }
+    tally_.latency.record(
+        static_cast<std::uint64_t>(duration_cast<microseconds>(now - slot->sent_at).count()));
+    const LoadExchange& exchange = context_.plan.exchanges[slot->exchange];
+    std::optional<FailureKind> failure =
+        tid_matches ? judge_answer(exchange.answers, frame) : FailureKind::WrongAnswer;
+    if (failure && role_ == Role::Tests && exchange.first_step &&
+        context_.plan.cases[exchange.test_case].unsupported_is_na &&
+        is_illegal_function_answer(exchange.request, frame)) {
+        tally_.not_applicable[exchange.test_case] = fmt::format(
+            "N/A: the device answered exception 01 to function {:02X}", exchange.request[7]);
+        failure.reset();
+    }
+    if (failure)
+        fail(*failure, slot, {client::ReceiveStatus::Frame, {frame.begin(), frame.end()}, {}}, now);
+    release(*slot);
+}
+
+void LoadConnection::expire(LoadClock::time_point now) {
+    const auto timeout = context_.plan.settings.timeout;
+    earliest_deadline_ = LoadClock::time_point::max();
+    for (auto& slot : slots_) {
+        if (!slot.active) continue;
+        const auto deadline = slot.sent_at + timeout;
+        if (deadline > now) {
+            earliest_deadline_ = std::min(earliest_deadline_, deadline);
+            continue;
+        }
+        fail(FailureKind::Timeout, &slot,
+             {client::ReceiveStatus::Timeout, {held().begin(), held().end()}, {}}, now);
+        slot.expired_tid = slot.tid;
+        slot.has_expired = true;
+        release(slot);
+    }
+}
+
+void LoadConnection::fail(FailureKind kind, const Slot* slot, client::Received received,
+                          LoadClock::time_point now, const std::string& reason) {
+    tally_.failures[static_cast<std::size_t>(kind)].add();
+    if (slot != nullptr) tally_.exchange(slot->exchange).failed.add();
+    if (tally_.first_failure) return;
+    FailureRecord record;
+    record.kind = kind;
+    record.at = duration_cast<microseconds>(now - context_.start);
+    const auto timeout = context_.plan.settings.timeout;
+    if (slot != nullptr) {
+        const LoadExchange& exchange = context_.plan.exchanges[slot->exchange];
+        std::vector<std::uint8_t> sent = exchange.request;
+        put_tid(sent, slot->tid);
+        record.exchange = exchange.name;
+        record.evidence = judge(sent, std::move(received), timeout,
+                                with_transaction_id(exchange.expect, slot->tid))
+                              .exchange;
+    } else {
+        record.evidence.status = received.status;
+        record.evidence.received = std::move(received.bytes);
+        record.evidence.detail = std::move(received.detail);
+        record.evidence.waited = timeout;
+    }
+    record.reason = reason.empty() ? describe_failure(record.evidence) : reason;
+    tally_.first_failure = std::move(record);
+}
+
+}  // namespace mblab::conformance

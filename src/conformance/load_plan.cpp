@@ -1,0 +1,179 @@
+#include "conformance/load_plan.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <charconv>
+#include <optional>
+#include <set>
+
+#include "protocol/limits.hpp"
+
+namespace mblab::conformance {
+
+namespace {
+
+namespace limits = protocol::limits;
+
+// Why a step cannot run in the loop; nothing when it can.
+std::optional<std::string> loop_obstacle(const Step& step) {
+    if (!step.split.empty()) return "writes its request in pieces";
+    if (step.silence) return "expects silence";
+    if (step.accept_close || step.accept_silence) return "tolerates a close or silence";
+    return std::nullopt;
+}
+
+// The runner frames answers by the MBAP length and writes transaction ids into requests, so a
+// request must be one whole frame that says so.
+bool is_whole_mbap_request(const std::vector<std::uint8_t>& bytes) {
+    if (bytes.size() <= limits::kMbapHeader || bytes.size() > limits::kMaxTcpAdu) return false;
+    const std::size_t length = (std::size_t{bytes[4]} << 8) | bytes[5];
+    return bytes[2] == 0 && bytes[3] == 0 && length + 6 == bytes.size();
+}
+
+LoadExchange make_exchange(std::string name, std::string source, std::vector<std::uint8_t> request,
+                           std::vector<ResolvedPattern> expect) {
+    LoadExchange exchange;
+    exchange.name = std::move(name);
+    exchange.source = std::move(source);
+    exchange.request = std::move(request);
+    for (const auto& pattern : expect)
+        exchange.answers.emplace_back(pattern);
+    exchange.expect = std::move(expect);
+    return exchange;
+}
+
+// The case's exchanges, or why it stays out of the loop.
+protocol::Result<std::vector<LoadExchange>, std::string> case_exchanges(const Case& c,
+                                                                        const Dut& dut) {
+    if (!c.procedure.empty()) return fmt::format("procedure {}", c.procedure);
+    if (c.isolated) return std::string("needs a connection of its own");
+    for (const auto& requirement : c.requirements) {
+        if (auto why = unmet(requirement, dut)) return "N/A: " + *why;
+    }
+    const DutFacts facts(dut);
+    std::vector<LoadExchange> out;
+    for (std::size_t i = 0; i < c.steps.size(); ++i) {
+        const Step& step = c.steps[i];
+        if (auto why = loop_obstacle(step)) return *why;
+        auto request = resolve(step.request, facts);
+        if (!request) return fmt::format("N/A: the DUT does not declare {}", request.error().name);
+        auto bytes = render_bytes(request.value());
+        if (!is_whole_mbap_request(bytes))
+            return std::string("its request is not a whole MBAP frame");
+        std::vector<ResolvedPattern> expect;
+        for (const auto& alternative : step.expect) {
+            auto pattern = resolve(alternative.pattern, facts);
+            if (!pattern) {
+                return fmt::format("N/A: the DUT does not declare {}", pattern.error().name);
+            }
+            expect.push_back(std::move(pattern.value()));
+        }
+        auto name = c.steps.size() == 1 ? c.id : fmt::format("{} step {}", c.id, i + 1);
+        out.push_back(
+            make_exchange(std::move(name), c.source, std::move(bytes), std::move(expect)));
+        out.back().first_step = i == 0;
+    }
+    return out;
+}
+
+}  // namespace
+
+protocol::Result<bool, std::string> add_protocol_tests(LoadPlan& plan,
+                                                       const std::vector<Suite>& suites,
+                                                       const Dut& dut,
+                                                       const std::vector<std::string>& only) {
+    const std::set<std::string> wanted(only.begin(), only.end());
+    std::set<std::string> found;
+    for (const auto& suite : suites) {
+        plan.suites.push_back(suite.name);
+        for (const auto& c : suite.cases) {
+            if (!wanted.empty() && (!wanted.contains(c.id) || !found.insert(c.id).second)) {
+                continue;
+            }
+            auto exchanges = case_exchanges(c, dut);
+            if (!exchanges) {
+                plan.left_out.push_back({c.id, exchanges.error()});
+                continue;
+            }
+            const std::size_t index = plan.cases.size();
+            plan.cases.push_back({c.id, c.source, c.title, plan.exchanges.size(), exchanges->size(),
+                                  c.unsupported_is_na});
+            for (auto& exchange : exchanges.value()) {
+                exchange.test_case = index;
+                plan.exchanges.push_back(std::move(exchange));
+            }
+        }
+    }
+    for (const auto& id : only) {
+        if (!found.contains(id)) return fmt::format("no case {} in the chosen suites", id);
+    }
+    plan.test_exchanges = plan.exchanges.size();
+    return true;
+}
+
+void add_mix(LoadPlan& plan, const std::vector<MixEntry>& mix, const Dut& dut) {
+    const DutFacts facts(dut);
+    std::uint64_t sum = 0;
+    for (const auto& entry : mix) {
+        MixExchange patterns = mix_exchange(entry);
+        // The mix only uses {unit}, which every DUT declares.
+        auto request = resolve(patterns.request, facts);
+        auto expect = resolve(patterns.expect, facts);
+        plan.exchanges.push_back(make_exchange(entry.text, "--mix", render_bytes(request.value()),
+                                               {std::move(expect.value())}));
+        sum += entry.weight;
+        plan.mix_cumulative.push_back(sum);
+    }
+    plan.mix = mix;
+}
+
+protocol::Result<std::chrono::milliseconds, std::string> parse_duration(std::string_view text) {
+    auto bad = [&] {
+        return fmt::format("bad duration '{}' (expected e.g. 1h, 10m, 30s, 1500ms or 1h30m)", text);
+    };
+    if (text.empty()) return bad();
+    std::chrono::milliseconds total{0};
+    std::string_view rest = text;
+    while (!rest.empty()) {
+        std::uint64_t value = 0;
+        auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), value);
+        if (ec != std::errc() || value > 1'000'000'000) return bad();
+        rest.remove_prefix(static_cast<std::size_t>(end - rest.data()));
+        std::uint64_t unit_ms = 1000;
+        if (rest.starts_with("ms")) {
+            unit_ms = 1;
+            rest.remove_prefix(2);
+        } else if (rest.starts_with("h")) {
+            unit_ms = 3'600'000;
+            rest.remove_prefix(1);
+        } else if (rest.starts_with("m")) {
+            unit_ms = 60'000;
+            rest.remove_prefix(1);
+        } else if (rest.starts_with("s")) {
+            rest.remove_prefix(1);
+        } else if (!rest.empty() || total.count() != 0) {
+            return bad();  // a bare number only stands alone
+        }
+        total += std::chrono::milliseconds(value * unit_ms);
+    }
+    if (total.count() == 0) return std::string("the duration must be longer than 0");
+    return total;
+}
+
+std::string format_duration_words(std::chrono::milliseconds duration) {
+    const auto ms = duration.count();
+    if (ms % 1000 != 0 || ms < 1000) return fmt::format("{:g} s", static_cast<double>(ms) / 1000);
+    const auto seconds = ms / 1000;
+    std::string out;
+    auto part = [&](long long value, const char* unit) {
+        if (value == 0) return;
+        out += fmt::format("{}{} {}", out.empty() ? "" : " ", value, unit);
+    };
+    part(seconds / 3600, "h");
+    part(seconds / 60 % 60, "min");
+    part(seconds % 60, "s");
+    return out;
+}
+
+}  // namespace mblab::conformance

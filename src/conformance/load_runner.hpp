@@ -1,0 +1,43 @@
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "conformance/load_plan.hpp"
+#include "conformance/load_result.hpp"
+
+namespace mblab::conformance {
+
+// How a run is going, for the live status line: rates and latency over the last period.
+struct NodeStatus {
+    double rate = 0;  // answers/s
+    std::uint64_t failures = 0;
+    std::uint64_t p50_us = 0;
+    std::uint64_t p99_us = 0;
+};
+
+struct LoadStatus {
+    std::chrono::milliseconds elapsed{0};
+    double rate = 0;
+    std::uint64_t failures = 0;
+    std::vector<NodeStatus> nodes;
+};
+
+// Runs a plan: the protocol tests on one connection per node and the generator's connections,
+// spread over the worker threads, for the plan's duration or until `stop` becomes true; then
+// waits for the answers in flight (at most the timeout) and gathers the counts.
+class LoadRunner {
+  public:
+    explicit LoadRunner(const LoadPlan& plan) : plan_(plan) {}
+
+    LoadResult run(const std::atomic<bool>& stop, std::chrono::milliseconds status_period,
+                   const std::function<void(const LoadStatus&)>& on_status);
+
+  private:
+    const LoadPlan& plan_;
+};
+
+}  // namespace mblab::conformance

@@ -1,0 +1,44 @@
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "conformance/load_connection.hpp"
+#include "conformance/load_event_loop.hpp"
+#include "conformance/load_plan.hpp"
+#include "conformance/load_tally.hpp"
+
+namespace mblab::conformance {
+
+struct ConnectionSpec {
+    std::size_t node = 0;
+    LoadConnection::Role role = LoadConnection::Role::Traffic;
+    std::uint64_t seed = 1;
+};
+
+// One thread's share of a load run: its connections on one epoll loop, and its counts per node
+// (no other thread writes them, so counting needs no lock).
+class LoadWorker {
+  public:
+    LoadWorker(const LoadPlan& plan, const std::vector<ConnectionSpec>& connections,
+               LoadClock::time_point start, std::chrono::nanoseconds send_interval);
+
+    // Runs until `draining` is set and every request in flight is answered or timed out.
+    void run(const std::atomic<bool>& draining);
+
+    const NodeTally& tally(std::size_t node) const { return *tallies_[node]; }
+
+  private:
+    bool all_settled() const;
+
+    EventLoop loop_;
+    WorkerContext context_;
+    std::vector<std::unique_ptr<NodeTally>> tallies_;
+    std::vector<std::unique_ptr<LoadConnection>> connections_;
+    std::chrono::microseconds tick_;
+};
+
+}  // namespace mblab::conformance

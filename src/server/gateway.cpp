@@ -1,0 +1,168 @@
+#include "server/gateway.hpp"
+
+#include <poll.h>
+#include <termios.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <thread>
+
+#include "protocol/adu_writer.hpp"
+#include "protocol/exception_code.hpp"
+#include "protocol/function_code.hpp"
+#include "server/serial_session.hpp"
+#include "transport/serial_port.hpp"
+
+namespace mblab::server {
+
+namespace {
+
+using protocol::ExceptionCode;
+
+// Waits until `fd` is ready for `events` or `until` passes; true when ready.
+bool wait_ready(int fd, short events, LineClock::time_point until) {
+    for (;;) {
+        const auto left = std::max(until - LineClock::now(), LineClock::duration::zero());
+        const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(left).count();
+        timespec timeout{static_cast<time_t>(ns / 1'000'000'000),
+                         static_cast<long>(ns % 1'000'000'000)};
+        pollfd entry{fd, events, 0};
+        const int ready = ::ppoll(&entry, 1, &timeout, nullptr);
+        if (ready > 0) return true;
+        if (ready == 0) return false;
+        if (errno != EINTR) return false;
+    }
+}
+
+}  // namespace
+
+SerialGateway::SerialGateway(const transport::SerialUrl& url, const LineSetup& setup)
+    : port_(io_),
+      framing_(setup.framing),
+      inter_frame_(setup.turnaround),
+      receiver_(setup.framing, setup.timing, protocol::Direction::Response),
+      units_(url.units),
+      response_timeout_(url.response_timeout) {}
+
+protocol::Result<std::unique_ptr<SerialGateway>, std::string> SerialGateway::open(
+    const transport::SerialUrl& url) {
+    if (url.kind == transport::SerialUrl::Kind::RtuOverTcp) {
+        return std::string("a gateway needs a serial line (rtu:// or ascii://), not rtu+tcp://");
+    }
+    std::unique_ptr<SerialGateway> gateway(new SerialGateway(url, serial_line_setup(url, {})));
+    auto port = transport::open_serial_port(gateway->io_.get_executor(), url.line);
+    if (!port) return port.error();
+    gateway->port_ = std::move(port.value());
+    return gateway;
+}
+
+device::Reply SerialGateway::exception(std::uint8_t function, std::uint8_t code,
+                                       std::span<std::uint8_t> response) {
+    response[0] = static_cast<std::uint8_t>(function | protocol::kExceptionBit);
+    response[1] = code;
+    return {device::ReplyAction::Answer, 2, {}};
+}
+
+device::Reply SerialGateway::handle(const device::RequestContext& context,
+                                    std::span<const std::uint8_t> request,
+                                    std::span<std::uint8_t> response) {
+    if (request.empty()) return {device::ReplyAction::NoAnswer, 0, {}};
+    if (!units_.test(context.unit)) {
+        ++stats_.unrouted;
+        return exception(request[0], static_cast<std::uint8_t>(ExceptionCode::GatewayPathUnavailable),
+                         response);
+    }
+    std::lock_guard lock(mutex_);
+    return forward(context.unit, request, response);
+}
+
+device::Reply SerialGateway::forward(std::uint8_t unit, std::span<const std::uint8_t> request,
+                                     std::span<std::uint8_t> response) {
+    const std::uint8_t function = request[0];
+    const auto path_unavailable = [&] {
+        ++stats_.unrouted;
+        return exception(function, static_cast<std::uint8_t>(ExceptionCode::GatewayPathUnavailable),
+                         response);
+    };
+    // An answer that came too late for the last request must not pass for this one's.
+    ::tcflush(port_.native_handle(), TCIFLUSH);
+    receiver_.reset();
+    std::this_thread::sleep_until(line_free_at_);
+    if (!send_frame(unit, request)) return path_unavailable();
+    ++stats_.forwarded;
+    if (unit == 0) {
+        line_free_at_ = LineClock::now() + inter_frame_;
+        return {device::ReplyAction::NoAnswer, 0, {}};
+    }
+    const long size = await_answer(unit, function, response);
+    line_free_at_ = LineClock::now() + inter_frame_;
+    if (size < 0) return path_unavailable();
+    if (size == 0) {
+        ++stats_.timeouts;
+        return exception(
+            function, static_cast<std::uint8_t>(ExceptionCode::GatewayTargetFailedToRespond),
+            response);
+    }
+    ++stats_.answered;
+    return {device::ReplyAction::Answer, static_cast<std::size_t>(size), {}};
+}
+
+bool SerialGateway::send_frame(std::uint8_t unit, std::span<const std::uint8_t> request) {
+    const std::size_t size = framing_ == LineFraming::Ascii
+                                 ? protocol::write_ascii_adu(unit, request, frame_)
+                                 : protocol::write_rtu_adu(unit, request, frame_);
+    if (size == 0) return false;
+    const int fd = port_.native_handle();
+    const auto give_up = LineClock::now() + response_timeout_;
+    for (std::size_t sent = 0; sent < size;) {
+        const auto n = ::write(fd, frame_.data() + sent, size - sent);
+        if (n > 0) {
+            sent += static_cast<std::size_t>(n);
+        } else if (n < 0 && errno != EAGAIN && errno != EINTR) {
+            return false;
+        } else if (!wait_ready(fd, POLLOUT, give_up)) {
+            return false;
+        }
+    }
+    // The response timeout runs from the end of the request on the wire.
+    return ::tcdrain(fd) == 0 || errno == ENOTTY;
+}
+
+long SerialGateway::await_answer(std::uint8_t unit, std::uint8_t function,
+                                 std::span<std::uint8_t> response) {
+    const int fd = port_.native_handle();
+    const auto deadline = LineClock::now() + response_timeout_;
+    const auto take = [&](const LineEvent& event) -> long {
+        if (event.is_error()) ++stats_.line_errors;
+        if (!event.is_frame()) return 0;
+        const auto pdu = event.frame.pdu;
+        const bool ours = event.frame.unit == unit && !pdu.empty() &&
+                          (pdu[0] & ~protocol::kExceptionBit) == function;
+        if (!ours || pdu.size() > response.size()) {
+            ++stats_.line_errors;
+            return 0;
+        }
+        std::copy(pdu.begin(), pdu.end(), response.begin());
+        return static_cast<long>(pdu.size());
+    };
+    for (;;) {
+        auto now = LineClock::now();
+        if (now >= receiver_.deadline()) {
+            if (const long size = take(receiver_.on_timeout(now))) return size;
+            continue;
+        }
+        if (now >= deadline) return 0;
+        if (!wait_ready(fd, POLLIN, std::min(deadline, receiver_.deadline()))) continue;
+        const auto n = ::read(fd, input_.data(), input_.size());
+        if (n < 0 && (errno == EAGAIN || errno == EINTR)) continue;
+        if (n <= 0) return -1;
+        receiver_.receive(std::span<const std::uint8_t>(input_.data(), static_cast<std::size_t>(n)),
+                          LineClock::now());
+        for (LineEvent event = receiver_.next(); !event.empty(); event = receiver_.next()) {
+            if (const long size = take(event)) return size;
+        }
+    }
+}
+
+}  // namespace mblab::server

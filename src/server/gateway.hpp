@@ -1,0 +1,86 @@
+#pragma once
+
+#include <array>
+#include <asio/io_context.hpp>
+#include <asio/serial_port.hpp>
+#include <atomic>
+#include <bitset>
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <span>
+#include <string>
+
+#include "device/request_handler.hpp"
+#include "protocol/limits.hpp"
+#include "protocol/result.hpp"
+#include "server/serial_line_receiver.hpp"
+#include "transport/serial_url.hpp"
+
+// A Modbus/TCP to serial gateway as a RequestHandler: put it behind a TcpServer and each
+// request whose unit id is routed to the line goes out as an RTU or ASCII frame with that
+// address; the device's answer comes back as the TCP answer.
+//   - a unit id not routed to the line: exception 0A (gateway path unavailable);
+//   - no valid answer within the line's response timeout: exception 0B (target failed to
+//     respond); a routed unit 0 is sent as a broadcast and not answered.
+// One request at a time is on the line, and t3.5 of silence separates RTU frames.
+//
+// handle() blocks its caller for the transaction, up to the response timeout: the TCP server
+// that calls it waits with it, which is what a single serial line allows anyway.
+namespace mblab::server {
+
+struct LineSetup;
+
+struct GatewayStats {
+    using Counter = std::atomic<std::uint64_t>;
+    Counter forwarded{0};     // requests sent on the line
+    Counter answered{0};      // answers passed back
+    Counter timeouts{0};      // answered 0B
+    Counter unrouted{0};      // answered 0A: unit not routed, or the line failed
+    Counter line_errors{0};   // bad frames and stray answers seen while waiting
+};
+
+class SerialGateway final : public device::RequestHandler {
+  public:
+    // Opens the line at `url` (rtu:// or ascii://; its timeout= and units= apply).
+    static protocol::Result<std::unique_ptr<SerialGateway>, std::string> open(
+        const transport::SerialUrl& url);
+
+    device::Reply handle(const device::RequestContext& context,
+                         std::span<const std::uint8_t> request,
+                         std::span<std::uint8_t> response) override;
+
+    const GatewayStats& stats() const { return stats_; }
+
+  private:
+    SerialGateway(const transport::SerialUrl& url, const LineSetup& setup);
+
+    device::Reply forward(std::uint8_t unit, std::span<const std::uint8_t> request,
+                          std::span<std::uint8_t> response);
+    bool send_frame(std::uint8_t unit, std::span<const std::uint8_t> request);
+    // The device's answer PDU size in `response`, 0 when none came in time, -1 on a line error.
+    long await_answer(std::uint8_t unit, std::uint8_t function, std::span<std::uint8_t> response);
+    static device::Reply exception(std::uint8_t function, std::uint8_t code,
+                                   std::span<std::uint8_t> response);
+
+    asio::io_context io_;  // owns the port; never run, the gateway's I/O is blocking
+    asio::serial_port port_;
+    LineFraming framing_;
+    std::chrono::microseconds inter_frame_;  // RTU t3.5 between frames
+    SerialLineReceiver receiver_;
+    std::bitset<256> units_;
+    std::chrono::milliseconds response_timeout_;
+    LineClock::time_point line_free_at_{};
+    GatewayStats stats_;
+    std::mutex mutex_;
+    std::array<std::uint8_t, protocol::limits::kMaxAsciiChars> frame_{};
+    std::array<std::uint8_t, 512> input_{};
+};
+
+inline protocol::Result<std::unique_ptr<SerialGateway>, std::string> make_gateway(
+    const transport::SerialUrl& url) {
+    return SerialGateway::open(url);
+}
+
+}  // namespace mblab::server

@@ -1,0 +1,50 @@
+#pragma once
+
+#include <asio/ip/tcp.hpp>
+#include <bitset>
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "protocol/result.hpp"
+
+// Addresses of serial Modbus links:
+//   rtu:///dev/ttyUSB0?baud=19200&parity=E&stop=1&data=8   RTU on a serial line
+//   ascii:///dev/ttyUSB0?baud=9600&parity=E&data=7         ASCII on a serial line
+//   rtu+tcp://127.0.0.1:502                                RTU frames over a TCP connection
+// A line given to a gateway also takes timeout=MS (how long a device may take to answer) and
+// units=1-10,20 (the unit ids routed to the line).
+namespace mblab::transport {
+
+enum class Parity : std::uint8_t { None, Even, Odd };
+
+// [SER] 2.5: 19200 baud, even parity, one stop bit; 8 data bits for RTU, 7 for ASCII.
+struct SerialSettings {
+    std::string device;
+    unsigned baud = 19200;
+    std::uint8_t data_bits = 8;
+    Parity parity = Parity::Even;
+    std::uint8_t stop_bits = 1;
+};
+
+struct SerialUrl {
+    enum class Kind : std::uint8_t { Rtu, Ascii, RtuOverTcp };
+    Kind kind = Kind::Rtu;
+    SerialSettings line;               // Rtu, Ascii
+    asio::ip::tcp::endpoint endpoint;  // RtuOverTcp
+    std::chrono::milliseconds response_timeout{1000};
+    std::bitset<256> units;  // unit ids a gateway routes here; 1..247 unless units= is given
+};
+
+// True for rtu:, ascii: and rtu+tcp: addresses, so a caller can tell them from tcp:// ones.
+bool is_serial_url(std::string_view url);
+
+// The error is one line naming what is wrong and showing the expected form, e.g.
+// "bad address 'rtu:///dev/ttyS0?parity=X': parity must be N, E or O (expected ...)".
+protocol::Result<SerialUrl, std::string> parse_serial_url(std::string_view url);
+
+// The URL with every setting spelled out: "rtu:///dev/ttyUSB0?baud=19200&parity=E&stop=1&data=8".
+std::string format_serial_url(const SerialUrl& url);
+
+}  // namespace mblab::transport

@@ -1,0 +1,38 @@
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+// Runs a program (the real `mblab`) with its stdout and stderr on pipes. Every wait has a
+// timeout; the destructor kills a child that is still running, by its own pid.
+namespace mblab::test {
+
+class ChildProcess {
+  public:
+    explicit ChildProcess(const std::vector<std::string>& argv);
+    ~ChildProcess();
+    ChildProcess(const ChildProcess&) = delete;
+    ChildProcess& operator=(const ChildProcess&) = delete;
+
+    bool started() const { return pid_ > 0; }
+    // One line of stdout without its newline; nullopt on timeout or end of output.
+    std::optional<std::string> read_stdout_line(std::chrono::milliseconds timeout);
+    void signal(int signal_number) const;
+    // The exit status, or nullopt if it did not exit in time (or died of a signal).
+    std::optional<int> wait_exit(std::chrono::milliseconds timeout);
+    // Everything written to stderr; call after wait_exit.
+    std::string drain_stderr();
+
+  private:
+    pid_t pid_ = -1;
+    int stdout_fd_ = -1;
+    int stderr_fd_ = -1;
+    std::string stdout_buffer_;
+    bool exited_ = false;
+};
+
+}  // namespace mblab::test

@@ -1,0 +1,48 @@
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "child_process.hpp"
+#include "server_fixture.hpp"
+
+// Shared by the test_client_*.cpp files: runs the real binary and names targets.
+namespace mblab::test {
+
+struct Ran {
+    int status = -1;  // -1: did not exit in time
+    std::string out;
+    std::string err;
+};
+
+// Runs `mblab ARGS...` to its end (at most 30 s) and collects its output.
+inline Ran run_mblab(const std::vector<std::string>& args) {
+    std::vector<std::string> argv = {MBLAB_BINARY};
+    argv.insert(argv.end(), args.begin(), args.end());
+    ChildProcess child(argv);
+    Ran ran;
+    while (auto line = child.read_stdout_line(std::chrono::seconds(30))) ran.out += *line + "\n";
+    ran.status = child.wait_exit(std::chrono::seconds(30)).value_or(-1);
+    ran.err = child.drain_stderr();
+    return ran;
+}
+
+inline std::string tcp_target(std::uint16_t port) {
+    return "tcp://127.0.0.1:" + std::to_string(port);
+}
+
+// A client test against an in-process device: `mblab(...)` runs the binary with the target first.
+class ClientCliTest : public ServerFixture {
+  protected:
+    Ran mblab(const std::string& command, std::vector<std::string> args) const {
+        args.insert(args.begin(), {command, tcp_target(port_)});
+        return run_mblab(args);
+    }
+    std::string target() const { return tcp_target(port_); }
+};
+
+}  // namespace mblab::test

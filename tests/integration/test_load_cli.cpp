@@ -1,0 +1,377 @@
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "child_process.hpp"
+#include "device/reference_device.hpp"
+#include "server/background_server.hpp"
+
+// `mblab load` against real servers on loopback: the verdict, the exit status, and counts
+// that must equal what the devices' fault rules did.
+namespace mblab::test {
+namespace {
+
+using nlohmann::json;
+using std::chrono::milliseconds;
+using std::chrono::seconds;
+
+std::string slurp(const std::string& path) {
+    std::ifstream file(path);
+    std::stringstream text;
+    text << file.rdbuf();
+    return text.str();
+}
+
+// The reference device with extra profile text (fault rules for its unit) on an ephemeral port.
+struct Device {
+    explicit Device(const std::string& extra = "") {
+        const std::string text =
+            slurp(std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml") + "\n" + extra;
+        auto loaded = device::load_profile_text(text, "test");
+        EXPECT_TRUE(loaded.ok()) << (loaded.ok() ? "" : loaded.error());
+        device = std::move(loaded.value());
+        server = std::make_unique<server::BackgroundServer>(*device);
+        auto bound = server->start();
+        EXPECT_TRUE(bound.ok());
+        port = bound.ok() ? *bound : 0;
+    }
+    std::string url() const { return "tcp://127.0.0.1:" + std::to_string(port); }
+
+    std::unique_ptr<device::ReferenceDevice> device;  // outlives the server
+    std::unique_ptr<server::BackgroundServer> server;
+    std::uint16_t port = 0;
+};
+
+struct LoadRun {
+    std::optional<int> status;
+    std::string out;
+    std::string err;
+    json report;
+    std::string junit;
+};
+
+std::string temp(const std::string& name) {
+    return ::testing::TempDir() + "load_cli_" + name;
+}
+
+std::vector<std::string> load_argv(const std::string& name, const std::vector<std::string>& args) {
+    std::vector<std::string> argv = {MBLAB_BINARY,         "load",    "--json",
+                                     temp(name + ".json"), "--junit", temp(name + ".xml")};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::remove(temp(name + ".json").c_str());
+    return argv;
+}
+
+// Collects what a finished (or stopped) child wrote, and its reports.
+LoadRun finish(ChildProcess& child, const std::string& name, std::string out = {}) {
+    LoadRun run;
+    run.status = child.wait_exit(seconds(60));
+    while (auto line = child.read_stdout_line(seconds(5)))
+        out += *line + "\n";
+    run.out = std::move(out);
+    run.err = child.drain_stderr();
+    const std::string report = slurp(temp(name + ".json"));
+    if (!report.empty()) run.report = json::parse(report);
+    run.junit = slurp(temp(name + ".xml"));
+    return run;
+}
+
+LoadRun mblab_load(const std::string& name, const std::vector<std::string>& args) {
+    ChildProcess child(load_argv(name, args));
+    return finish(child, name);
+}
+
+// Requests of the given function code sent to a node, summed over its exchanges.
+std::uint64_t sent_with_function(const json& node, int function) {
+    std::uint64_t total = 0;
+    for (const auto& exchange : node["exchanges"]) {
+        if (exchange["function"] == function) total += exchange["sent"].get<std::uint64_t>();
+    }
+    return total;
+}
+
+std::uint64_t failures(const json& node, const char* kind) {
+    return node["failures"][kind].get<std::uint64_t>();
+}
+
+void expect_clean(const json& node) {
+    EXPECT_EQ(node["verdict"], "PASS") << node.dump(2);
+    EXPECT_EQ(node["failures"]["total"], 0);
+    EXPECT_GT(node["requests"].get<std::uint64_t>(), 0U);
+    EXPECT_EQ(node["requests"], node["answers"]);
+    EXPECT_TRUE(node["first_failure"].is_null());
+}
+
+// A port nothing listens on: bound, then released.
+std::uint16_t closed_port() {
+    int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    socklen_t length = sizeof address;
+    ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address);
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length);
+    ::close(fd);
+    return ntohs(address.sin_port);
+}
+
+// Reads the URLs from `mblab serve`'s first line.
+std::vector<std::string> served_urls(ChildProcess& serve) {
+    std::vector<std::string> urls;
+    auto banner = serve.read_stdout_line(seconds(10));
+    if (!banner) return urls;
+    const std::regex url(R"(tcp://127\.0\.0\.1:\d+)");
+    for (std::sregex_iterator it(banner->begin(), banner->end(), url), end; it != end; ++it) {
+        urls.push_back(it->str());
+    }
+    return urls;
+}
+
+// Reads the header up to the line of `last_node`: the run is under way after it.
+std::string read_header(ChildProcess& child, const std::string& last_node) {
+    std::string out;
+    for (int lines = 0; lines < 20; ++lines) {
+        auto line = child.read_stdout_line(seconds(10));
+        if (!line) break;
+        out += *line + "\n";
+        if (line->find("node " + last_node) != std::string::npos) break;
+    }
+    return out;
+}
+
+TEST(LoadCli, ThreeServedReferenceDevicesPass) {
+    ChildProcess serve({MBLAB_BINARY, "serve", "--devices", "3", "--listen", "tcp://127.0.0.1:0"});
+    const auto targets = served_urls(serve);
+    ASSERT_EQ(targets.size(), 3U);
+
+    std::vector<std::string> args = targets;
+    args.insert(args.end(), {"--duration", "2s", "--registers", "65536", "--connections", "6"});
+    auto run = mblab_load("pass", args);
+    serve.signal(SIGINT);
+    EXPECT_EQ(serve.wait_exit(seconds(10)), 0);
+
+    EXPECT_EQ(run.status, 0) << run.out << run.err;
+    const json& report = run.report;
+    EXPECT_EQ(report["verdict"], "PASS");
+    EXPECT_EQ(report["passed"], true);
+    EXPECT_EQ(report["interrupted"], false);
+    EXPECT_EQ(report["duration_s"], 2.0);
+    EXPECT_EQ(report["totals"]["failures"], 0);
+    EXPECT_EQ(report["settings"]["suites"], json::array({"policy-2.1"}));
+    EXPECT_EQ(report["settings"]["cases"].size(), 13U);
+    ASSERT_EQ(report["nodes"].size(), 3U);
+    for (std::size_t i = 0; i < 3; ++i) {
+        const json& node = report["nodes"][i];
+        EXPECT_EQ(node["target"], targets[i]);
+        expect_clean(node);
+        // Every protocol test ran on every node, alongside the generator's requests.
+        for (const auto& exchange : node["exchanges"]) {
+            EXPECT_GT(exchange["sent"].get<std::uint64_t>(), 0U) << exchange.dump();
+            EXPECT_EQ(exchange["failed"], 0);
+        }
+        EXPECT_GT(node["latency_ms"]["count"].get<std::uint64_t>(), 0U);
+        EXPECT_LE(node["latency_ms"]["p50"].get<double>(), node["latency_ms"]["p99"].get<double>());
+        EXPECT_LE(node["latency_ms"]["p99_9"].get<double>(),
+                  node["latency_ms"]["max"].get<double>());
+    }
+    EXPECT_NE(run.out.find("PASS: no failure on 3 nodes in 2 s under load (seed 000 8.4)"),
+              std::string::npos)
+        << run.out;
+    EXPECT_NE(run.junit.find("<testsuites name=\"mblab load 3 nodes\" tests=\"3\" failures=\"0\""),
+              std::string::npos)
+        << run.junit;
+    EXPECT_NE(run.junit.find("<testsuite name=\"load\" tests=\"3\" failures=\"0\""),
+              std::string::npos)
+        << run.junit;
+}
+
+TEST(LoadCli, DroppedAnswersFailOnlyThatNodeWithExactCounts) {
+    Device good1;
+    Device faulty("[[unit.faults]]\naction = \"drop\"\nfunctions = [6]\nevery = 5\n");
+    Device good2;
+    auto run = mblab_load("drop", {good1.url(), faulty.url(), good2.url(), "--duration", "3s",
+                                   "--registers", "65536", "--connections", "3", "--rate", "3000"});
+    EXPECT_EQ(run.status, 1) << run.out << run.err;
+    const json& report = run.report;
+    EXPECT_EQ(report["verdict"], "FAIL");
+    EXPECT_EQ(report["passed"], false);
+    expect_clean(report["nodes"][0]);
+    expect_clean(report["nodes"][2]);
+
+    const json& node = report["nodes"][1];
+    EXPECT_EQ(node["verdict"], "FAIL");
+    // Only 7.8.1 sends FC 06; the device drops every 5th, and each is one timeout.
+    const auto fc06 = sent_with_function(node, 6);
+    EXPECT_GE(fc06, 5U);
+    EXPECT_EQ(failures(node, "timeout"), fc06 / 5);
+    EXPECT_EQ(node["failures"]["total"], fc06 / 5);
+    for (const auto& exchange : node["exchanges"]) {
+        EXPECT_EQ(exchange["failed"], exchange["name"] == "7.8.1" ? fc06 / 5 : 0) << exchange;
+    }
+    const json& first = node["first_failure"];
+    EXPECT_EQ(first["kind"], "timeout");
+    EXPECT_EQ(first["exchange"], "7.8.1");
+    EXPECT_EQ(first["reason"], "no answer: timeout after 1000 ms");
+    const std::string sent = first["evidence"]["sent"];
+    ASSERT_EQ(sent.size(), 35U) << sent;
+    EXPECT_EQ(sent.substr(5), " 00 00 00 06 00 06 00 10 12 34");  // after our transaction id
+    EXPECT_EQ(first["evidence"]["expected"], sent);
+    EXPECT_EQ(first["evidence"]["status"], "timeout");
+    EXPECT_EQ(first["evidence"]["received"], "");
+
+    EXPECT_NE(run.out.find("FAIL: 1 of 3 nodes failed (" + faulty.url() + ")"), std::string::npos)
+        << run.out;
+    EXPECT_NE(run.out.find("    sent      " + sent), std::string::npos) << run.out;
+    EXPECT_NE(run.junit.find("tests=\"3\" failures=\"1\""), std::string::npos) << run.junit;
+}
+
+TEST(LoadCli, EachKindOfFaultIsCountedOnItsNode) {
+    Device good;
+    Device faulty(
+        "[[unit.faults]]\naction = \"close\"\nfunctions = [6]\nevery = 4\n"
+        "[[unit.faults]]\naction = \"exception\"\nexception = 4\nfunctions = [5]\nevery = 3\n"
+        "[[unit.faults]]\naction = \"garbage\"\ngarbage_bytes = 5\nfunctions = [7]\nevery = 2\n"
+        "[[unit.faults]]\naction = \"delay\"\ndelay_ms = 1500\nfunctions = [15]\nevery = 3\n");
+    auto run = mblab_load("kinds", {good.url(), faulty.url(), "--duration", "4s", "--registers",
+                                    "65536", "--connections", "2", "--rate", "2000"});
+    EXPECT_EQ(run.status, 1) << run.out << run.err;
+    expect_clean(run.report["nodes"][0]);
+    const json& node = run.report["nodes"][1];
+    const auto fc05 = sent_with_function(node, 5);
+    const auto fc06 = sent_with_function(node, 6);
+    const auto fc07 = sent_with_function(node, 7);
+    const auto fc15 = sent_with_function(node, 15);
+    EXPECT_GE(fc06, 4U);
+    EXPECT_GE(fc15, 3U);
+    EXPECT_EQ(failures(node, "dropped"), fc06 / 4) << node["failures"];
+    EXPECT_EQ(failures(node, "exception"), fc05 / 3) << node["failures"];
+    // Random bytes mostly fail to decode; some decode as a response, just the wrong one.
+    EXPECT_EQ(failures(node, "malformed") + failures(node, "wrong_answer"), fc07 / 2)
+        << node["failures"];
+    // 1500 ms is over the 1000 ms timeout: each delayed answer is one timeout, and it comes
+    // late rather than being taken for the next request's.
+    EXPECT_EQ(failures(node, "timeout"), fc15 / 3) << node["failures"];
+    EXPECT_EQ(failures(node, "refused"), 0U);
+    EXPECT_LE(node["late_answers"].get<std::uint64_t>(), fc15 / 3);
+    EXPECT_NE(run.out.find("FAIL: 1 of 2 nodes failed (" + faulty.url() + ")"), std::string::npos)
+        << run.out;
+}
+
+TEST(LoadCli, ADeviceThatGoesAwayIsReportedNotCrashedOn) {
+    Device stays;
+    // A server of its own process, so that stopping it really closes its port (a child of
+    // this process would hold the in-process servers' listening sockets open).
+    ChildProcess serve({MBLAB_BINARY, "serve", "--listen", "tcp://127.0.0.1:0"});
+    const auto leaves = served_urls(serve);
+    ASSERT_EQ(leaves.size(), 1U);
+    ChildProcess child(
+        load_argv("leave", {stays.url(), leaves[0], "--duration", "3s", "--registers", "65536",
+                            "--connections", "2", "--rate", "2000"}));
+    std::string out = read_header(child, leaves[0]);
+    std::this_thread::sleep_for(milliseconds(800));
+    serve.signal(SIGINT);
+    EXPECT_EQ(serve.wait_exit(seconds(10)), 0);
+    auto run = finish(child, "leave", out);
+
+    EXPECT_EQ(run.status, 1) << run.out << run.err;
+    expect_clean(run.report["nodes"][0]);
+    const json& node = run.report["nodes"][1];
+    EXPECT_EQ(node["verdict"], "FAIL");
+    EXPECT_GE(failures(node, "dropped"), 1U) << node["failures"];
+    EXPECT_GE(failures(node, "refused"), 1U) << node["failures"];
+    EXPECT_EQ(failures(node, "timeout"), 0U) << node["failures"];
+    EXPECT_EQ(node["first_failure"]["kind"], "dropped");
+    EXPECT_EQ(node["first_failure"]["evidence"]["status"], "closed");
+    EXPECT_NE(run.out.find("FAIL: 1 of 2 nodes failed (" + leaves[0] + ")"), std::string::npos)
+        << run.out;
+}
+
+TEST(LoadCli, CtrlCEndsTheRunWithASummary) {
+    Device device;
+    ChildProcess child(load_argv("interrupt", {device.url(), "--duration", "1h", "--connections",
+                                               "2", "--rate", "1000", "--registers", "65536"}));
+    std::string out = read_header(child, device.url());
+    std::this_thread::sleep_for(milliseconds(500));
+    child.signal(SIGINT);
+    auto run = finish(child, "interrupt", out);
+
+    EXPECT_EQ(run.status, 1) << run.out << run.err;  // not a pass: the hour did not run
+    EXPECT_EQ(run.report["verdict"], "INCOMPLETE");
+    EXPECT_EQ(run.report["interrupted"], true);
+    EXPECT_LT(run.report["elapsed_s"].get<double>(), 3600.0);
+    const json& node = run.report["nodes"][0];
+    EXPECT_EQ(node["verdict"], "INCOMPLETE");
+    EXPECT_EQ(node["failures"]["total"], 0);
+    EXPECT_GT(node["requests"].get<std::uint64_t>(), 0U);
+    EXPECT_NE(run.out.find("INCOMPLETE: stopped after"), std::string::npos) << run.out;
+    EXPECT_NE(run.junit.find("<skipped message=\"NOT RUN: stopped before the duration ended"),
+              std::string::npos)
+        << run.junit;
+}
+
+TEST(LoadCli, GeneratorAloneWithPipelinedRequests) {
+    Device device;
+    auto run =
+        mblab_load("generator", {device.url(), "--no-tests", "--connections", "4", "--pipeline",
+                                 "8", "--mix", "fc3:10=1,fc16:5@100=1", "--duration", "1s"});
+    EXPECT_EQ(run.status, 0) << run.out << run.err;
+    EXPECT_EQ(run.report["settings"]["tests"], false);
+    EXPECT_EQ(run.report["settings"]["pipeline"], 8);
+    EXPECT_EQ(run.report["settings"]["mix"], "fc3:10=1,fc16:5@100=1");
+    const json& node = run.report["nodes"][0];
+    expect_clean(node);
+    ASSERT_EQ(node["exchanges"].size(), 2U);
+    EXPECT_EQ(node["exchanges"][0]["name"], "fc3:10");
+    EXPECT_EQ(node["exchanges"][1]["name"], "fc16:5@100");
+    EXPECT_GT(node["exchanges"][0]["sent"].get<std::uint64_t>(), 0U);
+    EXPECT_GT(node["exchanges"][1]["sent"].get<std::uint64_t>(), 0U);
+    EXPECT_NE(run.out.find("protocol tests: none"), std::string::npos) << run.out;
+}
+
+TEST(LoadCli, UnreachableNodeIsASetupError) {
+    const std::string url = "tcp://127.0.0.1:" + std::to_string(closed_port());
+    auto run = mblab_load("unreachable", {url, "--duration", "1s"});
+    EXPECT_EQ(run.status, 2);
+    EXPECT_EQ(run.err, "mblab load: cannot connect to " + url + ": connection refused\n");
+    EXPECT_EQ(run.out, "");
+    EXPECT_TRUE(run.report.is_null());
+}
+
+TEST(LoadCli, BadArgumentsAreUsageErrors) {
+    Device device;
+    auto mix = mblab_load("usage", {device.url(), "--mix", "fc9:1"});
+    EXPECT_EQ(mix.status, 2);
+    EXPECT_EQ(mix.err,
+              "mblab load: --mix entry 'fc9:1': function 9 is not one the generator sends (1, 2, "
+              "3, 4, 5, 6, 15, 16) (expected fcCODE[:QUANTITY][@ADDRESS][=WEIGHT], e.g. "
+              "fc3:125=70)\n");
+    auto duration = mblab_load("usage", {device.url(), "--duration", "5x"});
+    EXPECT_EQ(duration.status, 2);
+    EXPECT_EQ(duration.err,
+              "mblab load: bad duration '5x' (expected e.g. 1h, 10m, 30s, 1500ms or 1h30m)\n");
+    auto unknown_case = mblab_load("usage", {device.url(), "--case", "7.99"});
+    EXPECT_EQ(unknown_case.status, 2);
+    EXPECT_EQ(unknown_case.err, "mblab load: no case 7.99 in the chosen suites\n");
+    auto twice = mblab_load("usage", {device.url(), device.url()});
+    EXPECT_EQ(twice.status, 2);
+    EXPECT_EQ(twice.err,
+              "mblab load: " + device.url() + " is given twice; each node is one device\n");
+    auto nothing = mblab_load("usage", {device.url(), "--no-tests", "--connections", "0"});
+    EXPECT_EQ(nothing.status, 2);
+    EXPECT_NE(nothing.err.find("nothing to run"), std::string::npos) << nothing.err;
+}
+
+}  // namespace
+}  // namespace mblab::test

@@ -1,0 +1,236 @@
+// The real `mblab serve` process: the line it prints, its exit statuses, SIGTERM, and --state
+// persistence across a restart.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "blocking_client.hpp"
+#include "child_process.hpp"
+#include "scripted_handler.hpp"
+#include "server/background_server.hpp"
+#include "server_fixture.hpp"
+
+namespace mblab::test {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace std::chrono_literals;
+
+std::vector<std::string> serve_args(std::vector<std::string> extra) {
+    std::vector<std::string> args{MBLAB_BINARY, "serve"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return args;
+}
+
+// Starts `mblab serve` on ephemeral ports and reads the ports from its first line.
+class Serve {
+  public:
+    explicit Serve(std::vector<std::string> extra) : child_(serve_args(std::move(extra))) {
+        if (auto line = child_.read_stdout_line(10s)) {
+            line_ = *line;
+            std::regex url("tcp://127\\.0\\.0\\.1:([0-9]+)");
+            for (std::sregex_iterator it(line_.begin(), line_.end(), url), end; it != end; ++it) {
+                ports_.push_back(static_cast<std::uint16_t>(std::stoi((*it)[1])));
+            }
+        }
+    }
+    ChildProcess& process() { return child_; }
+    const std::string& line() const { return line_; }
+    const std::vector<std::uint16_t>& ports() const { return ports_; }
+    BlockingClient connect(std::size_t device = 0) const {
+        return device < ports_.size() ? BlockingClient(ports_[device]) : BlockingClient();
+    }
+    // SIGTERM, then the exit status (nullopt: it did not exit cleanly in time).
+    std::optional<int> terminate() {
+        child_.signal(SIGTERM);
+        return child_.wait_exit(10s);
+    }
+
+  private:
+    ChildProcess child_;
+    std::string line_;
+    std::vector<std::uint16_t> ports_;
+};
+
+class TempDir {
+  public:
+    TempDir() {
+        char pattern[] = "/tmp/mblab-serve-test-XXXXXX";
+        path_ = ::mkdtemp(pattern);
+    }
+    ~TempDir() {
+        std::error_code ignored;
+        fs::remove_all(path_, ignored);
+    }
+    fs::path operator/(const std::string& name) const { return path_ / name; }
+
+  private:
+    fs::path path_;
+};
+
+TEST(ServeCommand, PrintsWhereItListensAndExitsZeroOnSigterm) {
+    Serve serve({"--listen", "tcp://127.0.0.1:0"});
+    ASSERT_EQ(serve.ports().size(), 1U) << serve.line();
+    EXPECT_TRUE(std::regex_match(serve.line(),
+                                 std::regex("mblab serve: reference profile on "
+                                            "tcp://127\\.0\\.0\\.1:[0-9]+, unit 1 \\(0 and 255 "
+                                            "answer as 1\\); stop with Ctrl-C")))
+        << serve.line();
+    auto client = serve.connect();
+    EXPECT_EQ(client.transact("00 01 00 00 00 06 01 03 00 00 00 01"),
+              "00 01 00 00 00 05 01 03 02 53 45");
+    EXPECT_EQ(serve.terminate(), 0);
+}
+
+TEST(ServeCommand, RunsSeveralDevicesOnTheirOwnPorts) {
+    Serve serve({"--listen", "tcp://127.0.0.1:0", "--devices", "3"});
+    ASSERT_EQ(serve.ports().size(), 3U) << serve.line();
+    for (std::size_t i = 0; i < 3; ++i) {
+        auto client = serve.connect(i);
+        // Each device has its own data: a write to one is not seen by the others.
+        if (i == 0) {
+            EXPECT_EQ(client.transact("00 01 00 00 00 06 01 06 00 40 00 07"),
+                      "00 01 00 00 00 06 01 06 00 40 00 07");
+        } else {
+            EXPECT_EQ(client.transact("00 01 00 00 00 06 01 03 00 40 00 01"),
+                      "00 01 00 00 00 05 01 03 02 00 00");
+        }
+    }
+    EXPECT_EQ(serve.terminate(), 0);
+}
+
+TEST(ServeCommand, KeepsAcknowledgedWritesAcrossASigtermRestart) {
+    TempDir dir;
+    auto state = (dir / "device.json").string();
+    {
+        Serve serve({"--listen", "tcp://127.0.0.1:0", "--state", state, "--save-interval", "0"});
+        ASSERT_EQ(serve.ports().size(), 1U) << serve.line();
+        auto client = serve.connect();
+        expect_exchanges(
+            client,
+            {
+                {"00 01 00 00 00 06 01 06 00 20 BE EF", "00 01 00 00 00 06 01 06 00 20 BE EF"},
+                {"00 02 00 00 00 06 01 05 00 09 FF 00", "00 02 00 00 00 06 01 05 00 09 FF 00"},
+                {"00 03 00 00 00 0B 01 10 00 30 00 02 04 11 11 22 22",
+                 "00 03 00 00 00 06 01 10 00 30 00 02"},
+            });
+        EXPECT_EQ(serve.terminate(), 0);
+    }
+    ASSERT_TRUE(fs::exists(state));
+    EXPECT_FALSE(fs::exists(state + ".tmp"));
+    Serve again({"--listen", "tcp://127.0.0.1:0", "--state", state});
+    ASSERT_EQ(again.ports().size(), 1U) << again.line();
+    auto client = again.connect();
+    expect_exchanges(
+        client,
+        {
+            {"00 04 00 00 00 06 01 03 00 20 00 01", "00 04 00 00 00 05 01 03 02 BE EF"},
+            {"00 05 00 00 00 06 01 01 00 08 00 02", "00 05 00 00 00 04 01 01 01 02"},
+            {"00 06 00 00 00 06 01 03 00 30 00 02", "00 06 00 00 00 07 01 03 04 11 11 22 22"},
+        });
+    EXPECT_EQ(again.terminate(), 0);
+}
+
+// The periodic save alone (the process is killed, so there is no save on exit).
+TEST(ServeCommand, SavesStatePeriodically) {
+    TempDir dir;
+    auto state = (dir / "device.json").string();
+    {
+        Serve serve({"--listen", "tcp://127.0.0.1:0", "--state", state, "--save-interval", "0.1"});
+        ASSERT_EQ(serve.ports().size(), 1U) << serve.line();
+        auto client = serve.connect();
+        EXPECT_EQ(client.transact("00 01 00 00 00 06 01 06 00 21 0B 0B"),
+                  "00 01 00 00 00 06 01 06 00 21 0B 0B");
+        // Wait (at most 10 s) for a save that holds the write: the file exists after the first.
+        for (int i = 0; i < 1000 && !fs::exists(state); ++i)
+            std::this_thread::sleep_for(10ms);
+        std::this_thread::sleep_for(300ms);  // a save that started after the write
+        serve.process().signal(SIGKILL);
+        serve.process().wait_exit(10s);
+    }
+    Serve again({"--listen", "tcp://127.0.0.1:0", "--state", state});
+    auto client = again.connect();
+    EXPECT_EQ(client.transact("00 02 00 00 00 06 01 03 00 21 00 01"),
+              "00 02 00 00 00 05 01 03 02 0B 0B");
+    EXPECT_EQ(again.terminate(), 0);
+}
+
+struct Failure {
+    std::optional<int> status;
+    std::string stderr_text;
+};
+
+Failure run_failing(std::vector<std::string> extra) {
+    ChildProcess child(serve_args(std::move(extra)));
+    Failure out;
+    out.status = child.wait_exit(10s);
+    out.stderr_text = child.drain_stderr();
+    return out;
+}
+
+TEST(ServeCommand, BadUrlIsOneLineAndExitTwo) {
+    auto failure = run_failing({"--listen", "udp://127.0.0.1:502"});
+    EXPECT_EQ(failure.status, 2);
+    EXPECT_EQ(failure.stderr_text,
+              "mblab serve: bad address 'udp://127.0.0.1:502': only tcp:// is served over TCP "
+              "(expected tcp://HOST:PORT, e.g. tcp://127.0.0.1:502)\n");
+}
+
+TEST(ServeCommand, PortInUseIsOneLineAndExitTwo) {
+    ScriptedHandler handler;
+    server::BackgroundServer occupant(handler);
+    auto port = occupant.start();
+    ASSERT_TRUE(port) << port.error();
+    auto failure = run_failing({"--listen", "tcp://127.0.0.1:" + std::to_string(*port)});
+    EXPECT_EQ(failure.status, 2);
+    EXPECT_EQ(failure.stderr_text, "mblab serve: cannot listen on 127.0.0.1:" +
+                                       std::to_string(*port) + ": Address already in use\n");
+}
+
+TEST(ServeCommand, UnknownProfileIsOneLineAndExitTwo) {
+    auto failure = run_failing({"no-such-profile"});
+    EXPECT_EQ(failure.status, 2);
+    EXPECT_EQ(std::count(failure.stderr_text.begin(), failure.stderr_text.end(), '\n'), 1);
+    EXPECT_TRUE(failure.stderr_text.starts_with(
+        "mblab serve: no profile file or shipped profile named 'no-such-profile'"))
+        << failure.stderr_text;
+}
+
+TEST(ServeCommand, BrokenProfileIsOneLineAndExitTwo) {
+    TempDir dir;
+    auto profile = dir / "broken.toml";
+    std::ofstream(profile) << "name = \"broken\"\n[[unit]]\nid = 300\n";
+    auto failure = run_failing({profile.string(), "--listen", "tcp://127.0.0.1:0"});
+    EXPECT_EQ(failure.status, 2);
+    EXPECT_EQ(std::count(failure.stderr_text.begin(), failure.stderr_text.end(), '\n'), 1);
+    EXPECT_TRUE(failure.stderr_text.starts_with("mblab serve: " + profile.string()))
+        << failure.stderr_text;
+}
+
+TEST(ServeCommand, CorruptStateFileIsOneLineAndExitTwo) {
+    TempDir dir;
+    auto state = dir / "device.json";
+    std::ofstream(state) << "this is not a state file";
+    auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--state", state.string()});
+    EXPECT_EQ(failure.status, 2);
+    EXPECT_EQ(std::count(failure.stderr_text.begin(), failure.stderr_text.end(), '\n'), 1);
+    EXPECT_TRUE(failure.stderr_text.starts_with("mblab serve: state file " + state.string()))
+        << failure.stderr_text;
+}
+
+TEST(ServeCommand, BadAllowEntryIsOneLineAndExitTwo) {
+    auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--allow", "10.0.0.0/33"});
+    EXPECT_EQ(failure.status, 2);
+    EXPECT_EQ(failure.stderr_text,
+              "mblab serve: bad --allow entry '10.0.0.0/33' (expected an IP address or a network "
+              "such as 192.168.1.0/24)\n");
+}
+
+}  // namespace
+}  // namespace mblab::test
