@@ -15,33 +15,40 @@ namespace mblab::cli {
 void add_client_options(CLI::App& command, ClientOptions& options) {
     command
         .add_option("target", options.target,
-                    "tcp://HOST[:PORT] of the device (port 502 by default)")
+                    "the device: tcp://HOST[:PORT] (port 502 by default), "
+                    "rtu:///dev/ttyUSB0?baud=19200&parity=E&stop=1, ascii:///dev/ttyS0?..., or "
+                    "rtu+tcp://HOST:PORT")
         ->required();
-    command.add_option("--unit,-u", options.unit, "unit id (default 1)")
-        ->check(CLI::Range(0, 255));
-    command.add_option("--timeout", options.timeout_ms,
-                       "milliseconds to wait for the connection and for each answer (default 1000)")
+    command.add_option("--unit,-u", options.unit, "unit id (default 1)")->check(CLI::Range(0, 255));
+    command
+        .add_option("--timeout", options.timeout_ms,
+                    "milliseconds to wait for the connection and for each answer (default 1000)")
         ->check(CLI::Range(1, 600000));
-    command.add_option("--retries", options.retries,
-                       "tries again after a timeout or a lost connection, up to N times "
-                       "(default 0)")
+    command
+        .add_option("--retries", options.retries,
+                    "tries again after a timeout or a lost connection, up to N times "
+                    "(default 0)")
         ->check(CLI::Range(0, 100));
-    command.add_option("--decode", options.decode,
-                       "print every frame sent and received on stderr: app (PDU fields), frame "
-                       "(also MBAP header), bytes (also hex)")
+    command
+        .add_option("--decode", options.decode,
+                    "print every frame sent and received on stderr: app (PDU fields), frame "
+                    "(also MBAP header), bytes (also hex)")
         ->check(CLI::IsMember({"app", "frame", "bytes"}));
     command.add_flag("--json", options.json, "print one JSON document on stdout");
 }
 
 void add_format_options(CLI::App& command, FormatOptions& options) {
-    command.add_option("--type,-t", options.type,
-                       "register value type: " + std::string(kValueTypeNames) + " (default u16)")
+    command
+        .add_option("--type,-t", options.type,
+                    "register value type: " + std::string(kValueTypeNames) + " (default u16)")
         ->check(CLI::IsMember({"u16", "i16", "u32", "i32", "f32", "f64", "hex", "ascii"}));
-    command.add_option("--word-order", options.word_order,
-                       "big: the first register holds the high word (default); little: the low")
+    command
+        .add_option("--word-order", options.word_order,
+                    "big: the first register holds the high word (default); little: the low")
         ->check(CLI::IsMember({"big", "little"}));
-    command.add_option("--byte-order", options.byte_order,
-                       "big: each register's high byte first (default); little: swapped")
+    command
+        .add_option("--byte-order", options.byte_order,
+                    "big: each register's high byte first (default); little: swapped")
         ->check(CLI::IsMember({"big", "little"}));
 }
 
@@ -93,12 +100,14 @@ int CommandOutput::fail(const client::ClientError& error) {
                                {"name", protocol::exception_name(*error.exception)}};
     }
     document_["error"] = detail;
-    const bool usage = error.kind == client::ErrorKind::Invalid ||
-                       error.kind == client::ErrorKind::Connect;
+    const bool usage =
+        error.kind == client::ErrorKind::Invalid || error.kind == client::ErrorKind::Connect;
     return finish(usage ? kExitUsage : kExitFailed);
 }
 
-int CommandOutput::done() { return finish(kExitOk); }
+int CommandOutput::done() {
+    return finish(kExitOk);
+}
 
 int with_client(const ClientOptions& options, CommandOutput& output, const ClientBody& body) {
     auto target = client::parse_target(options.target);

@@ -2,9 +2,12 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 
+#include "cli/commands.hpp"
 #include "cli/value_format.hpp"
 #include "client/client.hpp"
 #include "client/client_error.hpp"
@@ -24,6 +27,22 @@ struct ClientOptions {
 
 // TARGET (the first positional argument), --unit, --timeout, --retries, --decode, --json.
 void add_client_options(CLI::App& command, ClientOptions& options);
+
+// Registers a client command NAME with TARGET and the shared flags; `run` is called with its
+// options when the command line chose it. `Options` has a ClientOptions member `client`. The
+// command's own arguments are added to the returned subcommand.
+template <class Options>
+std::pair<CLI::App*, std::shared_ptr<Options>> add_client_command(
+    CLI::App& app, CommandRunner& runner, const std::string& name, const std::string& description,
+    const std::string& footer, int (*run)(const Options&)) {
+    auto options = std::make_shared<Options>();
+    CLI::App* command = app.add_subcommand(name, description);
+    command->footer(footer);
+    add_client_options(*command, options->client);
+    command->callback(
+        [options, run, &runner] { runner = [options, run] { return run(*options); }; });
+    return {command, options};
+}
 
 struct FormatOptions {
     std::string type = "u16";

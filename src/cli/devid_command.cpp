@@ -23,7 +23,7 @@ struct DevidOptions {
 
 struct ObjectName {
     std::uint8_t id;
-    const char* name;  // on the command line
+    const char* name;   // on the command line
     const char* title;  // in the output, as [APP] table 6.21 names it
 };
 
@@ -91,9 +91,8 @@ int run_devid(const DevidOptions& options) {
             fmt::print("conformity level {}\n", conformity_text(identity->conformity_level));
         }
         for (const auto& object : identity->objects) {
-            objects.push_back({{"id", object.id},
-                               {"name", object_title(object.id)},
-                               {"value", object.value}});
+            objects.push_back(
+                {{"id", object.id}, {"name", object_title(object.id)}, {"value", object.value}});
             if (!out.json()) {
                 fmt::print("0x{:02X}  {:<{}}  {}\n", object.id, object_title(object.id), width,
                            object.value);
@@ -106,18 +105,16 @@ int run_devid(const DevidOptions& options) {
 }  // namespace
 
 void add_devid_command(CLI::App& app, CommandRunner& runner) {
-    auto options = std::make_shared<DevidOptions>();
-    CLI::App* cmd = app.add_subcommand(
-        "devid", "Read device identification (FC 2B / 0E), every object the device has");
-    cmd->footer(
+    auto [cmd, options] = add_client_command<DevidOptions>(
+        app, runner, "devid",
+        "Read device identification (FC 2B / 0E), every object the device has",
         "WHAT is basic (default, objects 00..02), regular (..7F), extended (..FF), or one object\n"
         "by id (0x80) or name: vendor-name, product-code, revision, vendor-url, product-name,\n"
         "model-name, user-application-name. Stream reads follow \"more follows\" across as many\n"
         "transactions as the device needs.\n"
-        "Example: mblab devid tcp://127.0.0.1:502 extended");
-    add_client_options(*cmd, options->client);
+        "Example: mblab devid tcp://127.0.0.1:502 extended",
+        run_devid);
     cmd->add_option("what", options->what, "basic, regular, extended, or an object id or name");
-    cmd->callback([options, &runner] { runner = [options] { return run_devid(*options); }; });
 }
 
 }  // namespace mblab::cli

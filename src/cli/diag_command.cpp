@@ -70,7 +70,8 @@ std::optional<std::uint16_t> parse_sub(const std::string& text) {
 
 std::string sub_names() {
     std::string names;
-    for (const auto& s : kSubs) names += fmt::format("  {:02X}  {}\n", static_cast<unsigned>(s.sub), s.name);
+    for (const auto& s : kSubs)
+        names += fmt::format("  {:02X}  {}\n", static_cast<unsigned>(s.sub), s.name);
     return names;
 }
 
@@ -130,7 +131,8 @@ int read_counters(client::Client& client, CommandOutput& out) {
         lines.push_back(answer_text(static_cast<std::uint16_t>(s.sub), *answer));
     }
     if (!out.json()) {
-        for (const auto& line : lines) fmt::print("{}\n", line);
+        for (const auto& line : lines)
+            fmt::print("{}\n", line);
     }
     return out.done();
 }
@@ -143,9 +145,9 @@ int run_diag(const DiagOptions& options) {
     }
     auto sub = parse_sub(options.sub_function);
     if (!sub) {
-        return output.usage(fmt::format(
-            "unknown sub-function '{}' (a number, or a name: see mblab diag --help)",
-            options.sub_function));
+        return output.usage(
+            fmt::format("unknown sub-function '{}' (a number, or a name: see mblab diag --help)",
+                        options.sub_function));
     }
     auto data = data_words(options.data);
     if (!data) return output.usage(data.error());
@@ -177,20 +179,19 @@ int run_diag(const DiagOptions& options) {
 }  // namespace
 
 void add_diag_command(CLI::App& app, CommandRunner& runner) {
-    auto options = std::make_shared<DiagOptions>();
-    CLI::App* cmd = app.add_subcommand(
-        "diag", "Diagnostics (FC 08): any sub-function by name or number, counters by name");
-    cmd->footer("SUBFUNCTION is a number (decimal or 0x hex) or one of:\n" + sub_names() +
-                "  counters: reads every counter (0B..12) and prints them by name\n"
-                "DATA is 16-bit words (default 0x0000); query-data echoes any number of them,\n"
-                "restart-communications takes 0xFF00 to clear the event log, change-ascii-delimiter\n"
-                "takes the character in the high byte (0x0A00). force-listen-only is never answered.\n"
-                "Example: mblab diag tcp://127.0.0.1:502 bus-message-count");
-    add_client_options(*cmd, options->client);
+    auto [cmd, options] = add_client_command<DiagOptions>(
+        app, runner, "diag",
+        "Diagnostics (FC 08): any sub-function by name or number, counters by name",
+        "SUBFUNCTION is a number (decimal or 0x hex) or one of:\n" + sub_names() +
+            "  counters: reads every counter (0B..12) and prints them by name\n"
+            "DATA is 16-bit words (default 0x0000); query-data echoes any number of them,\n"
+            "restart-communications takes 0xFF00 to clear the event log, change-ascii-delimiter\n"
+            "takes the character in the high byte (0x0A00). force-listen-only is never answered.\n"
+            "Example: mblab diag tcp://127.0.0.1:502 bus-message-count",
+        run_diag);
     cmd->add_option("sub-function", options->sub_function, "sub-function name or number")
         ->required();
     cmd->add_option("data", options->data, "data words (decimal or 0x hex)");
-    cmd->callback([options, &runner] { runner = [options] { return run_diag(*options); }; });
 }
 
 }  // namespace mblab::cli

@@ -26,9 +26,11 @@ void FrameLog::on_frame(client::FrameDirection direction, client::Framing framin
     }
     if (depth_ != DecodeDepth::App) {
         if (const auto& mbap = parts->mbap) {
-            fmt::print(out_, "{}   MBAP transaction id {} (0x{:04X}), protocol id {}, length {}, unit id {}\n",
-                       mark, mbap->transaction_id, mbap->transaction_id, mbap->protocol_id,
-                       mbap->length, mbap->unit_id);
+            fmt::print(
+                out_,
+                "{}   MBAP transaction id {} (0x{:04X}), protocol id {}, length {}, unit id {}\n",
+                mark, mbap->transaction_id, mbap->transaction_id, mbap->protocol_id, mbap->length,
+                mbap->unit_id);
         } else {
             fmt::print(out_, "{}   address {}\n", mark, parts->unit);
         }

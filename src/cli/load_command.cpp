@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstring>
@@ -162,6 +163,9 @@ protocol::Result<conf::LoadPlan, std::string> make_plan(const LoadOptions& optio
         }
         plan.targets.push_back(std::move(target.value()));
     }
+    // One thread per core at most: more would only take turns.
+    const std::size_t cores = std::max(1U, std::thread::hardware_concurrency());
+    s.threads = std::min({s.threads, plan.total_connections(), cores});
     return plan;
 }
 
@@ -264,8 +268,8 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_flag("--no-tests", options->no_tests,
                   "no protocol tests: only the traffic generator (a plain load test)");
     cmd->add_option("--threads", options->threads,
-                    "worker threads (default: half the cores, leaving the rest to devices on "
-                    "this machine)")
+                    "worker threads, one per core at most (default: half the cores, leaving the "
+                    "rest to devices on this machine)")
         ->check(CLI::Range(1, 256))
         ->capture_default_str();
     cmd->add_option("--seed", options->seed, "seed of the generator's choices from the mix")

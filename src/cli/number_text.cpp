@@ -43,6 +43,8 @@ std::optional<double> parse_real(std::string_view text) {
     return value;
 }
 
-std::string address_text(unsigned address) { return fmt::format("{} (0x{:04X})", address, address); }
+std::string address_text(unsigned address) {
+    return fmt::format("{} (0x{:04X})", address, address);
+}
 
 }  // namespace mblab::cli

@@ -24,7 +24,8 @@ std::string registers_text(RegisterView values) {
 
 std::string bits_text(BitView bits) {
     std::string text;
-    for (std::size_t i = 0; i < bits.size(); ++i) text += fmt::format("{}{}", i == 0 ? "" : " ", int{bits[i]});
+    for (std::size_t i = 0; i < bits.size(); ++i)
+        text += fmt::format("{}{}", i == 0 ? "" : " ", int{bits[i]});
     return text;
 }
 
@@ -46,11 +47,16 @@ std::string object_messaging_text(const auto& m) {
 
 std::string read_device_id_code_text(std::uint8_t code) {
     switch (code) {
-        case 1: return "01 (basic)";
-        case 2: return "02 (regular)";
-        case 3: return "03 (extended)";
-        case 4: return "04 (one object)";
-        default: return fmt::format("{:02X}", code);
+        case 1:
+            return "01 (basic)";
+        case 2:
+            return "02 (regular)";
+        case 3:
+            return "03 (extended)";
+        case 4:
+            return "04 (one object)";
+        default:
+            return fmt::format("{:02X}", code);
     }
 }
 
@@ -128,8 +134,7 @@ struct RequestFields {
 
     template <class Message>
     static std::string range(const Message& r) {
-        return fmt::format("starting address {}, quantity {}", address_text(r.address),
-                           r.quantity);
+        return fmt::format("starting address {}, quantity {}", address_text(r.address), r.quantity);
     }
 };
 
@@ -155,10 +160,10 @@ struct ResponseFields {
         return fmt::format("status 0x{:04X}, event count {}", r.status, r.event_count);
     }
     std::string operator()(const GetCommEventLogResponse& r) const {
-        return fmt::format("byte count {}, status 0x{:04X}, event count {}, message count {}, "
-                           "events {}",
-                           r.events.size() + 6, r.status, r.event_count, r.message_count,
-                           data_text(r.events));
+        return fmt::format(
+            "byte count {}, status 0x{:04X}, event count {}, message count {}, "
+            "events {}",
+            r.events.size() + 6, r.status, r.event_count, r.message_count, data_text(r.events));
     }
     std::string operator()(const WriteMultipleCoilsResponse& r) const {
         return RequestFields::range(r);
@@ -173,7 +178,8 @@ struct ResponseFields {
         std::string text = fmt::format("data length {}", r.sub_responses.size());
         std::size_t offset = 0;
         RegisterView data;
-        while (r.next(offset, data)) text += fmt::format("; record {}", registers_text(data));
+        while (r.next(offset, data))
+            text += fmt::format("; record {}", registers_text(data));
         return text;
     }
     std::string operator()(const WriteFileRecordResponse& r) const {
@@ -187,8 +193,7 @@ struct ResponseFields {
     }
     std::string operator()(const ReadFifoQueueResponse& r) const {
         return fmt::format("byte count {}, FIFO count {}, registers {}",
-                           r.values.bytes().size() + 2, r.values.size(),
-                           registers_text(r.values));
+                           r.values.bytes().size() + 2, r.values.size(), registers_text(r.values));
     }
     std::string operator()(const ReadDeviceIdResponse& r) const {
         std::string text = fmt::format(
@@ -253,7 +258,8 @@ std::string describe(std::span<const std::uint8_t> pdu, const Decoded& decoded, 
 std::string hex_bytes(std::span<const std::uint8_t> bytes) {
     std::string text;
     text.reserve(bytes.size() * 3);
-    for (auto byte : bytes) text += fmt::format("{}{:02X}", text.empty() ? "" : " ", byte);
+    for (auto byte : bytes)
+        text += fmt::format("{}{:02X}", text.empty() ? "" : " ", byte);
     return text;
 }
 

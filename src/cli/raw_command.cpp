@@ -31,8 +31,8 @@ protocol::Result<std::vector<std::uint8_t>, std::string> parse_hex(
         for (char c : token) {
             if (c == ' ' || c == ':') continue;
             if (!std::isxdigit(static_cast<unsigned char>(c))) {
-                return fmt::format("'{}' is not hex: give the PDU as hex bytes, e.g. 03 00 00 00 0A",
-                                   token);
+                return fmt::format(
+                    "'{}' is not hex: give the PDU as hex bytes, e.g. 03 00 00 00 0A", token);
             }
             digits += c;
         }
@@ -94,18 +94,15 @@ int run_raw(const RawOptions& options) {
 }  // namespace
 
 void add_raw_command(CLI::App& app, CommandRunner& runner) {
-    auto options = std::make_shared<RawOptions>();
-    CLI::App* cmd = app.add_subcommand(
-        "raw", "Send any PDU (hex, function code first) and print the answer decoded");
-    cmd->footer(
+    auto [cmd, options] = add_client_command<RawOptions>(
+        app, runner, "raw", "Send any PDU (hex, function code first) and print the answer decoded",
         "The PDU goes out as given, without the checks the other commands make, framed for the\n"
-        "target (MBAP header added). The answer is printed as hex and as fields. Exit status 1\n"
-        "when the device answers an exception or something that does not decode.\n"
-        "Example: mblab raw tcp://127.0.0.1:502 03 00 00 00 0A");
-    add_client_options(*cmd, options->client);
+        "target (MBAP header, or address and CRC). The answer is printed as hex and as fields.\n"
+        "Exit status 1 when the device answers an exception or something that does not decode.\n"
+        "Example: mblab raw tcp://127.0.0.1:502 03 00 00 00 0A",
+        run_raw);
     cmd->add_option("hex", options->hex, "the PDU as hex bytes: 03 00 00 00 0A or 030000000A")
         ->required();
-    cmd->callback([options, &runner] { runner = [options] { return run_raw(*options); }; });
 }
 
 }  // namespace mblab::cli

@@ -27,8 +27,8 @@ int run_read(const ReadOptions& options) {
     CommandOutput output("read", options.client);
     auto format = parse_format(options.format);
     if (!format) return output.usage(format.error());
-    auto query = parse_read_query(options.kind, options.args, *format,
-                                  options.command->count("--type") > 0);
+    auto query =
+        parse_read_query(options.kind, options.args, *format, options.command->count("--type") > 0);
     if (!query) return output.usage(query.error());
     return with_client(options.client, output, [&](client::Client& client, CommandOutput& out) {
         auto reading = perform_read(client, *query);
@@ -37,7 +37,8 @@ int run_read(const ReadOptions& options) {
         document["read"] = describe_query(*query);
         document.update(reading->json);
         if (!out.json()) {
-            for (const auto& line : table_lines(*reading)) fmt::print("{}\n", line);
+            for (const auto& line : table_lines(*reading))
+                fmt::print("{}\n", line);
         }
         return out.done();
     });
@@ -46,13 +47,10 @@ int run_read(const ReadOptions& options) {
 }  // namespace
 
 void add_read_command(CLI::App& app, CommandRunner& runner) {
-    auto options = std::make_shared<ReadOptions>();
-    CLI::App* cmd = app.add_subcommand(
-        "read",
+    auto [cmd, options] = add_client_command<ReadOptions>(
+        app, runner, "read",
         "Read from a device: coils, discrete inputs, holding or input registers (typed), the "
-        "exception status, comm event counter and log, server id, a FIFO queue or a file record");
-    options->command = cmd;
-    cmd->footer(
+        "exception status, comm event counter and log, server id, a FIFO queue or a file record",
         "KIND and its arguments:\n"
         "  coils ADDR [COUNT]          FC 01, COUNT bits (default 1)\n"
         "  discretes ADDR [COUNT]      FC 02\n"
@@ -66,12 +64,12 @@ void add_read_command(CLI::App& app, CommandRunner& runner) {
         "  file FILE RECORD [COUNT]    FC 14, COUNT values of --type from RECORD\n"
         "Numbers are decimal or hex (0x2A). Exit status: 0 read, 1 the device answered an\n"
         "exception or no proper answer, 2 usage error or unreachable target.\n"
-        "Example: mblab read tcp://127.0.0.1:502 holding 0x10 2 --type f32");
-    add_client_options(*cmd, options->client);
+        "Example: mblab read tcp://127.0.0.1:502 holding 0x10 2 --type f32",
+        run_read);
+    options->command = cmd;
     cmd->add_option("kind", options->kind, kReadKindsHelp)->required();
     cmd->add_option("args", options->args, "ADDR [COUNT], or what KIND takes");
     add_format_options(*cmd, options->format);
-    cmd->callback([options, &runner] { runner = [options] { return run_read(*options); }; });
 }
 
 }  // namespace mblab::cli

@@ -34,7 +34,9 @@ constexpr std::array<KindInfo, 10> kKinds = {{
     {"file", ReadKind::File, 2, 3, "file FILE RECORD [COUNT]", "file"},
 }};
 
-const KindInfo& info(ReadKind kind) { return kKinds[static_cast<std::size_t>(kind)]; }
+const KindInfo& info(ReadKind kind) {
+    return kKinds[static_cast<std::size_t>(kind)];
+}
 
 bool is_register_kind(ReadKind kind) {
     return kind == ReadKind::Holding || kind == ReadKind::Input || kind == ReadKind::Fifo ||
@@ -52,7 +54,9 @@ Parsed number(const std::string& text, const char* name, std::uint64_t min, std:
     return static_cast<std::uint16_t>(*value);
 }
 
-std::string on_off(bool on) { return on ? "on" : "off"; }
+std::string on_off(bool on) {
+    return on ? "on" : "off";
+}
 
 // [APP] 6.9: what each byte of the comm event log means.
 std::string event_text(std::uint8_t event) {
@@ -81,13 +85,15 @@ std::string event_text(std::uint8_t event) {
         return "reserved";
     }
     std::string text = kind;
-    for (std::size_t i = 0; i < flags.size(); ++i) text += (i == 0 ? ": " : ", ") + flags[i];
+    for (std::size_t i = 0; i < flags.size(); ++i)
+        text += (i == 0 ? ": " : ", ") + flags[i];
     return text;
 }
 
 std::string printable_text(std::span<const std::uint8_t> bytes) {
     std::string text;
-    for (auto c : bytes) text += (c >= 0x20 && c < 0x7F) ? static_cast<char>(c) : '.';
+    for (auto c : bytes)
+        text += (c >= 0x20 && c < 0x7F) ? static_cast<char>(c) : '.';
     return text;
 }
 
@@ -118,7 +124,8 @@ Reading bits_reading(const std::vector<bool>& bits, std::uint16_t first) {
 Reading exception_status_reading(std::uint8_t status) {
     Reading reading = field_reading();
     std::string outputs;
-    for (unsigned bit = 0; bit < 8; ++bit) outputs += fmt::format("{}{}", bit ? " " : "", (status >> bit) & 1U);
+    for (unsigned bit = 0; bit < 8; ++bit)
+        outputs += fmt::format("{}{}", bit ? " " : "", (status >> bit) & 1U);
     add_field(reading, "exception status", fmt::format("0x{:02X}", status),
               "outputs 0..7: " + outputs, status);
     return reading;
@@ -126,7 +133,9 @@ Reading exception_status_reading(std::uint8_t status) {
 
 void add_status(Reading& reading, std::uint16_t status) {
     add_field(reading, "status", fmt::format("0x{:04X}", status),
-              status == 0xFFFF ? "busy" : status == 0 ? "ready" : "not a status [APP] defines",
+              status == 0xFFFF ? "busy"
+              : status == 0    ? "ready"
+                               : "not a status [APP] defines",
               status);
 }
 
@@ -149,8 +158,8 @@ Reading event_log_reading(const client::EventLog& log) {
     auto& events = reading.json["events"] = nlohmann::json::array();
     for (std::size_t i = 0; i < log.events.size(); ++i) {
         const auto event = log.events[i];
-        reading.rows.push_back({fmt::format("event {}", i), fmt::format("0x{:02X}", event),
-                                event_text(event)});
+        reading.rows.push_back(
+            {fmt::format("event {}", i), fmt::format("0x{:02X}", event), event_text(event)});
         events.push_back({{"byte", event}, {"meaning", event_text(event)}});
     }
     return reading;
@@ -230,7 +239,8 @@ protocol::Result<ReadQuery, std::string> parse_read_query(const std::string& kin
                            found->max_args == 1 ? "" : "s", found->usage);
     }
     if (type_given && !is_register_kind(query.kind)) {
-        return fmt::format("--type applies to registers (holding, input, fifo, file), not {}", kind);
+        return fmt::format("--type applies to registers (holding, input, fifo, file), not {}",
+                           kind);
     }
     std::size_t next = 0;
     if (query.kind == ReadKind::File) {
@@ -252,8 +262,8 @@ protocol::Result<ReadQuery, std::string> parse_read_query(const std::string& kin
     }
     if (is_register_kind(query.kind) && query.kind != ReadKind::Fifo &&
         query.count * registers_per_value(format.type) > protocol::limits::kMaxReadRegisters) {
-        return fmt::format("{} {} values take {} registers; one read takes at most {}",
-                           query.count, value_type_name(format.type),
+        return fmt::format("{} {} values take {} registers; one read takes at most {}", query.count,
+                           value_type_name(format.type),
                            query.count * registers_per_value(format.type),
                            protocol::limits::kMaxReadRegisters);
     }
@@ -290,11 +300,9 @@ client::Outcome<Reading> perform_read(client::Client& client, const ReadQuery& q
             return done(client.report_server_id(), server_id_reading);
         case ReadKind::Fifo:
             return done(client.read_fifo_queue(query.address), [&](const auto& values) {
-                Reading reading = register_reading(
-                    values, query.format, [](std::size_t i) {
-                        return RowName{fmt::format("entry {}", i), "entry",
-                                       static_cast<unsigned>(i)};
-                    });
+                Reading reading = register_reading(values, query.format, [](std::size_t i) {
+                    return RowName{fmt::format("entry {}", i), "entry", static_cast<unsigned>(i)};
+                });
                 reading.json["fifo_count"] = values.size();
                 if (values.empty()) reading.notes.push_back("the FIFO queue is empty");
                 return reading;
@@ -315,20 +323,25 @@ client::Outcome<Reading> perform_read(client::Client& client, const ReadQuery& q
 
 std::vector<std::string> table_lines(const Reading& reading) {
     std::array<std::size_t, 3> width{};
-    for (std::size_t c = 0; c < 3; ++c) width[c] = reading.header[c].size();
+    for (std::size_t c = 0; c < 3; ++c)
+        width[c] = reading.header[c].size();
     for (const auto& row : reading.rows) {
-        for (std::size_t c = 0; c < 3; ++c) width[c] = std::max(width[c], row[c].size());
+        for (std::size_t c = 0; c < 3; ++c)
+            width[c] = std::max(width[c], row[c].size());
     }
     std::vector<std::string> lines;
     auto line = [&](const std::array<std::string, 3>& cells) {
-        std::string text = fmt::format("{:<{}}  {:<{}}  {}", cells[0], width[0], cells[1],
-                                       width[1], cells[2]);
-        while (!text.empty() && text.back() == ' ') text.pop_back();
+        std::string text =
+            fmt::format("{:<{}}  {:<{}}  {}", cells[0], width[0], cells[1], width[1], cells[2]);
+        while (!text.empty() && text.back() == ' ')
+            text.pop_back();
         lines.push_back(std::move(text));
     };
     line(reading.header);
-    for (const auto& row : reading.rows) line(row);
-    for (const auto& note : reading.notes) lines.push_back(note);
+    for (const auto& row : reading.rows)
+        line(row);
+    for (const auto& note : reading.notes)
+        lines.push_back(note);
     return lines;
 }
 

@@ -29,7 +29,9 @@ constexpr std::array<TypeInfo, 8> kTypes = {{
     {ValueType::Ascii, "ascii", 1},
 }};
 
-const TypeInfo& info(ValueType type) { return kTypes[static_cast<std::size_t>(type)]; }
+const TypeInfo& info(ValueType type) {
+    return kTypes[static_cast<std::size_t>(type)];
+}
 
 std::uint16_t swap_bytes(std::uint16_t word) {
     return static_cast<std::uint16_t>((word << 8) | (word >> 8));
@@ -40,16 +42,14 @@ std::uint64_t assemble(std::span<const std::uint16_t> registers, const ValueForm
     std::uint64_t bits = 0;
     const std::size_t count = registers.size();
     for (std::size_t i = 0; i < count; ++i) {
-        std::uint16_t word =
-            registers[format.word_order == Order::Big ? i : count - 1 - i];
+        std::uint16_t word = registers[format.word_order == Order::Big ? i : count - 1 - i];
         if (format.byte_order == Order::Little) word = swap_bytes(word);
         bits = (bits << 16) | word;
     }
     return bits;
 }
 
-std::vector<std::uint16_t> split(std::uint64_t bits, std::size_t count,
-                                 const ValueFormat& format) {
+std::vector<std::uint16_t> split(std::uint64_t bits, std::size_t count, const ValueFormat& format) {
     std::vector<std::uint16_t> registers(count);
     for (std::size_t i = 0; i < count; ++i) {
         auto word = static_cast<std::uint16_t>(bits >> (16 * (count - 1 - i)));
@@ -89,13 +89,18 @@ std::optional<Order> parse_order(std::string_view name) {
     return std::nullopt;
 }
 
-std::string_view value_type_name(ValueType type) { return info(type).name; }
+std::string_view value_type_name(ValueType type) {
+    return info(type).name;
+}
 
-std::size_t registers_per_value(ValueType type) { return info(type).registers; }
+std::size_t registers_per_value(ValueType type) {
+    return info(type).registers;
+}
 
 std::string raw_text(std::span<const std::uint16_t> registers) {
     std::string text;
-    for (auto word : registers) text += fmt::format("{}0x{:04X}", text.empty() ? "" : " ", word);
+    for (auto word : registers)
+        text += fmt::format("{}0x{:04X}", text.empty() ? "" : " ", word);
     return text;
 }
 
@@ -150,14 +155,16 @@ nlohmann::json json_value(std::span<const std::uint16_t> registers, const ValueF
 std::string ascii_text(std::span<const std::uint16_t> registers, const ValueFormat& format) {
     std::string text;
     for (auto word : registers) {
-        for (auto c : characters(word, format)) text += static_cast<char>(c);
+        for (auto c : characters(word, format))
+            text += static_cast<char>(c);
     }
-    while (!text.empty() && text.back() == '\0') text.pop_back();
+    while (!text.empty() && text.back() == '\0')
+        text.pop_back();
     return text;
 }
 
-protocol::Result<std::vector<std::uint16_t>, std::string> encode_value(
-    std::string_view text, const ValueFormat& format) {
+protocol::Result<std::vector<std::uint16_t>, std::string> encode_value(std::string_view text,
+                                                                       const ValueFormat& format) {
     const std::size_t count = registers_per_value(format.type);
     switch (format.type) {
         case ValueType::U16:
@@ -179,7 +186,8 @@ protocol::Result<std::vector<std::uint16_t>, std::string> encode_value(
         case ValueType::F64: {
             auto value = parse_real(text);
             if (!value) return bad_value(text, format.type, "a decimal number");
-            if (format.type == ValueType::F64) return split(std::bit_cast<std::uint64_t>(*value), 4, format);
+            if (format.type == ValueType::F64)
+                return split(std::bit_cast<std::uint64_t>(*value), 4, format);
             return split(std::bit_cast<std::uint32_t>(static_cast<float>(*value)), 2, format);
         }
         case ValueType::Hex: {

@@ -23,7 +23,9 @@ using Clock = std::chrono::steady_clock;
 
 volatile std::sig_atomic_t g_stop = 0;
 
-extern "C" void request_stop(int) { g_stop = 1; }
+extern "C" void request_stop(int) {
+    g_stop = 1;
+}
 
 struct WatchOptions {
     ClientOptions client;
@@ -44,16 +46,22 @@ struct Tally {
 
     void count(const client::ClientError& error) {
         switch (error.kind) {
-            case client::ErrorKind::Timeout: ++timeouts; break;
-            case client::ErrorKind::Exception: ++exceptions; break;
-            default: ++errors; break;
+            case client::ErrorKind::Timeout:
+                ++timeouts;
+                break;
+            case client::ErrorKind::Exception:
+                ++exceptions;
+                break;
+            default:
+                ++errors;
+                break;
         }
     }
     std::string text() const {
         return fmt::format("{} poll{}: {} answered, {} timeout{}, {} exception{}, {} other error{}",
                            polls, polls == 1 ? "" : "s", answered, timeouts,
-                           timeouts == 1 ? "" : "s", exceptions, exceptions == 1 ? "" : "s",
-                           errors, errors == 1 ? "" : "s");
+                           timeouts == 1 ? "" : "s", exceptions, exceptions == 1 ? "" : "s", errors,
+                           errors == 1 ? "" : "s");
     }
 };
 
@@ -74,7 +82,8 @@ class Screen {
         std::string out;
         // Back to the first line of the last drawing, then clear everything below it.
         if (terminal_ && drawn_ > 0) out += fmt::format("\x1b[{}F\x1b[J", drawn_);
-        for (const auto& line : lines) out += line + "\n";
+        for (const auto& line : lines)
+            out += line + "\n";
         fmt::print("{}", out);
         std::fflush(stdout);
         drawn_ = lines.size();
@@ -89,22 +98,23 @@ class Screen {
 // Sleeps until `until` or a stop request, in short steps so Ctrl-C ends the wait promptly.
 void wait_until(Clock::time_point until) {
     while (g_stop == 0 && Clock::now() < until) {
-        std::this_thread::sleep_for(std::min<Clock::duration>(until - Clock::now(),
-                                                              std::chrono::milliseconds(50)));
+        std::this_thread::sleep_for(
+            std::min<Clock::duration>(until - Clock::now(), std::chrono::milliseconds(50)));
     }
 }
 
 int watch(client::Client& client, CommandOutput& out, const WatchOptions& options,
           const ReadQuery& query) {
     Tally tally;
-    Screen screen(::isatty(STDOUT_FILENO) != 0,
-                  fmt::format("{} unit {}: {} every {} ms (Ctrl-C stops)",
-                              client.transactor().target(), options.client.unit,
-                              describe_query(query), options.interval_ms));
+    Screen screen(
+        ::isatty(STDOUT_FILENO) != 0,
+        fmt::format("{} unit {}: {} every {} ms (Ctrl-C stops)", client.transactor().target(),
+                    options.client.unit, describe_query(query), options.interval_ms));
     auto& polls = out.document()["polls"] = nlohmann::json::array();
     const auto interval = std::chrono::milliseconds(options.interval_ms);
     auto next = Clock::now();
-    while (g_stop == 0 && (options.count == 0 || tally.polls < static_cast<unsigned>(options.count))) {
+    while (g_stop == 0 &&
+           (options.count == 0 || tally.polls < static_cast<unsigned>(options.count))) {
         wait_until(next);
         if (g_stop != 0) break;
         next += interval;
@@ -137,17 +147,18 @@ int watch(client::Client& client, CommandOutput& out, const WatchOptions& option
                            {"errors", tally.errors}};
     if (!out.json()) fmt::print("{}\n", tally.text());
     if (tally.answered == tally.polls) return out.done();
-    return out.fail({client::ErrorKind::BadAnswer,
-                     fmt::format("{} of {} polls failed", tally.polls - tally.answered, tally.polls),
-                     std::nullopt});
+    return out.fail(
+        {client::ErrorKind::BadAnswer,
+         fmt::format("{} of {} polls failed", tally.polls - tally.answered, tally.polls),
+         std::nullopt});
 }
 
 int run_watch(const WatchOptions& options) {
     CommandOutput output("watch", options.client);
     auto format = parse_format(options.format);
     if (!format) return output.usage(format.error());
-    auto query = parse_read_query(options.kind, options.args, *format,
-                                  options.command->count("--type") > 0);
+    auto query =
+        parse_read_query(options.kind, options.args, *format, options.command->count("--type") > 0);
     if (!query) return output.usage(query.error());
     g_stop = 0;
     std::signal(SIGINT, request_stop);
@@ -160,17 +171,15 @@ int run_watch(const WatchOptions& options) {
 }  // namespace
 
 void add_watch_command(CLI::App& app, CommandRunner& runner) {
-    auto options = std::make_shared<WatchOptions>();
-    CLI::App* cmd = app.add_subcommand(
-        "watch", "Poll a read every --interval and show the values as they change");
-    options->command = cmd;
-    cmd->footer(
+    auto [cmd, options] = add_client_command<WatchOptions>(
+        app, runner, "watch", "Poll a read every --interval and show the values as they change",
         "KIND and its arguments are those of `mblab read`. On a terminal the table is redrawn in\n"
         "place under a line counting polls, timeouts and exceptions; otherwise each poll is\n"
         "printed as \"poll N\" and its table. A poll that fails is counted and polling goes on.\n"
         "Stops after --count polls, or on Ctrl-C; exit status 1 when any poll failed.\n"
-        "Example: mblab watch tcp://127.0.0.1:502 holding 0 4 --interval 500");
-    add_client_options(*cmd, options->client);
+        "Example: mblab watch tcp://127.0.0.1:502 holding 0 4 --interval 500",
+        run_watch);
+    options->command = cmd;
     cmd->add_option("kind", options->kind, kReadKindsHelp)->required();
     cmd->add_option("args", options->args, "ADDR [COUNT], or what KIND takes");
     add_format_options(*cmd, options->format);
@@ -178,7 +187,6 @@ void add_watch_command(CLI::App& app, CommandRunner& runner) {
         ->check(CLI::Range(1, 86400000));
     cmd->add_option("--count,-n", options->count, "stop after N polls (default: until Ctrl-C)")
         ->check(CLI::Range(1, 100000000));
-    cmd->callback([options, &runner] { runner = [options] { return run_watch(*options); }; });
 }
 
 }  // namespace mblab::cli

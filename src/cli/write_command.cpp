@@ -83,11 +83,13 @@ Planned plan_coils(const std::vector<std::string>& args, bool single) {
     plan.json = {{"address", *address}, {"values", values}};
     if (single) {
         const bool on = values.front();
-        plan.run = no_reading([a = *address, on](client::Client& c) { return c.write_single_coil(a, on); });
+        plan.run = no_reading(
+            [a = *address, on](client::Client& c) { return c.write_single_coil(a, on); });
         plan.summary = fmt::format("wrote coil {}: {}", address_text(*address), on ? "on" : "off");
     } else {
-        plan.run = no_reading(
-            [a = *address, values](client::Client& c) { return c.write_multiple_coils(a, values); });
+        plan.run = no_reading([a = *address, values](client::Client& c) {
+            return c.write_multiple_coils(a, values);
+        });
         plan.summary = fmt::format("wrote {} at {}", plural(values.size(), "coil", "coils"),
                                    address_text(*address));
     }
@@ -110,15 +112,15 @@ Planned plan_registers(const std::vector<std::string>& args, const ValueFormat& 
         const std::uint16_t value = values->front();
         plan.run = no_reading(
             [a = *address, value](client::Client& c) { return c.write_single_register(a, value); });
-        plan.summary = fmt::format("wrote register {}: 0x{:04X} ({})", address_text(*address),
-                                   value, value);
+        plan.summary =
+            fmt::format("wrote register {}: 0x{:04X} ({})", address_text(*address), value, value);
     } else {
         plan.run = no_reading([a = *address, v = *values](client::Client& c) {
             return c.write_multiple_registers(a, v);
         });
-        plan.summary = fmt::format("wrote {} at {}",
-                                   plural(values->size(), "register", "registers"),
-                                   address_text(*address));
+        plan.summary =
+            fmt::format("wrote {} at {}", plural(values->size(), "register", "registers"),
+                        address_text(*address));
     }
     return plan;
 }
@@ -152,18 +154,17 @@ Planned plan_read_write(const std::vector<std::string>& args, const ValueFormat&
     const auto registers =
         static_cast<std::uint16_t>(*read_count * registers_per_value(format.type));
     Plan plan;
-    plan.json = {{"read_address", *read_address},
-                 {"write_address", *write_address},
-                 {"registers", *values}};
+    plan.json = {
+        {"read_address", *read_address}, {"write_address", *write_address}, {"registers", *values}};
     plan.run = [r = *read_address, registers, w = *write_address, v = *values,
                 format](client::Client& c) -> client::Outcome<Reading> {
         auto read = c.read_write_multiple_registers(r, registers, w, v);
         if (!read) return read.error();
         return register_reading(*read, format, address_label(r));
     };
-    plan.summary = fmt::format("wrote {} at {}, then read:",
-                               plural(values->size(), "register", "registers"),
-                               address_text(*write_address));
+    plan.summary =
+        fmt::format("wrote {} at {}, then read:", plural(values->size(), "register", "registers"),
+                    address_text(*write_address));
     return plan;
 }
 
@@ -177,9 +178,8 @@ Planned plan_file(const std::vector<std::string>& args, const ValueFormat& forma
     Plan plan;
     plan.json = {{"file", *file}, {"record", *record}, {"registers", *values}};
     const client::FileRecordWrite write{*file, *record, *values};
-    plan.run = no_reading([write](client::Client& c) {
-        return c.write_file_records(std::span(&write, 1));
-    });
+    plan.run = no_reading(
+        [write](client::Client& c) { return c.write_file_records(std::span(&write, 1)); });
     plan.summary = fmt::format("wrote {} to file {} from record {}",
                                plural(values->size(), "register", "registers"), *file, *record);
     return plan;
@@ -209,7 +209,8 @@ Planned plan_write(const WriteOptions& options, const ValueFormat& format) {
     for (const auto& k : kKinds) {
         if (options.kind == k.name) rule = &k;
     }
-    if (rule == nullptr) return fmt::format("unknown kind '{}' (one of: {})", options.kind, kWriteKinds);
+    if (rule == nullptr)
+        return fmt::format("unknown kind '{}' (one of: {})", options.kind, kWriteKinds);
     if (args.size() < rule->min_args || (rule->max_args != 0 && args.size() > rule->max_args)) {
         return fmt::format("wrong number of arguments: {}", rule->usage);
     }
@@ -242,7 +243,8 @@ int run_write(const WriteOptions& options) {
         if (!out.json()) {
             fmt::print("{}\n", plan->summary);
             if (!reading->rows.empty()) {
-                for (const auto& line : table_lines(*reading)) fmt::print("{}\n", line);
+                for (const auto& line : table_lines(*reading))
+                    fmt::print("{}\n", line);
             }
         }
         return out.done();
@@ -252,13 +254,10 @@ int run_write(const WriteOptions& options) {
 }  // namespace
 
 void add_write_command(CLI::App& app, CommandRunner& runner) {
-    auto options = std::make_shared<WriteOptions>();
-    CLI::App* cmd = app.add_subcommand(
-        "write",
+    auto [cmd, options] = add_client_command<WriteOptions>(
+        app, runner, "write",
         "Write to a device: coils, registers (typed), mask write, read/write registers, file "
-        "records");
-    options->command = cmd;
-    cmd->footer(
+        "records",
         "KIND and its arguments:\n"
         "  coil ADDR VALUE                 FC 05; VALUE is 1, 0, on, off, true or false\n"
         "  coils ADDR VALUE...             FC 0F\n"
@@ -270,13 +269,14 @@ void add_write_command(CLI::App& app, CommandRunner& runner) {
         "  file FILE RECORD VALUE...       FC 15; registers from RECORD of FILE\n"
         "Values are encoded the way `mblab read` decodes them with the same --type, --word-order\n"
         "and --byte-order. Numbers are decimal or hex (0x2A).\n"
-        "Example: mblab write tcp://127.0.0.1:502 registers 100 3.5 -1e3 --type f32");
-    add_client_options(*cmd, options->client);
-    cmd->add_option("kind", options->kind, "coil, coils, register, registers, mask, readwrite, file")
+        "Example: mblab write tcp://127.0.0.1:502 registers 100 3.5 -1e3 --type f32",
+        run_write);
+    options->command = cmd;
+    cmd->add_option("kind", options->kind,
+                    "coil, coils, register, registers, mask, readwrite, file")
         ->required();
     cmd->add_option("args", options->args, "ADDR VALUE..., or what KIND takes");
     add_format_options(*cmd, options->format);
-    cmd->callback([options, &runner] { runner = [options] { return run_write(*options); }; });
 }
 
 }  // namespace mblab::cli

@@ -119,7 +119,8 @@ class Judge {
             ++index;
         }
         std::size_t answered = index;
-        while (answer->next(offset, data)) ++answered;
+        while (answer->next(offset, data))
+            ++answered;
         if (answered != request.count()) {
             return plural(answered, "record", "records") + " in the answer, expected " +
                    std::to_string(request.count());
@@ -184,9 +185,7 @@ class Judge {
     Verdict kind() const {
         return as<Answer>() != nullptr ? std::nullopt : other();
     }
-    Verdict other() const {
-        return std::string("the answer is not of the request's kind");
-    }
+    Verdict other() const { return std::string("the answer is not of the request's kind"); }
     static Verdict echo(bool same, const char* what) {
         return same ? std::nullopt : Verdict(echo_differs(what));
     }
@@ -215,7 +214,10 @@ std::optional<Span> data_span(const Request& request) {
     return std::visit(
         [](const auto& r) -> std::optional<Span> {
             using R = std::decay_t<decltype(r)>;
-            if constexpr (requires { r.address; r.quantity; }) {
+            if constexpr (requires {
+                              r.address;
+                              r.quantity;
+                          }) {
                 return Span{r.address, r.quantity};
             } else if constexpr (std::is_same_v<R, WriteSingleCoilRequest> ||
                                  std::is_same_v<R, WriteSingleRegisterRequest> ||

@@ -27,13 +27,15 @@ std::string decode_text(std::uint8_t function, const DecodeError& error) {
 std::span<const std::uint8_t> put_registers(std::span<const std::uint16_t> values,
                                             PduBuffer& scratch) {
     WriteCursor out(scratch);
-    for (auto value : values) out.put_u16(value);
+    for (auto value : values)
+        out.put_u16(value);
     return out.written();
 }
 
 std::vector<std::uint16_t> registers_of(RegisterView view) {
     std::vector<std::uint16_t> values(view.size());
-    for (std::size_t i = 0; i < view.size(); ++i) values[i] = view[i];
+    for (std::size_t i = 0; i < view.size(); ++i)
+        values[i] = view[i];
     return values;
 }
 
@@ -82,7 +84,8 @@ Outcome<std::vector<bool>> Client::read_bits(FunctionCode function, std::uint16_
                                   [count](const ReadBitsResponse& answer) {
                                       BitView bits(answer.packed, count);
                                       std::vector<bool> values(count);
-                                      for (std::size_t i = 0; i < count; ++i) values[i] = bits[i];
+                                      for (std::size_t i = 0; i < count; ++i)
+                                          values[i] = bits[i];
                                       return values;
                                   });
 }
@@ -136,11 +139,10 @@ Outcome<DiagnosticsAnswer> Client::diagnostics(std::uint16_t sub_function,
     if (sub_function == static_cast<std::uint16_t>(DiagnosticSub::ForceListenOnly)) {
         return invalid("force listen only mode is never answered: use send_listen_only()");
     }
-    return call<DiagnosticsResponse>(DiagnosticsRequest{sub_function, data},
-                                     [](const DiagnosticsResponse& answer) {
-                                         return DiagnosticsAnswer{answer.sub_function,
-                                                                  bytes_of(answer.data)};
-                                     });
+    return call<DiagnosticsResponse>(
+        DiagnosticsRequest{sub_function, data}, [](const DiagnosticsResponse& answer) {
+            return DiagnosticsAnswer{answer.sub_function, bytes_of(answer.data)};
+        });
 }
 
 Outcome<Done> Client::send_listen_only() {
@@ -163,8 +165,7 @@ Outcome<EventLog> Client::get_comm_event_log() {
         });
 }
 
-Outcome<Done> Client::write_multiple_coils(std::uint16_t address,
-                                           const std::vector<bool>& values) {
+Outcome<Done> Client::write_multiple_coils(std::uint16_t address, const std::vector<bool>& values) {
     PduBuffer packed{};
     const std::size_t bytes = (values.size() + 7) / 8;
     if (bytes > packed.size()) {
@@ -205,16 +206,18 @@ Outcome<std::vector<std::vector<std::uint16_t>>> Client::read_file_records(
     std::span<const FileRecordRef> references) {
     PduBuffer scratch{};
     WriteCursor subs(scratch);
-    for (const auto& reference : references) encode_file_record_ref(subs, reference);
+    for (const auto& reference : references)
+        encode_file_record_ref(subs, reference);
     if (!subs.ok()) return invalid("read file record: too many records for one request");
-    return call<ReadFileRecordResponse>(
-        ReadFileRecordRequest{subs.written()}, [](const ReadFileRecordResponse& answer) {
-            std::vector<std::vector<std::uint16_t>> records;
-            std::size_t offset = 0;
-            RegisterView data;
-            while (answer.next(offset, data)) records.push_back(registers_of(data));
-            return records;
-        });
+    return call<ReadFileRecordResponse>(ReadFileRecordRequest{subs.written()},
+                                        [](const ReadFileRecordResponse& answer) {
+                                            std::vector<std::vector<std::uint16_t>> records;
+                                            std::size_t offset = 0;
+                                            RegisterView data;
+                                            while (answer.next(offset, data))
+                                                records.push_back(registers_of(data));
+                                            return records;
+                                        });
 }
 
 Outcome<Done> Client::write_file_records(std::span<const FileRecordWrite> records) {
@@ -276,8 +279,10 @@ Outcome<DeviceIdentification> Client::read_device_identification(std::uint8_t re
     while (true) {
         auto part = call<ReadDeviceIdResponse>(
             ReadDeviceIdRequest{read_code, next}, [](const ReadDeviceIdResponse& answer) {
-                Part out{answer.conformity_level, answer.more_follows == 0xFF,
-                         answer.next_object_id, {}};
+                Part out{answer.conformity_level,
+                         answer.more_follows == 0xFF,
+                         answer.next_object_id,
+                         {}};
                 DeviceIdObject object;
                 std::size_t offset = 0;
                 while (answer.next(offset, object)) {
@@ -311,9 +316,14 @@ Outcome<ObjectMessageAnswer> Client::object_messaging(const ObjectMessage& messa
     request.service_code = message.service_code;
     request.parameters = message.parameters;
     return call<ObjectMessagingResponse>(request, [](const ObjectMessagingResponse& answer) {
-        return ObjectMessageAnswer{answer.fragment_protocol, answer.class_id,
-                                   answer.instance_id,       answer.service_code,
-                                   answer.error_code,        bytes_of(answer.parameters)};
+        ObjectMessageAnswer out;
+        out.fragment_protocol = answer.fragment_protocol;
+        out.class_id = answer.class_id;
+        out.instance_id = answer.instance_id;
+        out.service_code = answer.service_code;
+        out.parameters = bytes_of(answer.parameters);
+        out.error_code = answer.error_code;
+        return out;
     });
 }
 

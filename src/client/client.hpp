@@ -63,13 +63,8 @@ struct ObjectMessage {  // FC 5B request fields after the fragment byte count
     std::vector<std::uint8_t> parameters;
 };
 
-struct ObjectMessageAnswer {
-    std::uint8_t fragment_protocol = 0;
-    std::uint16_t class_id = 0;
-    std::uint16_t instance_id = 0;
-    std::uint16_t service_code = 0;
-    std::uint16_t error_code = 0;
-    std::vector<std::uint8_t> parameters;
+struct ObjectMessageAnswer : ObjectMessage {
+    std::uint16_t error_code = 0;  // 00 00: `parameters` hold the service data
 };
 
 class Client {
@@ -124,8 +119,7 @@ class Client {
     Outcome<std::vector<bool>> read_bits(protocol::FunctionCode function, std::uint16_t address,
                                          std::uint16_t count);
     Outcome<std::vector<std::uint16_t>> read_registers(protocol::FunctionCode function,
-                                                       std::uint16_t address,
-                                                       std::uint16_t count);
+                                                       std::uint16_t address, std::uint16_t count);
 
     Transactor& transactor_;
 };

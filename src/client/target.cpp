@@ -1,36 +1,34 @@
 #include "client/target.hpp"
 
-#include <array>
-
+#include "client/stream_link.hpp"
 #include "client/tcp_link.hpp"
 #include "transport/tcp_url.hpp"
 
 namespace mblab::client {
 
-namespace {
-
-constexpr std::array<std::string_view, 3> kSerialSchemes = {"rtu://", "ascii://", "rtu+tcp://"};
-
-}  // namespace
-
 protocol::Result<Target, std::string> parse_target(std::string_view text) {
-    for (auto scheme : kSerialSchemes) {
-        if (text.starts_with(scheme)) {
-            return std::string(text) + ": " + std::string(scheme.substr(0, scheme.size() - 3)) +
-                   " targets are not supported yet (use tcp://HOST[:PORT])";
-        }
+    Target target;
+    if (transport::is_serial_url(text)) {
+        auto serial = transport::parse_serial_url(text);
+        if (!serial) return serial.error();
+        target.name = transport::format_serial_url(*serial);
+        target.serial = std::move(serial.value());
+        return target;
     }
     auto endpoint = transport::parse_tcp_url(text);
     if (!endpoint) return endpoint.error();
-    Target target;
     target.name = transport::format_tcp_url(*endpoint);
-    target.endpoint = {endpoint->address().to_string(), endpoint->port()};
+    target.tcp = Endpoint{endpoint->address().to_string(), endpoint->port()};
     return target;
 }
 
 protocol::Result<std::unique_ptr<Link>, LinkError> open_link(const Target& target,
-                                                            std::chrono::milliseconds timeout) {
-    return TcpLink::open(target.endpoint, target.name, timeout);
+                                                             std::chrono::milliseconds timeout) {
+    if (target.tcp) return TcpLink::open(*target.tcp, target.name, timeout);
+    if (target.serial->kind == transport::SerialUrl::Kind::RtuOverTcp) {
+        return StreamLink::open_rtu_over_tcp(target.serial->endpoint, target.name, timeout);
+    }
+    return StreamLink::open_serial(*target.serial, target.name);
 }
 
 }  // namespace mblab::client

@@ -4,9 +4,8 @@
 
 namespace mblab::client {
 
-protocol::Result<std::unique_ptr<Link>, LinkError> TcpLink::open(const Endpoint& endpoint,
-                                                                 std::string name,
-                                                                 std::chrono::milliseconds timeout) {
+protocol::Result<std::unique_ptr<Link>, LinkError> TcpLink::open(
+    const Endpoint& endpoint, std::string name, std::chrono::milliseconds timeout) {
     auto raw = RawLink::connect(endpoint, timeout);
     if (!raw) return raw.error();
     return std::unique_ptr<Link>(new TcpLink(std::move(raw.value()), std::move(name)));
@@ -17,7 +16,13 @@ bool TcpLink::send(std::span<const std::uint8_t> adu, LinkError& error) {
 }
 
 Received TcpLink::receive_frame(std::chrono::milliseconds timeout) {
-    return raw_.receive_frame(timeout);
+    Received received = raw_.receive_frame(timeout);
+    if (received.status == ReceiveStatus::Malformed && received.bytes.size() >= 6) {
+        const unsigned length = (received.bytes[4] << 8) | received.bytes[5];
+        received.detail =
+            "MBAP length " + std::to_string(length) + " cannot describe a frame (must be 2..254)";
+    }
+    return received;
 }
 
 }  // namespace mblab::client

@@ -32,12 +32,18 @@ std::string byte_count(std::size_t count) {
 
 const char* error_kind_name(ErrorKind kind) {
     switch (kind) {
-        case ErrorKind::Invalid: return "invalid";
-        case ErrorKind::Connect: return "connect";
-        case ErrorKind::Timeout: return "timeout";
-        case ErrorKind::Closed: return "closed";
-        case ErrorKind::BadAnswer: return "bad-answer";
-        case ErrorKind::Exception: return "exception";
+        case ErrorKind::Invalid:
+            return "invalid";
+        case ErrorKind::Connect:
+            return "connect";
+        case ErrorKind::Timeout:
+            return "timeout";
+        case ErrorKind::Closed:
+            return "closed";
+        case ErrorKind::BadAnswer:
+            return "bad-answer";
+        case ErrorKind::Exception:
+            return "exception";
     }
     return "error";
 }
@@ -49,7 +55,9 @@ Transactor::Transactor(std::string target, LinkOpener opener, TransactionOptions
       options_(options),
       observer_(observer) {}
 
-protocol::Result<Done, ClientError> Transactor::connect() { return ensure_link(); }
+protocol::Result<Done, ClientError> Transactor::connect() {
+    return ensure_link();
+}
 
 protocol::Result<Done, ClientError> Transactor::ensure_link() {
     if (link_ && link_->is_open()) return Done{};
@@ -89,15 +97,23 @@ Transactor::Failure Transactor::lost(std::string message) {
 protocol::Result<std::uint16_t, Transactor::Failure> Transactor::send(
     std::span<const std::uint8_t> request) {
     if (auto linked = ensure_link(); !linked) return Failure{linked.error(), false};
+    if (options_.unit == 0 && link_->framing() != Framing::Mbap) {
+        // On a serial line address 0 is a broadcast: executed by every device, answered by none.
+        return Failure{{ErrorKind::Invalid,
+                        "unit 0 is the broadcast address of a serial line, which no device "
+                        "answers; mblab does not send broadcasts",
+                        std::nullopt},
+                       false};
+    }
     const std::uint16_t transaction_id = next_transaction_id_++;
     std::array<std::uint8_t, kAduBuffer> adu{};
     const std::size_t size =
         wrap_pdu(link_->framing(), options_.unit, transaction_id, request, adu);
     if (request.empty() || size == 0) {
-        return Failure{{ErrorKind::Invalid,
-                        "a request of " + byte_count(request.size()) + " does not fit a frame",
-                        std::nullopt},
-                       false};
+        return Failure{
+            {ErrorKind::Invalid,
+             "a request of " + byte_count(request.size()) + " does not fit a frame", std::nullopt},
+            false};
     }
     const auto bytes = std::span<const std::uint8_t>(adu).first(size);
     if (observer_ != nullptr) observer_->on_frame(FrameDirection::Sent, link_->framing(), bytes);
@@ -125,8 +141,8 @@ protocol::Result<std::vector<std::uint8_t>, ClientError> Transactor::transact(
             }
             return failure.error;
         }
-        note("retry " + std::to_string(attempt_number) + " of " +
-             std::to_string(options_.retries) + " after: " + failure.error.message);
+        note("retry " + std::to_string(attempt_number) + " of " + std::to_string(options_.retries) +
+             " after: " + failure.error.message);
     }
 }
 
@@ -136,8 +152,7 @@ Transactor::Attempt Transactor::attempt(std::span<const std::uint8_t> request) {
     return await_answer(*sent, request.front());
 }
 
-Transactor::Attempt Transactor::await_answer(std::uint16_t transaction_id,
-                                             std::uint8_t function) {
+Transactor::Attempt Transactor::await_answer(std::uint16_t transaction_id, std::uint8_t function) {
     const auto deadline = Clock::now() + options_.timeout;
     while (true) {
         const auto left = std::max(Clock::duration::zero(), deadline - Clock::now());
@@ -146,16 +161,15 @@ Transactor::Attempt Transactor::await_answer(std::uint16_t transaction_id,
         switch (received.status) {
             case ReceiveStatus::Frame:
                 if (observer_ != nullptr) {
-                    observer_->on_frame(FrameDirection::Received, link_->framing(),
-                                        received.bytes);
+                    observer_->on_frame(FrameDirection::Received, link_->framing(), received.bytes);
                 }
                 if (auto judged = judge(received.bytes, transaction_id, function)) {
                     return std::move(*judged);
                 }
                 continue;
             case ReceiveStatus::Timeout: {
-                const std::string within = " within " +
-                                           std::to_string(options_.timeout.count()) + " ms";
+                const std::string within =
+                    " within " + std::to_string(options_.timeout.count()) + " ms";
                 if (!received.bytes.empty()) {
                     // The rest of that frame may still come and would put every later answer
                     // out of step: start again on a new connection.
@@ -167,24 +181,19 @@ Transactor::Attempt Transactor::await_answer(std::uint16_t transaction_id,
                                    true};
                 }
                 if (unanswered_.size() < kMaxUnanswered) unanswered_.push_back(transaction_id);
-                return Failure{{ErrorKind::Timeout, "no answer from " + target_ + within,
-                                std::nullopt},
-                               true};
+                return Failure{
+                    {ErrorKind::Timeout, "no answer from " + target_ + within, std::nullopt}, true};
             }
             case ReceiveStatus::Closed:
                 return lost(received.bytes.empty()
                                 ? "the device closed the connection without answering"
                                 : "the device closed the connection after " +
                                       byte_count(received.bytes.size()) + " of an answer");
-            case ReceiveStatus::Malformed: {
-                if (observer_ != nullptr) {
-                    observer_->on_frame(FrameDirection::Received, link_->framing(),
-                                        received.bytes);
+            case ReceiveStatus::Malformed:
+                if (observer_ != nullptr && !received.bytes.empty()) {
+                    observer_->on_frame(FrameDirection::Received, link_->framing(), received.bytes);
                 }
-                const unsigned length = (received.bytes[4] << 8) | received.bytes[5];
-                return bad_answer("MBAP length " + std::to_string(length) +
-                                  " cannot describe a frame (must be 2..254)");
-            }
+                return bad_answer(received.detail);
         }
     }
 }

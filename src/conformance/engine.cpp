@@ -40,6 +40,34 @@ bool is_illegal_function(const Exchange& exchange) {
            got[8] == static_cast<std::uint8_t>(protocol::ExceptionCode::IllegalFunction);
 }
 
+// The transaction id of a request or answer.
+std::uint16_t transaction_of(std::span<const std::uint8_t> adu) {
+    return adu.size() >= 2 ? static_cast<std::uint16_t>(adu[0] << 8 | adu[1]) : 0;
+}
+
+// Pipelined answers may come in any order ([TCPG]: the transaction id pairs them); each goes to
+// the unanswered step with its transaction id, or else to the first unanswered step.
+void collect_answers(Session& session, const std::vector<ResolvedStep>& steps,
+                     std::vector<std::optional<client::Received>>& answers) {
+    for (std::size_t n = 0; n < steps.size(); ++n) {
+        auto received =
+            session.receive_frame(steps[n].step->timeout.value_or(session.options().timeout));
+        const bool whole = received.status == client::ReceiveStatus::Frame;
+        std::optional<std::size_t> slot;
+        for (std::size_t i = 0; i < steps.size() && !slot; ++i) {
+            if (!answers[i] && whole &&
+                transaction_of(steps[i].request) == transaction_of(received.bytes)) {
+                slot = i;
+            }
+        }
+        for (std::size_t i = 0; i < steps.size() && !slot; ++i) {
+            if (!answers[i]) slot = i;
+        }
+        answers[*slot] = std::move(received);
+        if (!whole) return;
+    }
+}
+
 }  // namespace
 
 RunResult Engine::run(const std::vector<Suite>& suites, const std::string& target) {
@@ -94,7 +122,17 @@ Outcome Engine::run_case(const Case& c) {
             return verdict(Verdict::NotApplicable, *why);
         }
     }
+    if (info->talks_modbus) {
+        if (auto unreachable = check_reachable()) return *unreachable;
+    }
     return info->run(session_, c);
+}
+
+std::optional<Outcome> Engine::check_reachable() {
+    client::LinkError error;
+    if (session_.link(error) != nullptr) return std::nullopt;
+    // The device went away (perhaps an earlier case brought it down): nothing can be judged.
+    return verdict(Verdict::NotRun, "cannot connect to the device: " + error.message);
 }
 
 Outcome Engine::run_steps(const Case& c) {
@@ -118,8 +156,10 @@ Outcome Engine::run_steps(const Case& c) {
         steps.push_back(std::move(resolved));
     }
     if (c.isolated) session_.close();
+    if (auto unreachable = check_reachable()) return *unreachable;
 
     client::LinkError error;
+    std::vector<std::optional<client::Received>> answers(steps.size());
     if (c.pipeline) {
         std::vector<std::uint8_t> all;
         for (const auto& step : steps) {
@@ -129,6 +169,7 @@ Outcome Engine::run_steps(const Case& c) {
             session_.close();
             return verdict(Verdict::Fail, "cannot send: " + error.message);
         }
+        collect_answers(session_, steps, answers);
     }
 
     Outcome outcome;
@@ -149,8 +190,13 @@ Outcome Engine::run_steps(const Case& c) {
         }
         const auto waited =
             step.silence ? *step.silence : step.timeout.value_or(session_.options().timeout);
-        auto received =
-            step.silence ? session_.receive_any(waited) : session_.receive_frame(waited);
+        client::Received received;
+        if (c.pipeline) {
+            received = answers[i] ? std::move(*answers[i])
+                                  : client::Received{client::ReceiveStatus::Timeout, {}, {}};
+        } else {
+            received = step.silence ? session_.receive_any(waited) : session_.receive_frame(waited);
+        }
         const bool closed = received.status == client::ReceiveStatus::Closed;
         Judgement judgement = judge(resolved.request, std::move(received), waited, resolved.expect);
         judgement.exchange.silence_expected = step.silence.has_value();

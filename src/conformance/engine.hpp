@@ -1,5 +1,6 @@
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,7 @@ class Engine {
 
   private:
     Outcome run_steps(const Case& c);
+    std::optional<Outcome> check_reachable();
     Session& session_;
     RunListener* listener_;
 };

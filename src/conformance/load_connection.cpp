@@ -26,9 +26,11 @@ using std::chrono::microseconds;
 // device that is down, short enough to keep loading one that closes connections on purpose.
 constexpr std::chrono::milliseconds kReconnectDelay{100};
 constexpr std::size_t kMinInput = 4096;
+constexpr std::chrono::milliseconds kMaxSendDebt{50};
 constexpr std::size_t kMaxFrameLength = limits::kMaxTcpAdu - 6;  // MBAP length field
+static_assert(kMaxFrameLength == 254);
 
-std::string socket_error_text(int code) {
+const char* socket_error_text(int code) {
     switch (code) {
         case ECONNREFUSED:
             return "connection refused";
@@ -99,7 +101,7 @@ void LoadConnection::connect(LoadClock::time_point now) {
     if (fd_ < 0) {
         fail(FailureKind::Refused, nullptr,
              {client::ReceiveStatus::Closed, {}, std::strerror(errno)}, now,
-             fmt::format("cannot open a socket: {}", std::strerror(errno)));
+             "cannot open a socket: ");
         state_ = State::Closed;
         retry_at_ = now + kReconnectDelay;
         return;
@@ -116,8 +118,7 @@ void LoadConnection::connect(LoadClock::time_point now) {
         const int code = errno;
         disconnect(now);
         fail(FailureKind::Refused, nullptr,
-             {client::ReceiveStatus::Closed, {}, socket_error_text(code)}, now,
-             "cannot connect: " + socket_error_text(code));
+             {client::ReceiveStatus::Closed, {}, socket_error_text(code)}, now, "cannot connect: ");
         return;
     }
     want_write_ = true;
@@ -131,8 +132,7 @@ void LoadConnection::finish_connect(LoadClock::time_point now) {
     if (code != 0) {
         disconnect(now);
         fail(FailureKind::Refused, nullptr,
-             {client::ReceiveStatus::Closed, {}, socket_error_text(code)}, now,
-             "cannot connect: " + socket_error_text(code));
+             {client::ReceiveStatus::Closed, {}, socket_error_text(code)}, now, "cannot connect: ");
         return;
     }
     opened(now);
@@ -172,9 +172,8 @@ void LoadConnection::disconnect(LoadClock::time_point now) {
     retry_at_ = now + kReconnectDelay;
 }
 
-void LoadConnection::lost(LoadClock::time_point now, const std::string& detail) {
-    fail(FailureKind::Dropped, oldest_slot(),
-         {client::ReceiveStatus::Closed, {held().begin(), held().end()}, detail}, now);
+void LoadConnection::lost(LoadClock::time_point now, const char* detail) {
+    fail(FailureKind::Dropped, oldest_slot(), {client::ReceiveStatus::Closed, held(), detail}, now);
     disconnect(now);
 }
 
@@ -203,9 +202,8 @@ void LoadConnection::tick(LoadClock::time_point now) {
             } else if (now >= connect_deadline_) {
                 disconnect(now);
                 fail(FailureKind::Refused, nullptr,
-                     {client::ReceiveStatus::Timeout, {}, "connection timed out"}, now,
-                     fmt::format("cannot connect: no answer to the connection request in {} ms",
-                                 context_.plan.settings.timeout.count()));
+                     {client::ReceiveStatus::Timeout, {}, "no answer to the connection request"},
+                     now, "cannot connect: ");
             }
             return;
         case State::Open:
@@ -279,9 +277,12 @@ void LoadConnection::fill(LoadClock::time_point now) {
     while (outstanding_ < window_) {
         if (interval.count() > 0) {
             if (now < next_send_) break;
-            // After a stall, catch up by at most one window's worth rather than a burst.
-            const auto burst = interval * static_cast<long>(window_);
-            if (next_send_ + burst < now) next_send_ = now - burst;
+            // Sends wait for the next tick (a millisecond or more on a busy machine), so some
+            // lag is made up later; but after a real stall the debt is forgiven rather than
+            // paid back as a burst.
+            const auto debt = std::max<std::chrono::nanoseconds>(
+                interval * static_cast<long>(window_), kMaxSendDebt);
+            if (next_send_ + debt < now) next_send_ = now - debt;
             next_send_ += interval;
         }
         std::uint32_t index = 0;
@@ -350,10 +351,10 @@ void LoadConnection::read(LoadClock::time_point now) {
         const std::size_t length = (std::size_t{head[4]} << 8) | head[5];
         if (length < 2 || length > kMaxFrameLength) {
             // The stream cannot be split into frames any more: start a fresh connection.
-            const std::string detail = fmt::format(
-                "MBAP length field {} cannot describe an answer (2..{})", length, kMaxFrameLength);
             fail(FailureKind::Malformed, oldest_slot(),
-                 {client::ReceiveStatus::Malformed, {held().begin(), held().end()}, detail}, now);
+                 {client::ReceiveStatus::Malformed, held(),
+                  "the MBAP length field cannot describe an answer (2..254)"},
+                 now);
             disconnect(now);
             return;
         }
@@ -388,8 +389,7 @@ void LoadConnection::answer(std::span<const std::uint8_t> frame, LoadClock::time
     }
     tally_.answered.add();
     if (slot == nullptr) {
-        fail(FailureKind::WrongAnswer, nullptr,
-             {client::ReceiveStatus::Frame, {frame.begin(), frame.end()}, {}}, now,
+        fail(FailureKind::WrongAnswer, nullptr, {client::ReceiveStatus::Frame, frame, {}}, now,
              "an answer that no request asked for");
         return;
     }
@@ -405,8 +405,7 @@ void LoadConnection::answer(std::span<const std::uint8_t> frame, LoadClock::time
             "N/A: the device answered exception 01 to function {:02X}", exchange.request[7]);
         failure.reset();
     }
-    if (failure)
-        fail(*failure, slot, {client::ReceiveStatus::Frame, {frame.begin(), frame.end()}, {}}, now);
+    if (failure) fail(*failure, slot, {client::ReceiveStatus::Frame, frame, {}}, now);
     release(*slot);
 }
 
@@ -420,19 +419,21 @@ void LoadConnection::expire(LoadClock::time_point now) {
             earliest_deadline_ = std::min(earliest_deadline_, deadline);
             continue;
         }
-        fail(FailureKind::Timeout, &slot,
-             {client::ReceiveStatus::Timeout, {held().begin(), held().end()}, {}}, now);
+        fail(FailureKind::Timeout, &slot, {client::ReceiveStatus::Timeout, held(), {}}, now);
         slot.expired_tid = slot.tid;
         slot.has_expired = true;
         release(slot);
     }
 }
 
-void LoadConnection::fail(FailureKind kind, const Slot* slot, client::Received received,
-                          LoadClock::time_point now, const std::string& reason) {
+void LoadConnection::fail(FailureKind kind, const Slot* slot, const Seen& seen,
+                          LoadClock::time_point now, std::string_view reason) {
     tally_.failures[static_cast<std::size_t>(kind)].add();
     if (slot != nullptr) tally_.exchange(slot->exchange).failed.add();
     if (tally_.first_failure) return;
+    // Only the node's first failure keeps its evidence: the only allocation after setup.
+    client::Received received{
+        seen.status, {seen.bytes.begin(), seen.bytes.end()}, std::string(seen.detail)};
     FailureRecord record;
     record.kind = kind;
     record.at = duration_cast<microseconds>(now - context_.start);
@@ -451,7 +452,9 @@ void LoadConnection::fail(FailureKind kind, const Slot* slot, client::Received r
         record.evidence.detail = std::move(received.detail);
         record.evidence.waited = timeout;
     }
-    record.reason = reason.empty() ? describe_failure(record.evidence) : reason;
+    // A given reason is a prefix for the detail ("cannot connect: " "connection refused").
+    record.reason = reason.empty() ? describe_failure(record.evidence)
+                                   : std::string(reason) + std::string(seen.detail);
     tally_.first_failure = std::move(record);
 }
 

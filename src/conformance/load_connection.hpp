@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "client/raw_link.hpp"
@@ -69,7 +70,7 @@ class LoadConnection {
     void finish_connect(LoadClock::time_point now);
     void opened(LoadClock::time_point now);
     void disconnect(LoadClock::time_point now);
-    void lost(LoadClock::time_point now, const std::string& detail);
+    void lost(LoadClock::time_point now, const char* detail);
 
     void fill(LoadClock::time_point now);
     void flush(LoadClock::time_point now);
@@ -87,8 +88,16 @@ class LoadConnection {
         return {in_.data() + in_begin_, in_end_ - in_begin_};
     }
 
-    void fail(FailureKind kind, const Slot* slot, client::Received received,
-              LoadClock::time_point now, const std::string& reason = {});
+    // What came back instead of the right answer; views, copied only into the evidence.
+    struct Seen {
+        client::ReceiveStatus status = client::ReceiveStatus::Timeout;
+        std::span<const std::uint8_t> bytes;
+        std::string_view detail;
+    };
+    // Counts a failure; the node's first keeps its evidence. `reason`, when given, goes before
+    // the detail as the one-line reason; otherwise the reason is judged from the exchange.
+    void fail(FailureKind kind, const Slot* slot, const Seen& seen, LoadClock::time_point now,
+              std::string_view reason = {});
     void set_write_interest(bool want);
 
     WorkerContext& context_;

@@ -11,18 +11,21 @@ const std::vector<ProcedureInfo>& procedures() {
          "ICMP echo requests to the device's host; all must be answered (seed 000 7.2)",
          {{"count", 10}, {"payload", 32}, {"timeout_ms", 1000}},
          {},
+         false,
          &run_ping},
         {"register_sweep",
          "FC 03 reads of every size from 0, then in maximal blocks, then shrinking to the last "
          "register; checks length field, byte count and register count (seed 000 7.5.2)",
          {},
          {"registers"},
+         true,
          &run_register_sweep},
         {"semi_signature_scan",
          "FC 03 reads in blocks until 5345 4D49 5F72 appear in consecutive registers (seed 000 "
          "7.13.2)",
          {{"block", 125}},
          {},
+         true,
          &run_semi_scan},
     };
     return list;

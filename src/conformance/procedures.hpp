@@ -18,6 +18,7 @@ struct ProcedureInfo {
     std::string_view summary;
     std::vector<std::pair<std::string_view, std::int64_t>> params;  // name, default
     std::vector<std::string_view> needs;  // DUT facts without which the case is N/A
+    bool talks_modbus = true;             // needs the connection to the device
     Outcome (*run)(Session& session, const Case& c);
 };
 

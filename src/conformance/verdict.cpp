@@ -31,13 +31,15 @@ Counts& Counts::operator+=(const Counts& other) {
 
 Counts count(const SuiteResult& suite) {
     Counts counts;
-    for (const auto& c : suite.cases) counts.add(c.outcome.verdict);
+    for (const auto& c : suite.cases)
+        counts.add(c.outcome.verdict);
     return counts;
 }
 
 Counts RunResult::counts() const {
     Counts total;
-    for (const auto& suite : suites) total += count(suite);
+    for (const auto& suite : suites)
+        total += count(suite);
     return total;
 }
 

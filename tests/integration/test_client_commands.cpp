@@ -66,8 +66,9 @@ TEST_F(ClientCommands, DevidReadsTheBasicObjects) {
 TEST_F(ClientCommands, DevidFollowsMoreFollowsAcrossTransactions) {
     // Seven objects of 200 bytes: at most one fits an answer, so the device needs several.
     const std::string value(200, 'x');
-    std::string profile = "[[unit]]\nid = 1\n[[unit.holding_registers]]\nstart = 0\n"
-                          "[unit.identification]\n";
+    std::string profile =
+        "[[unit]]\nid = 1\n[[unit.holding_registers]]\nstart = 0\n"
+        "[unit.identification]\n";
     for (const char* key : {"vendor", "product_code", "revision", "vendor_url", "product_name",
                             "model", "user_application"}) {
         profile += std::string(key) + " = \"" + value + "\"\n";
@@ -107,12 +108,14 @@ TEST_F(ClientCommands, RawSendsAnyPduAndDecodesTheAnswer) {
               "answer   A5 01\n"
               "         function 0xA5 exception to function 0x25: exception code 01 (illegal "
               "function)\n");
-    EXPECT_EQ(unknown.err, "mblab raw: exception 01 illegal function: the device does not "
-                           "support function 0x25\n");
+    EXPECT_EQ(unknown.err,
+              "mblab raw: exception 01 illegal function: the device does not "
+              "support function 0x25\n");
     auto quantity = mblab("raw", {"03 00 00 FF FF"});
     EXPECT_EQ(quantity.status, 1);
-    EXPECT_EQ(quantity.err, "mblab raw: exception 03 illegal data value: a value or length in "
-                            "the request is not allowed\n");
+    EXPECT_EQ(quantity.err,
+              "mblab raw: exception 03 illegal data value: a value or length in "
+              "the request is not allowed\n");
 }
 
 TEST_F(ClientCommands, WatchPrintsEveryPollAsPlainLines) {
@@ -133,15 +136,15 @@ TEST(ClientWatch, CountsExceptionsAndTimeoutsAndGoesOn) {
         return Answer{mbap_answer(request, hex("03 02 00 05"))};
     });
     const auto port = server.start();
-    auto ran = run_mblab({"watch", tcp_target(port), "holding", "7", "--count", "4",
-                          "--interval", "10", "--timeout", "200"});
+    auto ran = run_mblab({"watch", tcp_target(port), "holding", "7", "--count", "4", "--interval",
+                          "10", "--timeout", "200"});
     EXPECT_EQ(ran.status, 1);
     const std::string table = "address     raw     u16\n7 (0x0007)  0x0005  5\n";
     EXPECT_EQ(ran.out, "poll 1\n" + table +
                            "poll 2\nexception 02 illegal data address: 0x0007 is not on this "
                            "device\n"
-                           "poll 3\nno answer from " + tcp_target(port) + " within 200 ms\n" +
-                           "poll 4\n" + table +
+                           "poll 3\nno answer from " +
+                           tcp_target(port) + " within 200 ms\n" + "poll 4\n" + table +
                            "4 polls: 2 answered, 1 timeout, 1 exception, 0 other errors\n");
     EXPECT_EQ(ran.err, "mblab watch: 2 of 4 polls failed\n");
 }
@@ -165,17 +168,21 @@ TEST_F(ClientCommands, DecodeDepths) {
     auto frame = mblab("read", {"holding", "2", "--decode", "frame"});
     EXPECT_EQ(frame.err,
               ">   MBAP transaction id 1 (0x0001), protocol id 0, length 6, unit id 1\n"
-              ">   " + request_fields +
-              "<   MBAP transaction id 1 (0x0001), protocol id 0, length 5, unit id 1\n"
-              "<   " + answer_fields);
+              ">   " +
+                  request_fields +
+                  "<   MBAP transaction id 1 (0x0001), protocol id 0, length 5, unit id 1\n"
+                  "<   " +
+                  answer_fields);
     auto bytes = mblab("read", {"holding", "2", "--decode", "bytes", "--unit", "0"});
     EXPECT_EQ(bytes.err,
               "> 00 01 00 00 00 06 00 03 00 02 00 01\n"
               ">   MBAP transaction id 1 (0x0001), protocol id 0, length 6, unit id 0\n"
-              ">   " + request_fields +
-              "< 00 01 00 00 00 05 00 03 02 5F 72\n"
-              "<   MBAP transaction id 1 (0x0001), protocol id 0, length 5, unit id 0\n"
-              "<   " + answer_fields);
+              ">   " +
+                  request_fields +
+                  "< 00 01 00 00 00 05 00 03 02 5F 72\n"
+                  "<   MBAP transaction id 1 (0x0001), protocol id 0, length 5, unit id 0\n"
+                  "<   " +
+                  answer_fields);
     EXPECT_EQ(bytes.out, "address     raw     u16\n2 (0x0002)  0x5F72  24434\n");
 }
 

@@ -28,24 +28,31 @@ TEST_F(ClientErrors, EveryExceptionCodeIsShownByNameAndMeaning) {
     ExceptionDevice device;
     start_server(device);
     const std::vector<std::pair<std::string, std::string>> expected = {
-        {"0x0001", "exception 01 illegal function: the device does not support function 0x03 "
-                   "(read holding registers)"},
+        {"0x0001",
+         "exception 01 illegal function: the device does not support function 0x03 "
+         "(read holding registers)"},
         {"0x0002", "exception 02 illegal data address: 0x0002 is not on this device"},
-        {"0x0003", "exception 03 illegal data value: a value or length in the request is not "
-                   "allowed"},
-        {"0x0004", "exception 04 server device failure: the device failed while executing the "
-                   "request"},
+        {"0x0003",
+         "exception 03 illegal data value: a value or length in the request is not "
+         "allowed"},
+        {"0x0004",
+         "exception 04 server device failure: the device failed while executing the "
+         "request"},
         {"0x0005", "exception 05 acknowledge: the device accepted a long-running request"},
         {"0x0006", "exception 06 server device busy: the device is busy; retry later"},
-        {"0x0007", "exception 07 negative acknowledge: the device cannot perform the program "
-                   "function"},
-        {"0x0008", "exception 08 memory parity error: the device found a parity error in its "
-                   "memory"},
+        {"0x0007",
+         "exception 07 negative acknowledge: the device cannot perform the program "
+         "function"},
+        {"0x0008",
+         "exception 08 memory parity error: the device found a parity error in its "
+         "memory"},
         {"0x000A", "exception 0A gateway path unavailable: the gateway has no path to the unit"},
-        {"0x000B", "exception 0B gateway target failed to respond: the unit behind the gateway "
-                   "did not answer"},
-        {"0x0042", "exception 42 unknown exception: an exception code not defined by the Modbus "
-                   "specification"},
+        {"0x000B",
+         "exception 0B gateway target failed to respond: the unit behind the gateway "
+         "did not answer"},
+        {"0x0042",
+         "exception 42 unknown exception: an exception code not defined by the Modbus "
+         "specification"},
     };
     for (const auto& [address, line] : expected) {
         auto ran = mblab("read", {"holding", address});
@@ -68,18 +75,20 @@ TEST_F(ClientErrors, ExceptionInJsonNamesTheCode) {
 }
 
 TEST_F(ClientErrors, ADeviceWithHolesAnswersIllegalDataAddressForTheRange) {
-    auto loaded = device::load_profile(std::string(MBLAB_SOURCE_DIR) +
-                                       "/profiles/access-ranges.toml");
+    auto loaded =
+        device::load_profile(std::string(MBLAB_SOURCE_DIR) + "/profiles/access-ranges.toml");
     ASSERT_TRUE(loaded) << loaded.error();
     device_ = std::move(loaded.value());
     start_server(*device_);
     auto hole = mblab("read", {"holding", "0x04A1"});
     EXPECT_EQ(hole.status, 1);
-    EXPECT_EQ(hole.err, "mblab read: exception 02 illegal data address: 0x04A1 is not on this "
-                        "device\n");
+    EXPECT_EQ(hole.err,
+              "mblab read: exception 02 illegal data address: 0x04A1 is not on this "
+              "device\n");
     auto range = mblab("read", {"holding", "25", "10"});
-    EXPECT_EQ(range.err, "mblab read: exception 02 illegal data address: 0x0019..0x0022 are not "
-                         "all on this device\n");
+    EXPECT_EQ(range.err,
+              "mblab read: exception 02 illegal data address: 0x0019..0x0022 are not "
+              "all on this device\n");
     auto read_only = mblab("write", {"register", "10", "1"});
     EXPECT_EQ(read_only.status, 1);
     EXPECT_EQ(read_only.err,
@@ -92,8 +101,8 @@ TEST(ClientUsage, AnUnreachableTargetIsExitStatusTwo) {
     auto ran = run_mblab({"read", tcp_target(port), "holding", "0"});
     EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.out, "");
-    EXPECT_EQ(ran.err, "mblab read: cannot connect to " + tcp_target(port) +
-                           ": connection refused\n");
+    EXPECT_EQ(ran.err,
+              "mblab read: cannot connect to " + tcp_target(port) + ": connection refused\n");
 }
 
 TEST(ClientUsage, BadArgumentsAreOneLineAndExitStatusTwo) {
@@ -143,11 +152,11 @@ TEST_F(ClientErrors, RequestsOverTheLimitsOfTheSpecificationAreRefusedBeforeSend
     start_reference_server();
     auto ran = mblab("read", {"holding", "0xFFFF", "2"});
     EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab read: read holding registers: starting address: address + "
-                       "quantity runs past 0xFFFF\n");
+    EXPECT_EQ(ran.err,
+              "mblab read: read holding registers: starting address: address + "
+              "quantity runs past 0xFFFF\n");
     auto coils = mblab("read", {"coils", "0", "2001"});
-    EXPECT_EQ(coils.err,
-              "mblab read: read coils: quantity: must be 1..2000 (0x0001..0x07D0)\n");
+    EXPECT_EQ(coils.err, "mblab read: read coils: quantity: must be 1..2000 (0x0001..0x07D0)\n");
     EXPECT_EQ(server_->stats().requests.load(), 0U);
 }
 

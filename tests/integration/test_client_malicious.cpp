@@ -11,16 +11,22 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// Answers every request with `make(request)`.
-Ran read_against(const std::function<Answer(std::span<const std::uint8_t>)>& make,
-                 std::vector<std::string> extra = {}) {
-    MaliciousServer server([&](std::span<const std::uint8_t> request, int) { return make(request); });
+// Runs `mblab COMMAND TARGET ARGS...` against a server answering every request with `make`.
+Ran run_against(const std::function<Answer(std::span<const std::uint8_t>)>& make,
+                std::vector<std::string> command) {
+    MaliciousServer server(
+        [&](std::span<const std::uint8_t> request, int) { return make(request); });
     const auto port = server.start();
     EXPECT_NE(port, 0);
-    std::vector<std::string> args = {"read", tcp_target(port), "holding", "0", "2",
-                                     "--timeout", "300"};
-    args.insert(args.end(), extra.begin(), extra.end());
-    return run_mblab(args);
+    command.insert(command.begin() + 1, tcp_target(port));
+    return run_mblab(command);
+}
+
+Ran read_against(const std::function<Answer(std::span<const std::uint8_t>)>& make,
+                 std::vector<std::string> extra = {}) {
+    std::vector<std::string> command = {"read", "holding", "0", "2", "--timeout", "300"};
+    command.insert(command.end(), extra.begin(), extra.end());
+    return run_against(make, command);
 }
 
 // The request's own transaction id and unit, with `pdu` after them and a correct length.
@@ -45,8 +51,9 @@ TEST(ClientMalicious, MbapLengthShorterThanThePdu) {
     auto ran = read_against([](auto request) {
         return Answer{mbap_frame(1, 0, 4, request[6], hex("03 04 00 2A 00 2B"))};
     });
-    expect_bad(ran, "bad answer: read holding registers: byte count: must equal the number of "
-                    "bytes that follow it");
+    expect_bad(ran,
+               "bad answer: read holding registers: byte count: must equal the number of "
+               "bytes that follow it");
 }
 
 TEST(ClientMalicious, MbapLengthLongerThanWhatComes) {
@@ -69,17 +76,20 @@ TEST(ClientMalicious, MbapLengthsNoFrameCanHave) {
 }
 
 TEST(ClientMalicious, MbapLengthOneHasNoFunctionCode) {
-    auto ran = read_against([](auto request) { return Answer{mbap_frame(1, 0, 1, request[6], {})}; });
+    auto ran =
+        read_against([](auto request) { return Answer{mbap_frame(1, 0, 1, request[6], {})}; });
     expect_bad(ran, "bad answer: MBAP length 1 leaves no room for a function code");
 }
 
 TEST(ClientMalicious, ByteCountBeyondTheFrame) {
     auto ran = read_against([](auto request) { return answer_pdu(request, "03 FA 00 2A 00 2B"); });
-    expect_bad(ran, "bad answer: read holding registers: byte count: must equal the number of "
-                    "bytes that follow it");
+    expect_bad(ran,
+               "bad answer: read holding registers: byte count: must equal the number of "
+               "bytes that follow it");
     auto odd = read_against([](auto request) { return answer_pdu(request, "03 FF 00 2A 00 2B"); });
-    expect_bad(odd, "bad answer: read holding registers: byte count: must be even, 2..250 "
-                    "(1..125 registers)");
+    expect_bad(odd,
+               "bad answer: read holding registers: byte count: must be even, 2..250 "
+               "(1..125 registers)");
 }
 
 TEST(ClientMalicious, FewerRegistersThanAskedFor) {
@@ -89,8 +99,9 @@ TEST(ClientMalicious, FewerRegistersThanAskedFor) {
 
 TEST(ClientMalicious, WrongFunctionCode) {
     auto ran = read_against([](auto request) { return answer_pdu(request, "04 04 00 2A 00 2B"); });
-    expect_bad(ran, "bad answer: function code is 0x04 (read input registers), expected 0x03 "
-                    "(read holding registers)");
+    expect_bad(ran,
+               "bad answer: function code is 0x04 (read input registers), expected 0x03 "
+               "(read holding registers)");
 }
 
 TEST(ClientMalicious, DifferentTransactionId) {
@@ -105,14 +116,16 @@ TEST(ClientMalicious, OtherProtocolIdAndUnit) {
         return Answer{mbap_frame(1, 1, 7, request[6], hex("03 04 00 2A 00 2B"))};
     });
     expect_bad(protocol, "bad answer: MBAP protocol id is 0x0001, expected 0x0000 (Modbus)");
-    auto unit = read_against([](auto) { return Answer{mbap_frame(1, 0, 7, 9, hex("03 04 00 2A 00 2B"))}; });
+    auto unit =
+        read_against([](auto) { return Answer{mbap_frame(1, 0, 7, 9, hex("03 04 00 2A 00 2B"))}; });
     expect_bad(unit, "bad answer: unit id is 9, expected 1");
 }
 
 TEST(ClientMalicious, ExceptionWithTrailingBytes) {
     auto ran = read_against([](auto request) { return answer_pdu(request, "83 02 00"); });
-    expect_bad(ran, "bad answer: read holding registers: PDU length: bytes follow the last field "
-                    "of the PDU");
+    expect_bad(ran,
+               "bad answer: read holding registers: PDU length: bytes follow the last field "
+               "of the PDU");
 }
 
 TEST(ClientMalicious, SilenceAndClosedConnections) {
@@ -152,23 +165,19 @@ TEST(ClientMalicious, DecodeShowsTheBadFrame) {
 
 TEST(ClientMalicious, DeviceIdentificationThatNeverEnds) {
     // "More follows" with a next object id that goes back: the client stops instead of looping.
-    MaliciousServer server([](std::span<const std::uint8_t> request, int) {
-        return answer_pdu(request, "2B 0E 01 01 FF 00 01 00 01 41");
-    });
-    const auto port = server.start();
-    auto ran = run_mblab({"devid", tcp_target(port), "--timeout", "300"});
+    auto ran = run_against(
+        [](auto request) { return answer_pdu(request, "2B 0E 01 01 FF 00 01 00 01 41"); },
+        {"devid", "--timeout", "300"});
     EXPECT_EQ(ran.status, 1);
-    EXPECT_EQ(ran.err, "mblab devid: bad answer: read device identification: more follows, but "
-                       "the next object id 0x00 does not come after the objects sent\n");
-    EXPECT_EQ(server.requests(), 1);
+    EXPECT_EQ(ran.err,
+              "mblab devid: bad answer: read device identification: more follows, but "
+              "the next object id 0x00 does not come after the objects sent\n");
 }
 
 TEST(ClientMalicious, DeviceIdentificationObjectLongerThanTheFrame) {
-    MaliciousServer server([](std::span<const std::uint8_t> request, int) {
-        return answer_pdu(request, "2B 0E 01 01 00 00 01 00 F0 41");
-    });
-    const auto port = server.start();
-    auto ran = run_mblab({"devid", tcp_target(port), "--timeout", "300"});
+    auto ran = run_against(
+        [](auto request) { return answer_pdu(request, "2B 0E 01 01 00 00 01 00 F0 41"); },
+        {"devid", "--timeout", "300"});
     EXPECT_EQ(ran.status, 1);
     EXPECT_EQ(ran.err.rfind("mblab devid: bad answer: encapsulated interface transport: ", 0), 0U)
         << ran.err;
@@ -200,11 +209,11 @@ TEST(ClientMalicious, RetriesSkipTheLateAnswerOfATimedOutRequest) {
 TEST(ClientMalicious, RetriesGiveUpAfterTheLastTry) {
     MaliciousServer server([](std::span<const std::uint8_t>, int) { return Answer{}; });
     const auto port = server.start();
-    auto ran = run_mblab({"read", tcp_target(port), "holding", "0", "--timeout", "200",
-                          "--retries", "2"});
+    auto ran =
+        run_mblab({"read", tcp_target(port), "holding", "0", "--timeout", "200", "--retries", "2"});
     EXPECT_EQ(ran.status, 1);
-    EXPECT_EQ(ran.err, "mblab read: no answer from " + tcp_target(port) +
-                           " within 200 ms (3 tries)\n");
+    EXPECT_EQ(ran.err,
+              "mblab read: no answer from " + tcp_target(port) + " within 200 ms (3 tries)\n");
     EXPECT_EQ(server.requests(), 3);
 }
 

@@ -63,22 +63,37 @@ TEST_F(ClientReadWrite, WordAndByteOrderPlaceTheBytesOfAValue) {
 }
 
 TEST_F(ClientReadWrite, SignedAsciiAndDoubleValues) {
-    ASSERT_EQ(mblab("write", {"registers", "10", "-2", "32767", "--type", "i16"}).status, 0);
-    EXPECT_EQ(mblab("read", {"holding", "10", "2", "--type", "i16"}).out,
-              "address      raw     i16\n"
-              "10 (0x000A)  0xFFFE  -2\n"
-              "11 (0x000B)  0x7FFF  32767\n");
-    ASSERT_EQ(mblab("write", {"registers", "20", "mblab", "--type", "ascii"}).status, 0);
-    EXPECT_EQ(mblab("read", {"holding", "20", "3", "--type", "ascii"}).out,
-              "address      raw     ascii\n"
-              "20 (0x0014)  0x6D62  \"mb\"\n"
-              "21 (0x0015)  0x6C61  \"la\"\n"
-              "22 (0x0016)  0x6200  \"b\\x00\"\n"
-              "\"mblab\"\n");
-    ASSERT_EQ(mblab("write", {"registers", "30", "-0.125", "--type", "f64"}).status, 0);
-    EXPECT_EQ(mblab("read", {"holding", "30", "1", "--type", "f64"}).out,
-              "address      raw                          f64\n"
-              "30 (0x001E)  0xBFC0 0x0000 0x0000 0x0000  -0.125\n");
+    struct Case {
+        std::vector<std::string> write;  // after "registers"
+        std::vector<std::string> read;   // after "holding"
+        std::string table;
+    };
+    const std::vector<Case> cases = {
+        {{"10", "-2", "32767", "--type", "i16"},
+         {"10", "2", "--type", "i16"},
+         "address      raw     i16\n"
+         "10 (0x000A)  0xFFFE  -2\n"
+         "11 (0x000B)  0x7FFF  32767\n"},
+        {{"20", "mblab", "--type", "ascii"},
+         {"20", "3", "--type", "ascii"},
+         "address      raw     ascii\n"
+         "20 (0x0014)  0x6D62  \"mb\"\n"
+         "21 (0x0015)  0x6C61  \"la\"\n"
+         "22 (0x0016)  0x6200  \"b\\x00\"\n"
+         "\"mblab\"\n"},
+        {{"30", "-0.125", "--type", "f64"},
+         {"30", "1", "--type", "f64"},
+         "address      raw                          f64\n"
+         "30 (0x001E)  0xBFC0 0x0000 0x0000 0x0000  -0.125\n"},
+    };
+    for (const auto& c : cases) {
+        auto write = c.write;
+        write.insert(write.begin(), "registers");
+        ASSERT_EQ(mblab("write", write).status, 0);
+        auto read = c.read;
+        read.insert(read.begin(), "holding");
+        EXPECT_EQ(mblab("read", read).out, c.table);
+    }
 }
 
 TEST_F(ClientReadWrite, CoilsAndSingleWrites) {
@@ -137,8 +152,7 @@ TEST_F(ClientReadWrite, JsonIsOneDocument) {
     EXPECT_EQ(document["target"], target());
     EXPECT_EQ(document["unit"], 1);
     EXPECT_EQ(document["type"], "u16");
-    EXPECT_EQ(document["values"],
-              nlohmann::json::parse(R"([{"address":60,"raw":[1],"value":1},
+    EXPECT_EQ(document["values"], nlohmann::json::parse(R"([{"address":60,"raw":[1],"value":1},
                                         {"address":61,"raw":[2],"value":2}])"));
 }
 

@@ -25,7 +25,8 @@ inline Ran run_mblab(const std::vector<std::string>& args) {
     argv.insert(argv.end(), args.begin(), args.end());
     ChildProcess child(argv);
     Ran ran;
-    while (auto line = child.read_stdout_line(std::chrono::seconds(30))) ran.out += *line + "\n";
+    while (auto line = child.read_stdout_line(std::chrono::seconds(30)))
+        ran.out += *line + "\n";
     ran.status = child.wait_exit(std::chrono::seconds(30)).value_or(-1);
     ran.err = child.drain_stderr();
     return ran;

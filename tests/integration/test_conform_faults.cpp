@@ -7,6 +7,7 @@
 #include "conformance/engine.hpp"
 #include "device/reference_device.hpp"
 #include "support/faulty_server.hpp"
+#include "support/ports.hpp"
 
 // The tester against devices that are wrong on purpose: each kind of defect must be caught by
 // the case that exercises it, and devices that are right but unusual must pass.
@@ -31,8 +32,11 @@ class FaultyDeviceRun {
     }
 
     // The policy suite without the ping, which depends on the machine rather than the device.
-    RunResult run_policy() {
-        auto suite = load_suite_file(std::string(MBLAB_SOURCE_DIR) + "/catalogue/policy-2.1.toml");
+    RunResult run_policy() { return run_suite("policy-2.1"); }
+
+    RunResult run_suite(const std::string& name) {
+        auto suite =
+            load_suite_file(std::string(MBLAB_SOURCE_DIR) + "/catalogue/" + name + ".toml");
         EXPECT_TRUE(suite.ok());
         auto& cases = suite->cases;
         cases.erase(std::remove_if(cases.begin(), cases.end(),
@@ -151,11 +155,34 @@ TEST(ConformFaults, AnswersSplitOverSegmentsPass) {
     }
 }
 
+TEST(ConformFaults, PipelinedAnswersInAnotherOrderPass) {
+    FaultyDeviceRun device({Fault::ReorderAnswers, 0});
+    auto run = device.run_suite("mbap");
+    EXPECT_EQ(verdict_label(find(run, "mbap.6").outcome.verdict), "PASS")
+        << find(run, "mbap.6").outcome.reason;
+    EXPECT_EQ(run.counts().failed, 0U);
+}
+
 TEST(ConformFaults, AnswersLateBy150MsPass) {
     for (std::uint8_t function : {0x02, 0x10}) {
         FaultyDeviceRun device({Fault::LateAnswer, function});
         expect_only_failures(device.run_policy(), {});
     }
+}
+
+TEST(ConformFaults, CasesAfterTheDeviceWentAwayAreNotRun) {
+    auto suite = load_suite_file(std::string(MBLAB_SOURCE_DIR) + "/catalogue/policy-2.1.toml");
+    ASSERT_TRUE(suite.ok());
+    Dut dut;
+    dut.registers = 100;
+    Session session({"127.0.0.1", test::closed_port()}, dut, EngineOptions{});
+    Engine engine(session);
+    auto run = engine.run({suite.value()}, "gone");
+    for (const char* id : {"7.3.1", "7.5.2", "9.1.3"}) {
+        EXPECT_EQ(verdict_label(find(run, id).outcome.verdict), "NOT RUN") << id;
+        EXPECT_EQ(find(run, id).outcome.reason, "cannot connect to the device: connection refused");
+    }
+    EXPECT_EQ(run.counts().failed, 0U);
 }
 
 }  // namespace

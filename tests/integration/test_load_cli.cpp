@@ -114,18 +114,28 @@ void expect_clean(const json& node) {
     EXPECT_TRUE(node["first_failure"].is_null());
 }
 
-// A port nothing listens on: bound, then released.
-std::uint16_t closed_port() {
-    int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    socklen_t length = sizeof address;
-    ::bind(fd, reinterpret_cast<sockaddr*>(&address), sizeof address);
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&address), &length);
-    ::close(fd);
-    return ntohs(address.sin_port);
-}
+// A port that refuses connections: bound, so nothing else takes it meanwhile, but not listening.
+class RefusingPort {
+  public:
+    RefusingPort() : fd_(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0)) {
+        sockaddr_in address{};
+        address.sin_family = AF_INET;
+        address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        socklen_t size = sizeof address;
+        if (::bind(fd_, reinterpret_cast<sockaddr*>(&address), size) == 0 &&
+            ::getsockname(fd_, reinterpret_cast<sockaddr*>(&address), &size) == 0) {
+            port_ = ntohs(address.sin_port);
+        }
+    }
+    ~RefusingPort() { ::close(fd_); }
+    RefusingPort(const RefusingPort&) = delete;
+    RefusingPort& operator=(const RefusingPort&) = delete;
+    std::string url() const { return "tcp://127.0.0.1:" + std::to_string(port_); }
+
+  private:
+    int fd_;
+    std::uint16_t port_ = 0;
+};
 
 // Reads the URLs from `mblab serve`'s first line.
 std::vector<std::string> served_urls(ChildProcess& serve) {
@@ -341,7 +351,8 @@ TEST(LoadCli, GeneratorAloneWithPipelinedRequests) {
 }
 
 TEST(LoadCli, UnreachableNodeIsASetupError) {
-    const std::string url = "tcp://127.0.0.1:" + std::to_string(closed_port());
+    const RefusingPort port;
+    const std::string url = port.url();
     auto run = mblab_load("unreachable", {url, "--duration", "1s"});
     EXPECT_EQ(run.status, 2);
     EXPECT_EQ(run.err, "mblab load: cannot connect to " + url + ": connection refused\n");

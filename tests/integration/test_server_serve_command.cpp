@@ -161,6 +161,25 @@ TEST(ServeCommand, SavesStatePeriodically) {
     EXPECT_EQ(again.terminate(), 0);
 }
 
+// --stats prints a line a second and a last one at exit, with the totals.
+TEST(ServeCommand, StatsLineCountsRequestsAndExceptions) {
+    Serve serve({"--listen", "tcp://127.0.0.1:0", "--stats"});
+    ASSERT_EQ(serve.ports().size(), 1U) << serve.line();
+    auto client = serve.connect();
+    expect_exchanges(
+        client, {
+                    {"00 01 00 00 00 06 01 03 00 00 00 01", "00 01 00 00 00 05 01 03 02 53 45"},
+                    {"00 02 00 00 00 02 01 25", "00 02 00 00 00 03 01 A5 01"},
+                });
+    EXPECT_EQ(serve.terminate(), 0);
+    auto text = serve.process().drain_stderr();
+    auto last = text.substr(text.rfind('\n', text.size() - 2) + 1);
+    EXPECT_TRUE(std::regex_match(last, std::regex("mblab serve: [01] connections, [0-9]+ req/s, "
+                                                  "[0-9]+ exc/s; total 2 requests, 1 exceptions, "
+                                                  "0 busy, 0 refused, 0 evicted\n")))
+        << text;
+}
+
 struct Failure {
     std::optional<int> status;
     std::string stderr_text;

@@ -5,20 +5,9 @@
 # Usage: test_client_mbpoll.sh MBLAB_BINARY [BUILD_DIR]
 MBLAB=$1
 HERE=$(dirname "$0")
-. "$HERE/conform_interop.sh"
+. "$HERE/client_interop.sh"
 
-start_peer "$MBLAB" serve "$HERE/../../profiles/reference.toml" --listen tcp://127.0.0.1:0
-# "mblab serve: reference profile on tcp://127.0.0.1:PORT, ..."
-PORT=$(echo "$PEER_PORT" | sed -n 's|.*tcp://127\.0\.0\.1:\([0-9]*\).*|\1|p')
-TARGET="tcp://127.0.0.1:$PORT"
-
-expect() {  # expect WHAT EXPECTED ACTUAL
-    if [ "$2" != "$3" ]; then
-        printf 'FAIL %s\n--- expected\n%s\n--- got\n%s\n' "$1" "$2" "$3" >&2
-        exit 1
-    fi
-    echo "ok $1"
-}
+start_mblab_serve "$MBLAB"
 
 # mbpoll ARGS...: one poll, zero-based references, only the value lines ("[10]: 7" -> "10 7").
 mbpoll_run() {

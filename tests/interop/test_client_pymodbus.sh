@@ -4,19 +4,12 @@
 # Usage: test_client_pymodbus.sh MBLAB_BINARY [BUILD_DIR]
 MBLAB=$1
 HERE=$(dirname "$0")
-. "$HERE/conform_interop.sh"
+. "$HERE/client_interop.sh"
 
 start_peer /usr/bin/python3 "$HERE/pymodbus_conform_server.py" --lifetime 120
 TARGET="tcp://127.0.0.1:$PEER_PORT"
 PEER="/usr/bin/python3 $HERE/client_pymodbus_peer.py $PEER_PORT"
 
-expect() {  # expect WHAT EXPECTED ACTUAL
-    if [ "$2" != "$3" ]; then
-        printf 'FAIL %s\n--- expected\n%s\n--- got\n%s\n' "$1" "$2" "$3" >&2
-        exit 1
-    fi
-    echo "ok $1"
-}
 
 # mblab writes, pymodbus reads.
 "$MBLAB" write "$TARGET" registers 10 7 0x0102 65535 > /dev/null

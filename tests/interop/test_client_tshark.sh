@@ -7,11 +7,9 @@
 # Usage: test_client_tshark.sh MBLAB_BINARY [BUILD_DIR]
 MBLAB=$1
 HERE=$(dirname "$0")
-. "$HERE/conform_interop.sh"
+. "$HERE/client_interop.sh"
 
-start_peer "$MBLAB" serve "$HERE/../../profiles/reference.toml" --listen tcp://127.0.0.1:0
-PORT=$(echo "$PEER_PORT" | sed -n 's|.*tcp://127\.0\.0\.1:\([0-9]*\).*|\1|p')
-TARGET="tcp://127.0.0.1:$PORT"
+start_mblab_serve "$MBLAB"
 
 TSHARK_PID=""
 stop_all() {

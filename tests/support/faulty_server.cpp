@@ -9,7 +9,6 @@
 
 #include <algorithm>
 #include <array>
-#include <optional>
 #include <vector>
 
 namespace mblab::test {
@@ -90,30 +89,37 @@ void FaultyServer::serve() {
 
 void FaultyServer::serve_connection(int fd) {
     std::vector<std::uint8_t> buffer;
-    std::optional<Clock::time_point> partial_since;
+    // When the unfinished frame in the buffer began; the epoch while there is none.
+    Clock::time_point partial_since{};
     while (true) {
-        // Take every whole frame in the buffer.
+        // Take every whole frame in the buffer; a reordering device answers them last first.
+        std::vector<std::vector<std::uint8_t>> frames;
         while (buffer.size() >= 6) {
             const std::size_t length = static_cast<std::size_t>(buffer[4] << 8 | buffer[5]);
             if (length < 2) return;  // not even a unit id and function code: hang up
             if (buffer.size() < 6 + length) break;
-            const bool modbus = buffer[2] == 0 && buffer[3] == 0;
-            if (modbus) answer(fd, buffer.data(), 6 + length);
+            const auto end = buffer.begin() + static_cast<long>(6 + length);
+            frames.emplace_back(buffer.begin(), end);
+            buffer.erase(buffer.begin(), end);
+        }
+        if (rule_.fault == Fault::ReorderAnswers) std::reverse(frames.begin(), frames.end());
+        for (const auto& frame : frames) {
+            const bool modbus = frame[2] == 0 && frame[3] == 0;
+            if (modbus) answer(fd, frame.data(), frame.size());
             if (rule_.fault == Fault::CloseConnection && modbus &&
-                (rule_.function == 0 || rule_.function == buffer[7])) {
+                (rule_.function == 0 || rule_.function == frame[7])) {
                 return;
             }
-            buffer.erase(buffer.begin(), buffer.begin() + static_cast<long>(6 + length));
         }
         if (buffer.empty()) {
-            partial_since.reset();
-        } else if (!partial_since) {
+            partial_since = {};
+        } else if (partial_since == Clock::time_point{}) {
             partial_since = Clock::now();
         }
         int wait = -1;
-        if (partial_since) {
+        if (partial_since != Clock::time_point{}) {
             auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-                *partial_since + kPartialFrameWait - Clock::now());
+                partial_since + kPartialFrameWait - Clock::now());
             wait = static_cast<int>(std::max<long>(0, left.count()));
         }
         std::array<pollfd, 2> fds{pollfd{fd, POLLIN, 0}, pollfd{wake_[0], POLLIN, 0}};
@@ -181,6 +187,7 @@ void FaultyServer::answer(int fd, const std::uint8_t* frame, std::size_t size) {
             break;
         case Fault::None:
         case Fault::SplitAnswer:
+        case Fault::ReorderAnswers:
             break;
     }
     const std::size_t total = 7 + reply.size;

@@ -24,6 +24,7 @@ enum class Fault : std::uint8_t {
     WrongEcho,           // the last byte of an echoed answer changed
     SplitAnswer,         // right, but written in three pieces 30 ms apart
     LateAnswer,          // right, but 150 ms late
+    ReorderAnswers,      // right, but requests that arrive together are answered last first
 };
 
 struct FaultRule {

@@ -37,7 +37,8 @@ std::vector<std::uint8_t> mbap_frame(std::uint16_t transaction_id, std::uint16_t
         frame.push_back(static_cast<std::uint8_t>(field & 0xFF));
     }
     frame.push_back(unit);
-    for (auto byte : pdu) frame.push_back(byte);
+    for (auto byte : pdu)
+        frame.push_back(byte);
     return frame;
 }
 
@@ -50,7 +51,9 @@ std::vector<std::uint8_t> mbap_answer(std::span<const std::uint8_t> request,
 
 MaliciousServer::MaliciousServer(AnswerScript script) : script_(std::move(script)) {}
 
-MaliciousServer::~MaliciousServer() { stop(); }
+MaliciousServer::~MaliciousServer() {
+    stop();
+}
 
 std::uint16_t MaliciousServer::start() {
     if (::pipe(stop_pipe_) != 0) return 0;
@@ -112,8 +115,8 @@ void MaliciousServer::converse(int fd) {
         const std::size_t length = (request[4] << 8) | request[5];
         if (length < 1 || kMbapHeader - 1 + length > request.size()) return;
         if (!read_exact(fd, request.data() + kMbapHeader, length - 1)) return;
-        const Answer answer = script_(std::span(request).first(kMbapHeader - 1 + length),
-                                      requests_.fetch_add(1));
+        const Answer answer =
+            script_(std::span(request).first(kMbapHeader - 1 + length), requests_.fetch_add(1));
         if (answer.delay.count() > 0) {
             pollfd stopping{stop_pipe_[0], POLLIN, 0};
             if (::poll(&stopping, 1, static_cast<int>(answer.delay.count())) != 0) return;

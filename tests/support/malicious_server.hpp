@@ -15,9 +15,9 @@
 namespace mblab::test {
 
 struct Answer {
-    std::vector<std::uint8_t> bytes;       // written as they are (nothing: no answer)
-    std::chrono::milliseconds delay{0};    // before writing
-    bool close = false;                    // close the connection after writing
+    std::vector<std::uint8_t> bytes;     // written as they are (nothing: no answer)
+    std::chrono::milliseconds delay{0};  // before writing
+    bool close = false;                  // close the connection after writing
 };
 
 // `request` is the whole ADU; `index` counts requests from 0 across connections.

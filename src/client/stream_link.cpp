@@ -1,0 +1,204 @@
+#include "client/stream_link.hpp"
+
+#include <poll.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <asio/connect.hpp>
+#include <cerrno>
+#include <cstring>
+
+#include "protocol/ascii_framer.hpp"
+#include "protocol/rtu_framer.hpp"
+#include "transport/serial_port.hpp"
+
+namespace mblab::client {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using std::chrono::milliseconds;
+
+// USB serial adapters hand bytes over in bursts up to 16 ms apart: a shorter silence would cut
+// their frames in pieces. Only frames whose layout does not give their length wait for it.
+constexpr milliseconds kMinSerialSilence{20};
+// RTU over TCP has no silence; a frame the CRC has not ended by then is given up.
+constexpr milliseconds kTcpSilence{200};
+// [SER 2.5.2.1]: the ASCII inter-character timeout.
+constexpr milliseconds kAsciiSilence{1000};
+
+template <class Framer>
+class FramerCutter final : public FrameCutter {
+  public:
+    template <class... Args>
+    explicit FramerCutter(Args... args) : framer_(args...) {}
+    protocol::FrameEvent feed(std::span<const std::uint8_t> input, std::size_t& consumed) override {
+        return framer_.feed(input, consumed);
+    }
+    protocol::FrameEvent on_silence() override { return framer_.on_silence(); }
+    bool has_partial() const override { return framer_.has_partial(); }
+    void reset() override { framer_.reset(); }
+
+  private:
+    Framer framer_;
+};
+
+std::string lowercase_first(std::string text) {
+    if (!text.empty())
+        text[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(text[0])));
+    return text;
+}
+
+int poll_ms(Clock::duration wait) {
+    const auto ms = std::chrono::ceil<milliseconds>(std::max(wait, Clock::duration::zero()));
+    return static_cast<int>(ms.count());
+}
+
+}  // namespace
+
+StreamLink::StreamLink(std::string name, Framing framing, std::unique_ptr<asio::io_context> io,
+                       std::unique_ptr<Port> port, std::unique_ptr<FrameCutter> cutter,
+                       std::chrono::microseconds silence)
+    : name_(std::move(name)),
+      framing_(framing),
+      io_(std::move(io)),
+      port_(std::move(port)),
+      cutter_(std::move(cutter)),
+      silence_(silence) {
+    fd_ = std::visit([](auto& p) { return static_cast<int>(p.native_handle()); }, *port_);
+}
+
+StreamLink::~StreamLink() {
+    close();
+}
+
+void StreamLink::close() {
+    port_.reset();  // closes the descriptor
+    fd_ = -1;
+    pending_.clear();
+    partial_.clear();
+    cutter_->reset();
+}
+
+protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_serial(
+    const transport::SerialUrl& url, std::string name) {
+    auto io = std::make_unique<asio::io_context>();
+    auto opened = transport::open_serial_port(io->get_executor(), url.line);
+    if (!opened) return LinkError{opened.error()};
+    auto port = std::make_unique<Port>(std::move(opened.value()));
+    if (url.kind == transport::SerialUrl::Kind::Ascii) {
+        return std::unique_ptr<Link>(
+            new StreamLink(std::move(name), Framing::Ascii, std::move(io), std::move(port),
+                           std::make_unique<FramerCutter<protocol::AsciiFramer>>(), kAsciiSilence));
+    }
+    const auto t35 = transport::rtu_char_times(url.line.baud).t35;
+    return std::unique_ptr<Link>(new StreamLink(
+        std::move(name), Framing::Rtu, std::move(io), std::move(port),
+        std::make_unique<FramerCutter<protocol::RtuFramer>>(protocol::Direction::Response),
+        std::max<std::chrono::microseconds>(t35, kMinSerialSilence)));
+}
+
+protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_rtu_over_tcp(
+    const asio::ip::tcp::endpoint& endpoint, std::string name, milliseconds timeout) {
+    auto io = std::make_unique<asio::io_context>();
+    asio::ip::tcp::socket socket(*io);
+    asio::error_code result = asio::error::would_block;
+    socket.async_connect(endpoint, [&result](const asio::error_code& error) { result = error; });
+    io->run_for(timeout);
+    if (result == asio::error::would_block) return LinkError{"connection timed out"};
+    if (result) return LinkError{lowercase_first(result.message())};
+    asio::error_code ignored;
+    socket.set_option(asio::ip::tcp::no_delay(true), ignored);
+    return std::unique_ptr<Link>(new StreamLink(
+        std::move(name), Framing::Rtu, std::move(io), std::make_unique<Port>(std::move(socket)),
+        std::make_unique<FramerCutter<protocol::RtuFramer>>(
+            protocol::Direction::Response, protocol::RtuFramer::UnknownLength::EndOnCrcMatch),
+        kTcpSilence));
+}
+
+bool StreamLink::send(std::span<const std::uint8_t> adu, LinkError& error) {
+    while (!adu.empty()) {
+        if (fd_ < 0) {
+            error.message = "connection closed";
+            return false;
+        }
+        const ssize_t written = ::write(fd_, adu.data(), adu.size());
+        if (written > 0) {
+            adu = adu.subspan(static_cast<std::size_t>(written));
+            continue;
+        }
+        if (written < 0 && (errno == EAGAIN || errno == EINTR)) {
+            pollfd ready{fd_, POLLOUT, 0};
+            ::poll(&ready, 1, 1000);
+            continue;
+        }
+        error.message = lowercase_first(std::strerror(errno));
+        close();
+        return false;
+    }
+    return true;
+}
+
+Received StreamLink::take(ReceiveStatus status, std::string detail) {
+    Received out{status, std::move(partial_), std::move(detail)};
+    partial_.clear();
+    return out;
+}
+
+std::optional<Received> StreamLink::cut(const protocol::FrameEvent& event) {
+    if (event.is_frame()) {
+        partial_.clear();
+        return Received{ReceiveStatus::Frame, {event.adu.begin(), event.adu.end()}, {}};
+    }
+    if (event.is_error()) {
+        if (!event.adu.empty()) partial_.assign(event.adu.begin(), event.adu.end());
+        return take(ReceiveStatus::Malformed, event.error);
+    }
+    return std::nullopt;
+}
+
+Received StreamLink::receive_frame(milliseconds timeout) {
+    const auto deadline = Clock::now() + timeout;
+    while (true) {
+        while (!pending_.empty()) {
+            std::size_t consumed = 0;
+            const auto event = cutter_->feed(pending_, consumed);
+            partial_.insert(partial_.end(), pending_.begin(),
+                            pending_.begin() + static_cast<long>(consumed));
+            // The event may view `pending_`: copy it out before those bytes go.
+            auto done = cut(event);
+            pending_.erase(pending_.begin(), pending_.begin() + static_cast<long>(consumed));
+            if (done) return std::move(*done);
+        }
+        if (fd_ < 0) return take(ReceiveStatus::Closed, "connection closed");
+        const auto left = deadline - Clock::now();
+        const bool held = cutter_->has_partial();
+        const auto wait = held ? std::min<Clock::duration>(left, silence_) : left;
+        pollfd ready{fd_, POLLIN, 0};
+        const int polled = ::poll(&ready, 1, poll_ms(wait));
+        if (polled < 0 && errno == EINTR) continue;
+        if (polled > 0) {
+            std::uint8_t chunk[512];
+            const ssize_t got = ::read(fd_, chunk, sizeof chunk);
+            if (got > 0) {
+                pending_.insert(pending_.end(), chunk, chunk + got);
+                continue;
+            }
+            if (got < 0 && (errno == EAGAIN || errno == EINTR)) continue;
+            const std::string why =
+                got == 0 ? "connection closed by peer" : lowercase_first(std::strerror(errno));
+            Received out = take(ReceiveStatus::Closed, why);
+            close();
+            return out;
+        }
+        if (held) {
+            if (auto done = cut(cutter_->on_silence())) return std::move(*done);
+        }
+        if (Clock::now() >= deadline) {
+            cutter_->reset();
+            return take(ReceiveStatus::Timeout, {});
+        }
+    }
+}
+
+}  // namespace mblab::client
