@@ -78,7 +78,7 @@ int main(int argc, char** argv) {
             while (c->held - at >= 7) {
                 uint32_t frame = 6u + (uint32_t)(c->input[at + 4] << 8 | c->input[at + 5]);
                 if (frame > kMaxAdu) {
-                    c->held = at = 0;  /* not Modbus: drop everything */
+                    c->held = at = 0; /* not Modbus: drop everything */
                     break;
                 }
                 if (c->held - at < frame) break;

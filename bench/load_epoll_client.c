@@ -37,7 +37,8 @@ static double now_s(void) {
 
 static int send_requests(int fd, int count) {
     unsigned char out[12 * 64];
-    for (int i = 0; i < count; ++i) memcpy(out + 12 * (size_t)i, request, 12);
+    for (int i = 0; i < count; ++i)
+        memcpy(out + 12 * (size_t)i, request, 12);
     size_t total = 12 * (size_t)count, done = 0;
     while (done < total) {
         ssize_t n = send(fd, out + done, total - done, MSG_NOSIGNAL);
@@ -68,8 +69,8 @@ int main(int argc, char** argv) {
         setrlimit(RLIMIT_NOFILE, &limit);
     }
     /* Transaction id 0, protocol 0, length 6, unit 0, FC 03, address 0, quantity. */
-    unsigned char r[12] = {0, 0, 0, 0, 0, 6, 0, 3, 0, 0, (unsigned char)(quantity >> 8),
-                           (unsigned char)quantity};
+    unsigned char r[12] = {
+        0, 0, 0, 0, 0, 6, 0, 3, 0, 0, (unsigned char)(quantity >> 8), (unsigned char)quantity};
     memcpy(request, r, sizeof r);
     answer_size = 9 + 2 * (size_t)quantity;
 

@@ -82,8 +82,10 @@ static int hold_idle(const struct sockaddr_in* address, int count, const char* r
         fputs("ready\n", ready);
         fclose(ready);
     }
-    while (!stop_idle) pause();
-    for (int i = 0; i < count; ++i) close(fds[i]);
+    while (!stop_idle)
+        pause();
+    for (int i = 0; i < count; ++i)
+        close(fds[i]);
     free(fds);
     return 0;
 }
@@ -93,7 +95,8 @@ int main(int argc, char** argv) {
         fprintf(stderr, "usage: server_load HOST PORT CONNECTIONS SECONDS|--idle FILE\n");
         return 2;
     }
-    struct sockaddr_in address = {.sin_family = AF_INET, .sin_port = htons((uint16_t)atoi(argv[2]))};
+    struct sockaddr_in address = {.sin_family = AF_INET,
+                                  .sin_port = htons((uint16_t)atoi(argv[2]))};
     inet_pton(AF_INET, argv[1], &address.sin_addr);
     int count = atoi(argv[3]);
     if (argc == 6 && strcmp(argv[4], "--idle") == 0) return hold_idle(&address, count, argv[5]);
@@ -111,7 +114,8 @@ int main(int argc, char** argv) {
         struct epoll_event event = {.events = EPOLLIN, .data.ptr = &connections[i]};
         epoll_ctl(epoll, EPOLL_CTL_ADD, connections[i].fd, &event);
     }
-    for (int i = 0; i < count; ++i) send_request(&connections[i]);
+    for (int i = 0; i < count; ++i)
+        send_request(&connections[i]);
 
     /* A warm-up of a tenth of the run is not counted. */
     uint64_t start = now_ns();

@@ -166,7 +166,14 @@ int run_diag(const DiagOptions& options) {
             return out.done();
         }
         auto answer = client.diagnostics(*sub, *data);
-        if (!answer) return out.fail(answer.error());
+        if (!answer) {
+            auto error = answer.error();
+            if (error.kind == client::ErrorKind::Timeout &&
+                *sub == static_cast<std::uint16_t>(DiagnosticSub::RestartCommunications)) {
+                error.message += " (a device in listen only mode restarts without answering)";
+            }
+            return out.fail(error);
+        }
         document["data"] = hex_bytes(answer->data);
         if (const auto* named = find_sub(*sub); named != nullptr && named->counter) {
             document["value"] = word_of(answer->data);

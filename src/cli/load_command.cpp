@@ -149,7 +149,7 @@ protocol::Result<conf::LoadPlan, std::string> make_plan(const LoadOptions& optio
         if (!mix) return mix.error();
         conf::add_mix(plan, *mix, *dut);
     }
-    if (plan.total_connections() == 0) {
+    if (plan.test_exchanges == 0 && s.connections == 0) {
         return std::string(
             "nothing to run: no protocol test applies and --connections is 0 (see --case, "
             "--suite, --connections)");

@@ -17,18 +17,12 @@ namespace {
 
 struct ReadOptions {
     ClientOptions client;
-    FormatOptions format;
-    std::string kind;
-    std::vector<std::string> args;
-    CLI::App* command = nullptr;
+    QueryOptions query;
 };
 
 int run_read(const ReadOptions& options) {
     CommandOutput output("read", options.client);
-    auto format = parse_format(options.format);
-    if (!format) return output.usage(format.error());
-    auto query =
-        parse_read_query(options.kind, options.args, *format, options.command->count("--type") > 0);
+    auto query = parse_query(options.query);
     if (!query) return output.usage(query.error());
     return with_client(options.client, output, [&](client::Client& client, CommandOutput& out) {
         auto reading = perform_read(client, *query);
@@ -36,10 +30,7 @@ int run_read(const ReadOptions& options) {
         auto& document = out.document();
         document["read"] = describe_query(*query);
         document.update(reading->json);
-        if (!out.json()) {
-            for (const auto& line : table_lines(*reading))
-                fmt::print("{}\n", line);
-        }
+        if (!out.json()) print_reading(*reading);
         return out.done();
     });
 }
@@ -66,10 +57,7 @@ void add_read_command(CLI::App& app, CommandRunner& runner) {
         "exception or no proper answer, 2 usage error or unreachable target.\n"
         "Example: mblab read tcp://127.0.0.1:502 holding 0x10 2 --type f32",
         run_read);
-    options->command = cmd;
-    cmd->add_option("kind", options->kind, kReadKindsHelp)->required();
-    cmd->add_option("args", options->args, "ADDR [COUNT], or what KIND takes");
-    add_format_options(*cmd, options->format);
+    add_query_arguments(*cmd, options->query);
 }
 
 }  // namespace mblab::cli

@@ -321,6 +321,25 @@ client::Outcome<Reading> perform_read(client::Client& client, const ReadQuery& q
     return client::ClientError{client::ErrorKind::Invalid, "unknown read kind", std::nullopt};
 }
 
+void add_query_arguments(CLI::App& command, QueryOptions& options) {
+    options.command = &command;
+    command.add_option("kind", options.kind, kReadKindsHelp)->required();
+    command.add_option("args", options.args, "ADDR [COUNT], or what KIND takes");
+    add_format_options(command, options.format);
+}
+
+protocol::Result<ReadQuery, std::string> parse_query(const QueryOptions& options) {
+    auto format = parse_format(options.format);
+    if (!format) return format.error();
+    return parse_read_query(options.kind, options.args, *format,
+                            options.command->count("--type") > 0);
+}
+
+void print_reading(const Reading& reading) {
+    for (const auto& line : table_lines(reading))
+        fmt::print("{}\n", line);
+}
+
 std::vector<std::string> table_lines(const Reading& reading) {
     std::array<std::size_t, 3> width{};
     for (std::size_t c = 0; c < 3; ++c)

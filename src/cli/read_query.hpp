@@ -1,5 +1,6 @@
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -8,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/client_options.hpp"
 #include "cli/value_format.hpp"
 #include "client/client.hpp"
 #include "protocol/result.hpp"
@@ -54,6 +56,16 @@ protocol::Result<ReadQuery, std::string> parse_read_query(const std::string& kin
                                                           const ValueFormat& format,
                                                           bool type_given);
 
+// KIND, its arguments and the typed-value flags, as `read` and `watch` take them.
+struct QueryOptions {
+    std::string kind;
+    std::vector<std::string> args;
+    FormatOptions format;
+    CLI::App* command = nullptr;
+};
+void add_query_arguments(CLI::App& command, QueryOptions& options);
+protocol::Result<ReadQuery, std::string> parse_query(const QueryOptions& options);
+
 // A three-column table (first column: an address or a field name) and its JSON twin.
 struct Reading {
     std::array<std::string, 3> header;
@@ -79,6 +91,7 @@ RowLabel address_label(std::uint16_t first);
 
 // The table as aligned lines.
 std::vector<std::string> table_lines(const Reading& reading);
+void print_reading(const Reading& reading);
 
 // "holding registers 0 (0x0000), 10 u16 values" for headers and JSON.
 std::string describe_query(const ReadQuery& query);

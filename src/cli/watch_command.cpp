@@ -29,12 +29,9 @@ extern "C" void request_stop(int) {
 
 struct WatchOptions {
     ClientOptions client;
-    FormatOptions format;
-    std::string kind;
-    std::vector<std::string> args;
+    QueryOptions query;
     int interval_ms = 1000;
     int count = 0;
-    CLI::App* command = nullptr;
 };
 
 struct Tally {
@@ -127,6 +124,9 @@ int watch(client::Client& client, CommandOutput& out, const WatchOptions& option
             poll.update(reading->json);
             body = table_lines(*reading);
         } else {
+            // A request the client refuses will be refused on every poll: stop now.
+            if (reading.error().kind == client::ErrorKind::Invalid)
+                return out.fail(reading.error());
             tally.count(reading.error());
             poll["error"] = {{"kind", client::error_kind_name(reading.error().kind)},
                              {"message", reading.error().message}};
@@ -155,10 +155,7 @@ int watch(client::Client& client, CommandOutput& out, const WatchOptions& option
 
 int run_watch(const WatchOptions& options) {
     CommandOutput output("watch", options.client);
-    auto format = parse_format(options.format);
-    if (!format) return output.usage(format.error());
-    auto query =
-        parse_read_query(options.kind, options.args, *format, options.command->count("--type") > 0);
+    auto query = parse_query(options.query);
     if (!query) return output.usage(query.error());
     g_stop = 0;
     std::signal(SIGINT, request_stop);
@@ -179,10 +176,7 @@ void add_watch_command(CLI::App& app, CommandRunner& runner) {
         "Stops after --count polls, or on Ctrl-C; exit status 1 when any poll failed.\n"
         "Example: mblab watch tcp://127.0.0.1:502 holding 0 4 --interval 500",
         run_watch);
-    options->command = cmd;
-    cmd->add_option("kind", options->kind, kReadKindsHelp)->required();
-    cmd->add_option("args", options->args, "ADDR [COUNT], or what KIND takes");
-    add_format_options(*cmd, options->format);
+    add_query_arguments(*cmd, options->query);
     cmd->add_option("--interval", options->interval_ms, "milliseconds between polls (default 1000)")
         ->check(CLI::Range(1, 86400000));
     cmd->add_option("--count,-n", options->count, "stop after N polls (default: until Ctrl-C)")

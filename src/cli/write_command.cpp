@@ -242,10 +242,7 @@ int run_write(const WriteOptions& options) {
         if (!reading->rows.empty()) document["read"] = reading->json;
         if (!out.json()) {
             fmt::print("{}\n", plan->summary);
-            if (!reading->rows.empty()) {
-                for (const auto& line : table_lines(*reading))
-                    fmt::print("{}\n", line);
-            }
+            if (!reading->rows.empty()) print_reading(*reading);
         }
         return out.done();
     });

@@ -31,7 +31,7 @@ struct Reply {
 };
 
 class RequestHandler {
-public:
+  public:
     virtual ~RequestHandler() = default;
     // `request` is a whole request PDU (function code first). The response PDU is written to
     // `response`, which holds at least 253 bytes.

@@ -10,7 +10,7 @@ namespace mblab::protocol {
 // Bounds-checked big-endian reader over a non-owning byte view. A read that would pass the end
 // returns false and leaves the cursor where it was.
 class ReadCursor {
-public:
+  public:
     explicit ReadCursor(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
 
     std::size_t remaining() const { return bytes_.size() - pos_; }
@@ -36,7 +36,7 @@ public:
     }
     std::span<const std::uint8_t> rest() const { return bytes_.subspan(pos_); }
 
-private:
+  private:
     std::span<const std::uint8_t> bytes_;
     std::size_t pos_ = 0;
 };
@@ -44,7 +44,7 @@ private:
 // Big-endian writer into a caller-provided buffer. Running out of space sets a sticky overflow
 // flag instead of writing past the end; check ok() once at the end.
 class WriteCursor {
-public:
+  public:
     explicit WriteCursor(std::span<std::uint8_t> out) : out_(out) {}
 
     bool ok() const { return !overflow_; }
@@ -70,7 +70,7 @@ public:
         if (at < pos_) out_[at] = value;
     }
 
-private:
+  private:
     bool reserve(std::size_t count) {
         if (overflow_ || out_.size() - pos_ < count) {
             overflow_ = true;

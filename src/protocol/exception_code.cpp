@@ -4,16 +4,26 @@ namespace mblab::protocol {
 
 std::string_view exception_name(ExceptionCode code) {
     switch (code) {
-        case ExceptionCode::IllegalFunction: return "illegal function";
-        case ExceptionCode::IllegalDataAddress: return "illegal data address";
-        case ExceptionCode::IllegalDataValue: return "illegal data value";
-        case ExceptionCode::ServerDeviceFailure: return "server device failure";
-        case ExceptionCode::Acknowledge: return "acknowledge";
-        case ExceptionCode::ServerDeviceBusy: return "server device busy";
-        case ExceptionCode::NegativeAcknowledge: return "negative acknowledge";
-        case ExceptionCode::MemoryParityError: return "memory parity error";
-        case ExceptionCode::GatewayPathUnavailable: return "gateway path unavailable";
-        case ExceptionCode::GatewayTargetFailedToRespond: return "gateway target failed to respond";
+        case ExceptionCode::IllegalFunction:
+            return "illegal function";
+        case ExceptionCode::IllegalDataAddress:
+            return "illegal data address";
+        case ExceptionCode::IllegalDataValue:
+            return "illegal data value";
+        case ExceptionCode::ServerDeviceFailure:
+            return "server device failure";
+        case ExceptionCode::Acknowledge:
+            return "acknowledge";
+        case ExceptionCode::ServerDeviceBusy:
+            return "server device busy";
+        case ExceptionCode::NegativeAcknowledge:
+            return "negative acknowledge";
+        case ExceptionCode::MemoryParityError:
+            return "memory parity error";
+        case ExceptionCode::GatewayPathUnavailable:
+            return "gateway path unavailable";
+        case ExceptionCode::GatewayTargetFailedToRespond:
+            return "gateway target failed to respond";
     }
     return "unknown exception";
 }

@@ -8,7 +8,7 @@ namespace mblab::protocol {
 
 // Registers as they sit on the wire (big-endian pairs), read without copying.
 class RegisterView {
-public:
+  public:
     RegisterView() = default;
     explicit RegisterView(std::span<const std::uint8_t> bytes) : bytes_(bytes) {}
 
@@ -19,21 +19,22 @@ public:
     }
     std::span<const std::uint8_t> bytes() const { return bytes_; }
 
-private:
+  private:
     std::span<const std::uint8_t> bytes_;
 };
 
 // Packed bits as on the wire: bit i is bit (i % 8) of byte i / 8, LSB first.
 class BitView {
-public:
+  public:
     BitView() = default;
-    BitView(std::span<const std::uint8_t> bytes, std::size_t count) : bytes_(bytes), count_(count) {}
+    BitView(std::span<const std::uint8_t> bytes, std::size_t count)
+        : bytes_(bytes), count_(count) {}
 
     std::size_t size() const { return count_; }
     bool operator[](std::size_t i) const { return (bytes_[i / 8] >> (i % 8)) & 1U; }
     std::span<const std::uint8_t> bytes() const { return bytes_; }
 
-private:
+  private:
     std::span<const std::uint8_t> bytes_;
     std::size_t count_ = 0;
 };

@@ -20,7 +20,7 @@ struct DecodeError {
 // A small std::expected stand-in (clang-14 with libstdc++ 12 has none).
 template <class T, class E = DecodeError>
 class [[nodiscard]] Result {
-public:
+  public:
     Result(T value) : state_(std::in_place_index<0>, std::move(value)) {}  // NOLINT implicit
     Result(E error) : state_(std::in_place_index<1>, std::move(error)) {}  // NOLINT implicit
 
@@ -48,7 +48,7 @@ public:
     T& operator*() & { return value(); }
     const T& operator*() const& { return value(); }
 
-private:
+  private:
     std::variant<T, E> state_;
 };
 

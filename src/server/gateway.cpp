@@ -70,8 +70,8 @@ device::Reply SerialGateway::handle(const device::RequestContext& context,
     if (request.empty()) return {device::ReplyAction::NoAnswer, 0, {}};
     if (!units_.test(context.unit)) {
         ++stats_.unrouted;
-        return exception(request[0], static_cast<std::uint8_t>(ExceptionCode::GatewayPathUnavailable),
-                         response);
+        return exception(
+            request[0], static_cast<std::uint8_t>(ExceptionCode::GatewayPathUnavailable), response);
     }
     std::lock_guard lock(mutex_);
     return forward(context.unit, request, response);
@@ -100,9 +100,9 @@ device::Reply SerialGateway::forward(std::uint8_t unit, std::span<const std::uin
     if (size < 0) return path_unavailable();
     if (size == 0) {
         ++stats_.timeouts;
-        return exception(
-            function, static_cast<std::uint8_t>(ExceptionCode::GatewayTargetFailedToRespond),
-            response);
+        return exception(function,
+                         static_cast<std::uint8_t>(ExceptionCode::GatewayTargetFailedToRespond),
+                         response);
     }
     ++stats_.answered;
     return {device::ReplyAction::Answer, static_cast<std::size_t>(size), {}};

@@ -34,11 +34,11 @@ struct LineSetup;
 
 struct GatewayStats {
     using Counter = std::atomic<std::uint64_t>;
-    Counter forwarded{0};     // requests sent on the line
-    Counter answered{0};      // answers passed back
-    Counter timeouts{0};      // answered 0B
-    Counter unrouted{0};      // answered 0A: unit not routed, or the line failed
-    Counter line_errors{0};   // bad frames and stray answers seen while waiting
+    Counter forwarded{0};    // requests sent on the line
+    Counter answered{0};     // answers passed back
+    Counter timeouts{0};     // answered 0B
+    Counter unrouted{0};     // answered 0A: unit not routed, or the line failed
+    Counter line_errors{0};  // bad frames and stray answers seen while waiting
 };
 
 class SerialGateway final : public device::RequestHandler {

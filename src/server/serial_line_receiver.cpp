@@ -11,8 +11,7 @@ constexpr std::size_t kMinRtuFrame = 4;  // address, function code, CRC
 SerialLineReceiver::SerialLineReceiver(LineFraming framing, LineTiming timing,
                                        protocol::Direction direction,
                                        protocol::RtuFramer::UnknownLength unknown_length)
-    : framer_(std::in_place_type<protocol::RtuFramer>, direction, unknown_length),
-      timing_(timing) {
+    : framer_(std::in_place_type<protocol::RtuFramer>, direction, unknown_length), timing_(timing) {
     if (framing == LineFraming::Ascii) framer_.emplace<protocol::AsciiFramer>();
 }
 
@@ -86,8 +85,7 @@ LineEvent SerialLineReceiver::silence() {
     return out;
 }
 
-LineEvent SerialLineReceiver::classify(const protocol::FrameEvent& event,
-                                       std::size_t held_before) {
+LineEvent SerialLineReceiver::classify(const protocol::FrameEvent& event, std::size_t held_before) {
     if (event.status == protocol::FrameStatus::NeedMore) return {};
     if (std::holds_alternative<protocol::AsciiFramer>(framer_)) {
         // ASCII frames are delimited by characters, not silence: each bad one counts.
@@ -103,9 +101,8 @@ LineEvent SerialLineReceiver::classify(const protocol::FrameEvent& event,
     if (event.is_frame()) return {event};
     // A burst of noise falls apart into as many framer errors as its bytes happen to suggest;
     // the line saw one bad message.
-    return count_once(event,
-                      held_before < kMinRtuFrame && event.adu.empty() ? LineError::ShortFrame
-                                                                      : LineError::Checksum);
+    return count_once(event, held_before < kMinRtuFrame && event.adu.empty() ? LineError::ShortFrame
+                                                                             : LineError::Checksum);
 }
 
 LineEvent SerialLineReceiver::count_once(const protocol::FrameEvent& event, LineError error) {

@@ -82,11 +82,11 @@ class SerialLineReceiver {
     std::span<const std::uint8_t> input_;
     std::size_t position_ = 0;
     LineClock::time_point last_byte_{};
-    std::size_t held_ = 0;             // bytes the RTU framer holds in the current frame
-    bool in_burst_ = false;            // bytes came since the last silence
-    bool silence_due_ = false;         // the bytes in input_ came after a silence
-    bool broken_ = false;              // a t1.5 gap spoiled the frame being received
-    bool error_counted_ = false;       // RTU: this noise burst has been counted once
+    std::size_t held_ = 0;        // bytes the RTU framer holds in the current frame
+    bool in_burst_ = false;       // bytes came since the last silence
+    bool silence_due_ = false;    // the bytes in input_ came after a silence
+    bool broken_ = false;         // a t1.5 gap spoiled the frame being received
+    bool error_counted_ = false;  // RTU: this noise burst has been counted once
 };
 
 }  // namespace mblab::server

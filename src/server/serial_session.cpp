@@ -50,6 +50,7 @@ LineSetup serial_line_setup(const transport::SerialUrl& url, SerialLineHooks hoo
     const auto times = transport::rtu_char_times(url.line.baud);
     setup.framing = LineFraming::Rtu;
     setup.timing.silence = times.t35;
+    if (url.strict_timing) setup.timing.char_gap = times.t15;
     setup.turnaround = times.t35;
     return setup;
 }
@@ -59,8 +60,7 @@ LineSession<Stream>::LineSession(Stream stream, std::shared_ptr<ServerCore> core
     : stream_(std::move(stream)),
       core_(std::move(core)),
       setup_(std::move(setup)),
-      receiver_(setup_.framing, setup_.timing, protocol::Direction::Request,
-                setup_.unknown_length),
+      receiver_(setup_.framing, setup_.timing, protocol::Direction::Request, setup_.unknown_length),
       watchdog_timer_(stream_.get_executor()),
       delay_timer_(stream_.get_executor()),
       last_activity_(LineClock::now()) {
@@ -147,14 +147,15 @@ asio::awaitable<void> LineSession<Stream>::read_loop(Self /*self*/) {
         reading_ = false;
         if (closed_) break;
         if (ec == asio::error::operation_aborted) continue;  // a deadline passed
-        if (ec == asio::error::eof) {
+        if (ec == asio::error::eof && !kIsSerialPort<Stream>) {
             // The peer finished sending: what it left unfinished can no longer complete.
             receiver_.reset();
             close();
             break;
         }
         if (ec) {
-            fail(ec.message());
+            // On a serial port, end of file is a hang-up: the adapter or the pty went away.
+            fail(ec == asio::error::eof ? "the line hung up" : ec.message());
             break;
         }
         count_line_faults();
@@ -235,8 +236,8 @@ asio::awaitable<void> LineSession<Stream>::answer(std::uint8_t unit, std::size_t
         co_await delay_timer_.async_wait(use_tuple);
         if (closed_) co_return;
     }
-    auto [ec, written] = co_await asio::async_write(stream_, asio::buffer(output_.data(), size),
-                                                    use_tuple);
+    auto [ec, written] =
+        co_await asio::async_write(stream_, asio::buffer(output_.data(), size), use_tuple);
     (void)written;
     if (ec) {
         fail(ec.message());

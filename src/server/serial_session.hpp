@@ -14,8 +14,8 @@
 
 #include "device/reference_device.hpp"
 #include "protocol/limits.hpp"
-#include "server/server_core.hpp"
 #include "server/serial_line_receiver.hpp"
+#include "server/server_core.hpp"
 #include "transport/connection_table.hpp"
 #include "transport/serial_port.hpp"
 

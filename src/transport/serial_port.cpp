@@ -5,7 +5,6 @@
 
 #include <cerrno>
 
-
 namespace mblab::transport {
 
 namespace {
@@ -93,8 +92,8 @@ SerialFaultMonitor::SerialFaultMonitor(int fd) : fd_(fd) {
 bool SerialFaultMonitor::read_counts(Faults& counts) const {
     serial_icounter_struct icount{};
     if (::ioctl(fd_, TIOCGICOUNT, &icount) != 0) return false;
-    counts.overruns = static_cast<std::uint32_t>(icount.overrun) +
-                      static_cast<std::uint32_t>(icount.buf_overrun);
+    counts.overruns =
+        static_cast<std::uint32_t>(icount.overrun) + static_cast<std::uint32_t>(icount.buf_overrun);
     counts.parity_errors =
         static_cast<std::uint32_t>(icount.parity) + static_cast<std::uint32_t>(icount.frame);
     return true;

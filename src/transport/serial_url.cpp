@@ -4,6 +4,7 @@
 #include <array>
 #include <charconv>
 
+#include "transport/bad_address.hpp"
 #include "transport/tcp_url.hpp"
 
 namespace mblab::transport {
@@ -14,21 +15,16 @@ constexpr std::string_view kRtuScheme = "rtu://";
 constexpr std::string_view kAsciiScheme = "ascii://";
 constexpr std::string_view kRtuTcpScheme = "rtu+tcp://";
 constexpr std::string_view kExpected =
-    " (expected rtu:///dev/ttyUSB0?baud=19200&parity=E&stop=1&data=8, ascii:///dev/... or "
-    "rtu+tcp://HOST:PORT)";
+    "expected rtu:///dev/ttyUSB0?baud=19200&parity=E&stop=1&data=8, ascii:///dev/... or "
+    "rtu+tcp://HOST:PORT";
 
 // Rates termios can set on Linux; others fail only when the port is opened, far from the typo.
 constexpr std::array<unsigned, 21> kBaudRates = {
-    300,    600,    1200,   1800,   2400,    4800,    9600,    19200,   38400,   57600,  115200,
+    300,    600,    1200,   1800,   2400,   4800,    9600,    19200,   38400,   57600,  115200,
     230400, 460800, 500000, 576000, 921600, 1000000, 1152000, 1500000, 2000000, 3000000};
 
 std::string url_error(std::string_view url, std::string_view why) {
-    std::string out = "bad address '";
-    out.append(url);
-    out += "': ";
-    out.append(why);
-    out.append(kExpected);
-    return out;
+    return bad_address(url, why, kExpected);
 }
 
 bool parse_number(std::string_view text, unsigned& value) {
@@ -98,6 +94,9 @@ std::string_view apply_setting(std::string_view key, std::string_view value, Ser
             return "stop must be 1 or 2 (stop bits)";
         }
         out.line.stop_bits = static_cast<std::uint8_t>(number);
+    } else if (key == "strict") {
+        if (value != "0" && value != "1") return "strict must be 0 or 1";
+        out.strict_timing = value == "1";
     } else if (key == "timeout") {
         if (!parse_number(value, number) || number == 0 || number > 600'000) {
             return "timeout must be milliseconds from 1 to 600000";
@@ -108,20 +107,21 @@ std::string_view apply_setting(std::string_view key, std::string_view value, Ser
             return "units must list unit ids 0..255 like 1-10,20";
         }
     } else {
-        return "unknown setting (known: baud, parity, stop, data, timeout, units)";
+        return "unknown setting (known: baud, parity, stop, data, strict, timeout, units)";
     }
     return {};
 }
 
-protocol::Result<SerialUrl, std::string> parse_line_url(std::string_view url,
-                                                        std::string_view rest, SerialUrl out) {
+protocol::Result<SerialUrl, std::string> parse_line_url(std::string_view url, std::string_view rest,
+                                                        SerialUrl out) {
     auto question = rest.find('?');
     auto path = rest.substr(0, question);
     if (path.empty() || path.front() != '/') {
         return url_error(url, "the device must be an absolute path such as /dev/ttyUSB0");
     }
     out.line.device = std::string(path);
-    auto query = question == std::string_view::npos ? std::string_view{} : rest.substr(question + 1);
+    auto query =
+        question == std::string_view::npos ? std::string_view{} : rest.substr(question + 1);
     while (!query.empty()) {
         auto amp = query.find('&');
         auto pair = query.substr(0, amp);
@@ -184,6 +184,7 @@ std::string format_serial_url(const SerialUrl& url) {
     out += kParity[static_cast<std::size_t>(url.line.parity)];
     out += "&stop=" + std::to_string(url.line.stop_bits);
     out += "&data=" + std::to_string(url.line.data_bits);
+    if (url.strict_timing) out += "&strict=1";
     return out;
 }
 

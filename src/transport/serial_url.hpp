@@ -13,8 +13,10 @@
 //   rtu:///dev/ttyUSB0?baud=19200&parity=E&stop=1&data=8   RTU on a serial line
 //   ascii:///dev/ttyUSB0?baud=9600&parity=E&data=7         ASCII on a serial line
 //   rtu+tcp://127.0.0.1:502                                RTU frames over a TCP connection
-// A line given to a gateway also takes timeout=MS (how long a device may take to answer) and
-// units=1-10,20 (the unit ids routed to the line).
+// strict=1 makes a served RTU line drop frames with a gap over t1.5 inside them [SER 2.5.1.1]
+// (off by default: USB adapters deliver frames in packets with such gaps). A line given to a
+// gateway also takes timeout=MS (how long a device may take to answer) and units=1-10,20 (the
+// unit ids routed to the line).
 namespace mblab::transport {
 
 enum class Parity : std::uint8_t { None, Even, Odd };
@@ -33,6 +35,7 @@ struct SerialUrl {
     Kind kind = Kind::Rtu;
     SerialSettings line;               // Rtu, Ascii
     asio::ip::tcp::endpoint endpoint;  // RtuOverTcp
+    bool strict_timing = false;        // RTU: enforce t1.5 inside frames
     std::chrono::milliseconds response_timeout{1000};
     std::bitset<256> units;  // unit ids a gateway routes here; 1..247 unless units= is given
 };

@@ -50,6 +50,20 @@ TEST_F(ClientCommands, DiagClearsAndRestarts) {
     EXPECT_EQ(refused.err.rfind("mblab diag: diagnostics: ", 0), 0U) << refused.err;
 }
 
+TEST_F(ClientCommands, DiagListenOnlyUntilRestart) {
+    EXPECT_EQ(mblab("diag", {"force-listen-only"}).out,
+              "sent force listen only mode (never answered): the device now answers nothing until "
+              "restart-communications\n");
+    auto silent = mblab("read", {"holding", "0", "--timeout", "300"});
+    EXPECT_EQ(silent.status, 1);
+    auto restart = mblab("diag", {"restart-communications", "--timeout", "300"});
+    EXPECT_EQ(restart.status, 1);
+    EXPECT_EQ(restart.err, "mblab diag: no answer from " + target() +
+                               " within 300 ms (a device in listen only mode restarts without "
+                               "answering)\n");
+    EXPECT_EQ(mblab("read", {"holding", "0"}).status, 0);
+}
+
 TEST_F(ClientCommands, DevidReadsTheBasicObjects) {
     auto ran = mblab("devid", {});
     EXPECT_EQ(ran.status, 0) << ran.err;
@@ -137,16 +151,37 @@ TEST(ClientWatch, CountsExceptionsAndTimeoutsAndGoesOn) {
     });
     const auto port = server.start();
     auto ran = run_mblab({"watch", tcp_target(port), "holding", "7", "--count", "4", "--interval",
-                          "10", "--timeout", "200"});
+                          "10", "--timeout", "1000"});
     EXPECT_EQ(ran.status, 1);
     const std::string table = "address     raw     u16\n7 (0x0007)  0x0005  5\n";
     EXPECT_EQ(ran.out, "poll 1\n" + table +
                            "poll 2\nexception 02 illegal data address: 0x0007 is not on this "
                            "device\n"
                            "poll 3\nno answer from " +
-                           tcp_target(port) + " within 200 ms\n" + "poll 4\n" + table +
+                           tcp_target(port) + " within 1000 ms\n" + "poll 4\n" + table +
                            "4 polls: 2 answered, 1 timeout, 1 exception, 0 other errors\n");
     EXPECT_EQ(ran.err, "mblab watch: 2 of 4 polls failed\n");
+}
+
+TEST_F(ClientCommands, WatchRedrawsInPlaceOnATerminal) {
+    // script(1) gives the command a pseudo-terminal as stdout (and turns \n into \r\n).
+    const std::string command =
+        std::string(MBLAB_BINARY) + " watch " + target() + " holding 0 1 --count 2 --interval 10";
+    ChildProcess child({"/usr/bin/script", "-qec", command, "/dev/null"});
+    std::string out;
+    while (auto line = child.read_stdout_line(std::chrono::seconds(30)))
+        out += *line + "\n";
+    EXPECT_EQ(child.wait_exit(std::chrono::seconds(30)), 0);
+    const std::string title = target() +
+                              " unit 1: holding registers 0 (0x0000), 1 u16 value "
+                              "every 10 ms (Ctrl-C stops)\r\n";
+    const std::string table = "address     raw     u16\r\n0 (0x0000)  0x5345  21317\r\n";
+    EXPECT_EQ(out, title + "1 poll: 1 answered, 0 timeouts, 0 exceptions, 0 other errors\r\n" +
+                       table +
+                       // Up four lines to the title, clear below, draw again.
+                       "\x1b[4F\x1b[J" + title +
+                       "2 polls: 2 answered, 0 timeouts, 0 exceptions, 0 other errors\r\n" + table +
+                       "2 polls: 2 answered, 0 timeouts, 0 exceptions, 0 other errors\r\n");
 }
 
 TEST_F(ClientCommands, WatchJsonIsOneDocumentAtTheEnd) {

@@ -22,9 +22,11 @@ Ran run_against(const std::function<Answer(std::span<const std::uint8_t>)>& make
     return run_mblab(command);
 }
 
+// Reads holding 0..1; answers are expected well within `timeout_ms` unless the script withholds
+// them, so a loaded machine cannot turn an answer into a timeout.
 Ran read_against(const std::function<Answer(std::span<const std::uint8_t>)>& make,
-                 std::vector<std::string> extra = {}) {
-    std::vector<std::string> command = {"read", "holding", "0", "2", "--timeout", "300"};
+                 std::vector<std::string> extra = {}, const std::string& timeout_ms = "3000") {
+    std::vector<std::string> command = {"read", "holding", "0", "2", "--timeout", timeout_ms};
     command.insert(command.end(), extra.begin(), extra.end());
     return run_against(make, command);
 }
@@ -57,9 +59,11 @@ TEST(ClientMalicious, MbapLengthShorterThanThePdu) {
 }
 
 TEST(ClientMalicious, MbapLengthLongerThanWhatComes) {
-    auto ran = read_against([](auto request) {
-        return Answer{mbap_frame(1, 0, 20, request[6], hex("03 04 00 2A 00 2B"))};
-    });
+    auto ran = read_against(
+        [](auto request) {
+            return Answer{mbap_frame(1, 0, 20, request[6], hex("03 04 00 2A 00 2B"))};
+        },
+        {}, "300");
     EXPECT_EQ(ran.status, 1);
     EXPECT_NE(ran.err.find("within 300 ms (13 bytes of a frame came)\n"), std::string::npos)
         << ran.err;
@@ -129,7 +133,7 @@ TEST(ClientMalicious, ExceptionWithTrailingBytes) {
 }
 
 TEST(ClientMalicious, SilenceAndClosedConnections) {
-    auto silent = read_against([](auto) { return Answer{}; });
+    auto silent = read_against([](auto) { return Answer{}; }, {}, "300");
     EXPECT_EQ(silent.status, 1);
     EXPECT_NE(silent.err.find(" within 300 ms\n"), std::string::npos) << silent.err;
     auto closed = read_against([](auto) { return Answer{{}, 0ms, true}; });
@@ -167,7 +171,7 @@ TEST(ClientMalicious, DeviceIdentificationThatNeverEnds) {
     // "More follows" with a next object id that goes back: the client stops instead of looping.
     auto ran = run_against(
         [](auto request) { return answer_pdu(request, "2B 0E 01 01 FF 00 01 00 01 41"); },
-        {"devid", "--timeout", "300"});
+        {"devid", "--timeout", "3000"});
     EXPECT_EQ(ran.status, 1);
     EXPECT_EQ(ran.err,
               "mblab devid: bad answer: read device identification: more follows, but "
@@ -177,7 +181,7 @@ TEST(ClientMalicious, DeviceIdentificationThatNeverEnds) {
 TEST(ClientMalicious, DeviceIdentificationObjectLongerThanTheFrame) {
     auto ran = run_against(
         [](auto request) { return answer_pdu(request, "2B 0E 01 01 00 00 01 00 F0 41"); },
-        {"devid", "--timeout", "300"});
+        {"devid", "--timeout", "3000"});
     EXPECT_EQ(ran.status, 1);
     EXPECT_EQ(ran.err.rfind("mblab devid: bad answer: encapsulated interface transport: ", 0), 0U)
         << ran.err;
@@ -194,12 +198,12 @@ TEST(ClientMalicious, RetriesSkipTheLateAnswerOfATimedOutRequest) {
         return Answer{late};
     });
     const auto port = server.start();
-    auto ran = run_mblab({"read", tcp_target(port), "holding", "0", "2", "--timeout", "300",
+    auto ran = run_mblab({"read", tcp_target(port), "holding", "0", "2", "--timeout", "1000",
                           "--retries", "1", "--decode", "app"});
     EXPECT_EQ(ran.status, 0) << ran.err;
     EXPECT_EQ(ran.out, "address     raw     u16\n0 (0x0000)  0x002A  42\n1 (0x0001)  0x002B  43\n");
     EXPECT_NE(ran.err.find("* retry 1 of 1 after: no answer from " + tcp_target(port) +
-                           " within 300 ms\n"),
+                           " within 1000 ms\n"),
               std::string::npos)
         << ran.err;
     EXPECT_NE(ran.err.find("* skipped a late answer to transaction 0x0001\n"), std::string::npos)

@@ -20,7 +20,7 @@ class ClientTypedCalls : public ClientCliTest {
         target_ = *target;
         transactor_ = std::make_unique<client::Transactor>(
             target_.name, [this] { return client::open_link(target_, 1s); },
-            client::TransactionOptions{1, 500ms, 0});
+            client::TransactionOptions{1, 3000ms, 0});
         client_ = std::make_unique<client::Client>(*transactor_);
     }
 
@@ -67,15 +67,19 @@ TEST_F(ClientTypedCalls, SerialLineFunctions) {
 }
 
 TEST_F(ClientTypedCalls, ListenOnlyModeSilencesTheDeviceUntilRestart) {
-    auto& c = *client_;
+    // A short timeout: the read below is meant to go unanswered.
+    client::Transactor transactor(
+        target_.name, [this] { return client::open_link(target_, 1s); },
+        client::TransactionOptions{1, 300ms, 0});
+    client::Client c(transactor);
     ASSERT_TRUE(c.send_listen_only());
     auto silent = c.read_holding_registers(0, 1);
     ASSERT_FALSE(silent);
     EXPECT_EQ(silent.error().kind, client::ErrorKind::Timeout);
     // Restart communications is executed but, in listen-only mode, not answered.
     static constexpr std::uint8_t kRestart[] = {0x08, 0x00, 0x01, 0x00, 0x00};
-    ASSERT_TRUE(transactor_->send_only(kRestart));
-    EXPECT_TRUE(c.read_holding_registers(0, 1));
+    ASSERT_TRUE(transactor.send_only(kRestart));
+    EXPECT_TRUE(client_->read_holding_registers(0, 1));
 }
 
 TEST_F(ClientTypedCalls, FilesAndFifo) {

@@ -17,6 +17,7 @@
 #include "child_process.hpp"
 #include "device/reference_device.hpp"
 #include "server/background_server.hpp"
+#include "support/faulty_server.hpp"
 
 // `mblab load` against real servers on loopback: the verdict, the exit status, and counts
 // that must equal what the devices' fault rules did.
@@ -306,6 +307,47 @@ TEST(LoadCli, ADeviceThatGoesAwayIsReportedNotCrashedOn) {
     EXPECT_EQ(node["first_failure"]["evidence"]["status"], "closed");
     EXPECT_NE(run.out.find("FAIL: 1 of 2 nodes failed (" + leaves[0] + ")"), std::string::npos)
         << run.out;
+}
+
+// A device of tests/support that breaks its answers one way, on a connection at a time.
+struct FaultyDevice {
+    explicit FaultyDevice(FaultRule rule) {
+        auto loaded =
+            device::load_profile(std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml");
+        EXPECT_TRUE(loaded.ok());
+        device = std::move(loaded.value());
+        server = std::make_unique<FaultyServer>(*device, rule);
+        port = server->start();
+    }
+    std::string url() const { return "tcp://127.0.0.1:" + std::to_string(port); }
+
+    std::unique_ptr<device::ReferenceDevice> device;
+    std::unique_ptr<FaultyServer> server;
+    std::uint16_t port = 0;
+};
+
+TEST(LoadCli, AnAnswerWithAnotherTransactionIdIsAWrongAnswer) {
+    FaultyDevice faulty({Fault::WrongTransactionId, 0x06});
+    auto run = mblab_load("tid", {faulty.url(), "--duration", "1s", "--connections", "0", "--case",
+                                  "7.3.1", "--case", "7.8.1"});
+    EXPECT_EQ(run.status, 1) << run.out << run.err;
+    const json& node = run.report["nodes"][0];
+    const auto fc06 = sent_with_function(node, 6);
+    EXPECT_GT(fc06, 0U);
+    EXPECT_EQ(failures(node, "wrong_answer"), fc06);
+    EXPECT_EQ(node["failures"]["total"], fc06);  // each counted once, not again as a timeout
+    EXPECT_EQ(node["late_answers"], 0);
+    EXPECT_EQ(node["first_failure"]["reason"], "wrong transaction id");
+    EXPECT_EQ(node["first_failure"]["exchange"], "7.8.1");
+}
+
+TEST(LoadCli, AnswersOutOfOrderAreMatchedByTransactionId) {
+    FaultyDevice reordering({Fault::ReorderAnswers, 0});
+    auto run =
+        mblab_load("reorder", {reordering.url(), "--no-tests", "--connections", "1", "--pipeline",
+                               "4", "--mix", "fc3:1,fc3:2,fc1:9,fc4:3", "--duration", "1s"});
+    EXPECT_EQ(run.status, 0) << run.out << run.err;
+    expect_clean(run.report["nodes"][0]);
 }
 
 TEST(LoadCli, CtrlCEndsTheRunWithASummary) {

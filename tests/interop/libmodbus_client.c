@@ -39,7 +39,8 @@ int main(int argc, char** argv) {
     expect("coils 301..309", memcmp(bits_in + 1, bits_out, 9) == 0);
     /* 02: all off in the reference profile */
     if (modbus_read_input_bits(ctx, 0, 10, bits_in) != 10) fail("read input bits");
-    for (int i = 0; i < 10; ++i) expect("discrete input", bits_in[i] == 0);
+    for (int i = 0; i < 10; ++i)
+        expect("discrete input", bits_in[i] == 0);
 
     /* 06, 10, 03 */
     if (modbus_write_register(ctx, 400, 0xCAFE) != 1) fail("write register");
@@ -53,7 +54,8 @@ int main(int argc, char** argv) {
     if (modbus_read_registers(ctx, 0x1000, 125, regs_in) != 125) fail("read 125 registers");
     /* 04 */
     if (modbus_read_input_registers(ctx, 0, 4, regs_in) != 4) fail("read input registers");
-    for (int i = 0; i < 4; ++i) expect("input register", regs_in[i] == 0);
+    for (int i = 0; i < 4; ++i)
+        expect("input register", regs_in[i] == 0);
 
     /* 16: (0x0012 AND 0x00F2) OR (0x0025 AND NOT 0x00F2) = 0x0017 */
     if (modbus_write_register(ctx, 410, 0x0012) != 1) fail("write register");
@@ -76,8 +78,8 @@ int main(int argc, char** argv) {
 
     /* An exception: a range past 0xFFFF is "illegal data address". */
     errno = 0;
-    expect("exception 02", modbus_read_registers(ctx, 0xFFFF, 2, regs_in) == -1 &&
-                               errno == EMBXILADD);
+    expect("exception 02",
+           modbus_read_registers(ctx, 0xFFFF, 2, regs_in) == -1 && errno == EMBXILADD);
     /* Unit ids 0 and 0xFF reach the same unit. */
     modbus_set_slave(ctx, 0xFF);
     if (modbus_read_registers(ctx, 400, 1, regs_in) != 1) fail("read unit 255");
