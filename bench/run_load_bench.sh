@@ -3,7 +3,7 @@
 # (`mblab serve`), in the same run:
 #   1. a minimal C epoll client (bench/load_epoll_client.c: closed loop, one FC 03 request)
 #      and `mblab load --no-tests` with the same request, 16 connections each, in alternating
-#      rounds; mblab load must reach at least 90 % of the C client's best answers/s;
+#      rounds; mblab load's median answers/s must be at least 90 % of the C client's median;
 #   2. mblab load's answers/s and latency at 1, 16, 256 and 1000 connections, and at 16
 #      connections with --pipeline 8 (the C client's rate beside each, for scale).
 # Prints a table; exits 1 when the 90 % goal is missed.
@@ -57,8 +57,8 @@ print(f'{node["requests_per_s"]:.0f} {l["p50"]:.3f} {l["p99"]:.3f} {l["p99_9"]:.
 PY
 }
 
-best_c=0
-best_m=0
+c_rates=()
+m_rates=()
 echo "round  C epoll client (answers/s)  mblab load (answers/s)   [16 connections, FC 03 x $quantity]"
 for round in $(seq "$rounds"); do
     # Alternate who goes first, so a change in the machine's load favours neither.
@@ -70,11 +70,20 @@ for round in $(seq "$rounds"); do
         c=$(c_client 16)
     fi
     printf "%5s  %26s  %22s\n" "$round" "$c" "$m"
-    (( c > best_c )) && best_c=$c
-    (( m > best_m )) && best_m=$m
+    c_rates+=("$c")
+    m_rates+=("$m")
 done
-ratio=$(/usr/bin/python3 -c "print(f'{100 * $best_m / $best_c:.1f}')")
-echo "best: C $best_c, mblab load $best_m: $ratio % of the C client (goal: at least 90 %)"
+# The goal is judged on the medians, which one lucky or unlucky round does not move.
+read -r median_c median_m best_c best_m ratio < <(/usr/bin/python3 - "${c_rates[*]}" "${m_rates[*]}" <<'PY'
+import statistics, sys
+c = [float(x) for x in sys.argv[1].split()]
+m = [float(x) for x in sys.argv[2].split()]
+mc, mm = statistics.median(c), statistics.median(m)
+print(f"{mc:.0f} {mm:.0f} {max(c):.0f} {max(m):.0f} {100 * mm / mc:.1f}")
+PY
+)
+echo "median: C $median_c, mblab load $median_m: $ratio % of the C client (goal: at least 90 %)"
+echo "best:   C $best_c, mblab load $best_m"
 
 echo
 echo "connections  pipeline  mblab answers/s  p50 ms  p99 ms  p99.9 ms  failures  C client answers/s"
@@ -86,4 +95,4 @@ for setting in "1 1" "16 1" "256 1" "1000 1" "16 8"; do
         "$p999" "$failures" "$c"
 done
 
-/usr/bin/python3 -c "import sys; sys.exit(0 if $best_m >= 0.9 * $best_c else 1)"
+/usr/bin/python3 -c "import sys; sys.exit(0 if $median_m >= 0.9 * $median_c else 1)"

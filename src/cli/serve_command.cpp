@@ -1,4 +1,5 @@
 #include <fmt/core.h>
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -20,9 +21,13 @@
 #include "cli/commands.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
+#include "server/gateway.hpp"
+#include "server/rtu_tcp_server.hpp"
+#include "server/serial_server.hpp"
 #include "server/server_options.hpp"
 #include "server/state_file.hpp"
 #include "server/tcp_server.hpp"
+#include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
 
 // `mblab serve [PROFILE]`: the reference device over Modbus/TCP until SIGINT or SIGTERM.
@@ -46,6 +51,7 @@ struct ServeOptions {
     double save_interval = 10;
     bool stats = false;
     int devices = 1;
+    std::string gateway;
 };
 
 int usage_error(const std::string& message) {
@@ -150,9 +156,55 @@ bool save_state(const device::ReferenceDevice& device, const fs::path& path) {
     return false;
 }
 
+// --listen rtu:// or ascii://: the device on a serial line until SIGINT or SIGTERM, or until the
+// line fails (exit status 1).
+int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& device) {
+    asio::io_context io(1);
+    auto line = server::start_serial_server(io, device, url, server::device_line_hooks(device));
+    if (!line) return usage_error(line.error());
+    int status = kExitOk;
+    (*line)->on_failure([&](const std::string& why) {
+        fmt::print(stderr, "mblab serve: {}\n", why);
+        status = kExitFailed;
+        io.stop();
+    });
+    // Serial addressing: 0 is a broadcast; addresses without a unit are not answered.
+    fmt::print("mblab serve: {} profile on {}, addresses {}; stop with Ctrl-C\n",
+               device.profile().name, transport::format_serial_url(url),
+               fmt::join(device.unit_ids(), ","));
+    std::fflush(stdout);
+    asio::signal_set signals(io, SIGINT, SIGTERM);
+    signals.async_wait([&](const asio::error_code& ec, int) {
+        if (!ec) (*line)->stop();
+    });
+    io.run();
+    return status;
+}
+
 int run_serve(const ServeOptions& options) {
     std::string error;
-    auto endpoint = transport::parse_tcp_url(options.listen);
+    // rtu+tcp:// is a TCP listener whose sessions frame RTU; rtu:// and ascii:// are lines.
+    std::optional<transport::SerialUrl> serial;
+    if (transport::is_serial_url(options.listen)) {
+        auto url = transport::parse_serial_url(options.listen);
+        if (!url) return usage_error(url.error());
+        serial = std::move(url.value());
+    }
+    const bool rtu_over_tcp = serial && serial->kind == transport::SerialUrl::Kind::RtuOverTcp;
+    if (serial && !rtu_over_tcp && (options.devices != 1 || !options.gateway.empty())) {
+        return usage_error("--devices and --gateway need a tcp:// or rtu+tcp:// --listen");
+    }
+    std::unique_ptr<server::SerialGateway> gateway;
+    if (!options.gateway.empty()) {
+        auto url = transport::parse_serial_url(options.gateway);
+        if (!url) return usage_error(url.error());
+        auto made = server::make_gateway(*url);
+        if (!made) return usage_error(made.error());
+        gateway = std::move(made.value());
+    }
+    auto endpoint = serial
+                        ? protocol::Result<asio::ip::tcp::endpoint, std::string>(serial->endpoint)
+                        : transport::parse_tcp_url(options.listen);
     if (!endpoint) return usage_error(endpoint.error());
     auto profile_path = find_profile(options.profile, error);
     if (!profile_path) return usage_error(error);
@@ -183,6 +235,7 @@ int run_serve(const ServeOptions& options) {
     }
 
     std::signal(SIGPIPE, SIG_IGN);
+    if (serial && !rtu_over_tcp) return run_serial_line(*serial, first_device);
     asio::io_context io(1);
     std::vector<std::unique_ptr<server::TcpServer>> servers;
     std::vector<std::string> urls;
@@ -190,13 +243,20 @@ int run_serve(const ServeOptions& options) {
         auto config = server_config;
         auto* device = devices[i].get();
         config.on_busy_reply = [device](std::uint8_t unit) { device->count_busy_reply(unit); };
-        servers.push_back(std::make_unique<server::TcpServer>(io, *device, std::move(config)));
+        device::RequestHandler& handler =
+            gateway ? static_cast<device::RequestHandler&>(*gateway) : *device;
+        servers.push_back(
+            rtu_over_tcp
+                ? std::make_unique<server::TcpServer>(
+                      io, handler, config,
+                      server::rtu_session_starter(config, server::device_line_hooks(*device)))
+                : std::make_unique<server::TcpServer>(io, handler, std::move(config)));
         auto at = *endpoint;
         if (first_port != 0) at.port(static_cast<std::uint16_t>(first_port + i));
         auto port = servers.back()->start(at);
         if (!port) return usage_error(port.error());
         at.port(*port);
-        urls.push_back(transport::format_tcp_url(at));
+        urls.push_back((rtu_over_tcp ? "rtu+" : "") + transport::format_tcp_url(at));
     }
 
     std::string where = urls.front();
@@ -206,11 +266,15 @@ int run_serve(const ServeOptions& options) {
         for (std::size_t i = 1; i < urls.size(); ++i)
             where += ", " + urls[i];
     }
-    fmt::print("mblab serve: {} {} on {}, {}; stop with Ctrl-C\n",
-               devices.size() > 1
-                   ? fmt::format("{} {}", devices.size(), first_device.profile().name)
-                   : first_device.profile().name,
-               devices.size() > 1 ? "devices" : "profile", where, describe_units(first_device));
+    if (gateway) {
+        fmt::print("mblab serve: gateway on {} to {}; stop with Ctrl-C\n", where, options.gateway);
+    } else {
+        fmt::print("mblab serve: {} {} on {}, {}; stop with Ctrl-C\n",
+                   devices.size() > 1
+                       ? fmt::format("{} {}", devices.size(), first_device.profile().name)
+                       : first_device.profile().name,
+                   devices.size() > 1 ? "devices" : "profile", where, describe_units(first_device));
+    }
     std::fflush(stdout);
 
     asio::steady_timer save_timer(io);
@@ -254,8 +318,14 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_option("profile", options->profile,
                     "device profile: a TOML file or a shipped profile's name")
         ->capture_default_str();
-    cmd->add_option("--listen", options->listen, "address to listen on (port 0: any free port)")
+    cmd->add_option("--listen", options->listen,
+                    "address to listen on: tcp://HOST:PORT (port 0: any free port), "
+                    "rtu:///dev/ttyUSB0?baud=19200&parity=E&stop=1&data=8, ascii:///dev/... "
+                    "or rtu+tcp://HOST:PORT")
         ->capture_default_str();
+    cmd->add_option("--gateway", options->gateway,
+                    "forward TCP requests to devices on a serial line instead of serving the "
+                    "profile: rtu:///dev/ttyUSB0?baud=19200&units=1-247&timeout=1000 (ms)");
     cmd->add_option("--max-connections", options->max_connections,
                     "connections at once; when full the oldest idle one is closed (0: no limit)")
         ->capture_default_str();

@@ -30,6 +30,37 @@ for _ in $(seq 1 100); do
     sleep 0.1
 done
 
+# Modbus frames in the capture so far (dumpcap writes each packet as it comes).
+frames_captured() {
+    tshark -r "$WORK/capture.pcapng" -o "mbtcp.tcp.port:$PORT" -Y mbtcp 2>/dev/null | wc -l
+}
+# wait_for_frames N: until the capture holds N Modbus frames (at most 20 s; a busy machine may
+# start capturing, or write packets, a little late).
+wait_for_frames() {
+    for _ in $(seq 1 200); do
+        if [ "$(frames_captured)" -ge "$1" ]; then return 0; fi
+        sleep 0.1
+    done
+    echo "the capture holds $(frames_captured) Modbus frames, expected $1" >&2
+    exit 1
+}
+
+# A first exchange, not compared, shows the capture is running before the logged ones start.
+for _ in $(seq 1 20); do
+    "$MBLAB" read "$TARGET" holding 0 > /dev/null
+    if [ "$(frames_captured)" -ge 2 ]; then break; fi
+    sleep 0.5
+done
+# Every warm-up frame must be in the file before they are counted out: wait for the count to
+# settle on whole exchanges.
+WARMUP=0
+for _ in $(seq 1 50); do
+    sleep 0.3
+    now=$(frames_captured)
+    if [ "$now" -eq "$WARMUP" ] && [ $((now % 2)) -eq 0 ] && [ "$now" -ge 2 ]; then break; fi
+    WARMUP=$now
+done
+
 n=0
 decode() {  # decode ARGS...: runs mblab with --decode bytes, keeps its log
     n=$((n + 1))
@@ -44,8 +75,12 @@ decode write "$TARGET" register 9 0xBEEF
 decode raw "$TARGET" 41 00
 decode read "$TARGET" holding 0 1 --unit 255
 
-# Let the last segments reach the capture file, then stop tshark cleanly.
-sleep 1
+LOGS=""
+i=1
+while [ "$i" -le "$n" ]; do LOGS="$LOGS $WORK/decode.$i"; i=$((i + 1)); done
+# shellcheck disable=SC2086
+LOGGED=$(cat $LOGS | grep -c '^[<>] [0-9A-F][0-9A-F] ')
+wait_for_frames $((WARMUP + LOGGED))
 kill -INT "$TSHARK_PID"
 wait "$TSHARK_PID" || true
 TSHARK_PID=""
@@ -53,10 +88,8 @@ TSHARK_PID=""
 tshark -r "$WORK/capture.pcapng" -o "mbtcp.tcp.port:$PORT" -Y mbtcp -T fields \
     -e tcp.payload -e mbtcp.trans_id -e mbtcp.prot_id -e mbtcp.len -e mbtcp.unit_id \
     -e modbus.func_code -e modbus.reference_num -e modbus.word_cnt -e modbus.bit_cnt \
-    -e modbus.byte_cnt -e modbus.exception_code > "$WORK/fields.tsv" 2>/dev/null
-LOGS=""
-i=1
-while [ "$i" -le "$n" ]; do LOGS="$LOGS $WORK/decode.$i"; i=$((i + 1)); done
+    -e modbus.byte_cnt -e modbus.exception_code 2>/dev/null | tail -n +$((WARMUP + 1)) \
+    > "$WORK/fields.tsv"
 # shellcheck disable=SC2086
 /usr/bin/python3 "$HERE/check_client_decode.py" "$WORK/fields.tsv" $LOGS
 # The checker itself must see a difference: a log that lies about a quantity is refused.
