@@ -11,6 +11,7 @@
 #include "device/reference_device.hpp"
 #include "support/faulty_server.hpp"
 #include "support/ports.hpp"
+#include "support/temp_path.hpp"
 
 // `mblab conform` as users run it: exit statuses, console lines, report files.
 namespace mblab::conformance {
@@ -30,7 +31,7 @@ std::string slurp(const std::string& path) {
 }
 
 std::string temp(const std::string& name) {
-    return ::testing::TempDir() + "conform_cli_" + name;
+    return test::temp_path(name);
 }
 
 // Runs build/mblab with `args`; every wait is bounded.

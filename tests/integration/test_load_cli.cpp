@@ -18,6 +18,7 @@
 #include "device/reference_device.hpp"
 #include "server/background_server.hpp"
 #include "support/faulty_server.hpp"
+#include "support/temp_path.hpp"
 
 // `mblab load` against real servers on loopback: the verdict, the exit status, and counts
 // that must equal what the devices' fault rules did.
@@ -64,7 +65,7 @@ struct LoadRun {
 };
 
 std::string temp(const std::string& name) {
-    return ::testing::TempDir() + "load_cli_" + name;
+    return test::temp_path(name);
 }
 
 std::vector<std::string> load_argv(const std::string& name, const std::vector<std::string>& args) {

@@ -5,12 +5,13 @@
 
 #include "conformance/dut.hpp"
 #include "support/hex.hpp"
+#include "support/temp_path.hpp"
 
 namespace mblab::conformance {
 namespace {
 
 std::string write_temp(const std::string& text) {
-    std::string path = ::testing::TempDir() + "dut_test.toml";
+    std::string path = test::temp_path("dut.toml");
     std::ofstream(path) << text;
     return path;
 }

@@ -10,6 +10,7 @@
 #include "conformance/evidence_text.hpp"
 #include "conformance/reports.hpp"
 #include "support/hex.hpp"
+#include "support/temp_path.hpp"
 
 namespace mblab::conformance {
 namespace {
@@ -164,7 +165,7 @@ std::vector<CaptureEvent> sample_capture() {
 }
 
 TEST(PcapWriter, WritesRawIpv4WithConsistentSequenceNumbers) {
-    const std::string path = ::testing::TempDir() + "conform_test.pcap";
+    const std::string path = test::temp_path("conform.pcap");
     std::string error;
     ASSERT_TRUE(write_pcap(path, sample_capture(), error)) << error;
     int link_type = 0;
@@ -194,7 +195,7 @@ TEST(PcapWriter, WritesRawIpv4WithConsistentSequenceNumbers) {
 
 TEST(PcapWriter, TsharkDissectsModbusWithoutMalformedPackets) {
     if (!std::filesystem::exists("/usr/bin/tshark")) GTEST_SKIP() << "tshark is not installed";
-    const std::string path = ::testing::TempDir() + "conform_tshark.pcap";
+    const std::string path = test::temp_path("tshark.pcap");
     std::string error;
     ASSERT_TRUE(write_pcap(path, sample_capture(), error)) << error;
     const std::string command = "/usr/bin/tshark -r " + path +
