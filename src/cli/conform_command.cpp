@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "client/target.hpp"
 #include "conformance/capture.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/catalogue_paths.hpp"
@@ -20,7 +21,6 @@
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
 #include "server/background_server.hpp"
-#include "transport/tcp_url.hpp"
 
 // `mblab conform [TARGET]`: runs conformance suites against a device, or against the built-in
 // reference device when no target is given.
@@ -162,6 +162,21 @@ bool write_reports(const ConformOptions& options, const conf::RunResult& result,
     return options.pcap.empty() || conf::write_pcap(options.pcap, capture.events(), error);
 }
 
+// On RTU and ASCII, address 0 is a broadcast that is never answered: a device is tested at its
+// own address, 1 unless one is declared.
+bool check_serial_unit(const ConformOptions& options, conf::Dut& dut, std::string& error) {
+    if (options.dut_file.empty() && options.command->count("--unit") == 0) {
+        dut.unit = 1;
+        return true;
+    }
+    if (dut.unit >= 1 && dut.unit <= 247) return true;
+    error = fmt::format(
+        "unit {} is not a serial device address: on {} a device answers at an address from 1 "
+        "to 247 (0 is the broadcast); give it with --unit",
+        dut.unit, options.target);
+    return false;
+}
+
 int run_conform(const ConformOptions& options) {
     std::vector<conf::Suite> suites;
     std::string error;
@@ -172,12 +187,11 @@ int run_conform(const ConformOptions& options) {
     }
 
     conf::Dut dut;
-    std::string target = options.target;
     std::string note;
     std::unique_ptr<device::ReferenceDevice> device;
     std::unique_ptr<server::BackgroundServer> server;
-    client::Endpoint endpoint;
-    if (target.empty()) {
+    client::Target target;
+    if (options.target.empty()) {
         const auto profile = options.profile.empty() ? device::default_profile_path()
                                                      : std::filesystem::path(options.profile);
         auto loaded = device::read_profile(profile);
@@ -187,35 +201,39 @@ int run_conform(const ConformOptions& options) {
         server = std::make_unique<server::BackgroundServer>(*device);
         auto port = server->start();
         if (!port) return usage_error("cannot start the reference device: " + port.error());
-        endpoint = {"127.0.0.1", *port};
-        target = fmt::format("tcp://127.0.0.1:{}", *port);
+        target.tcp = client::Endpoint{"127.0.0.1", *port};
+        target.name = fmt::format("tcp://127.0.0.1:{}", *port);
         note = fmt::format("built-in reference device, profile {}", profile.string());
     } else {
-        if (target.starts_with("rtu+tcp://")) {
-            return usage_error(fmt::format("{}: RTU over TCP is not yet supported", target));
-        }
-        auto parsed = transport::parse_tcp_url(target);
+        auto parsed = client::parse_target(options.target);
         if (!parsed) return usage_error(parsed.error());
-        endpoint = {parsed->address().to_string(), parsed->port()};
-        target = transport::format_tcp_url(*parsed);
+        target = std::move(parsed.value());
     }
     if (!declare_dut(options, dut, error)) return usage_error(error);
+    if (!target.tcp) {
+        if (!options.pcap.empty()) {
+            return usage_error("--pcap records Modbus/TCP only; " + target.name +
+                               " is not a tcp:// target");
+        }
+        if (!check_serial_unit(options, dut, error)) return usage_error(error);
+    }
 
     conf::EngineOptions engine_options;
     engine_options.timeout = std::chrono::milliseconds(options.timeout_ms);
     engine_options.pipeline_depth = static_cast<std::size_t>(options.pipeline);
     conf::ConsoleReport console(stdout, stderr, ::isatty(STDERR_FILENO) != 0);
     conf::Capture capture;
-    conf::Session session(endpoint, dut, engine_options, options.pcap.empty() ? nullptr : &capture,
+    conf::Session session(target, dut, engine_options, options.pcap.empty() ? nullptr : &capture,
                           &console);
     client::LinkError link_error;
-    if (session.link(link_error) == nullptr) {
-        return usage_error(fmt::format("cannot connect to {}: {}", target, link_error.message));
+    if (!session.connect(link_error)) {
+        return usage_error(
+            fmt::format("cannot connect to {}: {}", target.name, link_error.message));
     }
 
-    console.header(target, session.dut(), note);
+    console.header(target.name, session.dut(), note);
     conf::Engine engine(session, &console);
-    conf::RunResult result = engine.run(suites, target);
+    conf::RunResult result = engine.run(suites, target.name);
     console.summary(result);
     if (!write_reports(options, result, capture, error)) return usage_error(error);
     return result.all_passed() ? kExitOk : kExitFailed;
@@ -227,11 +245,13 @@ void add_conform_command(CLI::App& app, CommandRunner& runner) {
     auto options = std::make_shared<ConformOptions>();
     CLI::App* cmd = app.add_subcommand(
         "conform",
-        "Run the conformance suites against a device (tcp://HOST[:PORT]); with no target, "
-        "against the built-in reference device");
+        "Run the conformance suites against a device (tcp://, rtu+tcp://, rtu://, ascii://); "
+        "with no target, against the built-in reference device");
     options->command = cmd;
-    cmd->add_option("target", options->target,
-                    "tcp://HOST[:PORT] of the device under test (port 502 by default)");
+    cmd->add_option(
+        "target", options->target,
+        "the device under test: tcp://HOST[:PORT] (port 502 by default), rtu+tcp://HOST:PORT, "
+        "rtu:///dev/ttyX?baud=19200&parity=E&stop=1 or ascii:///dev/ttyX?...");
     cmd->add_option("--suite", options->suites,
                     "suite to run, by name or TOML file; repeatable (default: every shipped "
                     "suite, policy first)");

@@ -22,6 +22,11 @@ protocol::Result<Target, std::string> parse_target(std::string_view text) {
     return target;
 }
 
+Framing framing_of(const Target& target) {
+    if (target.tcp) return Framing::Mbap;
+    return target.serial->kind == transport::SerialUrl::Kind::Ascii ? Framing::Ascii : Framing::Rtu;
+}
+
 protocol::Result<std::unique_ptr<Link>, LinkError> open_link(const Target& target,
                                                              std::chrono::milliseconds timeout) {
     if (target.tcp) return TcpLink::open(*target.tcp, target.name, timeout);

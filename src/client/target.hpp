@@ -21,6 +21,9 @@ struct Target {
     std::optional<transport::SerialUrl> serial;
 };
 
+// How frames are cut on the target's link: MBAP for tcp://, RTU for rtu:// and rtu+tcp://.
+Framing framing_of(const Target& target);
+
 // The error is one line naming the target and the expected form.
 protocol::Result<Target, std::string> parse_target(std::string_view text);
 

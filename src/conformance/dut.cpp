@@ -78,6 +78,8 @@ constexpr std::array kComputedFacts = {std::string_view("out_of_range_registers"
                                        std::string_view("echo_max_data"),
                                        std::string_view("echo_over_data")};
 
+constexpr std::string_view kMbapRequirement = "mbap";
+
 }  // namespace
 
 const std::vector<std::string_view>& dut_keys() {
@@ -155,7 +157,7 @@ protocol::Result<Requirement, std::string> parse_requirement(std::string_view te
     while (i < text.size() && (std::islower(static_cast<unsigned char>(text[i])) || text[i] == '_'))
         ++i;
     out.fact = std::string(text.substr(start, i - start));
-    if (!is_known_fact(out.fact)) {
+    if (!is_known_fact(out.fact) && out.fact != kMbapRequirement) {
         return fmt::format("requirement '{}' names no DUT fact", text);
     }
     skip_space();
@@ -179,6 +181,11 @@ protocol::Result<Requirement, std::string> parse_requirement(std::string_view te
 }
 
 std::optional<std::string> unmet(const Requirement& requirement, const Dut& dut) {
+    if (requirement.fact == kMbapRequirement) {
+        if (dut.serial_framing.empty()) return std::nullopt;
+        return fmt::format("a Modbus/TCP (MBAP) test; the device is reached over {}",
+                           dut.serial_framing);
+    }
     auto value = number_of(dut, requirement.fact);
     if (!value) {
         return fmt::format("the DUT does not declare {}", requirement.fact);

@@ -29,6 +29,10 @@ struct Dut {
     std::optional<std::uint16_t> file_number;
     std::optional<std::uint16_t> echo_max_words;  // FC 08/00 data limit (seed 001: 100)
 
+    // Empty over Modbus/TCP; "RTU", "ASCII" or "RTU over TCP" when the tester reaches the device
+    // over a serial framing, where cases that require "mbap" are N/A.
+    std::string serial_framing;
+
     std::string declared_by = "defaults";  // "flags", "dut.toml", "profile reference.toml"
 };
 
@@ -52,7 +56,8 @@ class DutFacts : public FactSource {
 
 bool is_known_fact(std::string_view name);
 
-// A `requires` entry: a fact name, optionally compared with a number ("coils >= 2000").
+// A `requires` entry: a fact name, optionally compared with a number ("coils >= 2000"), or
+// "mbap": the case tests the MBAP header or the TCP stream and needs a Modbus/TCP device.
 struct Requirement {
     std::string fact;
     std::string op;  // "", ">=", "<=", ">", "<", "==", "!="

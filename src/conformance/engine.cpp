@@ -130,7 +130,7 @@ Outcome Engine::run_case(const Case& c) {
 
 std::optional<Outcome> Engine::check_reachable() {
     client::LinkError error;
-    if (session_.link(error) != nullptr) return std::nullopt;
+    if (session_.connect(error)) return std::nullopt;
     // The device went away (perhaps an earlier case brought it down): nothing can be judged.
     return verdict(Verdict::NotRun, "cannot connect to the device: " + error.message);
 }
@@ -145,6 +145,10 @@ Outcome Engine::run_steps(const Case& c) {
                            fmt::format("the DUT does not declare {}", request.error().name));
         }
         resolved.request = render_bytes(request.value());
+        if (auto why =
+                mbap_only_reason(session_, c.pipeline, !step.split.empty(), resolved.request)) {
+            return verdict(Verdict::NotApplicable, *why);
+        }
         for (const auto& alternative : step.expect) {
             auto pattern = resolve(alternative.pattern, session_.facts());
             if (!pattern) {

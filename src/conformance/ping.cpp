@@ -84,13 +84,19 @@ Outcome run_ping(Session& session, const Case& c) {
     const auto payload = static_cast<std::size_t>(param(c, "payload"));
     const auto timeout = std::chrono::milliseconds(param(c, "timeout_ms"));
 
+    const auto host = session.host();
+    if (!host) {
+        return Outcome{Verdict::NotApplicable,
+                       fmt::format("the device is on a serial line ({}): it has no IP address",
+                                   session.dut().serial_framing),
+                       {}};
+    }
     addrinfo hints{};
     hints.ai_family = AF_INET;
     addrinfo* found = nullptr;
-    if (::getaddrinfo(session.endpoint().host.c_str(), nullptr, &hints, &found) != 0) {
-        return Outcome{Verdict::NotRun,
-                       fmt::format("cannot resolve {} to an IPv4 address", session.endpoint().host),
-                       {}};
+    if (::getaddrinfo(host->c_str(), nullptr, &hints, &found) != 0) {
+        return Outcome{
+            Verdict::NotRun, fmt::format("cannot resolve {} to an IPv4 address", *host), {}};
     }
     sockaddr_in target = *reinterpret_cast<sockaddr_in*>(found->ai_addr);
     ::freeaddrinfo(found);

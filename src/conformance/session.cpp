@@ -1,57 +1,176 @@
 #include "conformance/session.hpp"
 
+#include <fmt/core.h>
+
+#include <array>
 #include <thread>
+
+#include "client/adu_codec.hpp"
+#include "protocol/limits.hpp"
 
 namespace mblab::conformance {
 
-Session::Session(client::Endpoint endpoint, Dut dut, EngineOptions options,
+namespace {
+
+std::string framing_name(const client::Target& target) {
+    if (target.tcp) return {};
+    switch (target.serial->kind) {
+        case transport::SerialUrl::Kind::Rtu:
+            return "RTU";
+        case transport::SerialUrl::Kind::Ascii:
+            return "ASCII";
+        case transport::SerialUrl::Kind::RtuOverTcp:
+            return "RTU over TCP";
+    }
+    return "a serial framing";
+}
+
+Dut on_target(Dut dut, const client::Target& target) {
+    dut.serial_framing = framing_name(target);
+    return dut;
+}
+
+client::Target tcp_target(const client::Endpoint& endpoint) {
+    client::Target target;
+    target.name = fmt::format("tcp://{}:{}", endpoint.host, endpoint.port);
+    target.tcp = endpoint;
+    return target;
+}
+
+}  // namespace
+
+Session::Session(client::Target target, Dut dut, EngineOptions options,
                  client::LinkObserver* observer, Progress* progress)
-    : endpoint_(std::move(endpoint)),
-      dut_(std::move(dut)),
+    : target_(std::move(target)),
+      dut_(on_target(std::move(dut), target_)),
       facts_(dut_),
       options_(options),
       observer_(observer),
-      progress_(progress) {}
+      progress_(progress) {
+    // A serial line carries one request at a time.
+    if (!target_.tcp) options_.pipeline_depth = 1;
+}
 
-client::RawLink* Session::link(client::LinkError& error) {
-    if (link_ && link_->is_open()) return &*link_;
-    link_.reset();
-    auto connected = client::RawLink::connect(endpoint_, options_.connect_timeout, observer_);
-    if (!connected) {
-        error = connected.error();
-        return nullptr;
+Session::Session(const client::Endpoint& endpoint, Dut dut, EngineOptions options,
+                 client::LinkObserver* observer, Progress* progress)
+    : Session(tcp_target(endpoint), std::move(dut), options, observer, progress) {}
+
+std::optional<std::string> Session::host() const {
+    if (target_.tcp) return target_.tcp->host;
+    if (target_.serial->kind == transport::SerialUrl::Kind::RtuOverTcp) {
+        return target_.serial->endpoint.address().to_string();
     }
-    link_.emplace(std::move(connected.value()));
-    return &*link_;
+    return std::nullopt;
+}
+
+client::Framing Session::framing() const {
+    return client::framing_of(target_);
+}
+
+bool Session::connect(client::LinkError& error) {
+    if (target_.tcp) {
+        if (tcp_ && tcp_->is_open()) return true;
+        tcp_.reset();
+        auto connected =
+            client::RawLink::connect(*target_.tcp, options_.connect_timeout, observer_);
+        if (!connected) {
+            error = connected.error();
+            return false;
+        }
+        tcp_.emplace(std::move(connected.value()));
+        return true;
+    }
+    if (line_ && line_->is_open()) return true;
+    line_.reset();
+    auto opened = client::open_link(target_, options_.connect_timeout);
+    if (!opened) {
+        error = opened.error();
+        return false;
+    }
+    line_ = std::move(opened.value());
+    return true;
 }
 
 void Session::close() {
-    link_.reset();
+    tcp_.reset();
+    line_.reset();
 }
 
 bool Session::send(std::span<const std::uint8_t> bytes, std::size_t count, client::LinkError& error,
                    std::span<const std::size_t> split, std::chrono::milliseconds delay) {
-    client::RawLink* open = link(error);
-    if (open == nullptr) return false;
+    if (!connect(error)) return false;
     requests_ += count;
+    if (!tcp_) {
+        if (count != 1 || !split.empty()) {
+            error.message = "a serial line carries one whole request at a time";
+            return false;
+        }
+        return send_on_line(bytes, error);
+    }
     std::size_t from = 0;
     for (std::size_t cut : split) {
         if (cut <= from || cut >= bytes.size()) continue;
-        if (!open->send(bytes.subspan(from, cut - from), error)) return false;
+        if (!tcp_->send(bytes.subspan(from, cut - from), error)) return false;
         std::this_thread::sleep_for(delay);
         from = cut;
     }
-    return open->send(bytes.subspan(from), error);
+    return tcp_->send(bytes.subspan(from), error);
+}
+
+bool Session::send_on_line(std::span<const std::uint8_t> bytes, client::LinkError& error) {
+    auto parts = client::unwrap_frame(client::Framing::Mbap, bytes);
+    if (!parts) {
+        error.message = "not a plain Modbus/TCP request: " + parts.error();
+        return false;
+    }
+    line_transaction_ = parts->mbap ? parts->mbap->transaction_id : 0;
+    std::array<std::uint8_t, protocol::limits::kMaxAsciiChars> adu{};
+    const std::size_t size = client::wrap_pdu(line_->framing(), parts->unit, 0, parts->pdu, adu);
+    if (size == 0) {
+        error.message = "the request does not fit in one serial frame";
+        return false;
+    }
+    return line_->send(std::span(adu).first(size), error);
+}
+
+client::Received Session::from_line(client::Received received) const {
+    if (received.status != client::ReceiveStatus::Frame) return received;
+    auto parts = client::unwrap_frame(line_->framing(), received.bytes);
+    if (!parts) {
+        return {client::ReceiveStatus::Malformed, std::move(received.bytes), parts.error()};
+    }
+    std::array<std::uint8_t, protocol::limits::kMaxTcpAdu> adu{};
+    const std::size_t size =
+        client::wrap_pdu(client::Framing::Mbap, parts->unit, line_transaction_, parts->pdu, adu);
+    return {client::ReceiveStatus::Frame, {adu.begin(), adu.begin() + size}, {}};
 }
 
 client::Received Session::receive_frame(std::chrono::milliseconds timeout) {
-    if (!link_) return {client::ReceiveStatus::Closed, {}, "connection closed"};
-    return link_->receive_frame(timeout);
+    if (tcp_) return tcp_->receive_frame(timeout);
+    if (line_) return from_line(line_->receive_frame(timeout));
+    return {client::ReceiveStatus::Closed, {}, "connection closed"};
 }
 
 client::Received Session::receive_any(std::chrono::milliseconds timeout) {
-    if (!link_) return {client::ReceiveStatus::Closed, {}, "connection closed"};
-    return link_->receive_any(timeout);
+    if (tcp_) return tcp_->receive_any(timeout);
+    // On a line, anything the device sends arrives as a frame (or a framing error).
+    if (line_) return from_line(line_->receive_frame(timeout));
+    return {client::ReceiveStatus::Closed, {}, "connection closed"};
+}
+
+std::optional<std::string> mbap_only_reason(const Session& session, bool pipelined, bool split,
+                                            std::span<const std::uint8_t> request) {
+    if (session.framing() == client::Framing::Mbap) return std::nullopt;
+    const std::string& over = session.dut().serial_framing;
+    if (pipelined) {
+        return fmt::format("pipelined requests are a Modbus/TCP test; {} carries one at a time",
+                           over);
+    }
+    if (split) return fmt::format("a request split over TCP segments cannot be sent over {}", over);
+    auto parts = client::unwrap_frame(client::Framing::Mbap, request);
+    if (!parts)
+        return fmt::format("a Modbus/TCP header test ({}); not sent over {}", parts.error(), over);
+    return std::nullopt;
 }
 
 }  // namespace mblab::conformance

@@ -8,7 +8,9 @@
 #include <string_view>
 #include <vector>
 
+#include "client/link.hpp"
 #include "client/raw_link.hpp"
+#include "client/target.hpp"
 #include "conformance/dut.hpp"
 
 namespace mblab::conformance {
@@ -29,25 +31,35 @@ class Progress {
 
 // The connection to the device under test, shared by every case of a run. It reconnects when a
 // case left it closed or out of step, and counts the requests sent.
+//
+// Cases are written as Modbus/TCP frames. Over RTU, ASCII or RTU over TCP the session carries
+// each request's unit id and PDU in that framing, one request at a time, and hands the answer
+// back as an MBAP frame (the request's transaction id, unit id = the address that answered), so
+// every case is judged the same way; cases that test MBAP itself are N/A there (`requires mbap`).
 class Session {
   public:
-    Session(client::Endpoint endpoint, Dut dut, EngineOptions options,
+    Session(client::Target target, Dut dut, EngineOptions options,
+            client::LinkObserver* observer = nullptr, Progress* progress = nullptr);
+    Session(const client::Endpoint& endpoint, Dut dut, EngineOptions options,
             client::LinkObserver* observer = nullptr, Progress* progress = nullptr);
 
-    const client::Endpoint& endpoint() const { return endpoint_; }
+    // The IP host of the device: nullopt on a serial line.
+    std::optional<std::string> host() const;
+    client::Framing framing() const;
     const Dut& dut() const { return dut_; }
     const DutFacts& facts() const { return facts_; }
     const EngineOptions& options() const { return options_; }
     Progress* progress() const { return progress_; }
 
-    // The open connection, connecting first when needed; nullptr with `error` set when the device
+    // Opens the connection or port when it is not open; false with `error` set when the device
     // cannot be reached.
-    client::RawLink* link(client::LinkError& error);
+    bool connect(client::LinkError& error);
     // Closes the connection so the next case starts on a fresh one.
     void close();
 
     // Sends `count` requests held in `bytes`, written as pieces cut at `split` with `delay`
-    // between them (so they leave as separate TCP segments).
+    // between them (so they leave as separate TCP segments). Over a serial framing `bytes` must
+    // be whole MBAP frames that carry a plain request each, and `split` must be empty.
     bool send(std::span<const std::uint8_t> bytes, std::size_t count, client::LinkError& error,
               std::span<const std::size_t> split = {},
               std::chrono::milliseconds delay = std::chrono::milliseconds(0));
@@ -57,14 +69,24 @@ class Session {
     std::size_t requests() const { return requests_; }
 
   private:
-    client::Endpoint endpoint_;
+    bool send_on_line(std::span<const std::uint8_t> bytes, client::LinkError& error);
+    client::Received from_line(client::Received received) const;
+
+    client::Target target_;
     Dut dut_;
     DutFacts facts_;
     EngineOptions options_;
     client::LinkObserver* observer_;
     Progress* progress_;
-    std::optional<client::RawLink> link_;
+    std::optional<client::RawLink> tcp_;  // Modbus/TCP
+    std::unique_ptr<client::Link> line_;  // RTU, ASCII, RTU over TCP
+    std::uint16_t line_transaction_ = 0;  // of the request last sent on the line
     std::size_t requests_ = 0;
 };
+
+// Why a case cannot run over the session's framing (pipelined or split requests are TCP stream
+// tests; a request whose MBAP header is not plain tests MBAP), or nothing.
+std::optional<std::string> mbap_only_reason(const Session& session, bool pipelined, bool split,
+                                            std::span<const std::uint8_t> request);
 
 }  // namespace mblab::conformance

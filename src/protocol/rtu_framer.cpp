@@ -63,7 +63,9 @@ FrameEvent RtuFramer::feed(std::span<const std::uint8_t> input, std::size_t& con
     for (;;) {
         const RtuFrameLength length = rtu_frame_length(direction_, held());
         std::size_t want = 0;
-        if (length.kind == Kind::Unknown) {
+        // A layout announcing more than an RTU frame holds (a byte count that lies) gives no end:
+        // silence does, and the PDU decoder then answers the lie with exception 03.
+        if (length.kind == Kind::Unknown || length.bytes > kMaxFrame) {
             const bool by_crc = unknown_length_ == UnknownLength::EndOnCrcMatch;
             if (by_crc && held_ >= kMinFrame && crc_matches_held()) return drop(check_crc(held()));
             if (held_ == kMaxFrame && consumed < input.size()) {
@@ -72,9 +74,6 @@ FrameEvent RtuFramer::feed(std::span<const std::uint8_t> input, std::size_t& con
             }
             // Matching the CRC needs a look after every byte.
             want = by_crc ? 1 : kMaxFrame - held_;
-        } else if (length.bytes > kMaxFrame) {
-            return drop(frame_error(error_.format("function 0x%02X frame of %zu bytes exceeds %zu",
-                                                  unsigned{buffer_[1]}, length.bytes, kMaxFrame)));
         } else if (length.kind == Kind::Known && held_ == length.bytes) {
             return drop(check_crc(held()));
         } else {

@@ -25,8 +25,11 @@ namespace mblab::protocol {
 // new frame. When a corrupted length field put the framer out of step, the next silence puts it
 // back: silence always ends whatever is held, so the frame after it is never lost.
 //
-// Errors: CRC mismatch; a layout announcing more than 256 bytes; more than 256 bytes without an
-// end; a frame under 4 bytes at silence; an incomplete frame at silence.
+// A layout announcing more than 256 bytes (a byte count beyond the frame) is treated as one that
+// gives no length: silence, or a CRC match on links without silence, ends the frame.
+//
+// Errors: CRC mismatch; more than 256 bytes without an end; a frame under 4 bytes at silence; an
+// incomplete frame at silence.
 class RtuFramer {
   public:
     // What ends a frame whose layout does not give its length (unknown function codes, FC 08

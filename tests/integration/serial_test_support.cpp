@@ -16,6 +16,7 @@
 #include "device/profile_paths.hpp"
 #include "protocol/crc16.hpp"
 #include "protocol/lrc.hpp"
+#include "server/rtu_tcp_server.hpp"
 #include "support/hex.hpp"
 
 extern char** environ;
@@ -215,6 +216,26 @@ std::string DeviceOnLine::start(const std::string& profile_name, const std::stri
     if (!error.empty() || !open_master) return error;
     master_ = std::make_unique<RawSerialMaster>(pty_->client_end());
     return master_->ok() ? "" : "cannot open " + pty_->client_end();
+}
+
+std::string DeviceOnRtuTcp::start(server::ServerOptions options) {
+    auto loaded = device::load_profile(device::default_profile_path());
+    if (!loaded) return loaded.error();
+    device_ = std::move(loaded.value());
+    server_ = std::make_unique<server::TcpServer>(
+        io_, *device_, options,
+        server::rtu_session_starter(options, server::device_line_hooks(*device_)));
+    auto port = server_->start({asio::ip::address_v4::loopback(), 0});
+    if (!port) return port.error();
+    port_ = *port;
+    thread_ = std::thread([this] { io_.run(); });
+    return {};
+}
+
+DeviceOnRtuTcp::~DeviceOnRtuTcp() {
+    if (!thread_.joinable()) return;
+    asio::post(io_, [this] { server_->stop(); });
+    thread_.join();
 }
 
 DeviceOnLine::~DeviceOnLine() {

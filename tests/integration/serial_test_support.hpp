@@ -17,6 +17,7 @@
 #include "device/reference_device.hpp"
 #include "device/request_handler.hpp"
 #include "server/serial_server.hpp"
+#include "server/tcp_server.hpp"
 #include "transport/serial_url.hpp"
 
 // What serial-line tests share: a pseudo-terminal pair from socat, a raw master on one end,
@@ -117,6 +118,25 @@ class DeviceOnLine {
     std::unique_ptr<device::ReferenceDevice> device_;
     SerialServerThread server_;
     std::unique_ptr<RawSerialMaster> master_;
+};
+
+// The reference device (default profile) answering RTU frames over TCP on a loopback port, served
+// on its own thread.
+class DeviceOnRtuTcp {
+  public:
+    // "" or what failed.
+    std::string start(server::ServerOptions options = {});
+    ~DeviceOnRtuTcp();
+
+    std::uint16_t port() const { return port_; }
+    const server::TcpServer& server() const { return *server_; }
+
+  private:
+    asio::io_context io_;
+    std::unique_ptr<device::ReferenceDevice> device_;
+    std::unique_ptr<server::TcpServer> server_;
+    std::thread thread_;
+    std::uint16_t port_ = 0;
 };
 
 // Runs a command with a timeout; returns its exit status (-1 when it could not run or was

@@ -90,13 +90,6 @@ TEST(ConformCli, AnUnreachableTargetIsAUsageErrorOnOneLine) {
     EXPECT_EQ(ran.out, "");
 }
 
-TEST(ConformCli, RtuOverTcpIsNotYetSupported) {
-    auto ran = mblab({"conform", "rtu+tcp://127.0.0.1:502"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab conform: rtu+tcp://127.0.0.1:502: RTU over TCP is not yet supported\n");
-}
-
 TEST(ConformCli, AMalformedUserSuiteIsRefusedWithFileAndLine) {
     const std::string suite = temp("bad_suite.toml");
     std::ofstream(suite) << "[suite]\nname = \"mine\"\n\n[[case]]\nid = \"m.1\"\nsource = \"me\"\n"

@@ -2,17 +2,12 @@
 // with serial addressing.
 #include <gtest/gtest.h>
 
-#include <asio/io_context.hpp>
-#include <asio/post.hpp>
 #include <memory>
 #include <string>
-#include <thread>
 
 #include "blocking_client.hpp"
-#include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
 #include "serial_test_support.hpp"
-#include "server/rtu_tcp_server.hpp"
 #include "support/hex.hpp"
 
 namespace mblab::test {
@@ -21,23 +16,10 @@ namespace {
 class RtuOverTcp : public ::testing::Test {
   protected:
     void SetUp() override {
-        auto loaded = device::load_profile(device::default_profile_path());
-        ASSERT_TRUE(loaded) << loaded.error();
-        device_ = std::move(loaded.value());
         server::ServerOptions options;
         options.partial_frame_timeout = 50ms;
-        server_ = std::make_unique<server::TcpServer>(
-            io_, *device_, options,
-            server::rtu_session_starter(options, server::device_line_hooks(*device_)));
-        auto port = server_->start({asio::ip::address_v4::loopback(), 0});
-        ASSERT_TRUE(port) << port.error();
-        port_ = *port;
-        thread_ = std::thread([this] { io_.run(); });
-    }
-    void TearDown() override {
-        if (!thread_.joinable()) return;
-        asio::post(io_, [this] { server_->stop(); });
-        thread_.join();
+        ASSERT_EQ(device_.start(options), "");
+        port_ = device_.port();
     }
     // Sends `frames` (hex) and reads as many bytes as `expected` (hex) has.
     std::string exchange(BlockingClient& client, const std::string& frames,
@@ -46,10 +28,7 @@ class RtuOverTcp : public ::testing::Test {
         return to_hex(client.read(hex(expected).size()));
     }
 
-    asio::io_context io_;
-    std::unique_ptr<device::ReferenceDevice> device_;
-    std::unique_ptr<server::TcpServer> server_;
-    std::thread thread_;
+    DeviceOnRtuTcp device_;
     std::uint16_t port_ = 0;
 };
 
@@ -94,7 +73,7 @@ TEST_F(RtuOverTcp, DropsGarbageAfterTheFrameTimeoutAndCountsIt) {
     std::this_thread::sleep_for(200ms);  // past the 50 ms an unfinished frame may wait
     EXPECT_EQ(exchange(client, rtu("01 08 00 0C 00 00"), rtu("01 08 00 0C 00 01")),
               rtu("01 08 00 0C 00 01"));
-    EXPECT_EQ(server::ServerStats::read(server_->stats().frames_dropped), 1u);
+    EXPECT_EQ(server::ServerStats::read(device_.server().stats().frames_dropped), 1u);
 }
 
 // Interop: pymodbus's TCP client with its RTU framer.

@@ -256,10 +256,33 @@ TEST(RtuFramer, MoreThan256BytesWithoutAnEndIsAnError) {
     EXPECT_EQ(events[1], frame_of(rtu(1, "07")));
 }
 
-TEST(RtuFramer, LayoutAnnouncingMoreThan256BytesIsAnError) {
-    const auto events = run_all_chunkings(kResponses, Segments{hex("01 03 FC 00 00")});
+TEST(RtuFramer, LayoutAnnouncingMoreThan256BytesEndsAtSilence) {
+    // FC 10 for 124 registers: the byte count says 248 bytes, 246 fit in the 256-byte frame.
+    std::vector<std::uint8_t> pdu = hex("10 01 00 00 7C F8");
+    pdu.resize(252, 0x5A);
+    std::vector<std::uint8_t> adu(256);
+    adu.resize(write_rtu_adu(1, pdu, adu));
+    ASSERT_EQ(adu.size(), 255U);
+    const auto events = run_all_chunkings(kRequests, Segments{adu}, true);
     ASSERT_EQ(events.size(), 1U);
-    EXPECT_EQ(events[0], error("function 0x03 frame of 257 bytes exceeds 256"));
+    EXPECT_EQ(events[0], frame_of(adu));
+
+    const auto cut = run_all_chunkings(kResponses, Segments{hex("01 03 FC 00 00")}, true);
+    ASSERT_EQ(cut.size(), 1U);
+    EXPECT_EQ(cut[0], error("incomplete frame: silence after 5 bytes, layout needs 257",
+                            hex("01 03 FC 00 00")));
+}
+
+TEST(RtuFramer, LayoutAnnouncingMoreThan256BytesEndsOnCrcMatchWithoutSilence) {
+    std::vector<std::uint8_t> pdu = hex("17 00 70 00 01 01 00 00 7A F4");
+    pdu.resize(252, 0xA5);
+    std::vector<std::uint8_t> adu(256);
+    adu.resize(write_rtu_adu(1, pdu, adu));
+    RtuFramer framer{Direction::Request, RtuFramer::UnknownLength::EndOnCrcMatch};
+    std::size_t consumed = 0;
+    const FrameEvent event = framer.feed(adu, consumed);
+    EXPECT_EQ(event.status, FrameStatus::Frame);
+    EXPECT_EQ(consumed, adu.size());
 }
 
 TEST(RtuFramer, DirectionChoosesTheLayout) {
