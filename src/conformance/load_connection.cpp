@@ -11,7 +11,6 @@
 #include <cerrno>
 #include <cstring>
 
-#include "conformance/judge.hpp"
 #include "protocol/limits.hpp"
 
 namespace mblab::conformance {
@@ -48,24 +47,6 @@ const char* socket_error_text(int code) {
 void put_tid(std::span<std::uint8_t> adu, std::uint16_t tid) {
     adu[0] = static_cast<std::uint8_t>(tid >> 8);
     adu[1] = static_cast<std::uint8_t>(tid & 0xFF);
-}
-
-// The expected answers as they apply to one request on the wire: with its transaction id in
-// place of the catalogue's, so the evidence marks only bytes that really differ.
-std::vector<ResolvedPattern> with_transaction_id(const std::vector<ResolvedPattern>& expect,
-                                                 std::uint16_t tid) {
-    std::vector<ResolvedPattern> out = expect;
-    for (auto& pattern : out) {
-        const std::uint8_t bytes[2] = {static_cast<std::uint8_t>(tid >> 8),
-                                       static_cast<std::uint8_t>(tid & 0xFF)};
-        for (std::size_t i = 0; i < 2 && i < pattern.tokens.size(); ++i) {
-            auto& token = pattern.tokens[i];
-            if (token.kind == PatternToken::Kind::Byte || token.kind == PatternToken::Kind::Any) {
-                token = {PatternToken::Kind::Byte, bytes[i], {}};
-            }
-        }
-    }
-    return out;
 }
 
 }  // namespace
@@ -216,23 +197,11 @@ void LoadConnection::tick(LoadClock::time_point now) {
 }
 
 bool LoadConnection::next_exchange(std::uint32_t& out) {
-    const LoadPlan& plan = context_.plan;
     if (role_ == Role::Traffic) {
-        const auto& sums = plan.mix_cumulative;
-        const std::uint64_t pick = prng_.next() % sums.back();
-        const auto at = std::upper_bound(sums.begin(), sums.end(), pick) - sums.begin();
-        out = static_cast<std::uint32_t>(plan.test_exchanges + static_cast<std::size_t>(at));
+        out = next_mix_exchange(context_.plan, prng_);
         return true;
     }
-    for (std::size_t tried = 0; tried < plan.test_exchanges; ++tried) {
-        const std::size_t index = test_cursor_;
-        test_cursor_ = (test_cursor_ + 1) % plan.test_exchanges;
-        if (tally_.not_applicable[plan.exchanges[index].test_case].empty()) {
-            out = static_cast<std::uint32_t>(index);
-            return true;
-        }
-    }
-    return false;
+    return next_test_exchange(context_.plan, tally_, test_cursor_, out);
 }
 
 LoadConnection::Slot& LoadConnection::take_slot() {
@@ -395,16 +364,10 @@ void LoadConnection::answer(std::span<const std::uint8_t> frame, LoadClock::time
     }
     tally_.latency.record(
         static_cast<std::uint64_t>(duration_cast<microseconds>(now - slot->sent_at).count()));
-    const LoadExchange& exchange = context_.plan.exchanges[slot->exchange];
     std::optional<FailureKind> failure =
-        tid_matches ? judge_answer(exchange.answers, frame) : FailureKind::WrongAnswer;
-    if (failure && role_ == Role::Tests && exchange.first_step &&
-        context_.plan.cases[exchange.test_case].unsupported_is_na &&
-        is_illegal_function_answer(exchange.request, frame)) {
-        tally_.not_applicable[exchange.test_case] = fmt::format(
-            "N/A: the device answered exception 01 to function {:02X}", exchange.request[7]);
-        failure.reset();
-    }
+        tid_matches
+            ? judge_load_answer(context_.plan, tally_, role_ == Role::Tests, slot->exchange, frame)
+            : FailureKind::WrongAnswer;
     if (failure) fail(*failure, slot, {client::ReceiveStatus::Frame, frame, {}}, now);
     release(*slot);
 }
@@ -426,36 +389,14 @@ void LoadConnection::expire(LoadClock::time_point now) {
     }
 }
 
-void LoadConnection::fail(FailureKind kind, const Slot* slot, const Seen& seen,
+void LoadConnection::fail(FailureKind kind, const Slot* slot, const LoadSeen& seen,
                           LoadClock::time_point now, std::string_view reason) {
-    tally_.failures[static_cast<std::size_t>(kind)].add();
-    if (slot != nullptr) tally_.exchange(slot->exchange).failed.add();
-    if (tally_.first_failure) return;
-    // Only the node's first failure keeps its evidence: the only allocation after setup.
-    client::Received received{
-        seen.status, {seen.bytes.begin(), seen.bytes.end()}, std::string(seen.detail)};
-    FailureRecord record;
-    record.kind = kind;
-    record.at = duration_cast<microseconds>(now - context_.start);
-    const auto timeout = context_.plan.settings.timeout;
-    if (slot != nullptr) {
-        const LoadExchange& exchange = context_.plan.exchanges[slot->exchange];
-        std::vector<std::uint8_t> sent = exchange.request;
-        put_tid(sent, slot->tid);
-        record.exchange = exchange.name;
-        record.evidence = judge(sent, std::move(received), timeout,
-                                with_transaction_id(exchange.expect, slot->tid))
-                              .exchange;
-    } else {
-        record.evidence.status = received.status;
-        record.evidence.received = std::move(received.bytes);
-        record.evidence.detail = std::move(received.detail);
-        record.evidence.waited = timeout;
+    if (slot == nullptr) {
+        count_failure(tally_, context_.plan, context_.start, kind, nullptr, seen, now, reason);
+        return;
     }
-    // A given reason is a prefix for the detail ("cannot connect: " "connection refused").
-    record.reason = reason.empty() ? describe_failure(record.evidence)
-                                   : std::string(reason) + std::string(seen.detail);
-    tally_.first_failure = std::move(record);
+    const LoadSent sent{slot->exchange, slot->tid};
+    count_failure(tally_, context_.plan, context_.start, kind, &sent, seen, now, reason);
 }
 
 }  // namespace mblab::conformance

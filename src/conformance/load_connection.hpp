@@ -11,13 +11,12 @@
 #include "client/raw_link.hpp"
 #include "conformance/load_answer.hpp"
 #include "conformance/load_event_loop.hpp"
+#include "conformance/load_exchanges.hpp"
 #include "conformance/load_plan.hpp"
 #include "conformance/load_tally.hpp"
 #include "device/prng.hpp"
 
 namespace mblab::conformance {
-
-using LoadClock = std::chrono::steady_clock;
 
 // What the connections of one worker thread share.
 struct WorkerContext {
@@ -88,15 +87,8 @@ class LoadConnection {
         return {in_.data() + in_begin_, in_end_ - in_begin_};
     }
 
-    // What came back instead of the right answer; views, copied only into the evidence.
-    struct Seen {
-        client::ReceiveStatus status = client::ReceiveStatus::Timeout;
-        std::span<const std::uint8_t> bytes;
-        std::string_view detail;
-    };
-    // Counts a failure; the node's first keeps its evidence. `reason`, when given, goes before
-    // the detail as the one-line reason; otherwise the reason is judged from the exchange.
-    void fail(FailureKind kind, const Slot* slot, const Seen& seen, LoadClock::time_point now,
+    // Counts a failure (count_failure); `slot` names the exchange, when one was sent.
+    void fail(FailureKind kind, const Slot* slot, const LoadSeen& seen, LoadClock::time_point now,
               std::string_view reason = {});
     void set_write_interest(bool want);
 
