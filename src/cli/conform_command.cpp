@@ -169,12 +169,9 @@ bool check_serial_unit(const ConformOptions& options, conf::Dut& dut, std::strin
         dut.unit = 1;
         return true;
     }
-    if (dut.unit >= 1 && dut.unit <= 247) return true;
-    error = fmt::format(
-        "unit {} is not a serial device address: on {} a device answers at an address from 1 "
-        "to 247 (0 is the broadcast); give it with --unit",
-        dut.unit, options.target);
-    return false;
+    auto problem = conf::serial_address_error(dut.unit, options.target);
+    if (problem) error = *problem;
+    return !problem;
 }
 
 int run_conform(const ConformOptions& options) {

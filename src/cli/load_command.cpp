@@ -16,6 +16,7 @@
 
 #include "cli/commands.hpp"
 #include "client/raw_link.hpp"
+#include "client/target.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/catalogue_paths.hpp"
 #include "conformance/load_mix.hpp"
@@ -23,6 +24,7 @@
 #include "conformance/load_report.hpp"
 #include "conformance/load_runner.hpp"
 #include "conformance/reports.hpp"
+#include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
 
 // `mblab load TARGET...`: the interoperability test of seed 000 section 8. The protocol tests
@@ -102,6 +104,17 @@ protocol::Result<conf::Dut, std::string> declared_dut(const LoadOptions& options
 
 protocol::Result<conf::LoadTarget, std::string> make_target(const std::string& text,
                                                             std::chrono::milliseconds timeout) {
+    if (transport::is_serial_url(text)) {
+        auto parsed = client::parse_target(text);
+        if (!parsed) return parsed.error();
+        conf::LoadTarget target;
+        target.url = parsed->name;
+        // A line that cannot be opened is a setup error, as an unreachable TCP node is.
+        auto link = client::open_link(*parsed, std::max(timeout, std::chrono::milliseconds(1000)));
+        if (!link) return fmt::format("cannot open {}: {}", target.url, link.error().message);
+        target.line = std::move(parsed.value());
+        return target;
+    }
     auto endpoint = transport::parse_tcp_url(text);
     if (!endpoint) return endpoint.error();
     conf::LoadTarget target;
@@ -113,6 +126,20 @@ protocol::Result<conf::LoadTarget, std::string> make_target(const std::string& t
         client::RawLink::connect({endpoint->address().to_string(), endpoint->port()}, timeout);
     if (!link) return fmt::format("cannot connect to {}: {}", target.url, link.error().message);
     return target;
+}
+
+// On RTU and ASCII lines address 0 is a broadcast that is never answered: with a line among the
+// nodes, the unit is 1 unless one is declared, and a declared one must be an address (1-247).
+std::optional<std::string> check_line_unit(const LoadOptions& options, const conf::LoadPlan& plan,
+                                           conf::Dut& dut) {
+    const auto line = std::find_if(plan.targets.begin(), plan.targets.end(),
+                                   [](const conf::LoadTarget& target) { return target.line; });
+    if (line == plan.targets.end()) return std::nullopt;
+    if (options.dut_file.empty() && options.command->count("--unit") == 0) {
+        dut.unit = 1;
+        return std::nullopt;
+    }
+    return conf::serial_address_error(dut.unit, line->url);
 }
 
 protocol::Result<conf::LoadPlan, std::string> make_plan(const LoadOptions& options) {
@@ -129,8 +156,18 @@ protocol::Result<conf::LoadPlan, std::string> make_plan(const LoadOptions& optio
     s.seed = options.seed;
     s.tests = !options.no_tests;
 
+    std::set<std::string> seen;
+    for (const auto& text : options.targets) {
+        auto target = make_target(text, s.timeout);
+        if (!target) return target.error();
+        if (!seen.insert(target->url).second) {
+            return fmt::format("{} is given twice; each node is one device", target->url);
+        }
+        plan.targets.push_back(std::move(target.value()));
+    }
     auto dut = declared_dut(options);
     if (!dut) return dut.error();
+    if (auto error = check_line_unit(options, plan, *dut)) return *error;
     if (s.tests) {
         const std::string dir =
             options.catalogue.empty() ? conf::catalogue_dir().string() : options.catalogue;
@@ -154,18 +191,9 @@ protocol::Result<conf::LoadPlan, std::string> make_plan(const LoadOptions& optio
             "nothing to run: no protocol test applies and --connections is 0 (see --case, "
             "--suite, --connections)");
     }
-    std::set<std::string> seen;
-    for (const auto& text : options.targets) {
-        auto target = make_target(text, s.timeout);
-        if (!target) return target.error();
-        if (!seen.insert(target->url).second) {
-            return fmt::format("{} is given twice; each node is one device", target->url);
-        }
-        plan.targets.push_back(std::move(target.value()));
-    }
     // One thread per core at most: more would only take turns.
     const std::size_t cores = std::max(1U, std::thread::hardware_concurrency());
-    s.threads = std::min({s.threads, plan.total_connections(), cores});
+    s.threads = std::min({s.threads, std::max<std::size_t>(plan.tcp_connections(), 1), cores});
     return plan;
 }
 
@@ -230,7 +258,11 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
         "Interoperability test (seed 000 section 8): the protocol tests in a loop on every "
         "node at once under generated traffic, counting every failure; also a load generator");
     options->command = cmd;
-    cmd->add_option("targets", options->targets, "tcp://HOST[:PORT] of each node")->required();
+    cmd->add_option(
+           "targets", options->targets,
+           "each node: tcp://HOST[:PORT], rtu+tcp://HOST:PORT, rtu:///dev/ttyX?baud=19200&parity=E "
+           "or ascii:///dev/ttyX?...")
+        ->required();
     cmd->add_option("--duration", options->duration,
                     "how long to run: 1h (the policy's), 10m, 30s, 1500ms, 1h30m")
         ->capture_default_str();

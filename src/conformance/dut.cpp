@@ -203,4 +203,12 @@ std::optional<std::string> unmet(const Requirement& requirement, const Dut& dut)
     return fmt::format("needs {}; the DUT declares {} = {}", requirement.text, requirement.fact, v);
 }
 
+std::optional<std::string> serial_address_error(std::uint8_t unit, std::string_view target) {
+    if (unit >= 1 && unit <= 247) return std::nullopt;
+    return fmt::format(
+        "unit {} is not a serial device address: on {} a device answers at an address from 1 "
+        "to 247 (0 is the broadcast); give it with --unit",
+        unit, target);
+}
+
 }  // namespace mblab::conformance

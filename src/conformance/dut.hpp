@@ -36,6 +36,10 @@ struct Dut {
     std::string declared_by = "defaults";  // "flags", "dut.toml", "profile reference.toml"
 };
 
+// On RTU and ASCII framings a device answers at an address from 1 to 247 (0 is the broadcast,
+// never answered): the one-line error for any other unit, naming `target`.
+std::optional<std::string> serial_address_error(std::uint8_t unit, std::string_view target);
+
 // Keys of a DUT file, which are also the names `requires` and placeholders may use.
 const std::vector<std::string_view>& dut_keys();
 

@@ -176,4 +176,16 @@ std::string format_duration_words(std::chrono::milliseconds duration) {
     return out;
 }
 
+std::size_t LoadPlan::tcp_connections() const {
+    std::size_t count = 0;
+    const bool tests = settings.tests && !cases.empty();
+    for (const auto& target : targets) {
+        if (tests && !target.line) ++count;
+    }
+    for (std::size_t i = 0; i < settings.connections && !targets.empty(); ++i) {
+        if (!targets[node_of_traffic(i)].line) ++count;
+    }
+    return count;
+}
+
 }  // namespace mblab::conformance

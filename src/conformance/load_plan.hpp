@@ -6,10 +6,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "client/target.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/dut.hpp"
 #include "conformance/load_answer.hpp"
@@ -51,9 +53,10 @@ struct LeftOut {
 
 // A node: a device under test, by address.
 struct LoadTarget {
-    std::string url;  // "tcp://127.0.0.1:1502"
-    sockaddr_storage address{};
+    std::string url;             // "tcp://127.0.0.1:1502"
+    sockaddr_storage address{};  // Modbus/TCP nodes
     socklen_t address_size = 0;
+    std::optional<client::Target> line;  // RTU, ASCII and RTU over TCP nodes (LoadLineWorker)
 };
 
 struct LoadSettings {
@@ -78,9 +81,15 @@ struct LoadPlan {
     std::vector<std::uint64_t> mix_cumulative;  // running sum of the weights
     LoadSettings settings;
 
+    // Every sender: the generator's connections plus one per node for the tests. On a line node
+    // these are not connections but turns on the line (LoadLineWorker).
     std::size_t total_connections() const {
         return settings.connections + (settings.tests && !cases.empty() ? targets.size() : 0);
     }
+    // The generator's connection `i` goes to node i % nodes.
+    std::size_t node_of_traffic(std::size_t i) const { return i % targets.size(); }
+    // The senders that are Modbus/TCP connections.
+    std::size_t tcp_connections() const;
 };
 
 // Adds the cases of `suites` that are plain request/response exchanges and apply to `dut`:

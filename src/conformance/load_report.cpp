@@ -152,7 +152,7 @@ std::string load_header(const LoadPlan& plan) {
         std::string suites;
         for (const auto& name : plan.suites)
             suites += (suites.empty() ? "" : ", ") + name;
-        out += fmt::format("  protocol tests: {} from {} ({}), one connection per node\n",
+        out += fmt::format("  protocol tests: {} from {} ({}), one connection (or line) per node\n",
                            plural(plan.cases.size(), "case", "cases"), suites,
                            plural(plan.test_exchanges, "exchange", "exchanges"));
     } else {

@@ -4,6 +4,7 @@
 #include <memory>
 #include <thread>
 
+#include "conformance/load_line.hpp"
 #include "conformance/load_worker.hpp"
 
 namespace mblab::conformance {
@@ -15,16 +16,19 @@ using std::chrono::milliseconds;
 using Role = LoadConnection::Role;
 
 // The protocol tests get one connection per node; the generator's connections go round the
-// nodes. Threads take connections in turn, so each carries a share of every kind.
+// nodes. Threads take connections in turn, so each carries a share of every kind. Line nodes
+// have a thread of their own (line_threads).
 std::vector<std::vector<ConnectionSpec>> share_out(const LoadPlan& plan, std::size_t threads) {
     std::vector<ConnectionSpec> all;
     const std::size_t nodes = plan.targets.size();
     if (plan.settings.tests && plan.test_exchanges > 0) {
-        for (std::size_t node = 0; node < nodes; ++node)
-            all.push_back({node, Role::Tests, 0});
+        for (std::size_t node = 0; node < nodes; ++node) {
+            if (!plan.targets[node].line) all.push_back({node, Role::Tests, 0});
+        }
     }
     for (std::size_t i = 0; i < plan.settings.connections; ++i) {
-        all.push_back({i % nodes, Role::Traffic, 0});
+        const std::size_t node = plan.node_of_traffic(i);
+        if (!plan.targets[node].line) all.push_back({node, Role::Traffic, 0});
     }
     std::vector<std::vector<ConnectionSpec>> out(threads);
     for (std::size_t i = 0; i < all.size(); ++i) {
@@ -37,7 +41,7 @@ std::vector<std::vector<ConnectionSpec>> share_out(const LoadPlan& plan, std::si
 // Sums every worker's counts for the status line.
 class StatusMeter {
   public:
-    StatusMeter(const LoadPlan& plan, const std::vector<std::unique_ptr<LoadWorker>>& workers)
+    StatusMeter(const LoadPlan& plan, const std::vector<std::unique_ptr<LoadThread>>& workers)
         : plan_(plan), workers_(workers), last_(plan.targets.size()) {}
 
     LoadStatus measure(LoadClock::time_point now, LoadClock::time_point start) {
@@ -79,10 +83,29 @@ class StatusMeter {
         LatencySnapshot latency;
     };
     const LoadPlan& plan_;
-    const std::vector<std::unique_ptr<LoadWorker>>& workers_;
+    const std::vector<std::unique_ptr<LoadThread>>& workers_;
     std::vector<Sample> last_;
     LoadClock::time_point last_time_{};
 };
+
+// One thread per line node: its tests and the generator's connections that fall to it, as turns
+// on the line. Its sends are paced as that many connections would be.
+void add_line_threads(const LoadPlan& plan, LoadClock::time_point start,
+                      std::chrono::nanoseconds interval,
+                      std::vector<std::unique_ptr<LoadThread>>& threads) {
+    const bool tests = plan.settings.tests && plan.test_exchanges > 0;
+    for (std::size_t node = 0; node < plan.targets.size(); ++node) {
+        if (!plan.targets[node].line) continue;
+        std::size_t traffic = 0;
+        for (std::size_t i = 0; i < plan.settings.connections; ++i)
+            traffic += plan.node_of_traffic(i) == node ? 1 : 0;
+        const std::size_t senders = traffic + (tests ? 1 : 0);
+        if (senders == 0) continue;
+        const auto seed = plan.settings.seed * 0x100000001B3ULL + 0x9E37 * (node + 1);
+        threads.push_back(std::make_unique<LoadLineWorker>(
+            plan, node, traffic, start, interval / static_cast<long>(senders), seed));
+    }
+}
 
 }  // namespace
 
@@ -90,8 +113,8 @@ LoadResult LoadRunner::run(const std::atomic<bool>& stop, milliseconds status_pe
                            const std::function<void(const LoadStatus&)>& on_status) {
     const LoadSettings& settings = plan_.settings;
     const std::size_t connections = plan_.total_connections();
-    const std::size_t threads =
-        std::clamp<std::size_t>(settings.threads, 1, std::max<std::size_t>(connections, 1));
+    const std::size_t threads = std::clamp<std::size_t>(
+        settings.threads, 1, std::max<std::size_t>(plan_.tcp_connections(), 1));
     std::chrono::nanoseconds interval{0};
     if (settings.rate > 0 && connections > 0) {
         interval = std::chrono::nanoseconds(
@@ -99,10 +122,13 @@ LoadResult LoadRunner::run(const std::atomic<bool>& stop, milliseconds status_pe
     }
 
     const auto start = LoadClock::now();
-    std::vector<std::unique_ptr<LoadWorker>> workers;
-    for (const auto& share : share_out(plan_, threads)) {
-        workers.push_back(std::make_unique<LoadWorker>(plan_, share, start, interval));
+    std::vector<std::unique_ptr<LoadThread>> workers;
+    if (plan_.tcp_connections() > 0) {
+        for (const auto& share : share_out(plan_, threads)) {
+            workers.push_back(std::make_unique<LoadWorker>(plan_, share, start, interval));
+        }
     }
+    add_line_threads(plan_, start, interval, workers);
     std::atomic<bool> draining{false};
     std::vector<std::thread> threads_running;
     for (auto& worker : workers) {

@@ -10,6 +10,7 @@
 #include "conformance/load_event_loop.hpp"
 #include "conformance/load_plan.hpp"
 #include "conformance/load_tally.hpp"
+#include "conformance/load_thread.hpp"
 
 namespace mblab::conformance {
 
@@ -19,17 +20,16 @@ struct ConnectionSpec {
     std::uint64_t seed = 1;
 };
 
-// One thread's share of a load run: its connections on one epoll loop, and its counts per node
-// (no other thread writes them, so counting needs no lock).
-class LoadWorker {
+// One thread's share of a load run's Modbus/TCP connections, on one epoll loop.
+class LoadWorker final : public LoadThread {
   public:
     LoadWorker(const LoadPlan& plan, const std::vector<ConnectionSpec>& connections,
                LoadClock::time_point start, std::chrono::nanoseconds send_interval);
 
     // Runs until `draining` is set and every request in flight is answered or timed out.
-    void run(const std::atomic<bool>& draining);
+    void run(const std::atomic<bool>& draining) override;
 
-    const NodeTally& tally(std::size_t node) const { return *tallies_[node]; }
+    const NodeTally& tally(std::size_t node) const override { return *tallies_[node]; }
 
   private:
     bool all_settled() const;

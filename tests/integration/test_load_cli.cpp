@@ -16,6 +16,7 @@
 
 #include "child_process.hpp"
 #include "device/reference_device.hpp"
+#include "load_cli_support.hpp"
 #include "server/background_server.hpp"
 #include "support/faulty_server.hpp"
 #include "support/temp_path.hpp"
@@ -28,93 +29,6 @@ namespace {
 using nlohmann::json;
 using std::chrono::milliseconds;
 using std::chrono::seconds;
-
-std::string slurp(const std::string& path) {
-    std::ifstream file(path);
-    std::stringstream text;
-    text << file.rdbuf();
-    return text.str();
-}
-
-// The reference device with extra profile text (fault rules for its unit) on an ephemeral port.
-struct Device {
-    explicit Device(const std::string& extra = "") {
-        const std::string text =
-            slurp(std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml") + "\n" + extra;
-        auto loaded = device::load_profile_text(text, "test");
-        EXPECT_TRUE(loaded.ok()) << (loaded.ok() ? "" : loaded.error());
-        device = std::move(loaded.value());
-        server = std::make_unique<server::BackgroundServer>(*device);
-        auto bound = server->start();
-        EXPECT_TRUE(bound.ok());
-        port = bound.ok() ? *bound : 0;
-    }
-    std::string url() const { return "tcp://127.0.0.1:" + std::to_string(port); }
-
-    std::unique_ptr<device::ReferenceDevice> device;  // outlives the server
-    std::unique_ptr<server::BackgroundServer> server;
-    std::uint16_t port = 0;
-};
-
-struct LoadRun {
-    std::optional<int> status;
-    std::string out;
-    std::string err;
-    json report;
-    std::string junit;
-};
-
-std::string temp(const std::string& name) {
-    return test::temp_path(name);
-}
-
-std::vector<std::string> load_argv(const std::string& name, const std::vector<std::string>& args) {
-    std::vector<std::string> argv = {MBLAB_BINARY,         "load",    "--json",
-                                     temp(name + ".json"), "--junit", temp(name + ".xml")};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::remove(temp(name + ".json").c_str());
-    return argv;
-}
-
-// Collects what a finished (or stopped) child wrote, and its reports.
-LoadRun finish(ChildProcess& child, const std::string& name, std::string out = {}) {
-    LoadRun run;
-    run.status = child.wait_exit(seconds(60));
-    while (auto line = child.read_stdout_line(seconds(5)))
-        out += *line + "\n";
-    run.out = std::move(out);
-    run.err = child.drain_stderr();
-    const std::string report = slurp(temp(name + ".json"));
-    if (!report.empty()) run.report = json::parse(report);
-    run.junit = slurp(temp(name + ".xml"));
-    return run;
-}
-
-LoadRun mblab_load(const std::string& name, const std::vector<std::string>& args) {
-    ChildProcess child(load_argv(name, args));
-    return finish(child, name);
-}
-
-// Requests of the given function code sent to a node, summed over its exchanges.
-std::uint64_t sent_with_function(const json& node, int function) {
-    std::uint64_t total = 0;
-    for (const auto& exchange : node["exchanges"]) {
-        if (exchange["function"] == function) total += exchange["sent"].get<std::uint64_t>();
-    }
-    return total;
-}
-
-std::uint64_t failures(const json& node, const char* kind) {
-    return node["failures"][kind].get<std::uint64_t>();
-}
-
-void expect_clean(const json& node) {
-    EXPECT_EQ(node["verdict"], "PASS") << node.dump(2);
-    EXPECT_EQ(node["failures"]["total"], 0);
-    EXPECT_GT(node["requests"].get<std::uint64_t>(), 0U);
-    EXPECT_EQ(node["requests"], node["answers"]);
-    EXPECT_TRUE(node["first_failure"].is_null());
-}
 
 // A port that refuses connections: bound, so nothing else takes it meanwhile, but not listening.
 class RefusingPort {
