@@ -236,7 +236,7 @@ int run_serve(const ServeOptions& options) {
 
     std::signal(SIGPIPE, SIG_IGN);
     if (serial && !rtu_over_tcp) return run_serial_line(*serial, first_device);
-    asio::io_context io(1);
+    asio::io_context io(ASIO_CONCURRENCY_HINT_UNSAFE);
     std::vector<std::unique_ptr<server::TcpServer>> servers;
     std::vector<std::string> urls;
     for (std::size_t i = 0; i < devices.size(); ++i) {

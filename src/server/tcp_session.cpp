@@ -1,5 +1,7 @@
 #include "server/tcp_session.hpp"
 
+#include <sys/socket.h>
+
 #include <algorithm>
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
@@ -129,7 +131,7 @@ TcpSession::Progress TcpSession::process_input() {
             continue;
         }
         if (must_pause(now)) {
-            send_now_or_wake_writer();
+            send_now_or_wake_writer(now);
             if (must_pause(now)) return Progress::Paused;
         }
         std::size_t consumed = 0;
@@ -149,7 +151,7 @@ TcpSession::Progress TcpSession::process_input() {
                 break;
         }
     }
-    send_now_or_wake_writer();
+    send_now_or_wake_writer(now);
     return reading_ ? Progress::Consumed : Progress::Stopped;
 }
 
@@ -272,15 +274,20 @@ void TcpSession::wake_writer() {
     if (writer_waiting_) writer_timer_.cancel();
 }
 
-void TcpSession::send_now_or_wake_writer() {
+void TcpSession::send_now_or_wake_writer(Clock::time_point now) {
     if (replies_.empty() || !writer_waiting_) return;
     std::array<asio::const_buffer, kMaxGather> buffers;
-    auto count = gather_ready(Clock::now(), buffers);
-    if (count > 0) {
+    auto count = gather_ready(now, buffers);
+    if (count == 1) {
+        // The usual case, one answer: send() is a little cheaper than Asio's sendmsg().
+        const auto sent = ::send(socket_.native_handle(), buffers[0].data(), buffers[0].size(),
+                                 MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (sent >= 0) consume_sent(count, static_cast<std::size_t>(sent), now);
+    } else if (count > 1) {
         asio::error_code ec;  // would_block: the writer waits for room
         auto written =
             socket_.write_some(std::span<const asio::const_buffer>(buffers.data(), count), ec);
-        if (!ec) consume_sent(count, written);
+        if (!ec) consume_sent(count, written, now);
     }
     if (!replies_.empty()) wake_writer();
 }
@@ -298,7 +305,7 @@ std::size_t TcpSession::gather_ready(Clock::time_point now,
     return count;
 }
 
-void TcpSession::consume_sent(std::size_t count, std::size_t written) {
+void TcpSession::consume_sent(std::size_t count, std::size_t written, Clock::time_point now) {
     written += head_sent_;
     std::size_t done = 0;
     while (done < count && written >= replies_.at(done).size) {
@@ -307,7 +314,7 @@ void TcpSession::consume_sent(std::size_t count, std::size_t written) {
     }
     replies_.pop_front(done);
     head_sent_ = written;
-    last_activity_ = Clock::now();
+    last_activity_ = now;
     if (reader_paused_) reader_timer_.cancel();
 }
 
@@ -343,7 +350,7 @@ asio::awaitable<void> TcpSession::write_loop(std::shared_ptr<TcpSession> /*self*
             close();
             break;
         }
-        consume_sent(count, written);
+        consume_sent(count, written, Clock::now());
     }
 }
 

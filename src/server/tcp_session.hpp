@@ -72,11 +72,11 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     // After a batch of requests: when the writer is idle and every answer is ready, write them
     // at once without blocking (saving the writer's wake-up); otherwise, or for what the socket
     // did not take, wake the writer.
-    void send_now_or_wake_writer();
+    void send_now_or_wake_writer(Clock::time_point now);
     // The ready answers from the head (the head's unsent part first), at most out.size().
     std::size_t gather_ready(Clock::time_point now, std::span<asio::const_buffer> out) const;
     // Drops the answers `written` bytes completed out of the first `count`.
-    void consume_sent(std::size_t count, std::size_t written);
+    void consume_sent(std::size_t count, std::size_t written, Clock::time_point now);
     void shutdown_and_close();
 
     asio::ip::tcp::socket socket_;
