@@ -5,6 +5,36 @@
 
 #include "cli/commands.hpp"
 
+namespace {
+
+// The usage error on one line, naming the subcommand the user typed (or the unknown word in its
+// place) and where help is.
+std::string usage_line(const CLI::App& app, const CLI::ParseError& error, int argc, char** argv) {
+    std::string names;
+    for (const auto* sub : app.get_subcommands({}))
+        names += (names.empty() ? "" : ", ") + sub->get_name();
+    std::string command;
+    std::string unknown;
+    for (int i = 1; i < argc && command.empty() && unknown.empty(); ++i) {
+        const std::string word = argv[i];
+        if (word.empty() || word.front() == '-') continue;
+        const auto subs =
+            app.get_subcommands([&](const CLI::App* sub) { return sub->get_name() == word; });
+        (subs.empty() ? unknown : command) = word;
+    }
+    if (command.empty() && !unknown.empty()) {
+        return fmt::format("mblab: unknown command '{}' (commands: {})", unknown, names);
+    }
+    if (command.empty()) {
+        return fmt::format("mblab: a command is required: {} (run 'mblab --help' for usage)",
+                           names);
+    }
+    const std::string prefix = command.empty() ? "mblab" : "mblab " + command;
+    return fmt::format("{}: {} (run '{} --help' for usage)", prefix, error.what(), prefix);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
     using namespace mblab::cli;
     CLI::App app{"mblab: a Modbus conformance lab (tester, reference device, load test, client)",
@@ -30,8 +60,7 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        fmt::print(stderr, "mblab: {}\n", e.what());
-        fmt::print(stderr, "run 'mblab --help' for usage\n");
+        fmt::print(stderr, "{}\n", usage_line(app, e, argc, argv));
         return kExitUsage;
     }
     try {

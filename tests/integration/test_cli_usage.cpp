@@ -1,0 +1,38 @@
+// Usage errors from argument parsing: one line on stderr naming the command, exit status 2.
+#include <gtest/gtest.h>
+
+#include "test_client_support.hpp"
+
+namespace mblab::test {
+namespace {
+
+TEST(CliUsage, AMissingArgumentNamesTheCommand) {
+    auto ran = run_mblab({"read"});
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err, "mblab read: target is required (run 'mblab read --help' for usage)\n");
+    EXPECT_EQ(ran.out, "");
+}
+
+TEST(CliUsage, AnUnknownOptionNamesTheCommand) {
+    auto ran = run_mblab({"conform", "--bogus"});
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err,
+              "mblab conform: The following argument was not expected: --bogus (run 'mblab "
+              "conform --help' for usage)\n");
+}
+
+TEST(CliUsage, AnUnknownCommandListsTheCommands) {
+    auto ran = run_mblab({"frobnicate", "x"});
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err,
+              "mblab: unknown command 'frobnicate' (commands: conform, serve, read, write, diag, "
+              "devid, raw, watch, load)\n");
+    auto none = run_mblab({});
+    EXPECT_EQ(none.status, 2);
+    EXPECT_EQ(none.err,
+              "mblab: a command is required: conform, serve, read, write, diag, devid, raw, "
+              "watch, load (run 'mblab --help' for usage)\n");
+}
+
+}  // namespace
+}  // namespace mblab::test
