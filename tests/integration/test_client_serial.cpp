@@ -1,13 +1,8 @@
 #include <gtest/gtest.h>
 
-#include <asio/io_context.hpp>
-#include <asio/post.hpp>
 #include <memory>
-#include <thread>
 
-#include "device/profile_paths.hpp"
 #include "serial_test_support.hpp"
-#include "server/rtu_tcp_server.hpp"
 #include "support/hex.hpp"
 #include "support/ports.hpp"
 #include "test_client_support.hpp"
@@ -22,8 +17,8 @@ const std::string kSignature =
     "0 (0x0000)  0x5345  21317\n"
     "1 (0x0001)  0x4D49  19785\n";
 
-std::string line_url(const std::string& scheme, const PtyPair& pty) {
-    return scheme + "://" + pty.client_end() + "?baud=19200&data=8";
+std::string line_url(const std::string& scheme, const PtyPair& pty, unsigned baud = 19200) {
+    return scheme + "://" + pty.client_end() + "?baud=" + std::to_string(baud) + "&data=8";
 }
 
 // `mblab ARGS...` with a timeout a loaded machine cannot miss.
@@ -32,10 +27,13 @@ Ran on_line(std::vector<std::string> args) {
     return run_mblab(args);
 }
 
-TEST(ClientSerial, ReadsAndWritesOverRtu) {
+// The line's speed, for the tests that run at 9600 and at 115200 baud.
+class ClientSerialAt : public ::testing::TestWithParam<unsigned> {};
+
+TEST_P(ClientSerialAt, ReadsAndWritesOverRtu) {
     DeviceOnLine line;
-    ASSERT_EQ(line.start("reference", "rtu", 19200, false), "");
-    const auto url = line_url("rtu", line.pty());
+    ASSERT_EQ(line.start("reference", "rtu", GetParam(), false), "");
+    const auto url = line_url("rtu", line.pty(), GetParam());
     auto read = on_line({"read", url, "holding", "0", "2", "--decode", "bytes"});
     EXPECT_EQ(read.status, 0) << read.err;
     EXPECT_EQ(read.out, kSignature);
@@ -55,17 +53,21 @@ TEST(ClientSerial, ReadsAndWritesOverRtu) {
               "echoed 6 bytes: 00 01 00 02 00 03\n");
 }
 
-TEST(ClientSerial, ReadsOverAscii) {
+TEST_P(ClientSerialAt, ReadsOverAscii) {
     DeviceOnLine line;
-    ASSERT_EQ(line.start("reference", "ascii", 19200, false), "");
-    auto read = on_line({"read", line_url("ascii", line.pty()), "holding", "0", "2"});
+    ASSERT_EQ(line.start("reference", "ascii", GetParam(), false), "");
+    const auto url = line_url("ascii", line.pty(), GetParam());
+    auto read = on_line({"read", url, "holding", "0", "2"});
     EXPECT_EQ(read.status, 0) << read.err;
     EXPECT_EQ(read.out, kSignature);
-    auto devid = on_line({"devid", line_url("ascii", line.pty()), "vendor-name"});
+    auto devid = on_line({"devid", url, "vendor-name"});
     EXPECT_EQ(devid.out,
               "conformity level 0x83 (extended, individual access)\n"
               "0x00  vendor name  mblab\n");
 }
+
+INSTANTIATE_TEST_SUITE_P(Baud, ClientSerialAt, ::testing::Values(9600U, 115200U),
+                         [](const auto& info) { return std::to_string(info.param); });
 
 TEST(ClientSerial, BroadcastsAreRefused) {
     DeviceOnLine line;
@@ -93,19 +95,12 @@ TEST(ClientSerial, ABadCrcIsABadAnswer) {
 }
 
 TEST(ClientSerial, ReadsOverRtuOverTcp) {
-    auto loaded = device::load_profile(device::default_profile_path());
-    ASSERT_TRUE(loaded) << loaded.error();
-    asio::io_context io;
-    server::RtuTcpServer server(io, **loaded, {}, server::device_line_hooks(**loaded));
-    auto port = server.start({asio::ip::address_v4::loopback(), 0});
-    ASSERT_TRUE(port) << port.error();
-    std::thread thread([&io] { io.run(); });
-    const std::string url = "rtu+tcp://127.0.0.1:" + std::to_string(*port);
+    DeviceOnRtuTcp device;
+    ASSERT_EQ(device.start(), "");
+    const std::string url = "rtu+tcp://127.0.0.1:" + std::to_string(device.port());
     auto read = on_line({"read", url, "holding", "0", "2"});
     auto echo = on_line({"diag", url, "query-data", "0xABCD"});
     auto json = on_line({"read", url, "coils", "0", "--json"});
-    asio::post(io, [&server] { server.stop(); });
-    thread.join();
     EXPECT_EQ(read.status, 0) << read.err;
     EXPECT_EQ(read.out, kSignature);
     EXPECT_EQ(echo.out, "echoed 2 bytes: AB CD\n");
