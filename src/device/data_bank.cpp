@@ -66,6 +66,23 @@ void DataBank::read(std::uint32_t address, std::span<std::uint16_t> out, const A
               });
 }
 
+void DataBank::read_be(std::uint32_t address, std::span<std::uint8_t> out,
+                       const Access* skip) const {
+    each_part(address, static_cast<std::uint32_t>(out.size() / 2),
+              [&](const Segment& s, std::uint32_t stored, std::uint32_t done, std::uint32_t n) {
+                  std::uint8_t* to = out.data() + 2 * done;
+                  if (skip && s.access == *skip) {
+                      std::fill_n(to, 2 * n, 0);
+                      return;
+                  }
+                  const std::uint16_t* from = values_.data() + stored;
+                  for (std::uint32_t i = 0; i < n; ++i) {
+                      to[2 * i] = static_cast<std::uint8_t>(from[i] >> 8);
+                      to[2 * i + 1] = static_cast<std::uint8_t>(from[i] & 0xFF);
+                  }
+              });
+}
+
 void DataBank::write(std::uint32_t address, std::span<const std::uint16_t> values,
                      const Access* skip) {
     each_part(address, static_cast<std::uint32_t>(values.size()),

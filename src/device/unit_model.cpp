@@ -25,13 +25,6 @@ Outcome refused(FunctionCode fc, ExceptionCode why) {
     return exception_outcome(code(fc), why);
 }
 
-void put_be(std::span<const std::uint16_t> values, std::span<std::uint8_t> out) {
-    for (std::size_t i = 0; i < values.size(); ++i) {
-        out[2 * i] = static_cast<std::uint8_t>(values[i] >> 8);
-        out[2 * i + 1] = static_cast<std::uint8_t>(values[i] & 0xFF);
-    }
-}
-
 }  // namespace
 
 UnitModel::UnitModel(const UnitSpec& spec) : spec_(spec), files_(spec.files), faults_(spec.faults) {
@@ -76,10 +69,7 @@ std::optional<ExceptionCode> UnitModel::load_registers(BankKind kind, std::uint3
                                                        std::span<std::uint8_t> out) const {
     const Permit permit = may_read(kind, address, count);
     if (permit.refusal) return permit.refusal;
-    std::array<std::uint16_t, protocol::limits::kMaxReadRegisters> values{};
-    const auto part = std::span(values).first(count);
-    bank(kind).read(address, part, permit.skip);
-    put_be(part, out);
+    bank(kind).read_be(address, out.first(2 * count), permit.skip);
     return std::nullopt;
 }
 

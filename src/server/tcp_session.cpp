@@ -55,7 +55,7 @@ void TcpSession::start() {
     asio::error_code ignored;
     socket_.non_blocking(true, ignored);  // for send_now_or_wake_writer()'s direct write
     auto executor = socket_.get_executor();
-    asio::co_spawn(executor, read_loop(shared_from_this()), asio::detached);
+    read_some();
     asio::co_spawn(executor, write_loop(shared_from_this()), asio::detached);
     asio::co_spawn(executor, watchdog_loop(shared_from_this()), asio::detached);
 }
@@ -81,35 +81,53 @@ void TcpSession::shutdown_and_close() {
     close();
 }
 
-asio::awaitable<void> TcpSession::read_loop(std::shared_ptr<TcpSession> /*self*/) {
-    while (!closed_) {
-        auto progress = process_input();
-        if (progress == Progress::Paused) {
+void TcpSession::read_some() {
+    socket_.async_read_some(asio::buffer(input_),
+                            [self = shared_from_this()](const asio::error_code& ec, std::size_t n) {
+                                self->on_read(ec, n);
+                            });
+}
+
+void TcpSession::on_read(const asio::error_code& ec, std::size_t n) {
+    if (closed_) return;
+    if (ec == asio::error::eof) {
+        on_end_of_input();
+        return;
+    }
+    if (ec) {
+        close();
+        return;
+    }
+    input_begin_ = 0;
+    input_end_ = n;
+    continue_reading();
+}
+
+void TcpSession::continue_reading() {
+    switch (process_input()) {
+        case Progress::Consumed:
+            read_some();
+            return;
+        case Progress::Paused:
             reader_paused_ = true;
             reader_timer_.expires_at(Clock::time_point::max());
-            co_await reader_timer_.async_wait(use_tuple);
-            reader_paused_ = false;
-            continue;
-        }
-        if (progress == Progress::Stopped) break;
-        auto [ec, n] = co_await socket_.async_read_some(asio::buffer(input_), use_tuple);
-        if (closed_) break;
-        if (ec) {
-            if (ec != asio::error::eof) {
-                close();
-                break;
-            }
-            // The client finished sending: answer what came, an unfinished frame included
-            // (its missing bytes can no longer arrive), then close.
-            auto now = Clock::now();
-            if (framer_.has_partial() || partial_.overlong) on_partial_timeout(now);
-            reading_ = false;
-            wake_writer();
-            break;
-        }
-        input_begin_ = 0;
-        input_end_ = n;
+            reader_timer_.async_wait([self = shared_from_this()](const asio::error_code&) {
+                self->reader_paused_ = false;
+                if (!self->closed_) self->continue_reading();
+            });
+            return;
+        case Progress::Stopped:
+            return;
     }
+}
+
+void TcpSession::on_end_of_input() {
+    // The client finished sending: answer what came, an unfinished frame included (its missing
+    // bytes can no longer arrive), then close.
+    auto now = Clock::now();
+    if (framer_.has_partial() || partial_.overlong) on_partial_timeout(now);
+    reading_ = false;
+    wake_writer();
 }
 
 TcpSession::Progress TcpSession::process_input() {

@@ -51,8 +51,13 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     enum class Progress : std::uint8_t { Consumed, Paused, Stopped };
     static constexpr std::size_t kMaxGather = 32;  // answers sent in one gathered write
 
-    // Each loop holds `self` so the session lives until its last loop ends.
-    asio::awaitable<void> read_loop(std::shared_ptr<TcpSession> self);
+    // The reader runs on plain completion handlers, the per-request path; the writer and the
+    // watchdog are coroutines. Each holds `self` so the session lives until the last ends.
+    void read_some();
+    void on_read(const asio::error_code& ec, std::size_t n);
+    // Frames and answers what was read, then reads again, or waits for the writer to make room.
+    void continue_reading();
+    void on_end_of_input();
     asio::awaitable<void> write_loop(std::shared_ptr<TcpSession> self);
     asio::awaitable<void> watchdog_loop(std::shared_ptr<TcpSession> self);
 
