@@ -4,11 +4,15 @@
 # reading 125 holding registers (FC 03). Then mblab's resident memory with 10,000 idle
 # connections. Prints a table; run it on an otherwise idle machine.
 #
-# Usage: bench/run_server_bench.sh [MBLAB] [SECONDS_PER_RUN]   (defaults: build/mblab, 5)
+# Each figure is the median of ROUNDS runs; a round runs every server once at each connection
+# count, so a noisy moment on a shared machine hits one run of each, not all runs of one server.
+#
+# Usage: bench/run_server_bench.sh [MBLAB] [SECONDS_PER_RUN] [ROUNDS]   (defaults: build/mblab, 5, 3)
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 MBLAB=$(realpath "${1:-$HERE/../build/mblab}")
 RUN_SECONDS=${2:-5}
+ROUNDS=${3:-3}
 TOOLS=$(dirname "$MBLAB")/bench-tools
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/mblab-bench.XXXXXX")
 SERVER_PID=""
@@ -79,26 +83,36 @@ field() { sed -n "s/.*$1=\([0-9]*\).*/\1/p" <<<"$2"; }
 
 SERVERS="mblab libmodbus pymodbus canned"
 CONNECTIONS="1 16 1000"
+declare -A RUNS
+for round in $(seq "$ROUNDS"); do
+    for n in $CONNECTIONS; do
+        for server in $SERVERS; do
+            start_server "$server"
+            if result=$("$TOOLS/server_load" 127.0.0.1 "$PORT" "$n" "$RUN_SECONDS" 2>&1); then
+                RUNS[$server.$n]+="$(field rps "$result") $(field p50_us "$result") $(field p99_us "$result")"$'\n'
+            else
+                echo "$server, $n connections, round $round: $result" >&2
+            fi
+            stop_server
+        done
+    done
+done
+
+# The run with the median req/s of a server at a connection count: "rps p50 p99".
+median_run() {
+    local runs=${RUNS[$1]:-}
+    [ -z "$runs" ] && { echo "0 - -"; return; }
+    sort -n <<<"${runs%$'\n'}" | awk '{ line[NR] = $0 } END { print line[int((NR + 1) / 2)] }'
+}
 declare -A RPS P50 P99
 for server in $SERVERS; do
     for n in $CONNECTIONS; do
-        start_server "$server"
-        if result=$("$TOOLS/server_load" 127.0.0.1 "$PORT" "$n" "$RUN_SECONDS" 2>&1); then
-            RPS[$server.$n]=$(field rps "$result")
-            P50[$server.$n]=$(field p50_us "$result")
-            P99[$server.$n]=$(field p99_us "$result")
-        else
-            RPS[$server.$n]=0
-            P50[$server.$n]="-"
-            P99[$server.$n]="-"
-            echo "$server, $n connections: $result" >&2
-        fi
-        stop_server
+        read -r RPS[$server.$n] P50[$server.$n] P99[$server.$n] < <(median_run "$server.$n")
     done
 done
 
 echo
-echo "FC 03 x125, closed loop, ${RUN_SECONDS}s per run ($(nproc) cores; client and server share them)"
+echo "FC 03 x125, closed loop, median of $ROUNDS runs of ${RUN_SECONDS}s ($(nproc) cores; client and server share them)"
 printf "%-10s %6s %10s %8s %8s %12s\n" server conns "req/s" "p50 us" "p99 us" "mblab / it"
 for n in $CONNECTIONS; do
     for server in $SERVERS; do
