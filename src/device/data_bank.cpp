@@ -1,6 +1,8 @@
 #include "device/data_bank.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cstring>
 
 namespace mblab::device {
 
@@ -76,7 +78,18 @@ void DataBank::read_be(std::uint32_t address, std::span<std::uint8_t> out,
                       return;
                   }
                   const std::uint16_t* from = values_.data() + stored;
-                  for (std::uint32_t i = 0; i < n; ++i) {
+                  std::uint32_t i = 0;
+                  // Four registers at a time on little-endian hosts: swap the bytes of each
+                  // 16-bit lane of a word.
+                  constexpr std::uint64_t kLow = 0x00FF00FF00FF00FFULL;
+                  constexpr bool kLittle = std::endian::native == std::endian::little;
+                  for (; kLittle && i + 4 <= n; i += 4) {
+                      std::uint64_t word = 0;
+                      std::memcpy(&word, from + i, sizeof word);
+                      word = ((word & kLow) << 8) | ((word >> 8) & kLow);
+                      std::memcpy(to + 2 * i, &word, sizeof word);
+                  }
+                  for (; i < n; ++i) {
                       to[2 * i] = static_cast<std::uint8_t>(from[i] >> 8);
                       to[2 * i + 1] = static_cast<std::uint8_t>(from[i] & 0xFF);
                   }
