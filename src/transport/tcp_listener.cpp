@@ -1,5 +1,7 @@
 #include "transport/tcp_listener.hpp"
 
+#include <fcntl.h>
+
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 #include <asio/experimental/as_tuple.hpp>
@@ -13,6 +15,14 @@ namespace {
 
 constexpr auto kAcceptRetryDelay = std::chrono::milliseconds(50);
 constexpr auto use_tuple = asio::experimental::as_tuple(asio::use_awaitable);
+
+// Programs this process starts (tests run the mblab binary beside an in-process server) must not
+// inherit the listener or its connections: an inherited copy would keep a port bound, or a
+// connection the server closed open.
+void close_on_exec(int fd) {
+    const int flags = ::fcntl(fd, F_GETFD);
+    if (flags >= 0) ::fcntl(fd, F_SETFD, flags | FD_CLOEXEC);
+}
 
 // An RST rather than a FIN tells a refused client at once that nobody will answer.
 void reset_connection(asio::ip::tcp::socket& socket) {
@@ -35,6 +45,7 @@ asio::awaitable<void> accept_loop(std::shared_ptr<TcpListener> self,
             co_await backoff.async_wait(use_tuple);
             continue;
         }
+        close_on_exec(socket.native_handle());
         if (admit(socket)) on_admitted(std::move(socket));
     }
     (void)self;
@@ -61,6 +72,7 @@ protocol::Result<std::uint16_t, std::string> TcpListener::listen(
     };
     acceptor_.open(endpoint.protocol(), ec);
     if (ec) return fail("open a socket for");
+    close_on_exec(acceptor_.native_handle());
     acceptor_.set_option(asio::socket_base::reuse_address(true), ec);
     if (ec) return fail("configure a socket for");
     acceptor_.bind(endpoint, ec);

@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "blocking_client.hpp"
+#include "child_process.hpp"
 #include "scripted_handler.hpp"
 #include "server/tcp_server.hpp"
 #include "server_fixture.hpp"
@@ -313,6 +314,21 @@ TEST_F(ServerSession, SecondServerOnTheSamePortFailsWithOneLine) {
     ASSERT_FALSE(result);
     EXPECT_EQ(result.error(),
               "cannot listen on 127.0.0.1:" + std::to_string(port_) + ": Address already in use");
+}
+
+// A program the process starts while it serves (the tests run the mblab binary beside an
+// in-process server) holds none of the server's sockets: neither the listener nor a connection.
+TEST_F(ServerSession, ChildProcessesInheritNoServerSocket) {
+    start();
+    auto client = connect();
+    ASSERT_TRUE(client.connected());
+    ASSERT_EQ(client.transact("00 01 00 00 00 06 01 03 00 00 00 01"),
+              "00 01 00 00 00 06 01 03 00 00 00 01");  // the connection is accepted
+    ChildProcess child({"/bin/sh", "-c", "ls -l /proc/self/fd/ | grep -c socket: || true"});
+    const auto sockets = child.read_stdout_line(5s);
+    ASSERT_TRUE(sockets.has_value());
+    EXPECT_EQ(*sockets, "0");
+    EXPECT_EQ(child.wait_exit(5s), 0);
 }
 
 }  // namespace
