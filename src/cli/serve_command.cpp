@@ -236,7 +236,9 @@ int run_serve(const ServeOptions& options) {
 
     std::signal(SIGPIPE, SIG_IGN);
     if (serial && !rtu_over_tcp) return run_serial_line(*serial, first_device);
-    asio::io_context io(ASIO_CONCURRENCY_HINT_UNSAFE);
+    // One thread runs every server; without a gateway nothing else touches the io_context, so
+    // it takes no locks. A gateway's thread posts its answers to it.
+    asio::io_context io(gateway ? 1 : ASIO_CONCURRENCY_HINT_UNSAFE);
     std::vector<std::unique_ptr<server::TcpServer>> servers;
     std::vector<std::string> urls;
     for (std::size_t i = 0; i < devices.size(); ++i) {
@@ -300,6 +302,8 @@ int run_serve(const ServeOptions& options) {
         stats_timer.cancel();
     });
     io.run();
+    // The gateway's thread posts to `io`: end it while `io` is still there.
+    if (gateway) gateway->stop();
 
     // Every session has ended, so every write the device acknowledged is in it now.
     if (options.stats) {

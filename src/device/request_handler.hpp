@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <optional>
 #include <span>
 
 // The seam between a server (any transport) and what answers requests: the reference device,
@@ -30,6 +32,19 @@ struct Reply {
     // (the server still frames them, so the fault reaches the client's PDU parser).
 };
 
+// Called once with a deferred answer: the reply and the response PDU it describes.
+using DeferredDone = std::function<void(const Reply& reply, std::span<const std::uint8_t> pdu)>;
+
+// What a server lends handle_or_defer(): a handler that defers takes from it the function to
+// call later. Only a handler that defers asks, so answering at once costs nothing extra.
+class Deferral {
+  public:
+    virtual DeferredDone take() = 0;
+
+  protected:
+    ~Deferral() = default;
+};
+
 class RequestHandler {
   public:
     virtual ~RequestHandler() = default;
@@ -37,6 +52,19 @@ class RequestHandler {
     // `response`, which holds at least 253 bytes.
     virtual Reply handle(const RequestContext& context, std::span<const std::uint8_t> request,
                          std::span<std::uint8_t> response) = 0;
+
+    // For servers that can let an answer wait without waiting themselves. A handler whose
+    // answers take long (a gateway waiting on a serial line) takes `deferral`'s function,
+    // returns nothing, and calls the function exactly once later, from a thread of its own
+    // (`request` must be copied if it is needed then). By default the answer is given at once
+    // by handle().
+    virtual std::optional<Reply> handle_or_defer(const RequestContext& context,
+                                                 std::span<const std::uint8_t> request,
+                                                 std::span<std::uint8_t> response,
+                                                 Deferral& deferral) {
+        (void)deferral;
+        return handle(context, request, response);
+    }
 };
 
 }  // namespace mblab::device

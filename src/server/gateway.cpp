@@ -64,17 +64,81 @@ device::Reply SerialGateway::exception(std::uint8_t function, std::uint8_t code,
     return {device::ReplyAction::Answer, 2, {}};
 }
 
-device::Reply SerialGateway::handle(const device::RequestContext& context,
-                                    std::span<const std::uint8_t> request,
-                                    std::span<std::uint8_t> response) {
-    if (request.empty()) return {device::ReplyAction::NoAnswer, 0, {}};
+std::optional<device::Reply> SerialGateway::answer_here(const device::RequestContext& context,
+                                                        std::span<const std::uint8_t> request,
+                                                        std::span<std::uint8_t> response) {
+    if (request.empty()) return device::Reply{device::ReplyAction::NoAnswer, 0, {}};
     if (!units_.test(context.unit)) {
         ++stats_.unrouted;
         return exception(
             request[0], static_cast<std::uint8_t>(ExceptionCode::GatewayPathUnavailable), response);
     }
+    return std::nullopt;
+}
+
+device::Reply SerialGateway::handle(const device::RequestContext& context,
+                                    std::span<const std::uint8_t> request,
+                                    std::span<std::uint8_t> response) {
+    if (auto here = answer_here(context, request, response)) return *here;
     std::lock_guard lock(mutex_);
     return forward(context.unit, request, response);
+}
+
+std::optional<device::Reply> SerialGateway::handle_or_defer(const device::RequestContext& context,
+                                                            std::span<const std::uint8_t> request,
+                                                            std::span<std::uint8_t> response,
+                                                            device::Deferral& deferral) {
+    if (auto here = answer_here(context, request, response)) return here;
+    std::lock_guard lock(jobs_mutex_);
+    if (stopping_) {
+        ++stats_.unrouted;
+        return exception(
+            request[0], static_cast<std::uint8_t>(ExceptionCode::GatewayPathUnavailable), response);
+    }
+    jobs_.push_back({context.unit, {request.begin(), request.end()}, deferral.take()});
+    if (!worker_.joinable()) worker_ = std::thread([this] { work(); });
+    jobs_ready_.notify_one();
+    return std::nullopt;
+}
+
+void SerialGateway::work() {
+    std::array<std::uint8_t, protocol::limits::kMaxPdu> response{};
+    for (;;) {
+        Job job;
+        bool give_up = false;
+        {
+            std::unique_lock lock(jobs_mutex_);
+            jobs_ready_.wait(lock, [this] { return stopping_ || !jobs_.empty(); });
+            if (jobs_.empty()) return;
+            job = std::move(jobs_.front());
+            jobs_.pop_front();
+            give_up = stopping_;
+        }
+        device::Reply reply;
+        if (give_up) {
+            ++stats_.unrouted;
+            reply = exception(job.request[0],
+                              static_cast<std::uint8_t>(ExceptionCode::GatewayPathUnavailable),
+                              response);
+        } else {
+            std::lock_guard line(mutex_);
+            reply = forward(job.unit, job.request, response);
+        }
+        job.done(reply, std::span(response).first(std::min(reply.size, response.size())));
+    }
+}
+
+void SerialGateway::stop() {
+    {
+        std::lock_guard lock(jobs_mutex_);
+        stopping_ = true;
+    }
+    jobs_ready_.notify_all();
+    if (worker_.joinable()) worker_.join();
+}
+
+SerialGateway::~SerialGateway() {
+    stop();
 }
 
 device::Reply SerialGateway::forward(std::uint8_t unit, std::span<const std::uint8_t> request,

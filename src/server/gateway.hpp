@@ -6,11 +6,16 @@
 #include <atomic>
 #include <bitset>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "device/request_handler.hpp"
 #include "protocol/limits.hpp"
@@ -26,8 +31,10 @@
 //     respond); a routed unit 0 is sent as a broadcast and not answered.
 // One request at a time is on the line, and t3.5 of silence separates RTU frames.
 //
-// handle() blocks its caller for the transaction, up to the response timeout: the TCP server
-// that calls it waits with it, which is what a single serial line allows anyway.
+// handle() blocks its caller for the transaction, up to the response timeout. handle_or_defer(),
+// which the TCP server uses, does not: a request for the line is queued for the gateway's own
+// thread, which answers it when the line has, so one silent device never stalls the server's
+// other connections (nor requests the gateway answers itself, like 0A).
 namespace mblab::server {
 
 struct LineSetup;
@@ -50,11 +57,32 @@ class SerialGateway final : public device::RequestHandler {
     device::Reply handle(const device::RequestContext& context,
                          std::span<const std::uint8_t> request,
                          std::span<std::uint8_t> response) override;
+    std::optional<device::Reply> handle_or_defer(const device::RequestContext& context,
+                                                 std::span<const std::uint8_t> request,
+                                                 std::span<std::uint8_t> response,
+                                                 device::Deferral& deferral) override;
+
+    // Ends the gateway's thread after the transaction on the line; requests still queued are
+    // answered 0A. Called by the destructor; call it earlier when the server that gets the
+    // answers goes first.
+    void stop();
+    ~SerialGateway() override;
 
     const GatewayStats& stats() const { return stats_; }
 
   private:
+    struct Job {
+        std::uint8_t unit = 0;
+        std::vector<std::uint8_t> request;
+        device::DeferredDone done;
+    };
+
     SerialGateway(const transport::SerialUrl& url, const LineSetup& setup);
+    // The request for the line, or the gateway's own answer (0A, nothing for an empty PDU).
+    std::optional<device::Reply> answer_here(const device::RequestContext& context,
+                                             std::span<const std::uint8_t> request,
+                                             std::span<std::uint8_t> response);
+    void work();
 
     device::Reply forward(std::uint8_t unit, std::span<const std::uint8_t> request,
                           std::span<std::uint8_t> response);
@@ -73,7 +101,13 @@ class SerialGateway final : public device::RequestHandler {
     std::chrono::milliseconds response_timeout_;
     LineClock::time_point line_free_at_{};
     GatewayStats stats_;
-    std::mutex mutex_;
+    std::mutex mutex_;  // the line: one transaction at a time
+
+    std::mutex jobs_mutex_;
+    std::condition_variable jobs_ready_;
+    std::deque<Job> jobs_;
+    bool stopping_ = false;
+    std::thread worker_;  // started by the first deferred request
     std::array<std::uint8_t, protocol::limits::kMaxAsciiChars> frame_{};
     std::array<std::uint8_t, 512> input_{};
 };

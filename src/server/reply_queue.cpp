@@ -7,6 +7,7 @@ PendingReply* ReplyQueue::push_back() {
     if (count_ == slots_.size()) return nullptr;
     auto& slot = at(count_++);
     slot.close = false;
+    slot.deferred = false;
     slot.size = 0;
     return &slot;
 }

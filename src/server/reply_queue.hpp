@@ -17,6 +17,10 @@ struct PendingReply {
     Clock::time_point ready_at{};  // a fault delay holds it (and every answer behind it) back
     std::uint16_t size = 0;        // ADU bytes in `adu`
     bool close = false;            // a "close" fault: close the connection instead of answering
+    // The handler answers later (RequestHandler::handle_or_defer): held back, and every answer
+    // behind it, until the answer with this ticket comes.
+    bool deferred = false;
+    std::uint32_t ticket = 0;
     std::array<std::uint8_t, protocol::limits::kMaxTcpAdu> adu{};
 };
 

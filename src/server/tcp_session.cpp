@@ -6,6 +6,7 @@
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 #include <asio/experimental/as_tuple.hpp>
+#include <asio/post.hpp>
 #include <asio/use_awaitable.hpp>
 #include <asio/write.hpp>
 
@@ -211,26 +212,81 @@ void TcpSession::on_frame(const protocol::FrameEvent& frame, Clock::time_point n
     auto* slot = replies_.push_back();
     if (!slot) return;  // must_pause() keeps room; never reached
     auto response = std::span(slot->adu).subspan(protocol::limits::kMbapHeader);
-    auto reply = core_->handler.handle({frame.unit, device::Link::Tcp}, frame.pdu, response);
+    // Lends the handler a way to answer later; only a deferring handler uses it.
+    struct SessionDeferral final : device::Deferral {
+        TcpSession& session;
+        std::uint32_t ticket;
+        const protocol::MbapHeader& request;
+        SessionDeferral(TcpSession& s, std::uint32_t t, const protocol::MbapHeader& r)
+            : session(s), ticket(t), request(r) {}
+        device::DeferredDone take() override { return session.deferred_done(ticket, request); }
+    };
+    const auto ticket = ++last_ticket_;
+    SessionDeferral deferral(*this, ticket, frame.mbap);
+    auto reply = core_->handler.handle_or_defer({frame.unit, device::Link::Tcp}, frame.pdu,
+                                                response, deferral);
+    if (!reply) {
+        slot->deferred = true;
+        slot->ticket = ticket;
+        slot->ready_at = Clock::time_point::max();
+        return;
+    }
+    if (reply->action == device::ReplyAction::NoAnswer) {
+        replies_.pop_back();
+        return;
+    }
+    fill(*slot, frame.mbap, *reply, response, now);
+}
+
+void TcpSession::fill(PendingReply& slot, const protocol::MbapHeader& request,
+                      const device::Reply& reply, std::span<const std::uint8_t> response,
+                      Clock::time_point now) {
     switch (reply.action) {
         case device::ReplyAction::NoAnswer:
-            replies_.pop_back();
-            return;
+            slot.size = 0;  // nothing goes out for it; it only keeps its place in the order
+            break;
         case device::ReplyAction::Close:
-            slot->close = true;
+            slot.close = true;
             reading_ = false;
             break;
         case device::ReplyAction::Answer: {
-            auto size = std::min(reply.size, protocol::limits::kMaxPdu);
-            slot->size = static_cast<std::uint16_t>(protocol::write_mbap_adu(
-                answer_header(frame.mbap), response.first(size), slot->adu));
+            auto size = std::min({reply.size, response.size(), protocol::limits::kMaxPdu});
+            slot.size = static_cast<std::uint16_t>(
+                protocol::write_mbap_adu(answer_header(request), response.first(size), slot.adu));
             if (size > 0 && (response.front() & protocol::kExceptionBit)) {
                 ServerStats::bump(core_->stats.exceptions);
             }
             break;
         }
     }
-    slot->ready_at = now + reply.delay;
+    slot.ready_at = now + reply.delay;
+}
+
+device::DeferredDone TcpSession::deferred_done(std::uint32_t ticket,
+                                               const protocol::MbapHeader& request) {
+    // Called on the handler's thread: the answer is copied and handed to the session's own.
+    return [weak = weak_from_this(), executor = socket_.get_executor(), ticket, request](
+               const device::Reply& reply, std::span<const std::uint8_t> pdu) {
+        asio::post(executor, [weak, ticket, request, reply,
+                              bytes = std::vector<std::uint8_t>(pdu.begin(), pdu.end())] {
+            if (auto self = weak.lock()) self->on_deferred(ticket, request, reply, bytes);
+        });
+    };
+}
+
+void TcpSession::on_deferred(std::uint32_t ticket, const protocol::MbapHeader& request,
+                             const device::Reply& reply, std::span<const std::uint8_t> pdu) {
+    if (closed_) return;
+    for (std::size_t i = 0; i < replies_.size(); ++i) {
+        PendingReply& slot = replies_.at(i);
+        if (!slot.deferred || slot.ticket != ticket) continue;
+        slot.deferred = false;
+        fill(slot, request, reply, pdu, Clock::now());
+        // The writer may be asleep behind this answer, whatever it waits for.
+        writer_timer_.cancel();
+        if (reader_paused_) reader_timer_.cancel();
+        return;
+    }
 }
 
 void TcpSession::on_frame_error(const protocol::FrameEvent& frame, Clock::time_point now) {
@@ -378,7 +434,11 @@ Clock::time_point TcpSession::idle_deadline() const {
     // An answer a fault delays is activity still to come; an answer stuck behind a client
     // that does not read is not.
     auto since = last_activity_;
-    if (!replies_.empty()) since = std::max(since, replies_.front().ready_at);
+    if (!replies_.empty()) {
+        // An answer the handler still owes is activity to come: no idle close meanwhile.
+        if (replies_.front().deferred) return Clock::time_point::max();
+        since = std::max(since, replies_.front().ready_at);
+    }
     return since + timeout;
 }
 

@@ -66,6 +66,13 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     void on_partial_bytes(std::span<const std::uint8_t> bytes, Clock::time_point now);
     void on_frame(const protocol::FrameEvent& frame, Clock::time_point now);
     void on_frame_error(const protocol::FrameEvent& frame, Clock::time_point now);
+    // Writes the handler's reply into its slot.
+    void fill(PendingReply& slot, const protocol::MbapHeader& request, const device::Reply& reply,
+              std::span<const std::uint8_t> response, Clock::time_point now);
+    // What a deferring handler calls; it brings the answer back to this session's thread.
+    device::DeferredDone deferred_done(std::uint32_t ticket, const protocol::MbapHeader& request);
+    void on_deferred(std::uint32_t ticket, const protocol::MbapHeader& request,
+                     const device::Reply& reply, std::span<const std::uint8_t> pdu);
     void on_partial_timeout(Clock::time_point now);
     void arm_partial_deadline(Clock::time_point now);
     Clock::time_point idle_deadline() const;
@@ -105,6 +112,7 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     bool reading_ = true;          // false after EOF or a "close" fault
     bool writer_waiting_ = false;  // for work, not for a delay
     bool reader_paused_ = false;
+    std::uint32_t last_ticket_ = 0;  // of the last request given to the handler
 };
 
 }  // namespace mblab::server

@@ -3,6 +3,7 @@
 // the line; only unit 1 has a device there.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <memory>
 #include <string>
 
@@ -16,10 +17,13 @@ namespace {
 
 class GatewayToRtu : public ::testing::Test {
   protected:
+    // The gateway's response timeout for the line.
+    virtual int timeout_ms() const { return 300; }
     void SetUp() override {
         ASSERT_EQ(line_.start("reference", "rtu", 19200, false), "");
-        auto url = transport::parse_serial_url("rtu://" + line_.pty().client_end() +
-                                               "?baud=19200&units=1-10&timeout=300");
+        auto url = transport::parse_serial_url(
+            "rtu://" + line_.pty().client_end() +
+            "?baud=19200&units=1-10&timeout=" + std::to_string(timeout_ms()));
         ASSERT_TRUE(url) << url.error();
         auto gateway = server::make_gateway(*url);
         ASSERT_TRUE(gateway) << gateway.error();
@@ -30,7 +34,8 @@ class GatewayToRtu : public ::testing::Test {
         port_ = *port;
     }
     void TearDown() override {
-        if (server_) server_->stop();  // before the gateway it calls
+        if (server_) server_->stop();    // before the gateway it calls
+        if (gateway_) gateway_->stop();  // its thread posts answers to the server's io_context
     }
 
     DeviceOnLine line_;
@@ -71,6 +76,38 @@ TEST_F(GatewayToRtu, AnswersPathUnavailableForAnUnroutedUnit) {
     EXPECT_EQ(client.transact("00 09 00 00 00 06 14 03 00 00 00 01"), "00 09 00 00 00 03 14 83 0A");
     EXPECT_EQ(client.transact("00 0A 00 00 00 06 FF 03 00 00 00 01"), "00 0A 00 00 00 03 FF 83 0A");
     EXPECT_EQ(gateway_->stats().forwarded.load(), 0u);
+}
+
+// The line waits for a silent device; the gateway's own answers, on another connection or
+// behind it on the same one, do not wait with it (and keep their order on the connection).
+class SlowGatewayToRtu : public GatewayToRtu {
+  protected:
+    int timeout_ms() const override { return 3000; }
+};
+
+TEST_F(SlowGatewayToRtu, ASilentDeviceStallsNoOtherConnection) {
+    BlockingClient waiting(port_);
+    BlockingClient other(port_);
+    ASSERT_TRUE(waiting.connected() && other.connected());
+    ASSERT_TRUE(waiting.send_hex("00 01 00 00 00 06 05 03 00 00 00 01"));  // unit 5: no device
+    EXPECT_EQ(other.transact("00 02 00 00 00 06 14 03 00 00 00 01"), "00 02 00 00 00 03 14 83 0A");
+    // Unit 5's answer is still owed: its 3 s response timeout has not run out.
+    EXPECT_TRUE(waiting.read(1, std::chrono::milliseconds(20)).empty());
+    EXPECT_EQ(waiting.read_adu(), "00 01 00 00 00 03 05 83 0B");
+}
+
+TEST_F(GatewayToRtu, AnswersKeepRequestOrderOnAConnection) {
+    BlockingClient client(port_);
+    ASSERT_TRUE(client.connected());
+    // Unit 5 waits for the line's timeout, unit 20 is answered by the gateway at once, unit 1
+    // by the device: the answers still come in request order.
+    ASSERT_TRUE(
+        client.send_hex("00 01 00 00 00 06 05 03 00 00 00 01"
+                        "00 02 00 00 00 06 14 03 00 00 00 01"
+                        "00 03 00 00 00 06 01 06 00 64 00 2A"));
+    EXPECT_EQ(client.read_adu(), "00 01 00 00 00 03 05 83 0B");
+    EXPECT_EQ(client.read_adu(), "00 02 00 00 00 03 14 83 0A");
+    EXPECT_EQ(client.read_adu(), "00 03 00 00 00 06 01 06 00 64 00 2A");
 }
 
 // mbpoll counts references from 1: reference 201 is holding register 200.
