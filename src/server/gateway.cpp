@@ -129,12 +129,14 @@ void SerialGateway::work() {
 }
 
 void SerialGateway::stop() {
+    std::thread worker;
     {
         std::lock_guard lock(jobs_mutex_);
         stopping_ = true;
+        worker = std::move(worker_);  // handle_or_defer() starts it under this lock
     }
     jobs_ready_.notify_all();
-    if (worker_.joinable()) worker_.join();
+    if (worker.joinable()) worker.join();
 }
 
 SerialGateway::~SerialGateway() {
