@@ -20,6 +20,12 @@ ClientError invalid(std::string message) {
     return {ErrorKind::Invalid, std::move(message), std::nullopt};
 }
 
+// A quantity over [APP]'s limit, said the way the codec says it for the fields it can check.
+ClientError over_limit(const char* function, const char* field, std::size_t got, unsigned max) {
+    return invalid(std::string(function) + ": " + field + ": must be 1.." + std::to_string(max) +
+                   " (0x0001.." + hex16(max) + "), got " + std::to_string(got));
+}
+
 std::string decode_text(std::uint8_t function, const DecodeError& error) {
     return std::string(function_name(function)) + ": " + error.field + ": " + error.reason;
 }
@@ -185,9 +191,10 @@ Outcome<Done> Client::write_multiple_coils(std::uint16_t address, const std::vec
 Outcome<Done> Client::write_multiple_registers(std::uint16_t address,
                                                std::span<const std::uint16_t> values) {
     PduBuffer scratch{};
-    if (values.size() * 2 > scratch.size()) {
-        return invalid("write multiple registers: " + std::to_string(values.size()) +
-                       " registers do not fit a PDU");
+    // Past 123 the PDU would outgrow 253 bytes before the codec could name the quantity.
+    if (values.size() > limits::kMaxWriteRegisters) {
+        return over_limit("write multiple registers", "quantity", values.size(),
+                          limits::kMaxWriteRegisters);
     }
     const auto quantity = static_cast<std::uint16_t>(values.size());
     return call<WriteMultipleRegistersResponse>(
@@ -247,8 +254,9 @@ Outcome<std::vector<std::uint16_t>> Client::read_write_multiple_registers(
     std::uint16_t read_address, std::uint16_t read_count, std::uint16_t write_address,
     std::span<const std::uint16_t> values) {
     PduBuffer scratch{};
-    if (values.size() * 2 > scratch.size()) {
-        return invalid("read/write multiple registers: too many registers to write");
+    if (values.size() > limits::kMaxReadWriteWrite) {
+        return over_limit("read/write multiple registers", "quantity to write", values.size(),
+                          limits::kMaxReadWriteWrite);
     }
     const auto write_count = static_cast<std::uint16_t>(values.size());
     return call<ReadWriteMultipleRegistersResponse>(

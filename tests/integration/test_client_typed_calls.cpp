@@ -124,7 +124,13 @@ TEST_F(ClientTypedCalls, ArgumentsOverTheLimitsAreNotSent) {
     ASSERT_FALSE(refused);
     EXPECT_EQ(refused.error().kind, client::ErrorKind::Invalid);
     EXPECT_EQ(refused.error().message,
-              "write multiple registers: PDU length: must be 253 bytes or less");
+              "write multiple registers: quantity: must be 1..123 (0x0001..0x007B), got 124");
+    const std::vector<std::uint16_t> too_many_to_write(122, 0);
+    auto read_write = c.read_write_multiple_registers(0, 1, 0, too_many_to_write);
+    ASSERT_FALSE(read_write);
+    EXPECT_EQ(read_write.error().message,
+              "read/write multiple registers: quantity to write: must be 1..121 (0x0001..0x0079), "
+              "got 122");
     EXPECT_EQ(c.read_holding_registers(0, 0).error().kind, client::ErrorKind::Invalid);
     EXPECT_EQ(c.raw({}).error().kind, client::ErrorKind::Invalid);
     EXPECT_EQ(server_->stats().requests.load(), 0U);
