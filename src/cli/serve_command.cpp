@@ -156,9 +156,27 @@ bool save_state(const device::ReferenceDevice& device, const fs::path& path) {
     return false;
 }
 
+// The state file of device `index` of `count`: FILE itself for one device; for several, one file
+// each, numbered from 1 in port order: lab.json -> lab-1.json, lab-2.json, ...
+fs::path device_state_path(const fs::path& file, std::size_t index, std::size_t count) {
+    if (count == 1) return file;
+    return file.parent_path() /
+           (file.stem().string() + "-" + std::to_string(index + 1) + file.extension().string());
+}
+
+// Saves every device's state; false when any save failed (each failure is reported).
+bool save_states(const std::vector<std::unique_ptr<device::ReferenceDevice>>& devices,
+                 const fs::path& file) {
+    bool saved = true;
+    for (std::size_t i = 0; i < devices.size(); ++i)
+        saved = save_state(*devices[i], device_state_path(file, i, devices.size())) && saved;
+    return saved;
+}
+
 // --listen rtu:// or ascii://: the device on a serial line until SIGINT or SIGTERM, or until the
 // line fails (exit status 1).
-int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& device) {
+int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& device,
+                    const ServeOptions& options) {
     asio::io_context io(1);
     auto line = server::start_serial_server(io, device, url, server::device_line_hooks(device));
     if (!line) return usage_error(line.error());
@@ -173,11 +191,22 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
                device.profile().name, transport::format_serial_url(url),
                fmt::join(device.unit_ids(), ","));
     std::fflush(stdout);
+    asio::steady_timer save_timer(io);
+    if (!options.state.empty() && options.save_interval > 0) {
+        auto period =
+            std::chrono::duration_cast<std::chrono::milliseconds>(Seconds(options.save_interval));
+        asio::co_spawn(io, every(save_timer, period, [&] { save_state(device, options.state); }),
+                       asio::detached);
+    }
     asio::signal_set signals(io, SIGINT, SIGTERM);
     signals.async_wait([&](const asio::error_code& ec, int) {
-        if (!ec) (*line)->stop();
+        if (ec) return;
+        (*line)->stop();
+        save_timer.cancel();
     });
     io.run();
+    // The line is closed, so every write the device acknowledged is in it now.
+    if (!options.state.empty() && !save_state(device, options.state)) return kExitFailed;
     return status;
 }
 
@@ -210,9 +239,6 @@ int run_serve(const ServeOptions& options) {
     if (!profile_path) return usage_error(error);
     auto server_config = server_options(options, error);
     if (!error.empty()) return usage_error(error);
-    if (!options.state.empty() && options.devices != 1) {
-        return usage_error("--state keeps one device's data; use it without --devices");
-    }
     auto first_port = static_cast<unsigned>(endpoint->port());
     if (first_port != 0 && first_port + static_cast<unsigned>(options.devices) - 1 > 65535) {
         return usage_error(fmt::format("{} devices from port {} run past port 65535",
@@ -226,16 +252,17 @@ int run_serve(const ServeOptions& options) {
         devices.push_back(std::move(loaded.value()));
     }
     auto& first_device = *devices.front();
-    if (!options.state.empty()) {
-        auto text = server::read_state_file(options.state, error);
+    for (std::size_t i = 0; i < devices.size() && !options.state.empty(); ++i) {
+        const auto path = device_state_path(options.state, i, devices.size()).string();
+        auto text = server::read_state_file(path, error);
         if (!error.empty()) return usage_error(error);
-        if (text && !first_device.load_state(*text, error)) {
-            return usage_error(fmt::format("state file {}: {}", options.state, error));
+        if (text && !devices[i]->load_state(*text, error)) {
+            return usage_error(fmt::format("state file {}: {}", path, error));
         }
     }
 
     std::signal(SIGPIPE, SIG_IGN);
-    if (serial && !rtu_over_tcp) return run_serial_line(*serial, first_device);
+    if (serial && !rtu_over_tcp) return run_serial_line(*serial, first_device, options);
     // One thread runs every server; without a gateway nothing else touches the io_context, so
     // it takes no locks. A gateway's thread posts its answers to it.
     asio::io_context io(gateway ? 1 : ASIO_CONCURRENCY_HINT_UNSAFE);
@@ -285,8 +312,7 @@ int run_serve(const ServeOptions& options) {
     if (!options.state.empty() && options.save_interval > 0) {
         auto period =
             std::chrono::duration_cast<std::chrono::milliseconds>(Seconds(options.save_interval));
-        asio::co_spawn(io,
-                       every(save_timer, period, [&] { save_state(first_device, options.state); }),
+        asio::co_spawn(io, every(save_timer, period, [&] { save_states(devices, options.state); }),
                        asio::detached);
     }
     if (options.stats) {
@@ -310,7 +336,7 @@ int run_serve(const ServeOptions& options) {
         stats_line.print();
         stats_line.finish();
     }
-    if (!options.state.empty() && !save_state(first_device, options.state)) return kExitFailed;
+    if (!options.state.empty() && !save_states(devices, options.state)) return kExitFailed;
     return kExitOk;
 }
 

@@ -105,6 +105,36 @@ TEST(ServeCommand, RunsSeveralDevicesOnTheirOwnPorts) {
     EXPECT_EQ(serve.terminate(), 0);
 }
 
+// With --devices K, each device keeps its own state file: lab.json -> lab-1.json, lab-2.json.
+TEST(ServeCommand, SeveralDevicesKeepTheirOwnState) {
+    TempDir dir;
+    const auto state = (dir / "lab.json").string();
+    const std::vector<std::string> args = {
+        "--listen", "tcp://127.0.0.1:0", "--devices", "2", "--state",
+        state,      "--save-interval",   "0"};
+    {
+        Serve serve(args);
+        ASSERT_EQ(serve.ports().size(), 2U) << serve.line();
+        auto first = serve.connect(0);
+        auto second = serve.connect(1);
+        EXPECT_EQ(first.transact("00 01 00 00 00 06 01 06 00 20 01 01"),
+                  "00 01 00 00 00 06 01 06 00 20 01 01");
+        EXPECT_EQ(second.transact("00 01 00 00 00 06 01 06 00 20 02 02"),
+                  "00 01 00 00 00 06 01 06 00 20 02 02");
+        EXPECT_EQ(serve.terminate(), 0);
+    }
+    EXPECT_FALSE(fs::exists(state));
+    ASSERT_TRUE(fs::exists(dir / "lab-1.json"));
+    ASSERT_TRUE(fs::exists(dir / "lab-2.json"));
+    Serve again(args);
+    ASSERT_EQ(again.ports().size(), 2U) << again.line();
+    EXPECT_EQ(again.connect(0).transact("00 02 00 00 00 06 01 03 00 20 00 01"),
+              "00 02 00 00 00 05 01 03 02 01 01");
+    EXPECT_EQ(again.connect(1).transact("00 02 00 00 00 06 01 03 00 20 00 01"),
+              "00 02 00 00 00 05 01 03 02 02 02");
+    EXPECT_EQ(again.terminate(), 0);
+}
+
 TEST(ServeCommand, KeepsAcknowledgedWritesAcrossASigtermRestart) {
     TempDir dir;
     auto state = (dir / "device.json").string();
