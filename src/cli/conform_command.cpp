@@ -162,18 +162,6 @@ bool write_reports(const ConformOptions& options, const conf::RunResult& result,
     return options.pcap.empty() || conf::write_pcap(options.pcap, capture.events(), error);
 }
 
-// On RTU and ASCII, address 0 is a broadcast that is never answered: a device is tested at its
-// own address, 1 unless one is declared.
-bool check_serial_unit(const ConformOptions& options, conf::Dut& dut, std::string& error) {
-    if (options.dut_file.empty() && options.command->count("--unit") == 0) {
-        dut.unit = 1;
-        return true;
-    }
-    auto problem = conf::serial_address_error(dut.unit, options.target);
-    if (problem) error = *problem;
-    return !problem;
-}
-
 int run_conform(const ConformOptions& options) {
     std::vector<conf::Suite> suites;
     std::string error;
@@ -212,7 +200,10 @@ int run_conform(const ConformOptions& options) {
             return usage_error("--pcap records Modbus/TCP only; " + target.name +
                                " is not a tcp:// target");
         }
-        if (!check_serial_unit(options, dut, error)) return usage_error(error);
+        const bool declared = !options.dut_file.empty() || options.command->count("--unit") > 0;
+        if (auto problem = conf::settle_serial_unit(dut, declared, target.name)) {
+            return usage_error(*problem);
+        }
     }
 
     conf::EngineOptions engine_options;

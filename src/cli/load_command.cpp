@@ -128,18 +128,14 @@ protocol::Result<conf::LoadTarget, std::string> make_target(const std::string& t
     return target;
 }
 
-// On RTU and ASCII lines address 0 is a broadcast that is never answered: with a line among the
-// nodes, the unit is 1 unless one is declared, and a declared one must be an address (1-247).
+// With a line among the nodes, the unit must be a serial address (1 unless declared).
 std::optional<std::string> check_line_unit(const LoadOptions& options, const conf::LoadPlan& plan,
                                            conf::Dut& dut) {
     const auto line = std::find_if(plan.targets.begin(), plan.targets.end(),
                                    [](const conf::LoadTarget& target) { return target.line; });
     if (line == plan.targets.end()) return std::nullopt;
-    if (options.dut_file.empty() && options.command->count("--unit") == 0) {
-        dut.unit = 1;
-        return std::nullopt;
-    }
-    return conf::serial_address_error(dut.unit, line->url);
+    const bool declared = !options.dut_file.empty() || options.command->count("--unit") > 0;
+    return conf::settle_serial_unit(dut, declared, line->url);
 }
 
 protocol::Result<conf::LoadPlan, std::string> make_plan(const LoadOptions& options) {

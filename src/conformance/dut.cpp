@@ -203,7 +203,9 @@ std::optional<std::string> unmet(const Requirement& requirement, const Dut& dut)
     return fmt::format("needs {}; the DUT declares {} = {}", requirement.text, requirement.fact, v);
 }
 
-std::optional<std::string> serial_address_error(std::uint8_t unit, std::string_view target) {
+std::optional<std::string> settle_serial_unit(Dut& dut, bool declared, std::string_view target) {
+    if (!declared) dut.unit = 1;
+    const unsigned unit = dut.unit;
     if (unit >= 1 && unit <= 247) return std::nullopt;
     return fmt::format(
         "unit {} is not a serial device address: on {} a device answers at an address from 1 "

@@ -37,8 +37,9 @@ struct Dut {
 };
 
 // On RTU and ASCII framings a device answers at an address from 1 to 247 (0 is the broadcast,
-// never answered): the one-line error for any other unit, naming `target`.
-std::optional<std::string> serial_address_error(std::uint8_t unit, std::string_view target);
+// never answered). A unit nobody declared becomes 1; a declared one outside 1..247 gives the
+// one-line error, naming `target`.
+std::optional<std::string> settle_serial_unit(Dut& dut, bool declared, std::string_view target);
 
 // Keys of a DUT file, which are also the names `requires` and placeholders may use.
 const std::vector<std::string_view>& dut_keys();

@@ -69,11 +69,16 @@ std::optional<device::Reply> SerialGateway::answer_here(const device::RequestCon
                                                         std::span<std::uint8_t> response) {
     if (request.empty()) return device::Reply{device::ReplyAction::NoAnswer, 0, {}};
     if (!units_.test(context.unit)) {
-        ++stats_.unrouted;
-        return exception(
-            request[0], static_cast<std::uint8_t>(ExceptionCode::GatewayPathUnavailable), response);
+        return path_unavailable(request[0], response);
     }
     return std::nullopt;
+}
+
+device::Reply SerialGateway::path_unavailable(std::uint8_t function,
+                                              std::span<std::uint8_t> response) {
+    ++stats_.unrouted;
+    return exception(function, static_cast<std::uint8_t>(ExceptionCode::GatewayPathUnavailable),
+                     response);
 }
 
 device::Reply SerialGateway::handle(const device::RequestContext& context,
@@ -91,9 +96,7 @@ std::optional<device::Reply> SerialGateway::handle_or_defer(const device::Reques
     if (auto here = answer_here(context, request, response)) return here;
     std::lock_guard lock(jobs_mutex_);
     if (stopping_) {
-        ++stats_.unrouted;
-        return exception(
-            request[0], static_cast<std::uint8_t>(ExceptionCode::GatewayPathUnavailable), response);
+        return path_unavailable(request[0], response);
     }
     jobs_.push_back({context.unit, {request.begin(), request.end()}, deferral.take()});
     if (!worker_.joinable()) worker_ = std::thread([this] { work(); });
@@ -116,10 +119,7 @@ void SerialGateway::work() {
         }
         device::Reply reply;
         if (give_up) {
-            ++stats_.unrouted;
-            reply = exception(job.request[0],
-                              static_cast<std::uint8_t>(ExceptionCode::GatewayPathUnavailable),
-                              response);
+            reply = path_unavailable(job.request[0], response);
         } else {
             std::lock_guard line(mutex_);
             reply = forward(job.unit, job.request, response);
@@ -146,16 +146,11 @@ SerialGateway::~SerialGateway() {
 device::Reply SerialGateway::forward(std::uint8_t unit, std::span<const std::uint8_t> request,
                                      std::span<std::uint8_t> response) {
     const std::uint8_t function = request[0];
-    const auto path_unavailable = [&] {
-        ++stats_.unrouted;
-        return exception(function, static_cast<std::uint8_t>(ExceptionCode::GatewayPathUnavailable),
-                         response);
-    };
     // An answer that came too late for the last request must not pass for this one's.
     ::tcflush(port_.native_handle(), TCIFLUSH);
     receiver_.reset();
     std::this_thread::sleep_until(line_free_at_);
-    if (!send_frame(unit, request)) return path_unavailable();
+    if (!send_frame(unit, request)) return path_unavailable(function, response);
     ++stats_.forwarded;
     if (unit == 0) {
         line_free_at_ = LineClock::now() + inter_frame_;
@@ -163,7 +158,7 @@ device::Reply SerialGateway::forward(std::uint8_t unit, std::span<const std::uin
     }
     const long size = await_answer(unit, function, response);
     line_free_at_ = LineClock::now() + inter_frame_;
-    if (size < 0) return path_unavailable();
+    if (size < 0) return path_unavailable(function, response);
     if (size == 0) {
         ++stats_.timeouts;
         return exception(function,

@@ -91,6 +91,8 @@ class SerialGateway final : public device::RequestHandler {
     long await_answer(std::uint8_t unit, std::uint8_t function, std::span<std::uint8_t> response);
     static device::Reply exception(std::uint8_t function, std::uint8_t code,
                                    std::span<std::uint8_t> response);
+    // Exception 0A, counted: no route to the unit, the line failed, or the gateway is stopping.
+    device::Reply path_unavailable(std::uint8_t function, std::span<std::uint8_t> response);
 
     asio::io_context io_;  // owns the port; never run, the gateway's I/O is blocking
     asio::serial_port port_;

@@ -26,9 +26,10 @@ start_peer() {
 }
 
 # The peers' data maps: 65536 addresses of each kind from 0, any unit id; nothing else declared.
+# DUT_UNIT (default 0) is the unit id tested; serial framings need an address from 1.
 write_dut() {
-    cat > "$WORK/dut.toml" <<'TOML'
-unit = 0
+    echo "unit = ${DUT_UNIT:-0}" > "$WORK/dut.toml"
+    cat >> "$WORK/dut.toml" <<'TOML'
 registers = 65536
 max_read = 125
 coils = 65536
@@ -37,11 +38,12 @@ input_registers = 65536
 TOML
 }
 
-# run_conform MBLAB EXPECTED_STATUS: runs every shipped suite against the peer.
+# run_conform MBLAB EXPECTED_STATUS [SCHEME]: runs every shipped suite against the peer, reached
+# as SCHEME://127.0.0.1:PORT (default tcp).
 run_conform() {
     write_dut
     set +e
-    "$1" conform "tcp://127.0.0.1:$PEER_PORT" --dut "$WORK/dut.toml" --json "$WORK/report.json" \
+    "$1" conform "${3:-tcp}://127.0.0.1:$PEER_PORT" --dut "$WORK/dut.toml" --json "$WORK/report.json" \
         > "$WORK/console.txt" 2>&1
     status=$?
     set -e

@@ -16,6 +16,8 @@ from pymodbus.datastore import (
     ModbusSlaveContext,
 )
 from pymodbus.device import ModbusDeviceIdentification
+from pymodbus.framer.rtu_framer import ModbusRtuFramer
+from pymodbus.framer.socket_framer import ModbusSocketFramer
 from pymodbus.server.async_io import ModbusTcpServer
 
 ADDRESSES = 65536
@@ -25,7 +27,7 @@ def block():
     return ModbusSequentialDataBlock(0, [0] * ADDRESSES)
 
 
-async def serve(lifetime):
+async def serve(lifetime, framer):
     store = ModbusSlaveContext(di=block(), co=block(), hr=block(), ir=block(), zero_mode=True)
     context = ModbusServerContext(slaves=store, single=True)
     # The basic identification objects (vendor, product code, revision) are mandatory.
@@ -36,8 +38,14 @@ async def serve(lifetime):
             "MajorMinorRevision": "3.0.0",
         }
     )
+    # --framer rtu: RTU frames (address, PDU, CRC) over the TCP connection instead of MBAP.
+    framers = {"socket": ModbusSocketFramer, "rtu": ModbusRtuFramer}
     server = ModbusTcpServer(
-        context, identity=identity, address=("127.0.0.1", 0), allow_reuse_address=True
+        context,
+        framer=framers[framer],
+        identity=identity,
+        address=("127.0.0.1", 0),
+        allow_reuse_address=True,
     )
     task = asyncio.create_task(server.serve_forever())
     await server.serving
@@ -51,9 +59,10 @@ async def serve(lifetime):
 def main():
     parser = argparse.ArgumentParser()
     parser.add_argument("--lifetime", type=float, default=120.0)
+    parser.add_argument("--framer", choices=["socket", "rtu"], default="socket")
     args = parser.parse_args()
     logging.basicConfig(level=logging.CRITICAL)
-    asyncio.run(serve(args.lifetime))
+    asyncio.run(serve(args.lifetime, args.framer))
     return 0
 
 
