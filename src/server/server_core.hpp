@@ -5,6 +5,7 @@
 #include "device/request_handler.hpp"
 #include "server/server_options.hpp"
 #include "server/server_stats.hpp"
+#include "transport/socket_poller.hpp"
 #include "transport/tcp_listener.hpp"
 
 namespace mblab::server {
@@ -19,6 +20,7 @@ struct ServerCore {
     const ServerOptions options;
     ServerStats stats;
     std::shared_ptr<transport::TcpListener> listener;
+    std::shared_ptr<transport::SocketPoller> poller;  // the Modbus/TCP sessions' sockets
     bool stopped = false;
 };
 

@@ -18,6 +18,7 @@ TcpServer::TcpServer(asio::io_context& io, device::RequestHandler& handler, Serv
     core_->listener = transport::TcpListener::create(
         io.get_executor(),
         transport::ListenerLimits{core_->options.max_connections, core_->options.allow});
+    core_->poller = transport::SocketPoller::create(io.get_executor());
 }
 
 TcpServer::~TcpServer() {

@@ -1,6 +1,7 @@
 #include "server/tcp_session.hpp"
 
 #include <sys/socket.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <asio/co_spawn.hpp>
@@ -8,7 +9,7 @@
 #include <asio/experimental/as_tuple.hpp>
 #include <asio/post.hpp>
 #include <asio/use_awaitable.hpp>
-#include <asio/write.hpp>
+#include <cerrno>
 
 #include "protocol/adu_writer.hpp"
 #include "protocol/function_code.hpp"
@@ -37,15 +38,22 @@ protocol::MbapHeader answer_header(const protocol::MbapHeader& request) {
 }  // namespace
 
 TcpSession::TcpSession(asio::ip::tcp::socket socket, std::shared_ptr<ServerCore> core)
-    : socket_(std::move(socket)),
+    : executor_(socket.get_executor()),
       core_(std::move(core)),
-      writer_timer_(socket_.get_executor()),
-      reader_timer_(socket_.get_executor()),
-      watchdog_timer_(socket_.get_executor()),
+      delay_timer_(executor_),
+      watchdog_timer_(executor_),
       replies_(outstanding_limit(core_->options) + kBusySlack + kReserveSlots),
-      last_activity_(Clock::now()) {}
+      last_activity_(Clock::now()) {
+    asio::error_code ec;
+    fd_ = socket.release(ec);  // on failure the socket closes with the argument
+    if (ec) fd_ = -1;
+}
 
 TcpSession::~TcpSession() {
+    if (fd_ >= 0) {
+        core_->poller->remove(fd_);
+        ::close(fd_);
+    }
     core_->listener->connections().remove(*this);
     core_->stats.connections_open.fetch_sub(1, std::memory_order_relaxed);
 }
@@ -53,12 +61,11 @@ TcpSession::~TcpSession() {
 void TcpSession::start() {
     core_->listener->connections().add(*this);
     ServerStats::bump(core_->stats.connections_open);
-    asio::error_code ignored;
-    socket_.non_blocking(true, ignored);  // for send_now_or_wake_writer()'s direct write
-    auto executor = socket_.get_executor();
-    read_some();
-    asio::co_spawn(executor, write_loop(shared_from_this()), asio::detached);
-    asio::co_spawn(executor, watchdog_loop(shared_from_this()), asio::detached);
+    if (fd_ < 0 || !core_->poller->add(fd_, shared_from_this(), EPOLLIN)) {
+        close();
+        return;
+    }
+    asio::co_spawn(executor_, watchdog_loop(shared_from_this()), asio::detached);
 }
 
 bool TcpSession::idle() const {
@@ -69,57 +76,71 @@ void TcpSession::close() {
     if (closed_) return;
     closed_ = true;
     reading_ = false;
-    asio::error_code ignored;
-    socket_.close(ignored);
-    writer_timer_.cancel();
-    reader_timer_.cancel();
+    if (fd_ >= 0) {
+        core_->poller->remove(fd_);
+        ::close(fd_);
+        fd_ = -1;
+    }
+    delay_timer_.cancel();
     watchdog_timer_.cancel();
 }
 
 void TcpSession::shutdown_and_close() {
-    asio::error_code ignored;
-    socket_.shutdown(asio::ip::tcp::socket::shutdown_send, ignored);
+    if (fd_ >= 0) ::shutdown(fd_, SHUT_WR);
     close();
 }
 
-void TcpSession::read_some() {
-    socket_.async_read_some(asio::buffer(input_),
-                            [self = shared_from_this()](const asio::error_code& ec, std::size_t n) {
-                                self->on_read(ec, n);
-                            });
+void TcpSession::on_ready(std::uint32_t events) {
+    if (events & EPOLLERR) {
+        close();  // reset by the peer: nothing can reach it any more
+        return;
+    }
+    if (events & EPOLLOUT) {
+        write_blocked_ = false;
+        flush(Clock::now());
+    }
+    if ((events & (EPOLLIN | EPOLLHUP)) && reading_ && !reader_paused_) read_ready();
+    // Both directions shut: no answer can go out, and a level-triggered hang-up would repeat.
+    if (events & EPOLLHUP) close();
+    update_interest();
 }
 
-void TcpSession::on_read(const asio::error_code& ec, std::size_t n) {
-    if (closed_) return;
-    if (ec == asio::error::eof) {
+void TcpSession::read_ready() {
+    const auto n = ::recv(fd_, input_.data(), input_.size(), MSG_DONTWAIT);
+    if (n > 0) {
+        input_begin_ = 0;
+        input_end_ = static_cast<std::size_t>(n);
+        continue_reading();
+    } else if (n == 0) {
         on_end_of_input();
-        return;
-    }
-    if (ec) {
+    } else if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
         close();
-        return;
     }
-    input_begin_ = 0;
-    input_end_ = n;
-    continue_reading();
 }
 
 void TcpSession::continue_reading() {
-    switch (process_input()) {
-        case Progress::Consumed:
-            read_some();
-            return;
-        case Progress::Paused:
-            reader_paused_ = true;
-            reader_timer_.expires_at(Clock::time_point::max());
-            reader_timer_.async_wait([self = shared_from_this()](const asio::error_code&) {
-                self->reader_paused_ = false;
-                if (!self->closed_) self->continue_reading();
-            });
-            return;
-        case Progress::Stopped:
-            return;
-    }
+    if (process_input() == Progress::Paused) reader_paused_ = true;
+    update_interest();
+}
+
+void TcpSession::resume_reading_soon() {
+    // Not from inside the reader or the writer: the input left over is framed on a fresh stack.
+    if (!reader_paused_ || resume_posted_) return;
+    resume_posted_ = true;
+    asio::post(executor_, [self = shared_from_this()] {
+        self->resume_posted_ = false;
+        if (self->closed_ || !self->reader_paused_) return;
+        self->reader_paused_ = false;
+        self->continue_reading();
+    });
+}
+
+void TcpSession::update_interest() {
+    if (closed_) return;
+    std::uint32_t events = 0;
+    if (reading_ && !reader_paused_) events |= EPOLLIN;
+    if (write_blocked_) events |= EPOLLOUT;
+    core_->poller->modify(fd_, events);
 }
 
 void TcpSession::on_end_of_input() {
@@ -128,7 +149,8 @@ void TcpSession::on_end_of_input() {
     auto now = Clock::now();
     if (framer_.has_partial() || partial_.overlong) on_partial_timeout(now);
     reading_ = false;
-    wake_writer();
+    flush(now);
+    update_interest();
 }
 
 TcpSession::Progress TcpSession::process_input() {
@@ -150,7 +172,7 @@ TcpSession::Progress TcpSession::process_input() {
             continue;
         }
         if (must_pause(now)) {
-            send_now_or_wake_writer(now);
+            flush(now);
             if (must_pause(now)) return Progress::Paused;
         }
         std::size_t consumed = 0;
@@ -170,7 +192,7 @@ TcpSession::Progress TcpSession::process_input() {
                 break;
         }
     }
-    send_now_or_wake_writer(now);
+    flush(now);
     return reading_ ? Progress::Consumed : Progress::Stopped;
 }
 
@@ -265,7 +287,7 @@ void TcpSession::fill(PendingReply& slot, const protocol::MbapHeader& request,
 device::DeferredDone TcpSession::deferred_done(std::uint32_t ticket,
                                                const protocol::MbapHeader& request) {
     // Called on the handler's thread: the answer is copied and handed to the session's own.
-    return [weak = weak_from_this(), executor = socket_.get_executor(), ticket, request](
+    return [weak = weak_from_this(), executor = executor_, ticket, request](
                const device::Reply& reply, std::span<const std::uint8_t> pdu) {
         asio::post(executor, [weak, ticket, request, reply,
                               bytes = std::vector<std::uint8_t>(pdu.begin(), pdu.end())] {
@@ -281,10 +303,10 @@ void TcpSession::on_deferred(std::uint32_t ticket, const protocol::MbapHeader& r
         PendingReply& slot = replies_.at(i);
         if (!slot.deferred || slot.ticket != ticket) continue;
         slot.deferred = false;
-        fill(slot, request, reply, pdu, Clock::now());
-        // The writer may be asleep behind this answer, whatever it waits for.
-        writer_timer_.cancel();
-        if (reader_paused_) reader_timer_.cancel();
+        auto now = Clock::now();
+        fill(slot, request, reply, pdu, now);
+        flush(now);  // the answers behind it may have waited for it
+        resume_reading_soon();
         return;
     }
 }
@@ -330,7 +352,6 @@ void TcpSession::queue_exception(const protocol::MbapHeader& header, std::uint8_
         static_cast<std::uint16_t>(protocol::write_mbap_adu(answer_header(header), pdu, slot->adu));
     slot->ready_at = now;
     ServerStats::bump(core_->stats.exceptions);
-    wake_writer();
 }
 
 void TcpSession::close_after_answers(Clock::time_point now) {
@@ -338,43 +359,79 @@ void TcpSession::close_after_answers(Clock::time_point now) {
     if (auto* slot = replies_.push_back()) {
         slot->close = true;
         slot->ready_at = now;
-        wake_writer();
     } else {
         close();
     }
 }
 
-void TcpSession::wake_writer() {
-    if (writer_waiting_) writer_timer_.cancel();
-}
-
-void TcpSession::send_now_or_wake_writer(Clock::time_point now) {
-    if (replies_.empty() || !writer_waiting_) return;
-    std::array<asio::const_buffer, kMaxGather> buffers;
-    auto count = gather_ready(now, buffers);
-    if (count == 1) {
-        // The usual case, one answer: send() is a little cheaper than Asio's sendmsg().
-        const auto sent = ::send(socket_.native_handle(), buffers[0].data(), buffers[0].size(),
-                                 MSG_NOSIGNAL | MSG_DONTWAIT);
-        if (sent >= 0) consume_sent(count, static_cast<std::size_t>(sent), now);
-    } else if (count > 1) {
-        asio::error_code ec;  // would_block: the writer waits for room
-        auto written =
-            socket_.write_some(std::span<const asio::const_buffer>(buffers.data(), count), ec);
-        if (!ec) consume_sent(count, written, now);
+void TcpSession::flush(Clock::time_point now) {
+    std::array<iovec, kMaxGather> buffers;
+    while (!closed_ && !write_blocked_) {
+        if (replies_.empty()) {
+            if (!reading_) shutdown_and_close();
+            return;
+        }
+        const auto& head = replies_.front();
+        if (head.ready_at > now) {
+            if (!head.deferred) arm_delay(head.ready_at);
+            return;
+        }
+        if (head.close) {
+            shutdown_and_close();
+            return;
+        }
+        const auto count = gather_ready(now, buffers);
+        std::size_t wanted = 0;
+        for (std::size_t i = 0; i < count; ++i)
+            wanted += buffers[i].iov_len;
+        ssize_t sent = 0;
+        if (count == 1) {
+            // The usual case, one answer: send() is a little cheaper than sendmsg().
+            sent =
+                ::send(fd_, buffers[0].iov_base, buffers[0].iov_len, MSG_NOSIGNAL | MSG_DONTWAIT);
+        } else {
+            msghdr message{};
+            message.msg_iov = buffers.data();
+            message.msg_iovlen = count;
+            sent = ::sendmsg(fd_, &message, MSG_NOSIGNAL | MSG_DONTWAIT);
+        }
+        if (sent < 0) {
+            if (errno == EINTR) continue;
+            if (errno != EAGAIN && errno != EWOULDBLOCK) {
+                close();
+                return;
+            }
+            sent = 0;
+        }
+        consume_sent(count, static_cast<std::size_t>(sent), now);
+        if (static_cast<std::size_t>(sent) < wanted) {
+            // The client is not reading fast enough: wait for room in the socket.
+            write_blocked_ = true;
+            update_interest();
+        }
     }
-    if (!replies_.empty()) wake_writer();
 }
 
-std::size_t TcpSession::gather_ready(Clock::time_point now,
-                                     std::span<asio::const_buffer> out) const {
+void TcpSession::arm_delay(Clock::time_point until) {
+    if (delay_until_ == until) return;  // already armed for it
+    delay_until_ = until;
+    delay_timer_.expires_at(until);
+    delay_timer_.async_wait([self = shared_from_this()](const asio::error_code& ec) {
+        if (ec || self->closed_) return;
+        self->delay_until_ = {};
+        self->flush(Clock::now());
+        self->update_interest();
+    });
+}
+
+std::size_t TcpSession::gather_ready(Clock::time_point now, std::span<iovec> out) const {
     std::size_t count = 0;
     auto limit = std::min(out.size(), replies_.size());
     while (count < limit) {
         const auto& reply = replies_.at(count);
         if (reply.close || reply.ready_at > now) break;
         auto skip = count == 0 ? head_sent_ : 0;
-        out[count++] = asio::buffer(reply.adu.data() + skip, reply.size - skip);
+        out[count++] = {const_cast<std::uint8_t*>(reply.adu.data() + skip), reply.size - skip};
     }
     return count;
 }
@@ -389,43 +446,7 @@ void TcpSession::consume_sent(std::size_t count, std::size_t written, Clock::tim
     replies_.pop_front(done);
     head_sent_ = written;
     last_activity_ = now;
-    if (reader_paused_) reader_timer_.cancel();
-}
-
-asio::awaitable<void> TcpSession::write_loop(std::shared_ptr<TcpSession> /*self*/) {
-    std::array<asio::const_buffer, kMaxGather> buffers;
-    while (!closed_) {
-        if (replies_.empty()) {
-            if (!reading_) {
-                shutdown_and_close();
-                break;
-            }
-            writer_waiting_ = true;
-            writer_timer_.expires_at(Clock::time_point::max());
-            co_await writer_timer_.async_wait(use_tuple);
-            writer_waiting_ = false;
-            continue;
-        }
-        auto now = Clock::now();
-        auto& head = replies_.front();
-        if (head.ready_at > now) {
-            writer_timer_.expires_at(head.ready_at);
-            co_await writer_timer_.async_wait(use_tuple);
-            continue;
-        }
-        if (head.close) {
-            shutdown_and_close();
-            break;
-        }
-        auto count = gather_ready(now, buffers);
-        auto [ec, written] = co_await asio::async_write(
-            socket_, std::span<const asio::const_buffer>(buffers.data(), count), use_tuple);
-        if (ec || closed_) {
-            close();
-            break;
-        }
-        consume_sent(count, written, Clock::now());
-    }
+    if (done > 0) resume_reading_soon();
 }
 
 Clock::time_point TcpSession::idle_deadline() const {
@@ -453,6 +474,8 @@ asio::awaitable<void> TcpSession::watchdog_loop(std::shared_ptr<TcpSession> /*se
         auto now = Clock::now();
         if ((framer_.has_partial() || partial_.overlong) && now >= partial_deadline_) {
             on_partial_timeout(now);
+            flush(now);
+            update_interest();
         }
         if (now >= idle_deadline()) {
             ServerStats::bump(core_->stats.closed_idle);

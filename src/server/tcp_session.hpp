@@ -1,8 +1,10 @@
 #pragma once
 
+#include <sys/uio.h>
+
 #include <array>
+#include <asio/any_io_executor.hpp>
 #include <asio/awaitable.hpp>
-#include <asio/buffer.hpp>
 #include <asio/ip/tcp.hpp>
 #include <asio/steady_timer.hpp>
 #include <cstdint>
@@ -16,24 +18,30 @@
 #include "server/reply_queue.hpp"
 #include "server/server_core.hpp"
 #include "transport/connection_table.hpp"
+#include "transport/socket_poller.hpp"
 
 namespace mblab::server {
 
-// One Modbus/TCP connection: a reader that frames requests and asks the device, a writer that
-// sends the answers in request order (holding back answers a fault delays), and a watchdog for
-// the idle timeout and for frames whose bytes stop arriving.
+// One Modbus/TCP connection. The socket is read when the server's SocketPoller says it has
+// data; the reader frames requests and asks the device, and the answers go out in request order,
+// written at once when they are ready (an answer a fault delays holds back those behind it, and
+// what the socket does not take waits for it to drain). A watchdog handles the idle timeout and
+// frames whose bytes stop arriving.
 class TcpSession final : public std::enable_shared_from_this<TcpSession>,
-                         public transport::TrackedConnection {
+                         public transport::TrackedConnection,
+                         public transport::SocketPoller::Watcher {
   public:
+    // Takes the socket's descriptor over from Asio.
     TcpSession(asio::ip::tcp::socket socket, std::shared_ptr<ServerCore> core);
     ~TcpSession();
 
-    // Registers with the listener's connection table and spawns the three coroutines.
+    // Registers with the listener's connection table and the poller, and starts the watchdog.
     void start();
 
     bool idle() const override;
     Clock::time_point last_activity() const override { return last_activity_; }
     void close() override;
+    void on_ready(std::uint32_t events) override;
 
   private:
     // The start of an unfinished frame, for answering it once its wait runs out: the framer
@@ -51,14 +59,14 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     enum class Progress : std::uint8_t { Consumed, Paused, Stopped };
     static constexpr std::size_t kMaxGather = 32;  // answers sent in one gathered write
 
-    // The reader runs on plain completion handlers, the per-request path; the writer and the
-    // watchdog are coroutines. Each holds `self` so the session lives until the last ends.
-    void read_some();
-    void on_read(const asio::error_code& ec, std::size_t n);
-    // Frames and answers what was read, then reads again, or waits for the writer to make room.
+    void read_ready();
+    // Frames and answers what was read; pauses reading while the answer queue is full.
     void continue_reading();
+    void resume_reading_soon();
     void on_end_of_input();
-    asio::awaitable<void> write_loop(std::shared_ptr<TcpSession> self);
+    // Which events the poller watches: input unless paused or finished, output while the socket
+    // is full.
+    void update_interest();
     asio::awaitable<void> watchdog_loop(std::shared_ptr<TcpSession> self);
 
     Progress process_input();
@@ -80,21 +88,22 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
                          protocol::ExceptionCode code, Clock::time_point now);
     // Stops reading; the answers already queued go out, then the connection closes.
     void close_after_answers(Clock::time_point now);
-    void wake_writer();
-    // After a batch of requests: when the writer is idle and every answer is ready, write them
-    // at once without blocking (saving the writer's wake-up); otherwise, or for what the socket
-    // did not take, wake the writer.
-    void send_now_or_wake_writer(Clock::time_point now);
+    // Writes the ready answers from the head until the socket is full or the head is not ready
+    // (a delay fault arms the delay timer; an answer the handler still owes waits for it), then
+    // closes if nothing more will come.
+    void flush(Clock::time_point now);
+    void arm_delay(Clock::time_point until);
     // The ready answers from the head (the head's unsent part first), at most out.size().
-    std::size_t gather_ready(Clock::time_point now, std::span<asio::const_buffer> out) const;
+    std::size_t gather_ready(Clock::time_point now, std::span<iovec> out) const;
     // Drops the answers `written` bytes completed out of the first `count`.
     void consume_sent(std::size_t count, std::size_t written, Clock::time_point now);
     void shutdown_and_close();
 
-    asio::ip::tcp::socket socket_;
+    asio::any_io_executor executor_;
+    int fd_ = -1;
     std::shared_ptr<ServerCore> core_;
-    asio::steady_timer writer_timer_;  // new answers, and fault delays
-    asio::steady_timer reader_timer_;  // the writer made room in a full queue
+    asio::steady_timer delay_timer_;  // a fault delays the head answer
+    Clock::time_point delay_until_{};
     asio::steady_timer watchdog_timer_;
 
     protocol::MbapFramer framer_;
@@ -109,9 +118,10 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     std::size_t input_end_ = 0;
 
     bool closed_ = false;
-    bool reading_ = true;          // false after EOF or a "close" fault
-    bool writer_waiting_ = false;  // for work, not for a delay
+    bool reading_ = true;  // false after EOF or a "close" fault
     bool reader_paused_ = false;
+    bool resume_posted_ = false;
+    bool write_blocked_ = false;     // the socket took less than it was given
     std::uint32_t last_ticket_ = 0;  // of the last request given to the handler
 };
 

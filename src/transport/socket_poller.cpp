@@ -1,0 +1,112 @@
+#include "transport/socket_poller.hpp"
+
+#include <unistd.h>
+
+#include <asio/error.hpp>
+#include <cerrno>
+#include <system_error>
+
+namespace mblab::transport {
+
+namespace {
+
+constexpr std::size_t kBatch = 256;  // events taken per wake-up
+
+int open_epoll() {
+    int fd = ::epoll_create1(EPOLL_CLOEXEC);
+    if (fd < 0) throw std::system_error(errno, std::generic_category(), "epoll_create1");
+    return fd;
+}
+
+}  // namespace
+
+std::shared_ptr<SocketPoller> SocketPoller::create(asio::any_io_executor executor) {
+    return std::shared_ptr<SocketPoller>(new SocketPoller(std::move(executor)));
+}
+
+SocketPoller::SocketPoller(asio::any_io_executor executor)
+    : epoll_fd_(open_epoll()), descriptor_(std::move(executor), epoll_fd_), events_(kBatch) {}
+
+SocketPoller::~SocketPoller() = default;  // the descriptor closes the epoll set
+
+SocketPoller::Entry* SocketPoller::find(int fd) const {
+    if (fd < 0 || static_cast<std::size_t>(fd) >= entries_.size()) return nullptr;
+    return entries_[static_cast<std::size_t>(fd)].get();
+}
+
+bool SocketPoller::add(int fd, const std::shared_ptr<Watcher>& watcher, std::uint32_t events) {
+    if (fd < 0 || find(fd)) {
+        errno = EEXIST;
+        return false;
+    }
+    auto entry = std::make_unique<Entry>();
+    entry->fd = fd;
+    entry->events = events;
+    entry->watcher = watcher;
+    epoll_event event{};
+    event.events = events;
+    event.data.ptr = entry.get();
+    if (::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, fd, &event) != 0) return false;
+    auto index = static_cast<std::size_t>(fd);
+    if (index >= entries_.size()) entries_.resize(index + 1);
+    entries_[index] = std::move(entry);
+    ++live_;
+    wait();
+    return true;
+}
+
+void SocketPoller::modify(int fd, std::uint32_t events) {
+    auto* entry = find(fd);
+    if (!entry || entry->events == events) return;
+    epoll_event event{};
+    event.events = events;
+    event.data.ptr = entry;
+    if (::epoll_ctl(epoll_fd_, EPOLL_CTL_MOD, fd, &event) == 0) entry->events = events;
+}
+
+void SocketPoller::remove(int fd) {
+    auto* entry = find(fd);
+    if (!entry) return;
+    ::epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, fd, nullptr);
+    entry->removed = true;
+    auto& slot = entries_[static_cast<std::size_t>(fd)];
+    // An event of the batch being delivered may still point at the entry.
+    if (dispatching_) removed_.push_back(std::move(slot));
+    slot.reset();
+    // Nothing left to watch: no pending wait may keep the io_context running.
+    if (--live_ == 0 && waiting_) {
+        asio::error_code ignored;
+        descriptor_.cancel(ignored);
+    }
+}
+
+void SocketPoller::wait() {
+    if (waiting_ || live_ == 0) return;
+    waiting_ = true;
+    descriptor_.async_wait(asio::posix::stream_descriptor::wait_read,
+                           [weak = weak_from_this()](const asio::error_code& ec) {
+                               if (auto self = weak.lock()) self->on_wait(ec);
+                           });
+}
+
+void SocketPoller::on_wait(const asio::error_code& ec) {
+    waiting_ = false;
+    if (!ec) dispatch();
+    // After a cancel, a socket added since still needs the wait.
+    if (ec != asio::error::bad_descriptor) wait();
+}
+
+void SocketPoller::dispatch() {
+    int count = ::epoll_wait(epoll_fd_, events_.data(), static_cast<int>(events_.size()), 0);
+    dispatching_ = true;
+    for (int i = 0; i < count; ++i) {
+        const auto& event = events_[static_cast<std::size_t>(i)];
+        auto* entry = static_cast<Entry*>(event.data.ptr);
+        if (entry->removed) continue;
+        if (auto watcher = entry->watcher.lock()) watcher->on_ready(event.events);
+    }
+    dispatching_ = false;
+    removed_.clear();
+}
+
+}  // namespace mblab::transport

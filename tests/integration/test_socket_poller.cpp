@@ -1,0 +1,167 @@
+#include <gtest/gtest.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <asio/io_context.hpp>
+#include <asio/post.hpp>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "transport/socket_poller.hpp"
+
+namespace {
+
+using mblab::transport::SocketPoller;
+
+// A connected pair of stream sockets, closed at the end of the test.
+struct SocketPair {
+    int ours = -1;
+    int theirs = -1;
+    SocketPair() {
+        int fds[2];
+        EXPECT_EQ(::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds), 0);
+        ours = fds[0];
+        theirs = fds[1];
+    }
+    ~SocketPair() {
+        if (ours >= 0) ::close(ours);
+        if (theirs >= 0) ::close(theirs);
+    }
+    void send_byte(char byte = 'x') const { ASSERT_EQ(::write(theirs, &byte, 1), 1); }
+};
+
+struct RecordingWatcher final : SocketPoller::Watcher {
+    std::vector<std::uint32_t> events;
+    std::function<void(std::uint32_t)> action;
+    void on_ready(std::uint32_t ready) override {
+        events.push_back(ready);
+        if (action) action(ready);
+    }
+};
+
+// A poller, a socket pair whose first end it may watch, and a watcher that records.
+class SocketPollerTest : public ::testing::Test {
+  protected:
+    asio::io_context io;
+    std::shared_ptr<SocketPoller> poller = SocketPoller::create(io.get_executor());
+    SocketPair pair;
+    std::shared_ptr<RecordingWatcher> watcher = std::make_shared<RecordingWatcher>();
+};
+
+char read_byte(int fd) {
+    char byte = 0;
+    EXPECT_EQ(::read(fd, &byte, 1), 1);
+    return byte;
+}
+
+TEST_F(SocketPollerTest, ReportsInputUntilItIsRead) {
+    // Level-triggered: unread input is reported again; the second time it is read and the
+    // descriptor removed, which lets run() return.
+    watcher->action = [&](std::uint32_t) {
+        if (watcher->events.size() == 2) {
+            EXPECT_EQ(read_byte(pair.ours), 'a');
+            poller->remove(pair.ours);
+        }
+    };
+    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
+    pair.send_byte('a');
+    io.run();
+    ASSERT_EQ(watcher->events.size(), 2U);
+    EXPECT_EQ(watcher->events[0] & EPOLLIN, static_cast<std::uint32_t>(EPOLLIN));
+    EXPECT_EQ(poller->watched(), 0U);
+}
+
+TEST_F(SocketPollerTest, RunReturnsWhenNothingIsWatched) {
+    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
+    // No input ever comes: only the removal ends the wait.
+    asio::post(io, [&] { poller->remove(pair.ours); });
+    io.run();
+    EXPECT_TRUE(watcher->events.empty());
+}
+
+TEST_F(SocketPollerTest, WatchesAgainAfterEverythingWasRemoved) {
+    SocketPair& first = pair;
+    SocketPair second;
+    watcher->action = [&](std::uint32_t) {
+        read_byte(second.ours);
+        poller->remove(second.ours);
+    };
+    ASSERT_TRUE(poller->add(first.ours, watcher, EPOLLIN));
+    // The removal cancels the pending wait; the add that follows at once must still be served.
+    asio::post(io, [&] {
+        poller->remove(first.ours);
+        ASSERT_TRUE(poller->add(second.ours, watcher, EPOLLIN));
+        second.send_byte();
+    });
+    io.run();
+    EXPECT_EQ(watcher->events.size(), 1U);
+}
+
+TEST_F(SocketPollerTest, ADescriptorRemovedDuringABatchGetsNoEventFromIt) {
+    SocketPair a;
+    SocketPair b;
+    auto first = std::make_shared<RecordingWatcher>();
+    auto second = std::make_shared<RecordingWatcher>();
+    // Whichever is told first removes both: the other's event, already taken from epoll in the
+    // same batch, must not be delivered.
+    auto remove_both = [&](std::uint32_t) {
+        poller->remove(a.ours);
+        poller->remove(b.ours);
+    };
+    first->action = remove_both;
+    second->action = remove_both;
+    ASSERT_TRUE(poller->add(a.ours, first, EPOLLIN));
+    ASSERT_TRUE(poller->add(b.ours, second, EPOLLIN));
+    a.send_byte();
+    b.send_byte();
+    io.run();
+    EXPECT_EQ(first->events.size() + second->events.size(), 1U);
+}
+
+TEST_F(SocketPollerTest, AWatcherThatIsGoneIsNotCalled) {
+    int calls = 0;
+    auto gone = std::make_shared<RecordingWatcher>();
+    gone->action = [&calls](std::uint32_t) { ++calls; };
+    ASSERT_TRUE(poller->add(pair.ours, gone, EPOLLIN));
+    // The poller does not own it: this destroys it.
+    std::weak_ptr<RecordingWatcher> weak = gone;
+    gone.reset();
+    ASSERT_TRUE(weak.expired());
+    pair.send_byte();
+    // Nobody removes the descriptor, so the wait goes on: stop after a while.
+    io.run_for(std::chrono::milliseconds(50));
+    EXPECT_EQ(calls, 0);
+    poller->remove(pair.ours);
+}
+
+TEST_F(SocketPollerTest, ReportsRoomToWriteOnlyWhenAskedFor) {
+    watcher->action = [&](std::uint32_t events) {
+        if (events & EPOLLIN) {
+            read_byte(pair.ours);
+            poller->modify(pair.ours, EPOLLOUT);  // now only output
+        } else {
+            poller->remove(pair.ours);
+        }
+    };
+    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
+    pair.send_byte();
+    io.run();
+    ASSERT_EQ(watcher->events.size(), 2U);
+    EXPECT_EQ(watcher->events[0] & EPOLLOUT, 0U) << "output was not asked for at first";
+    EXPECT_EQ(watcher->events[1], static_cast<std::uint32_t>(EPOLLOUT));
+}
+
+TEST_F(SocketPollerTest, RefusesADescriptorWatchedTwiceOrInvalid) {
+    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
+    EXPECT_FALSE(poller->add(pair.ours, watcher, EPOLLIN));
+    EXPECT_FALSE(poller->add(-1, watcher, EPOLLIN));
+    int closed = ::dup(pair.theirs);
+    ::close(closed);
+    EXPECT_FALSE(poller->add(closed, watcher, EPOLLIN));
+    EXPECT_EQ(errno, EBADF);
+    EXPECT_EQ(poller->watched(), 1U);
+    poller->remove(pair.ours);
+}
+
+}  // namespace
