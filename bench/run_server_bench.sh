@@ -8,6 +8,8 @@
 # count, so a noisy moment on a shared machine hits one run of each, not all runs of one server.
 #
 # Usage: bench/run_server_bench.sh [MBLAB] [SECONDS_PER_RUN] [ROUNDS]   (defaults: build/mblab, 5, 3)
+# SERVERS="mblab libmodbus" CONNECTIONS=1 narrow the run (mblab must stay in SERVERS); SKIP_RSS=1
+# leaves out the memory measurement.
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 MBLAB=$(realpath "${1:-$HERE/../build/mblab}")
@@ -81,8 +83,8 @@ stop_server() {
 }
 field() { sed -n "s/.*$1=\([0-9]*\).*/\1/p" <<<"$2"; }
 
-SERVERS="mblab libmodbus pymodbus canned"
-CONNECTIONS="1 16 1000"
+SERVERS=${SERVERS:-mblab libmodbus pymodbus canned}
+CONNECTIONS=${CONNECTIONS:-1 16 1000}
 declare -A RUNS
 for round in $(seq "$ROUNDS"); do
     for n in $CONNECTIONS; do
@@ -124,6 +126,7 @@ for n in $CONNECTIONS; do
     done
 done
 
+[ -n "${SKIP_RSS:-}" ] && exit 0
 # Resident memory of mblab serve, before and with 10,000 idle connections.
 rss_kb() { sed -n 's/^VmRSS:[[:space:]]*\([0-9]*\) kB/\1/p' "/proc/$1/status"; }
 start_server mblab
