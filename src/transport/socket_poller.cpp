@@ -29,6 +29,14 @@ SocketPoller::SocketPoller(asio::any_io_executor executor)
 
 SocketPoller::~SocketPoller() = default;  // the descriptor closes the epoll set
 
+SocketPoller::Entry* SocketPoller::only_entry() const {
+    if (live_ != 1) return nullptr;
+    for (const auto& entry : entries_) {
+        if (entry) return entry.get();
+    }
+    return nullptr;
+}
+
 SocketPoller::Entry* SocketPoller::find(int fd) const {
     if (fd < 0 || static_cast<std::size_t>(fd) >= entries_.size()) return nullptr;
     return entries_[static_cast<std::size_t>(fd)].get();
@@ -51,6 +59,7 @@ bool SocketPoller::add(int fd, const std::shared_ptr<Watcher>& watcher, std::uin
     if (index >= entries_.size()) entries_.resize(index + 1);
     entries_[index] = std::move(entry);
     ++live_;
+    sole_ = only_entry();
     wait();
     return true;
 }
@@ -73,8 +82,10 @@ void SocketPoller::remove(int fd) {
     // An event of the batch being delivered may still point at the entry.
     if (dispatching_) removed_.push_back(std::move(slot));
     slot.reset();
+    --live_;
+    sole_ = only_entry();
     // Nothing left to watch: no pending wait may keep the io_context running.
-    if (--live_ == 0 && waiting_) {
+    if (live_ == 0 && waiting_) {
         asio::error_code ignored;
         descriptor_.cancel(ignored);
     }
@@ -97,7 +108,14 @@ void SocketPoller::on_wait(const asio::error_code& ec) {
 }
 
 void SocketPoller::dispatch() {
-    int count = ::epoll_wait(epoll_fd_, events_.data(), static_cast<int>(events_.size()), 0);
+    int count = 0;
+    if (sole_ && sole_->events == EPOLLIN) {
+        events_[0].events = EPOLLIN;
+        events_[0].data.ptr = sole_;
+        count = 1;
+    } else {
+        count = ::epoll_wait(epoll_fd_, events_.data(), static_cast<int>(events_.size()), 0);
+    }
     dispatching_ = true;
     for (int i = 0; i < count; ++i) {
         const auto& event = events_[static_cast<std::size_t>(i)];

@@ -14,6 +14,10 @@
 // with a client that waits for the answer that read always finds nothing. Here a socket is read
 // only when epoll says it has data, as a bare epoll loop does, and a whole batch of ready sockets
 // costs one wake-up of the io_context. Timers, posts and every other descriptor stay with Asio.
+//
+// One client is the common case of a device. While only one socket is watched, and only for
+// input, a wake-up can only be that socket's: it is told EPOLLIN without asking epoll, and a
+// hang-up or an error shows in its read. That saves a system call on every request.
 namespace mblab::transport {
 
 class SocketPoller : public std::enable_shared_from_this<SocketPoller> {
@@ -52,6 +56,8 @@ class SocketPoller : public std::enable_shared_from_this<SocketPoller> {
     };
     explicit SocketPoller(asio::any_io_executor executor);
     Entry* find(int fd) const;
+    // The only entry, when exactly one is watched.
+    Entry* only_entry() const;
     void wait();
     void on_wait(const asio::error_code& ec);
     void dispatch();
@@ -62,6 +68,7 @@ class SocketPoller : public std::enable_shared_from_this<SocketPoller> {
     std::vector<std::unique_ptr<Entry>> removed_;  // entries an undelivered event may name
     std::vector<epoll_event> events_;
     std::size_t live_ = 0;
+    Entry* sole_ = nullptr;  // the entry when live_ == 1
     bool waiting_ = false;
     bool dispatching_ = false;
 };

@@ -152,6 +152,39 @@ TEST_F(SocketPollerTest, ReportsRoomToWriteOnlyWhenAskedFor) {
     EXPECT_EQ(watcher->events[1], static_cast<std::uint32_t>(EPOLLOUT));
 }
 
+// With one socket waiting for input, the poller does not ask epoll what happened: a hang-up
+// arrives as input, and the read finds the end of the stream. With two, epoll's events come.
+TEST_F(SocketPollerTest, WithOneSocketAHangUpArrivesAsInputThatReadsTheEnd) {
+    ssize_t read_result = -2;
+    watcher->action = [&](std::uint32_t) {
+        char byte = 0;
+        read_result = ::read(pair.ours, &byte, 1);
+        poller->remove(pair.ours);
+    };
+    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
+    ::close(pair.theirs);
+    pair.theirs = -1;
+    io.run();
+    ASSERT_EQ(watcher->events.size(), 1U);
+    EXPECT_EQ(watcher->events[0], static_cast<std::uint32_t>(EPOLLIN));
+    EXPECT_EQ(read_result, 0) << "end of stream";
+}
+
+TEST_F(SocketPollerTest, WithTwoSocketsAHangUpArrivesAsEpollReportsIt) {
+    SocketPair other;
+    watcher->action = [&](std::uint32_t) {
+        poller->remove(pair.ours);
+        poller->remove(other.ours);
+    };
+    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
+    ASSERT_TRUE(poller->add(other.ours, watcher, EPOLLIN));
+    ::close(pair.theirs);
+    pair.theirs = -1;
+    io.run();
+    ASSERT_EQ(watcher->events.size(), 1U);
+    EXPECT_EQ(watcher->events[0] & EPOLLHUP, static_cast<std::uint32_t>(EPOLLHUP));
+}
+
 TEST_F(SocketPollerTest, RefusesADescriptorWatchedTwiceOrInvalid) {
     ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
     EXPECT_FALSE(poller->add(pair.ours, watcher, EPOLLIN));
