@@ -52,26 +52,26 @@ wait_line() {
     return 1
 }
 
-# start_server NAME: sets SERVER_PID and PORT.
+# start_server NAME: sets SERVER_PID and PORT. $PIN, when set, prefixes the server's command.
 start_server() {
     case $1 in
         mblab)
-            "$MBLAB" serve --listen tcp://127.0.0.1:0 --max-connections 20000 --idle-timeout 0 \
+            $PIN "$MBLAB" serve --listen tcp://127.0.0.1:0 --max-connections 20000 --idle-timeout 0 \
                 >"$WORK/server.out" 2>&1 &
             SERVER_PID=$!
             PORT=$(wait_line "$WORK/server.out" 's/.* on tcp:\/\/127\.0\.0\.1:\([0-9]*\).*/\1/p') ;;
         canned)
-            "$TOOLS/canned_server" 0 >"$WORK/server.out" 2>&1 &
+            $PIN "$TOOLS/canned_server" 0 >"$WORK/server.out" 2>&1 &
             SERVER_PID=$!
             PORT=$(wait_line "$WORK/server.out" 's/^port=//p') ;;
         libmodbus)
             PORT=$(free_port)
-            "$TOOLS/libmodbus_server" "$PORT" >"$WORK/server.out" 2>&1 &
+            $PIN "$TOOLS/libmodbus_server" "$PORT" >"$WORK/server.out" 2>&1 &
             SERVER_PID=$!
             wait_listening "$PORT" ;;
         pymodbus)
             PORT=$(free_port)
-            /usr/bin/python3 "$HERE/pymodbus_server.py" "$PORT" >"$WORK/server.out" 2>&1 &
+            $PIN /usr/bin/python3 "$HERE/pymodbus_server.py" "$PORT" >"$WORK/server.out" 2>&1 &
             SERVER_PID=$!
             wait_listening "$PORT" ;;
     esac
@@ -84,13 +84,18 @@ stop_server() {
 field() { sed -n "s/.*$1=\([0-9]*\).*/\1/p" <<<"$2"; }
 
 SERVERS=${SERVERS:-mblab libmodbus pymodbus canned}
-CONNECTIONS=${CONNECTIONS:-1 16 1000}
+# "1/1core" runs the server and the load generator on core 0 only. Across two cores every round
+# trip of a single connection pays two cross-core wake-ups (about 70 us in a VM), which hides
+# what the servers themselves cost; on one core that cost is what remains.
+CONNECTIONS=${CONNECTIONS:-1 1/1core 16 1000}
 declare -A RUNS
 for round in $(seq "$ROUNDS"); do
     for n in $CONNECTIONS; do
         for server in $SERVERS; do
+            PIN=""
+            [[ $n == */1core ]] && PIN="taskset -c 0"
             start_server "$server"
-            if result=$("$TOOLS/server_load" 127.0.0.1 "$PORT" "$n" "$RUN_SECONDS" 2>&1); then
+            if result=$($PIN "$TOOLS/server_load" 127.0.0.1 "$PORT" "${n%%/*}" "$RUN_SECONDS" 2>&1); then
                 RUNS[$server.$n]+="$(field rps "$result") $(field p50_us "$result") $(field p99_us "$result")"$'\n'
             else
                 echo "$server, $n connections, round $round: $result" >&2
@@ -109,19 +114,19 @@ median_run() {
 declare -A RPS P50 P99
 for server in $SERVERS; do
     for n in $CONNECTIONS; do
-        read -r RPS[$server.$n] P50[$server.$n] P99[$server.$n] < <(median_run "$server.$n")
+        read -r "RPS[$server.$n]" "P50[$server.$n]" "P99[$server.$n]" < <(median_run "$server.$n")
     done
 done
 
 echo
 echo "FC 03 x125, closed loop, median of $ROUNDS runs of ${RUN_SECONDS}s ($(nproc) cores; client and server share them)"
-printf "%-10s %6s %10s %8s %8s %12s\n" server conns "req/s" "p50 us" "p99 us" "mblab / it"
+printf "%-10s %8s %10s %8s %8s %12s\n" server conns "req/s" "p50 us" "p99 us" "mblab / it"
 for n in $CONNECTIONS; do
     for server in $SERVERS; do
         rps=${RPS[$server.$n]}
         ratio="-"
         [ "$rps" -gt 0 ] && ratio=$(awk -v a="${RPS[mblab.$n]}" -v b="$rps" 'BEGIN { printf "%.2fx", a / b }')
-        printf "%-10s %6s %10s %8s %8s %12s\n" "$server" "$n" "$rps" "${P50[$server.$n]}" \
+        printf "%-10s %8s %10s %8s %8s %12s\n" "$server" "$n" "$rps" "${P50[$server.$n]}" \
             "${P99[$server.$n]}" "$ratio"
     done
 done
@@ -129,6 +134,7 @@ done
 [ -n "${SKIP_RSS:-}" ] && exit 0
 # Resident memory of mblab serve, before and with 10,000 idle connections.
 rss_kb() { sed -n 's/^VmRSS:[[:space:]]*\([0-9]*\) kB/\1/p' "/proc/$1/status"; }
+PIN=""
 start_server mblab
 before=$(rss_kb "$SERVER_PID")
 "$TOOLS/server_load" 127.0.0.1 "$PORT" 10000 --idle "$WORK/ready" &
