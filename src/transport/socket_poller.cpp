@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <asio/error.hpp>
+#include <asio/post.hpp>
 #include <cerrno>
 #include <system_error>
 
@@ -102,12 +103,20 @@ void SocketPoller::wait() {
 
 void SocketPoller::on_wait(const asio::error_code& ec) {
     waiting_ = false;
-    if (!ec) dispatch();
+    if (!ec && dispatch() > 1) {
+        // Busy: look again after the io_context's other work instead of waiting for a wake-up,
+        // which would cost re-arming the descriptor (epoll_ctl) and a second epoll_wait.
+        waiting_ = true;
+        asio::post(descriptor_.get_executor(), [weak = weak_from_this()] {
+            if (auto self = weak.lock()) self->on_wait({});
+        });
+        return;
+    }
     // After a cancel, a socket added since still needs the wait.
     if (ec != asio::error::bad_descriptor) wait();
 }
 
-void SocketPoller::dispatch() {
+int SocketPoller::dispatch() {
     int count = 0;
     if (sole_ && sole_->events == EPOLLIN) {
         events_[0].events = EPOLLIN;
@@ -125,6 +134,7 @@ void SocketPoller::dispatch() {
     }
     dispatching_ = false;
     removed_.clear();
+    return count;
 }
 
 }  // namespace mblab::transport

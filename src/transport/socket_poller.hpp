@@ -60,7 +60,8 @@ class SocketPoller : public std::enable_shared_from_this<SocketPoller> {
     Entry* only_entry() const;
     void wait();
     void on_wait(const asio::error_code& ec);
-    void dispatch();
+    // Delivers the ready events; returns how many.
+    int dispatch();
 
     int epoll_fd_ = -1;
     asio::posix::stream_descriptor descriptor_;    // epoll_fd_ as the io_context sees it

@@ -4,6 +4,8 @@
 
 #include <asio/io_context.hpp>
 #include <asio/post.hpp>
+#include <asio/steady_timer.hpp>
+#include <chrono>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -183,6 +185,39 @@ TEST_F(SocketPollerTest, WithTwoSocketsAHangUpArrivesAsEpollReportsIt) {
     io.run();
     ASSERT_EQ(watcher->events.size(), 1U);
     EXPECT_EQ(watcher->events[0] & EPOLLHUP, static_cast<std::uint32_t>(EPOLLHUP));
+}
+
+// A batch of several ready sockets is followed by another look without waiting; once nothing is
+// ready the poller must go back to waiting, and input that comes later must still be delivered.
+TEST_F(SocketPollerTest, AfterABusyBatchInputThatComesLaterIsDelivered) {
+    SocketPair other;
+    int reads = 0;
+    bool armed = false;
+    asio::steady_timer later(io);
+    watcher->action = [&](std::uint32_t) {
+        // Which socket is ready is not told to this watcher: try both.
+        char byte = 0;
+        reads += ::recv(pair.ours, &byte, 1, MSG_DONTWAIT) == 1;
+        reads += ::recv(other.ours, &byte, 1, MSG_DONTWAIT) == 1;
+        if (reads == 2 && !armed) {
+            armed = true;
+            later.expires_after(std::chrono::milliseconds(20));
+            later.async_wait([&](const asio::error_code& ec) {
+                if (!ec) other.send_byte();
+            });
+        }
+        if (reads == 3) {
+            poller->remove(pair.ours);
+            poller->remove(other.ours);
+        }
+    };
+    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
+    ASSERT_TRUE(poller->add(other.ours, watcher, EPOLLIN));
+    pair.send_byte();
+    other.send_byte();
+    io.run();
+    EXPECT_EQ(reads, 3);
+    EXPECT_EQ(poller->watched(), 0U);
 }
 
 TEST_F(SocketPollerTest, RefusesADescriptorWatchedTwiceOrInvalid) {
