@@ -50,10 +50,7 @@ TcpSession::TcpSession(asio::ip::tcp::socket socket, std::shared_ptr<ServerCore>
 }
 
 TcpSession::~TcpSession() {
-    if (fd_ >= 0) {
-        core_->poller->remove(fd_);
-        ::close(fd_);
-    }
+    close_socket();
     core_->listener->connections().remove(*this);
     core_->stats.connections_open.fetch_sub(1, std::memory_order_relaxed);
 }
@@ -76,13 +73,16 @@ void TcpSession::close() {
     if (closed_) return;
     closed_ = true;
     reading_ = false;
-    if (fd_ >= 0) {
-        core_->poller->remove(fd_);
-        ::close(fd_);
-        fd_ = -1;
-    }
+    close_socket();
     delay_timer_.cancel();
     watchdog_timer_.cancel();
+}
+
+void TcpSession::close_socket() {
+    if (fd_ < 0) return;
+    core_->poller->remove(fd_);
+    ::close(fd_);
+    fd_ = -1;
 }
 
 void TcpSession::shutdown_and_close() {
@@ -120,7 +120,6 @@ void TcpSession::read_ready() {
 
 void TcpSession::continue_reading() {
     if (process_input() == Progress::Paused) reader_paused_ = true;
-    update_interest();
 }
 
 void TcpSession::resume_reading_soon() {
@@ -132,6 +131,7 @@ void TcpSession::resume_reading_soon() {
         if (self->closed_ || !self->reader_paused_) return;
         self->reader_paused_ = false;
         self->continue_reading();
+        self->update_interest();
     });
 }
 
@@ -150,7 +150,6 @@ void TcpSession::on_end_of_input() {
     if (framer_.has_partial() || partial_.overlong) on_partial_timeout(now);
     reading_ = false;
     flush(now);
-    update_interest();
 }
 
 TcpSession::Progress TcpSession::process_input() {
@@ -403,7 +402,7 @@ void TcpSession::flush(Clock::time_point now) {
             }
             sent = 0;
         }
-        consume_sent(count, static_cast<std::size_t>(sent), now);
+        if (sent > 0) consume_sent(count, static_cast<std::size_t>(sent), now);
         if (static_cast<std::size_t>(sent) < wanted) {
             // The client is not reading fast enough: wait for room in the socket.
             write_blocked_ = true;
@@ -420,7 +419,6 @@ void TcpSession::arm_delay(Clock::time_point until) {
         if (ec || self->closed_) return;
         self->delay_until_ = {};
         self->flush(Clock::now());
-        self->update_interest();
     });
 }
 
@@ -475,7 +473,6 @@ asio::awaitable<void> TcpSession::watchdog_loop(std::shared_ptr<TcpSession> /*se
         if ((framer_.has_partial() || partial_.overlong) && now >= partial_deadline_) {
             on_partial_timeout(now);
             flush(now);
-            update_interest();
         }
         if (now >= idle_deadline()) {
             ServerStats::bump(core_->stats.closed_idle);

@@ -60,7 +60,8 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     static constexpr std::size_t kMaxGather = 32;  // answers sent in one gathered write
 
     void read_ready();
-    // Frames and answers what was read; pauses reading while the answer queue is full.
+    // Frames and answers what was read; pauses reading while the answer queue is full. The
+    // caller brings the watched events up to date (update_interest).
     void continue_reading();
     void resume_reading_soon();
     void on_end_of_input();
@@ -98,6 +99,8 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     // Drops the answers `written` bytes completed out of the first `count`.
     void consume_sent(std::size_t count, std::size_t written, Clock::time_point now);
     void shutdown_and_close();
+    // Stops watching the socket and closes it (once).
+    void close_socket();
 
     asio::any_io_executor executor_;
     int fd_ = -1;

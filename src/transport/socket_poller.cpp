@@ -45,11 +45,10 @@ SocketPoller::Entry* SocketPoller::find(int fd) const {
 
 bool SocketPoller::add(int fd, const std::shared_ptr<Watcher>& watcher, std::uint32_t events) {
     if (fd < 0 || find(fd)) {
-        errno = EEXIST;
+        errno = fd < 0 ? EBADF : EEXIST;
         return false;
     }
     auto entry = std::make_unique<Entry>();
-    entry->fd = fd;
     entry->events = events;
     entry->watcher = watcher;
     epoll_event event{};

@@ -49,7 +49,6 @@ class SocketPoller : public std::enable_shared_from_this<SocketPoller> {
 
   private:
     struct Entry {
-        int fd = -1;
         std::uint32_t events = 0;
         std::weak_ptr<Watcher> watcher;
         bool removed = false;

@@ -223,7 +223,9 @@ TEST_F(SocketPollerTest, AfterABusyBatchInputThatComesLaterIsDelivered) {
 TEST_F(SocketPollerTest, RefusesADescriptorWatchedTwiceOrInvalid) {
     ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
     EXPECT_FALSE(poller->add(pair.ours, watcher, EPOLLIN));
+    EXPECT_EQ(errno, EEXIST);
     EXPECT_FALSE(poller->add(-1, watcher, EPOLLIN));
+    EXPECT_EQ(errno, EBADF);
     int closed = ::dup(pair.theirs);
     ::close(closed);
     EXPECT_FALSE(poller->add(closed, watcher, EPOLLIN));
