@@ -47,6 +47,7 @@ struct ServeOptions {
     std::vector<std::string> allow;
     std::size_t max_outstanding = server::ServerOptions{}.max_outstanding;
     int frame_timeout_ms = 250;
+    int frame_limit_ms = 1000;
     std::string state;
     double save_interval = 10;
     bool stats = false;
@@ -92,6 +93,7 @@ server::ServerOptions server_options(const ServeOptions& options, std::string& e
         std::chrono::duration_cast<std::chrono::milliseconds>(Seconds(options.idle_timeout));
     out.max_outstanding = options.max_outstanding;
     out.partial_frame_timeout = std::chrono::milliseconds(options.frame_timeout_ms);
+    out.frame_limit = std::chrono::milliseconds(options.frame_limit_ms);
     for (const auto& entry : options.allow) {
         if (!out.allow.add(entry, error)) break;
     }
@@ -115,7 +117,8 @@ class StatsLine {
             busy += ServerStats::read(s->stats().busy);
             refused += s->listener_counters().refused_address.load() +
                        s->listener_counters().refused_full.load();
-            evicted += s->listener_counters().evicted_idle.load();
+            evicted += s->listener_counters().evicted_idle.load() +
+                       s->listener_counters().evicted_stalled.load();
         }
         fmt::print(stderr,
                    "{}mblab serve: {} connections, {} req/s, {} exc/s; total {} requests, {} "
@@ -357,7 +360,8 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
                     "forward TCP requests to devices on a serial line instead of serving the "
                     "profile: rtu:///dev/ttyUSB0?baud=19200&units=1-247&timeout=1000 (ms)");
     cmd->add_option("--max-connections", options->max_connections,
-                    "connections at once; when full the oldest idle one is closed (0: no limit)")
+                    "connections at once; when full the oldest stalled (trickling, not reading) "
+                    "or idle one is closed (0: no limit)")
         ->capture_default_str();
     cmd->add_option("--idle-timeout", options->idle_timeout,
                     "seconds without a request before a connection is closed (0: never)")
@@ -372,6 +376,11 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_option("--frame-timeout", options->frame_timeout_ms,
                     "milliseconds an unfinished frame may wait before it is answered 03")
         ->check(CLI::Range(1, 60000))
+        ->capture_default_str();
+    cmd->add_option("--frame-limit", options->frame_limit_ms,
+                    "milliseconds a whole frame may take from its first byte; a client still "
+                    "sending it then is answered 03 and closed")
+        ->check(CLI::Range(1, 600000))
         ->capture_default_str();
     cmd->add_option("--state", options->state,
                     "keep the writable data in FILE: restored at start, saved periodically and "

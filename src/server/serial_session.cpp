@@ -87,9 +87,15 @@ void LineSession<Stream>::start() {
 }
 
 template <class Stream>
-bool LineSession<Stream>::idle() const {
+transport::Standing LineSession<Stream>::standing(LineClock::time_point now) const {
+    using transport::Standing;
+    // Not reading: answering a request, which is never the client's delay.
+    if (closed_ || !reading_) return Standing::Busy;
     // Waiting for a request's first byte: nothing received to lose, nothing owed.
-    return !closed_ && reading_ && !receiver_.has_partial();
+    if (!receiver_.has_partial()) return Standing::Idle;
+    // Bytes without a whole request for long: a client that trickles holds the place unused.
+    return now - last_activity_ >= core_->options.partial_frame_timeout ? Standing::Stalled
+                                                                        : Standing::Busy;
 }
 
 template <class Stream>

@@ -66,7 +66,7 @@ class LineSession final : public std::enable_shared_from_this<LineSession<Stream
     // Registers with the listener's connection table (when there is one) and starts the loops.
     void start();
 
-    bool idle() const override;
+    transport::Standing standing(LineClock::time_point now) const override;
     LineClock::time_point last_activity() const override { return last_activity_; }
     void close() override;
 

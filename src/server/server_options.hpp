@@ -17,8 +17,15 @@ struct ServerOptions {
     // ends slowloris clients that send part of a header and go quiet. 0: never.
     std::chrono::milliseconds idle_timeout{60'000};
     // How long an unfinished frame may wait for its missing bytes before it is answered with
-    // exception 03 (seed 000 9.1.3) and dropped, so the stream stays in step.
+    // exception 03 (seed 000 9.1.3) and dropped, so the stream stays in step. A connection that
+    // has completed no request and sent no answer for this long while it is not idle counts as
+    // stalled: a full server closes it first to admit a newcomer.
     std::chrono::milliseconds partial_frame_timeout{250};
+    // How long a whole frame may take from its first byte. partial_frame_timeout bounds only the
+    // gap between bytes, so a client that trickles a byte at a time would otherwise hold a
+    // frame open for ever; past this, it is answered 03 (when its function code came) and
+    // closed, since the rest of its frame would be read out of step.
+    std::chrono::milliseconds frame_limit{1000};
     // Requests a connection may have waiting for their answers; past it a request is answered
     // with exception 06 (server device busy).
     std::size_t max_outstanding = 16;

@@ -10,12 +10,13 @@ struct ServerStats {
     using Counter = std::atomic<std::uint64_t>;
 
     Counter connections_open{0};
-    Counter requests{0};          // whole frames handed to the device
-    Counter exceptions{0};        // answers with the exception bit, busy and 9.1.3 included
-    Counter busy{0};              // answered 06 for too many outstanding requests
-    Counter frames_dropped{0};    // protocol id != 0, unfinished frames
-    Counter closed_idle{0};       // idle timer
-    Counter closed_bad_frame{0};  // MBAP length the stream cannot recover from
+    Counter requests{0};           // whole frames handed to the device
+    Counter exceptions{0};         // answers with the exception bit, busy and 9.1.3 included
+    Counter busy{0};               // answered 06 for too many outstanding requests
+    Counter frames_dropped{0};     // protocol id != 0, unfinished frames
+    Counter closed_idle{0};        // idle timer
+    Counter closed_bad_frame{0};   // MBAP length the stream cannot recover from
+    Counter closed_slow_frame{0};  // a frame still arriving after ServerOptions::frame_limit
 
     static void bump(Counter& counter) { counter.fetch_add(1, std::memory_order_relaxed); }
     static std::uint64_t read(const Counter& counter) {

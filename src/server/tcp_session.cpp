@@ -65,8 +65,17 @@ void TcpSession::start() {
     asio::co_spawn(executor_, watchdog_loop(shared_from_this()), asio::detached);
 }
 
-bool TcpSession::idle() const {
-    return !closed_ && replies_.empty() && !framer_.has_partial() && !partial_.overlong;
+transport::Standing TcpSession::standing(Clock::time_point now) const {
+    using transport::Standing;
+    if (closed_) return Standing::Busy;
+    if (replies_.empty() && !has_partial()) return Standing::Idle;
+    // An answer the device holds back (a delay fault, a gateway's line) is not the client's
+    // doing.
+    if (!replies_.empty() && (replies_.front().deferred || replies_.front().ready_at > now)) {
+        return Standing::Busy;
+    }
+    return now - last_activity_ >= core_->options.partial_frame_timeout ? Standing::Stalled
+                                                                        : Standing::Busy;
 }
 
 void TcpSession::close() {
@@ -147,7 +156,7 @@ void TcpSession::on_end_of_input() {
     // The client finished sending: answer what came, an unfinished frame included (its missing
     // bytes can no longer arrive), then close.
     auto now = Clock::now();
-    if (framer_.has_partial() || partial_.overlong) on_partial_timeout(now);
+    if (has_partial()) on_partial_timeout(now);
     reading_ = false;
     flush(now);
 }
@@ -185,10 +194,12 @@ TcpSession::Progress TcpSession::process_input() {
                 partial_ = {};
                 on_frame(event, now);
                 break;
-            case protocol::FrameStatus::Error:
+            case protocol::FrameStatus::Error: {
+                const auto started = partial_.bytes > 0 ? partial_.started : now;
                 partial_ = {};
-                on_frame_error(event, now);
+                on_frame_error(event, started, now);
                 break;
+            }
         }
     }
     flush(now);
@@ -205,6 +216,7 @@ bool TcpSession::must_pause(Clock::time_point now) {
 }
 
 void TcpSession::on_partial_bytes(std::span<const std::uint8_t> bytes, Clock::time_point now) {
+    if (partial_.bytes == 0) partial_.started = now;
     auto function_at = protocol::limits::kMbapHeader;
     if (partial_.bytes <= function_at && function_at < partial_.bytes + bytes.size()) {
         partial_.function = bytes[function_at - partial_.bytes];
@@ -217,7 +229,11 @@ void TcpSession::on_partial_bytes(std::span<const std::uint8_t> bytes, Clock::ti
 void TcpSession::arm_partial_deadline(Clock::time_point now) {
     partial_deadline_ = now + core_->options.partial_frame_timeout;
     // The watchdog may be asleep until a later idle deadline: wake it to sleep less.
-    if (watchdog_timer_.expiry() > partial_deadline_) watchdog_timer_.cancel();
+    if (watchdog_timer_.expiry() > partial_wakeup()) watchdog_timer_.cancel();
+}
+
+Clock::time_point TcpSession::partial_wakeup() const {
+    return std::min(partial_deadline_, partial_.started + core_->options.frame_limit);
 }
 
 void TcpSession::on_frame(const protocol::FrameEvent& frame, Clock::time_point now) {
@@ -310,7 +326,8 @@ void TcpSession::on_deferred(std::uint32_t ticket, const protocol::MbapHeader& r
     }
 }
 
-void TcpSession::on_frame_error(const protocol::FrameEvent& frame, Clock::time_point now) {
+void TcpSession::on_frame_error(const protocol::FrameEvent& frame, Clock::time_point started,
+                                Clock::time_point now) {
     const auto& header = frame.mbap;
     bool length_ok = header.length >= 2 && header.length <= protocol::limits::kMaxPdu + 1;
     if (length_ok) {
@@ -323,6 +340,7 @@ void TcpSession::on_frame_error(const protocol::FrameEvent& frame, Clock::time_p
         // unfinished frame, then answer 03 and carry on.
         partial_.header = header;
         partial_.bytes = protocol::limits::kMbapHeader;
+        partial_.started = started;
         partial_.overlong = true;
         arm_partial_deadline(now);
         return;
@@ -331,14 +349,24 @@ void TcpSession::on_frame_error(const protocol::FrameEvent& frame, Clock::time_p
     close_after_answers(now);
 }
 
-void TcpSession::on_partial_timeout(Clock::time_point now) {
+void TcpSession::drop_partial(Clock::time_point now) {
     if (partial_.header && partial_.header->protocol_id == 0 && partial_.function) {
         queue_exception(*partial_.header, *partial_.function,
                         protocol::ExceptionCode::IllegalDataValue, now);
     }
-    ServerStats::bump(core_->stats.frames_dropped);
     framer_.reset();
     partial_ = {};
+}
+
+void TcpSession::on_partial_timeout(Clock::time_point now) {
+    ServerStats::bump(core_->stats.frames_dropped);
+    drop_partial(now);
+}
+
+void TcpSession::on_slow_frame(Clock::time_point now) {
+    ServerStats::bump(core_->stats.closed_slow_frame);
+    drop_partial(now);
+    close_after_answers(now);
 }
 
 void TcpSession::queue_exception(const protocol::MbapHeader& header, std::uint8_t function,
@@ -464,14 +492,17 @@ Clock::time_point TcpSession::idle_deadline() const {
 asio::awaitable<void> TcpSession::watchdog_loop(std::shared_ptr<TcpSession> /*self*/) {
     while (!closed_) {
         auto deadline = idle_deadline();
-        bool partial = framer_.has_partial() || partial_.overlong;
-        if (partial) deadline = std::min(deadline, partial_deadline_);
+        if (has_partial()) deadline = std::min(deadline, partial_wakeup());
         watchdog_timer_.expires_at(deadline);
         co_await watchdog_timer_.async_wait(use_tuple);
         if (closed_) break;
         auto now = Clock::now();
-        if ((framer_.has_partial() || partial_.overlong) && now >= partial_deadline_) {
-            on_partial_timeout(now);
+        if (has_partial() && now >= partial_wakeup()) {
+            if (now >= partial_deadline_) {
+                on_partial_timeout(now);
+            } else {
+                on_slow_frame(now);
+            }
             flush(now);
         }
         if (now >= idle_deadline()) {

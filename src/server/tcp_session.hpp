@@ -38,7 +38,7 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     // Registers with the listener's connection table and the poller, and starts the watchdog.
     void start();
 
-    bool idle() const override;
+    transport::Standing standing(Clock::time_point now) const override;
     Clock::time_point last_activity() const override { return last_activity_; }
     void close() override;
     void on_ready(std::uint32_t events) override;
@@ -47,7 +47,8 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     // The start of an unfinished frame, for answering it once its wait runs out: the framer
     // holds its bytes, this remembers the header and the function code.
     struct PartialFrame {
-        std::size_t bytes = 0;  // of the frame so far, header included
+        std::size_t bytes = 0;        // of the frame so far, header included
+        Clock::time_point started{};  // its first byte, for ServerOptions::frame_limit
         std::optional<protocol::MbapHeader> header;
         std::optional<std::uint8_t> function;
         // An MBAP length over 254 declares more than a frame may hold: its body is skipped
@@ -74,7 +75,8 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     bool must_pause(Clock::time_point now);
     void on_partial_bytes(std::span<const std::uint8_t> bytes, Clock::time_point now);
     void on_frame(const protocol::FrameEvent& frame, Clock::time_point now);
-    void on_frame_error(const protocol::FrameEvent& frame, Clock::time_point now);
+    void on_frame_error(const protocol::FrameEvent& frame, Clock::time_point started,
+                        Clock::time_point now);
     // Writes the handler's reply into its slot.
     void fill(PendingReply& slot, const protocol::MbapHeader& request, const device::Reply& reply,
               std::span<const std::uint8_t> response, Clock::time_point now);
@@ -82,8 +84,16 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     device::DeferredDone deferred_done(std::uint32_t ticket, const protocol::MbapHeader& request);
     void on_deferred(std::uint32_t ticket, const protocol::MbapHeader& request,
                      const device::Reply& reply, std::span<const std::uint8_t> pdu);
+    bool has_partial() const { return framer_.has_partial() || partial_.overlong; }
+    // Answers an unfinished frame 03 (when its function code came) and forgets it.
+    void drop_partial(Clock::time_point now);
+    // The unfinished frame's bytes stopped coming: answered, and the stream carries on.
     void on_partial_timeout(Clock::time_point now);
+    // The unfinished frame is still coming after the frame limit: answered, then closed.
+    void on_slow_frame(Clock::time_point now);
     void arm_partial_deadline(Clock::time_point now);
+    // When the unfinished frame runs out of time: its gap or its frame limit, the earlier.
+    Clock::time_point partial_wakeup() const;
     Clock::time_point idle_deadline() const;
     void queue_exception(const protocol::MbapHeader& header, std::uint8_t function,
                          protocol::ExceptionCode code, Clock::time_point now);

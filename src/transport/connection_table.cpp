@@ -23,19 +23,32 @@ void ConnectionTable::remove(TrackedConnection& connection) {
     --size_;
 }
 
-bool ConnectionTable::close_oldest_idle() {
+Standing ConnectionTable::close_one_for_newcomer(Clock::time_point now) {
     // A linear scan: it runs only when the table is full, and a full table is rare.
-    TrackedConnection* oldest = nullptr;
+    TrackedConnection* oldest_stalled = nullptr;
+    TrackedConnection* oldest_idle = nullptr;
+    auto older = [](TrackedConnection* best, TrackedConnection* c) {
+        return !best || c->last_activity() < best->last_activity() ? c : best;
+    };
     for (auto* c = head_; c; c = c->next_) {
-        if (c->closing_ || !c->idle()) continue;
-        if (!oldest || c->last_activity() < oldest->last_activity()) oldest = c;
+        if (c->closing_) continue;
+        const auto standing = c->standing(now);
+        if (standing == Standing::Stalled) oldest_stalled = older(oldest_stalled, c);
+        if (standing == Standing::Idle) oldest_idle = older(oldest_idle, c);
     }
-    if (!oldest) return false;
-    close(*oldest);
-    return true;
+    if (oldest_stalled) {
+        close(*oldest_stalled);
+        return Standing::Stalled;
+    }
+    if (oldest_idle) {
+        close(*oldest_idle);
+        return Standing::Idle;
+    }
+    return Standing::Busy;
 }
 
 void ConnectionTable::close_all() {
+    // A connection may remove itself as it closes: take its successor first.
     for (auto* c = head_; c;) {
         auto* next = c->next_;
         close(*c);

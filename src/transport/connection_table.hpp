@@ -10,17 +10,27 @@ namespace mblab::transport {
 
 using Clock = std::chrono::steady_clock;
 
+// What a full table may do with a connection to admit a newcomer.
+enum class Standing : unsigned char {
+    Busy,  // receiving a request at a normal pace or owed an answer by the device: kept
+    Idle,  // no request being received, none being answered
+    // Has completed no request and sent no answer for a while, yet is not idle: it trickles an
+    // unfinished frame or leaves its answers unread. Such a client holds a place without using
+    // it, so it goes before any idle one; otherwise a few hundred of them lock everyone out.
+    Stalled,
+};
+
 class TrackedConnection {
   public:
     TrackedConnection() = default;
     TrackedConnection(const TrackedConnection&) = delete;
     TrackedConnection& operator=(const TrackedConnection&) = delete;
 
-    // Idle: no request being received, none being answered. Only idle connections are evicted.
-    virtual bool idle() const = 0;
-    // The last complete request or answer; the oldest idle connection goes first.
+    virtual Standing standing(Clock::time_point now) const = 0;
+    // The last complete request or answer; the oldest goes first.
     virtual Clock::time_point last_activity() const = 0;
-    // Starts closing; must not reenter the table (removal happens when the owner ends).
+    // Starts closing. It may call ConnectionTable::remove() for itself, and nothing else of the
+    // table.
     virtual void close() = 0;
 
   protected:
@@ -40,12 +50,16 @@ class ConnectionTable {
     ConnectionTable& operator=(const ConnectionTable&) = delete;
 
     void add(TrackedConnection& connection);
+    // A connection leaves the table as it closes, not when its owner is destroyed: a session
+    // that closed but still waits for its handlers to finish must not hold a place (a client
+    // that reconnects at once would be refused). Removing one twice, or one never added, is
+    // harmless.
     void remove(TrackedConnection& connection);
-    // Connections admitted and not yet removed, closing ones included.
     std::size_t size() const { return size_; }
 
-    // Closes the idle connection with the oldest activity; false when none is idle.
-    bool close_oldest_idle();
+    // Closes the stalled connection with the oldest activity, or else the oldest idle one, to
+    // admit a newcomer; returns which kind it closed, Busy when every connection is busy.
+    Standing close_one_for_newcomer(Clock::time_point now);
     void close_all();
 
   private:

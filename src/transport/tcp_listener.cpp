@@ -112,12 +112,18 @@ bool TcpListener::admit(asio::ip::tcp::socket& socket) {
         return false;
     }
     if (limits_.max_connections != 0 && connections_.size() >= limits_.max_connections) {
-        if (!connections_.close_oldest_idle()) {
-            counters_.refused_full.fetch_add(1, std::memory_order_relaxed);
-            reset_connection(socket);
-            return false;
+        switch (connections_.close_one_for_newcomer(Clock::now())) {
+            case Standing::Busy:
+                counters_.refused_full.fetch_add(1, std::memory_order_relaxed);
+                reset_connection(socket);
+                return false;
+            case Standing::Idle:
+                counters_.evicted_idle.fetch_add(1, std::memory_order_relaxed);
+                break;
+            case Standing::Stalled:
+                counters_.evicted_stalled.fetch_add(1, std::memory_order_relaxed);
+                break;
         }
-        counters_.evicted_idle.fetch_add(1, std::memory_order_relaxed);
     }
     counters_.accepted.fetch_add(1, std::memory_order_relaxed);
     socket.set_option(asio::ip::tcp::no_delay(true), ec);

@@ -14,7 +14,8 @@
 #include "transport/connection_table.hpp"
 
 // Accepts TCP connections under limits: the allow-list is checked first, then the connection
-// count, where a full table gives up its oldest idle connection to admit the newcomer.
+// count, where a full table gives up its oldest stalled, or else idle, connection to admit the
+// newcomer.
 namespace mblab::transport {
 
 struct ListenerLimits {
@@ -27,6 +28,7 @@ struct ListenerCounters {
     std::atomic<std::uint64_t> refused_address{0};  // not on the allow-list
     std::atomic<std::uint64_t> refused_full{0};     // at the limit and nobody idle
     std::atomic<std::uint64_t> evicted_idle{0};     // closed to admit a newer connection
+    std::atomic<std::uint64_t> evicted_stalled{0};  // likewise, a client that trickles or stalls
 };
 
 class TcpListener : public std::enable_shared_from_this<TcpListener> {
