@@ -1,9 +1,11 @@
 #include "server/state_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <sstream>
@@ -30,12 +32,23 @@ bool write_all(int fd, std::string_view text) {
 
 bool write_file_atomically(const std::filesystem::path& path, std::string_view text,
                            std::string& error) {
+    // A fixed name such as FILE.tmp opened with O_CREAT would follow a symlink planted there
+    // and overwrite its target. mkostemp() makes a new file of a name nobody could guess (it
+    // fails rather than open anything that exists), with mode 0600; rename() then replaces
+    // FILE itself, never what a link at FILE points to.
     auto temporary = path;
-    temporary += ".tmp";
-    int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    temporary += ".XXXXXX";
+    std::string name = temporary.string();
+    int fd = ::mkostemp(name.data(), O_CLOEXEC);
+    temporary = name;
     if (fd < 0) {
-        error = errno_text("cannot create", temporary);
+        error = errno_text("cannot create a temporary file for", path);
         return false;
+    }
+    // The file keeps its mode across saves, so a user's chmod is not undone by the next save.
+    struct stat old {};
+    if (::stat(path.c_str(), &old) == 0 && S_ISREG(old.st_mode)) {
+        ::fchmod(fd, old.st_mode & 07777);
     }
     bool written = write_all(fd, text) && ::fsync(fd) == 0;
     if (!written) error = errno_text("cannot write", temporary);

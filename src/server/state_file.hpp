@@ -9,7 +9,8 @@
 namespace mblab::server {
 
 // Replaces `path` so that a crash at any moment leaves either the old or the new text, never a
-// mix: write a temporary file beside it, fsync it, rename it over `path`, fsync the directory.
+// mix: write a new temporary file of a unique name beside it (mode 0600, or the mode `path`
+// has), fsync it, rename it over `path`, fsync the directory.
 bool write_file_atomically(const std::filesystem::path& path, std::string_view text,
                            std::string& error);
 

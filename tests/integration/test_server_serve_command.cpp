@@ -15,6 +15,7 @@
 #include "scripted_handler.hpp"
 #include "server/background_server.hpp"
 #include "server_fixture.hpp"
+#include "support/temp_dir.hpp"
 
 namespace mblab::test {
 namespace {
@@ -56,22 +57,6 @@ class Serve {
     ChildProcess child_;
     std::string line_;
     std::vector<std::uint16_t> ports_;
-};
-
-class TempDir {
-  public:
-    TempDir() {
-        char pattern[] = "/tmp/mblab-serve-test-XXXXXX";
-        path_ = ::mkdtemp(pattern);
-    }
-    ~TempDir() {
-        std::error_code ignored;
-        fs::remove_all(path_, ignored);
-    }
-    fs::path operator/(const std::string& name) const { return path_ / name; }
-
-  private:
-    fs::path path_;
 };
 
 TEST(ServeCommand, PrintsWhereItListensAndExitsZeroOnSigterm) {
