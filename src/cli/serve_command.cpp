@@ -11,6 +11,7 @@
 #include <asio/steady_timer.hpp>
 #include <asio/use_awaitable.hpp>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <filesystem>
 #include <memory>
@@ -42,10 +43,11 @@ constexpr auto use_tuple = asio::experimental::as_tuple(asio::use_awaitable);
 struct ServeOptions {
     std::string profile = "reference";
     std::string listen = "tcp://127.0.0.1:1502";
-    std::size_t max_connections = server::ServerOptions{}.max_connections;
+    // Signed, so that a negative count is refused rather than wrapped into "no limit".
+    long long max_connections = static_cast<long long>(server::ServerOptions{}.max_connections);
     double idle_timeout = 60;
     std::vector<std::string> allow;
-    std::size_t max_outstanding = server::ServerOptions{}.max_outstanding;
+    long long max_outstanding = static_cast<long long>(server::ServerOptions{}.max_outstanding);
     int frame_timeout_ms = 250;
     int frame_limit_ms = 1000;
     std::string state;
@@ -86,12 +88,29 @@ std::string describe_units(const device::ReferenceDevice& device) {
     return text + fmt::format(" (0 and 255 answer as {})", ids.front());
 }
 
+// A duration option given in seconds. 0 means `zero_means`; anything else must be a finite
+// number from a millisecond (a shorter one would round to 0, which means something else) to a
+// year (longer ones overflow the clock's arithmetic).
+std::optional<std::chrono::milliseconds> seconds_option(const char* name, double seconds,
+                                                        const char* zero_means,
+                                                        std::string& error) {
+    constexpr double kMaxSeconds = 365.0 * 24 * 3600;
+    if (seconds == 0) return std::chrono::milliseconds(0);
+    if (std::isfinite(seconds) && seconds >= 0.001 && seconds <= kMaxSeconds) {
+        return std::chrono::round<std::chrono::milliseconds>(Seconds(seconds));
+    }
+    error = fmt::format("{} {:g}: expected 0 ({}) or seconds from 0.001 to {:.0f}", name, seconds,
+                        zero_means, kMaxSeconds);
+    return std::nullopt;
+}
+
 server::ServerOptions server_options(const ServeOptions& options, std::string& error) {
     server::ServerOptions out;
-    out.max_connections = options.max_connections;
-    out.idle_timeout =
-        std::chrono::duration_cast<std::chrono::milliseconds>(Seconds(options.idle_timeout));
-    out.max_outstanding = options.max_outstanding;
+    out.max_connections = static_cast<std::size_t>(options.max_connections);
+    if (auto idle = seconds_option("--idle-timeout", options.idle_timeout, "never", error)) {
+        out.idle_timeout = *idle;
+    }
+    out.max_outstanding = static_cast<std::size_t>(options.max_outstanding);
     out.partial_frame_timeout = std::chrono::milliseconds(options.frame_timeout_ms);
     out.frame_limit = std::chrono::milliseconds(options.frame_limit_ms);
     for (const auto& entry : options.allow) {
@@ -141,13 +160,17 @@ class StatsLine {
     std::uint64_t last_exceptions_ = 0;
 };
 
+// Runs `action` every `period` until `stopping` is set. Cancelling the timer alone cannot stop
+// it: a cancel that comes while the timer's completion is already queued (the period ran out as
+// the action ran) finds nothing to cancel, and the loop would wait again, keeping the server
+// running after SIGTERM.
 template <class Action>
 asio::awaitable<void> every(asio::steady_timer& timer, std::chrono::milliseconds period,
-                            Action action) {
-    for (;;) {
+                            const bool& stopping, Action action) {
+    while (!stopping) {
         timer.expires_after(period);
         auto [ec] = co_await timer.async_wait(use_tuple);
-        if (ec) co_return;
+        if (ec || stopping) co_return;
         action();
     }
 }
@@ -179,7 +202,7 @@ bool save_states(const std::vector<std::unique_ptr<device::ReferenceDevice>>& de
 // --listen rtu:// or ascii://: the device on a serial line until SIGINT or SIGTERM, or until the
 // line fails (exit status 1).
 int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& device,
-                    const ServeOptions& options) {
+                    const ServeOptions& options, std::chrono::milliseconds save_period) {
     asio::io_context io(1);
     auto line = server::start_serial_server(io, device, url, server::device_line_hooks(device));
     if (!line) return usage_error(line.error());
@@ -195,15 +218,17 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
                fmt::join(device.unit_ids(), ","));
     std::fflush(stdout);
     asio::steady_timer save_timer(io);
-    if (!options.state.empty() && options.save_interval > 0) {
-        auto period =
-            std::chrono::duration_cast<std::chrono::milliseconds>(Seconds(options.save_interval));
-        asio::co_spawn(io, every(save_timer, period, [&] { save_state(device, options.state); }),
-                       asio::detached);
+    bool stopping = false;
+    if (!options.state.empty() && save_period.count() > 0) {
+        asio::co_spawn(
+            io,
+            every(save_timer, save_period, stopping, [&] { save_state(device, options.state); }),
+            asio::detached);
     }
     asio::signal_set signals(io, SIGINT, SIGTERM);
     signals.async_wait([&](const asio::error_code& ec, int) {
         if (ec) return;
+        stopping = true;
         (*line)->stop();
         save_timer.cancel();
     });
@@ -242,6 +267,9 @@ int run_serve(const ServeOptions& options) {
     if (!profile_path) return usage_error(error);
     auto server_config = server_options(options, error);
     if (!error.empty()) return usage_error(error);
+    const auto save_period =
+        seconds_option("--save-interval", options.save_interval, "only on exit", error);
+    if (!save_period) return usage_error(error);
     auto first_port = static_cast<unsigned>(endpoint->port());
     if (first_port != 0 && first_port + static_cast<unsigned>(options.devices) - 1 > 65535) {
         return usage_error(fmt::format("{} devices from port {} run past port 65535",
@@ -262,10 +290,14 @@ int run_serve(const ServeOptions& options) {
         if (text && !devices[i]->load_state(*text, error)) {
             return usage_error(fmt::format("state file {}: {}", path, error));
         }
+        // Found now rather than at the first save, which may be minutes away or at exit.
+        if (!server::check_state_writable(path, error)) return usage_error("--state: " + error);
     }
 
     std::signal(SIGPIPE, SIG_IGN);
-    if (serial && !rtu_over_tcp) return run_serial_line(*serial, first_device, options);
+    if (serial && !rtu_over_tcp) {
+        return run_serial_line(*serial, first_device, options, *save_period);
+    }
     // One thread runs every server; without a gateway nothing else touches the io_context, so
     // it takes no locks. A gateway's thread posts its answers to it.
     asio::io_context io(gateway ? 1 : ASIO_CONCURRENCY_HINT_UNSAFE);
@@ -312,19 +344,22 @@ int run_serve(const ServeOptions& options) {
     asio::steady_timer save_timer(io);
     asio::steady_timer stats_timer(io);
     StatsLine stats_line(servers);
-    if (!options.state.empty() && options.save_interval > 0) {
-        auto period =
-            std::chrono::duration_cast<std::chrono::milliseconds>(Seconds(options.save_interval));
-        asio::co_spawn(io, every(save_timer, period, [&] { save_states(devices, options.state); }),
-                       asio::detached);
+    bool stopping = false;
+    if (!options.state.empty() && save_period->count() > 0) {
+        asio::co_spawn(
+            io,
+            every(save_timer, *save_period, stopping, [&] { save_states(devices, options.state); }),
+            asio::detached);
     }
     if (options.stats) {
-        asio::co_spawn(io, every(stats_timer, std::chrono::seconds(1), [&] { stats_line.print(); }),
-                       asio::detached);
+        asio::co_spawn(
+            io, every(stats_timer, std::chrono::seconds(1), stopping, [&] { stats_line.print(); }),
+            asio::detached);
     }
     asio::signal_set signals(io, SIGINT, SIGTERM);
     signals.async_wait([&](const asio::error_code& ec, int) {
         if (ec) return;
+        stopping = true;
         for (auto& s : servers)
             s->stop();
         save_timer.cancel();
@@ -362,6 +397,7 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_option("--max-connections", options->max_connections,
                     "connections at once; when full the oldest stalled (trickling, not reading) "
                     "or idle one is closed (0: no limit)")
+        ->check(CLI::Range(0LL, 1'000'000LL))
         ->capture_default_str();
     cmd->add_option("--idle-timeout", options->idle_timeout,
                     "seconds without a request before a connection is closed (0: never)")
@@ -371,7 +407,7 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
                     "admit only clients from this address or CIDR network (repeatable)");
     cmd->add_option("--max-outstanding", options->max_outstanding,
                     "requests a connection may have unanswered; more are answered 06 busy")
-        ->check(CLI::Range(1, 4096))
+        ->check(CLI::Range(1LL, 4096LL))
         ->capture_default_str();
     cmd->add_option("--frame-timeout", options->frame_timeout_ms,
                     "milliseconds an unfinished frame may wait before it is answered 03")

@@ -85,11 +85,22 @@ std::string ReferenceDevice::save_state() const {
 bool ReferenceDevice::load_state(std::string_view text, std::string& error) {
     std::lock_guard lock(mutex_);
     const json root = json::parse(text, nullptr, false);
-    if (root.is_discarded() || !root.is_object()) {
+    if (root.is_discarded()) {
         error = "the state is not valid JSON";
         return false;
     }
-    if (root.value("format", "") != kFormat || root.value("version", 0) != kVersion) {
+    if (!root.is_object()) {
+        error = std::string(
+                    "expected a JSON object (a file written by mblab serve --state), "
+                    "found ") +
+                root.type_name();
+        return false;
+    }
+    // Checked by type first: json::value() throws when the key holds another type.
+    const bool format_ok = root.contains("format") && root["format"] == kFormat;
+    const bool version_ok = root.contains("version") && root["version"].is_number_integer() &&
+                            root["version"] == kVersion;
+    if (!format_ok || !version_ok) {
         error = "format: expected \"" + std::string(kFormat) + "\" version " +
                 std::to_string(kVersion) + " (a file written by mblab serve --state)";
         return false;
@@ -117,6 +128,10 @@ bool ReferenceDevice::load_state(std::string_view text, std::string& error) {
             const std::string key(bank_key(kind));
             if (!entry.contains(key)) continue;
             const json& ranges = entry[key];
+            if (!ranges.is_array()) {
+                error = path + "." + key + ": expected an array of ranges";
+                return false;
+            }
             const std::uint16_t max = is_bit_bank(kind) ? 1 : 0xFFFF;
             for (std::size_t r = 0; r < ranges.size(); ++r) {
                 const std::string rpath = path + "." + key + "[" + std::to_string(r) + "]";
@@ -141,6 +156,10 @@ bool ReferenceDevice::load_state(std::string_view text, std::string& error) {
             }
         }
         if (!entry.contains("files")) continue;
+        if (!entry["files"].is_array()) {
+            error = path + ".files: expected an array of files";
+            return false;
+        }
         const auto& files = unit->files().files();
         for (std::size_t f = 0; f < entry["files"].size(); ++f) {
             const json& file = entry["files"][f];

@@ -28,23 +28,40 @@ bool write_all(int fd, std::string_view text) {
     return true;
 }
 
+// A new file beside `path`. A fixed name such as FILE.tmp opened with O_CREAT would follow a
+// symlink planted there and overwrite its target. mkostemp() makes a new file of a name nobody
+// could guess (it fails rather than open anything that exists), with mode 0600.
+int create_temporary(const std::filesystem::path& path, std::filesystem::path& temporary,
+                     std::string& error) {
+    auto pattern = path;
+    pattern += ".XXXXXX";
+    std::string name = pattern.string();
+    int fd = ::mkostemp(name.data(), O_CLOEXEC);
+    if (fd < 0) {
+        error = errno_text("cannot create a temporary file for", path);
+        return -1;
+    }
+    temporary = name;
+    return fd;
+}
+
 }  // namespace
+
+bool check_state_writable(const std::filesystem::path& path, std::string& error) {
+    std::filesystem::path temporary;
+    int fd = create_temporary(path, temporary, error);
+    if (fd < 0) return false;
+    ::close(fd);
+    ::unlink(temporary.c_str());
+    return true;
+}
 
 bool write_file_atomically(const std::filesystem::path& path, std::string_view text,
                            std::string& error) {
-    // A fixed name such as FILE.tmp opened with O_CREAT would follow a symlink planted there
-    // and overwrite its target. mkostemp() makes a new file of a name nobody could guess (it
-    // fails rather than open anything that exists), with mode 0600; rename() then replaces
-    // FILE itself, never what a link at FILE points to.
-    auto temporary = path;
-    temporary += ".XXXXXX";
-    std::string name = temporary.string();
-    int fd = ::mkostemp(name.data(), O_CLOEXEC);
-    temporary = name;
-    if (fd < 0) {
-        error = errno_text("cannot create a temporary file for", path);
-        return false;
-    }
+    // rename() replaces FILE itself, never what a link at FILE points to.
+    std::filesystem::path temporary;
+    int fd = create_temporary(path, temporary, error);
+    if (fd < 0) return false;
     // The file keeps its mode across saves, so a user's chmod is not undone by the next save.
     struct stat old {};
     if (::stat(path.c_str(), &old) == 0 && S_ISREG(old.st_mode)) {
@@ -76,6 +93,10 @@ std::optional<std::string> read_state_file(const std::filesystem::path& path, st
     error.clear();
     std::error_code ec;
     if (!std::filesystem::exists(path, ec)) return std::nullopt;
+    if (!std::filesystem::is_regular_file(path, ec)) {
+        error = "cannot read " + path.string() + ": not a regular file";
+        return std::nullopt;
+    }
     std::ifstream in(path, std::ios::binary);
     if (!in) {
         error = errno_text("cannot read", path);

@@ -14,6 +14,10 @@ namespace mblab::server {
 bool write_file_atomically(const std::filesystem::path& path, std::string_view text,
                            std::string& error);
 
+// Whether a file can be created beside `path`, as each save does: a missing or read-only
+// directory is found at start rather than at the first save.
+bool check_state_writable(const std::filesystem::path& path, std::string& error);
+
 // The whole file; nullopt with an empty `error` when it does not exist (a first start).
 std::optional<std::string> read_state_file(const std::filesystem::path& path, std::string& error);
 

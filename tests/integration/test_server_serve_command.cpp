@@ -268,3 +268,93 @@ TEST(ServeCommand, BadAllowEntryIsOneLineAndExitTwo) {
 
 }  // namespace
 }  // namespace mblab::test
+
+namespace mblab::test {
+namespace {
+
+// Issue 17 item 3: a save interval under a millisecond truncated to 0, the server saved in a loop
+// and SIGTERM no longer stopped it.
+TEST(ServeCommand, SaveIntervalThatRoundsToZeroIsRefused) {
+    TempDir dir;
+    auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--state",
+                                (dir / "s.json").string(), "--save-interval", "0.0001"});
+    EXPECT_EQ(failure.status, 2);
+    EXPECT_EQ(failure.stderr_text,
+              "mblab serve: --save-interval 0.0001: expected 0 (only on exit) or seconds from "
+              "0.001 to 31536000\n");
+}
+
+TEST(ServeCommand, SigtermStopsAServerThatSavesEveryMillisecond) {
+    TempDir dir;
+    auto state = dir / "s.json";
+    for (int round = 0; round < 3; ++round) {
+        Serve serve({"--listen", "tcp://127.0.0.1:0", "--state", state.string(), "--save-interval",
+                     "0.001"});
+        ASSERT_EQ(serve.ports().size(), 1U) << serve.line();
+        auto client = serve.connect();
+        EXPECT_EQ(client.transact("00 01 00 00 00 06 01 06 00 10 00 2A"),
+                  "00 01 00 00 00 06 01 06 00 10 00 2A");
+        EXPECT_EQ(serve.terminate(), 0);
+        EXPECT_NE(file_text(state).find("\"format\""), std::string::npos);
+    }
+}
+
+// Issue 17 item 10: every bad duration or count is one line at start, never a wrapped or
+// overflowed value.
+TEST(ServeCommand, BadDurationsAndCountsAreOneLineAtStart) {
+    const std::vector<std::vector<std::string>> bad = {
+        {"--idle-timeout", "1e10"},   {"--idle-timeout", "inf"},  {"--idle-timeout", "nan"},
+        {"--idle-timeout", "0.0001"}, {"--save-interval", "nan"}, {"--max-connections", "-1"},
+        {"--max-outstanding", "-1"},  {"--frame-limit", "0"},
+    };
+    for (const auto& option : bad) {
+        auto args = option;
+        args.insert(args.begin(), {"--listen", "tcp://127.0.0.1:0"});
+        auto failure = run_failing(args);
+        EXPECT_EQ(failure.status, 2) << option[0] << " " << option[1];
+        EXPECT_EQ(std::count(failure.stderr_text.begin(), failure.stderr_text.end(), '\n'), 1)
+            << failure.stderr_text;
+        EXPECT_NE(failure.stderr_text.find(option[0]), std::string::npos) << failure.stderr_text;
+    }
+    auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--idle-timeout", "1e10"});
+    EXPECT_EQ(failure.stderr_text,
+              "mblab serve: --idle-timeout 1e+10: expected 0 (never) or seconds from 0.001 to "
+              "31536000\n");
+}
+
+TEST(ServeCommand, StateFileOfTheWrongShapeIsOneLineNamingTheFile) {
+    TempDir dir;
+    auto state = dir / "device.json";
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {R"({"format":"mblab-device-state","version":"1","units":[]})",
+         "format: expected \"mblab-device-state\" version 1 (a file written by mblab serve "
+         "--state)"},
+        {"null", "expected a JSON object (a file written by mblab serve --state), found null"},
+        {"[]", "expected a JSON object (a file written by mblab serve --state), found array"},
+        {R"({"format":"mblab-device-state","version":1,"units":[{"id":1,"holding_registers":5}]})",
+         "units[0].holding_registers: expected an array of ranges"},
+    };
+    for (const auto& [text, why] : cases) {
+        std::ofstream(state) << text;
+        auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--state", state.string()});
+        EXPECT_EQ(failure.status, 2);
+        EXPECT_EQ(failure.stderr_text,
+                  "mblab serve: state file " + state.string() + ": " + why + "\n");
+    }
+}
+
+TEST(ServeCommand, StatePathThatCannotBeWrittenIsRefusedAtStart) {
+    TempDir dir;
+    auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--state", dir.path().string()});
+    EXPECT_EQ(failure.status, 2);
+    EXPECT_EQ(failure.stderr_text,
+              "mblab serve: cannot read " + dir.path().string() + ": not a regular file\n");
+    failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--state", "/nonexistent/x.json"});
+    EXPECT_EQ(failure.status, 2);
+    EXPECT_EQ(failure.stderr_text,
+              "mblab serve: --state: cannot create a temporary file for /nonexistent/x.json: No "
+              "such file or directory\n");
+}
+
+}  // namespace
+}  // namespace mblab::test
