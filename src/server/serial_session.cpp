@@ -69,16 +69,22 @@ LineSession<Stream>::LineSession(Stream stream, std::shared_ptr<ServerCore> core
 
 template <class Stream>
 LineSession<Stream>::~LineSession() {
-    if (core_->listener) {
-        core_->listener->connections().remove(*this);
-        core_->stats.connections_open.fetch_sub(1, std::memory_order_relaxed);
-    }
+    leave_table();
+}
+
+template <class Stream>
+void LineSession<Stream>::leave_table() {
+    if (!in_table_) return;
+    in_table_ = false;
+    core_->listener->connections().remove(*this);
+    core_->stats.connections_open.fetch_sub(1, std::memory_order_relaxed);
 }
 
 template <class Stream>
 void LineSession<Stream>::start() {
     if (core_->listener) {
         core_->listener->connections().add(*this);
+        in_table_ = true;
         ServerStats::bump(core_->stats.connections_open);
     }
     auto executor = stream_.get_executor();
@@ -104,6 +110,8 @@ void LineSession<Stream>::close() {
     closed_ = true;
     asio::error_code ignored;
     stream_.close(ignored);
+    // Its place is free now, not once its coroutines have ended.
+    leave_table();
     watchdog_timer_.cancel();
     delay_timer_.cancel();
 }

@@ -81,6 +81,8 @@ class LineSession final : public std::enable_shared_from_this<LineSession<Stream
     LineClock::time_point next_deadline() const;
     void count_line_faults();
     void fail(const std::string& why);
+    // Gives the connection's place in the listener's table back (once).
+    void leave_table();
 
     Stream stream_;
     std::shared_ptr<ServerCore> core_;
@@ -91,6 +93,7 @@ class LineSession final : public std::enable_shared_from_this<LineSession<Stream
     asio::steady_timer delay_timer_;
     LineClock::time_point last_activity_;
     bool closed_ = false;
+    bool in_table_ = false;
     bool reading_ = false;  // a read is outstanding: the watchdog may interrupt it
 
     std::array<std::uint8_t, 512> input_{};

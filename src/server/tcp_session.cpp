@@ -51,12 +51,19 @@ TcpSession::TcpSession(asio::ip::tcp::socket socket, std::shared_ptr<ServerCore>
 
 TcpSession::~TcpSession() {
     close_socket();
+    leave_table();
+}
+
+void TcpSession::leave_table() {
+    if (!in_table_) return;
+    in_table_ = false;
     core_->listener->connections().remove(*this);
     core_->stats.connections_open.fetch_sub(1, std::memory_order_relaxed);
 }
 
 void TcpSession::start() {
     core_->listener->connections().add(*this);
+    in_table_ = true;
     ServerStats::bump(core_->stats.connections_open);
     if (fd_ < 0 || !core_->poller->add(fd_, shared_from_this(), EPOLLIN)) {
         close();
@@ -83,6 +90,9 @@ void TcpSession::close() {
     closed_ = true;
     reading_ = false;
     close_socket();
+    // Its place is free now, not when the handlers still holding the session have run: a
+    // client that reconnects at once to a full server would otherwise be refused.
+    leave_table();
     delay_timer_.cancel();
     watchdog_timer_.cancel();
 }

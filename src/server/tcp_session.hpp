@@ -109,6 +109,8 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     // Drops the answers `written` bytes completed out of the first `count`.
     void consume_sent(std::size_t count, std::size_t written, Clock::time_point now);
     void shutdown_and_close();
+    // Gives the connection's place in the listener's table back (once).
+    void leave_table();
     // Stops watching the socket and closes it (once).
     void close_socket();
 
@@ -131,6 +133,7 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     std::size_t input_end_ = 0;
 
     bool closed_ = false;
+    bool in_table_ = false;
     bool reading_ = true;  // false after EOF or a "close" fault
     bool reader_paused_ = false;
     bool resume_posted_ = false;

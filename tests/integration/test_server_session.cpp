@@ -2,6 +2,7 @@
 // timers and the device's fault replies.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <string>
 #include <thread>
@@ -249,6 +250,45 @@ TEST_F(ServerSession, FullServerWithNoIdleConnectionRefusesNewcomer) {
     EXPECT_TRUE(refused.closed_by_peer());
     EXPECT_EQ(busy.read_adu(), "00 01 00 00 00 03 01 41 64");
     EXPECT_EQ(server_->listener_counters().refused_full.load(), 1U);
+}
+
+// A device whose function 0x45 holds the server's thread for 300 ms and then answers 1 s later,
+// so a test can line up events for the server to find all at once when it looks again.
+class StallingHandler : public ScriptedHandler {
+  public:
+    device::Reply handle(const device::RequestContext& context,
+                         std::span<const std::uint8_t> request,
+                         std::span<std::uint8_t> response) override {
+        if (request.front() != 0x45) return ScriptedHandler::handle(context, request, response);
+        std::this_thread::sleep_for(300ms);  // the slow device itself, not a synchronisation
+        device::Reply reply;
+        reply.size = std::min(request.size(), response.size());
+        std::copy_n(request.begin(), reply.size, response.begin());
+        reply.delay = 1s;
+        return reply;
+    }
+};
+
+// Issue 17 item 9: a client that closes and one that connects at once, seen together by a full
+// server: the closed session, not yet destroyed, still counted and the newcomer was refused.
+TEST_F(ServerSession, ClosedConnectionFreesItsPlaceAtOnce) {
+    StallingHandler handler;
+    server::ServerOptions options;
+    options.max_connections = 2;
+    start_server(handler, options);
+    auto busy = connect();  // holds the other place, owed an answer throughout
+    for (int i = 0; i < 3; ++i) {
+        auto leaving = connect();
+        ASSERT_EQ(leaving.transact("00 01 00 00 00 03 01 08 00"), "00 01 00 00 00 03 01 08 00");
+        ASSERT_TRUE(busy.send_hex("00 02 00 00 00 02 01 45"));
+        // While the server is held: the close and the newcomer's connect wait for it together.
+        leaving = BlockingClient();
+        auto newcomer = connect();
+        EXPECT_EQ(newcomer.transact("00 03 00 00 00 03 01 08 00"), "00 03 00 00 00 03 01 08 00")
+            << "round " << i;
+        EXPECT_EQ(busy.read_adu(), "00 02 00 00 00 02 01 45");
+    }
+    EXPECT_EQ(server_->listener_counters().refused_full.load(), 0U);
 }
 
 // Bad input 13: a client not on the allow-list is refused.
