@@ -90,4 +90,39 @@ FrameEvent MbapFramer::feed(std::span<const std::uint8_t> input, std::size_t& co
     }
 }
 
+namespace {
+
+// Whether `bytes` read as whole frames to the end, the last one possibly unfinished; at least
+// one must be whole, so that a stray byte run is not taken for a request.
+bool frames_to_end(std::span<const std::uint8_t> bytes) {
+    std::size_t whole = 0;
+    while (!bytes.empty()) {
+        if (bytes.size() < kHeader) {
+            // The start of a header: the protocol id bytes that came must be 0.
+            const auto id = bytes.subspan(std::min<std::size_t>(2, bytes.size()));
+            return whole > 0 &&
+                   std::all_of(id.begin(), id.begin() + std::min<std::size_t>(2, id.size()),
+                               [](std::uint8_t b) { return b == 0; });
+        }
+        const auto header = read_mbap_header(bytes);
+        if (header.protocol_id != 0 || header.length < kMinLength || header.length > kMaxLength) {
+            return false;
+        }
+        const auto size = adu_size(header);
+        if (bytes.size() < size) return whole > 0;
+        bytes = bytes.subspan(size);
+        ++whole;
+    }
+    return whole > 0;
+}
+
+}  // namespace
+
+std::size_t mbap_resync_offset(std::span<const std::uint8_t> bytes) {
+    for (std::size_t offset = 0; offset + kHeader < bytes.size(); ++offset) {
+        if (frames_to_end(bytes.subspan(offset))) return offset;
+    }
+    return bytes.size();
+}
+
 }  // namespace mblab::protocol

@@ -46,4 +46,12 @@ class MbapFramer {
     FrameErrorText error_;
 };
 
+// Where whole frames start again in `bytes` that followed a header whose length no frame can
+// have (MBAP length over 254): that frame's end is unknown, but a client that sent further
+// requests without waiting for its 03 must not lose them. Returns the first offset from which the
+// bytes read as one or more whole frames of protocol id 0 and a sane length, possibly followed by
+// the beginning of another, up to the end; bytes.size() when there is none (the bytes are that
+// frame's body).
+std::size_t mbap_resync_offset(std::span<const std::uint8_t> bytes);
+
 }  // namespace mblab::protocol

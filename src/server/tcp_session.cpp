@@ -10,6 +10,8 @@
 #include <asio/post.hpp>
 #include <asio/use_awaitable.hpp>
 #include <cerrno>
+#include <cstring>
+#include <vector>
 
 #include "protocol/adu_writer.hpp"
 #include "protocol/function_code.hpp"
@@ -167,6 +169,8 @@ void TcpSession::on_end_of_input() {
     // bytes can no longer arrive), then close.
     auto now = Clock::now();
     if (has_partial()) on_partial_timeout(now);
+    if (input_begin_ < input_end_) process_input();  // requests recovered after an overlong frame
+    if (has_partial()) on_partial_timeout(now);
     reading_ = false;
     flush(now);
 }
@@ -179,6 +183,9 @@ TcpSession::Progress TcpSession::process_input() {
         if (partial_.overlong) {
             if (!partial_.function) partial_.function = input.front();
             partial_.skipped += input.size();
+            const auto room = protocol::limits::kMaxPdu - overlong_body_.size();
+            const auto kept = input.first(std::min(input.size(), room));
+            overlong_body_.insert(overlong_body_.end(), kept.begin(), kept.end());
             input_begin_ = input_end_;
             if (partial_.skipped > protocol::limits::kMaxPdu) {
                 // The body really is longer than any PDU: not a length typo but a flood.
@@ -366,11 +373,25 @@ void TcpSession::drop_partial(Clock::time_point now) {
     }
     framer_.reset();
     partial_ = {};
+    overlong_body_.clear();
 }
 
 void TcpSession::on_partial_timeout(Clock::time_point now) {
+    std::vector<std::uint8_t> body;
+    body.swap(overlong_body_);
     ServerStats::bump(core_->stats.frames_dropped);
     drop_partial(now);
+    if (body.size() < 2) return;
+    // Requests a client sent during the wait, without waiting for this frame's 03, follow its
+    // body; they are read again as input, after the 03, instead of being lost as body bytes.
+    const auto from = 1 + protocol::mbap_resync_offset(std::span(body).subspan(1));
+    const auto count = body.size() - from;
+    const auto rest = input_end_ - input_begin_;  // none: the wait consumed every read
+    if (count == 0 || count + rest > input_.size()) return;
+    std::memmove(input_.data() + count, input_.data() + input_begin_, rest);
+    std::memcpy(input_.data(), body.data() + from, count);
+    input_begin_ = 0;
+    input_end_ = count + rest;
 }
 
 void TcpSession::on_slow_frame(Clock::time_point now) {
@@ -510,6 +531,10 @@ asio::awaitable<void> TcpSession::watchdog_loop(std::shared_ptr<TcpSession> /*se
         if (has_partial() && now >= partial_wakeup()) {
             if (now >= partial_deadline_) {
                 on_partial_timeout(now);
+                if (input_begin_ < input_end_ && !reader_paused_) {
+                    continue_reading();
+                    update_interest();
+                }
             } else {
                 on_slow_frame(now);
             }

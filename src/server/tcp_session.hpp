@@ -11,6 +11,7 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "protocol/exception_code.hpp"
 #include "protocol/frame_event.hpp"
@@ -123,6 +124,9 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
 
     protocol::MbapFramer framer_;
     PartialFrame partial_;
+    // What followed an overlong header (function code first), up to a PDU: that frame's body,
+    // and perhaps requests sent after it.
+    std::vector<std::uint8_t> overlong_body_;
     Clock::time_point partial_deadline_{};
     ReplyQueue replies_;
     std::size_t head_sent_ = 0;  // bytes of the head answer a partial write already sent

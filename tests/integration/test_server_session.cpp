@@ -54,6 +54,42 @@ TEST_F(ServerSession, AnswersImproperLengthWithException03ThenStaysInStep) {
     EXPECT_EQ(handler_.calls.load(), 1);
 }
 
+// Issue 17 item 8: a request sent with, or soon after, a frame of length 0xFF was taken for that
+// frame's body and lost without answer or close.
+TEST_F(ServerSession, RequestInTheSameWriteAsALength0xFFFrameIsAnsweredAfterIts03) {
+    start();
+    auto client = connect();
+    ASSERT_TRUE(
+        client.send_hex("00 01 00 00 00 FF 01 03 00 00 00 01"
+                        "00 02 00 00 00 06 01 03 00 00 00 01"));
+    EXPECT_EQ(client.read_adu(), "00 01 00 00 00 03 01 83 03");
+    EXPECT_EQ(client.read_adu(), "00 02 00 00 00 06 01 03 00 00 00 01");
+    EXPECT_EQ(client.transact("00 03 00 00 00 03 01 08 00"), "00 03 00 00 00 03 01 08 00");
+}
+
+TEST_F(ServerSession, RequestsSentDuringTheWaitOfALength0xFFFrameAreAnsweredInOrder) {
+    start();
+    auto client = connect();
+    ASSERT_TRUE(client.send_hex("00 01 00 00 00 FF 01 03 00 00 00 01"));
+    ASSERT_TRUE(client.send_hex("00 02 00 00 00 03 01 08 00"));
+    ASSERT_TRUE(client.send_hex("00 03 00 00 00 03 01 08 01"));
+    EXPECT_EQ(client.read_adu(), "00 01 00 00 00 03 01 83 03");
+    EXPECT_EQ(client.read_adu(), "00 02 00 00 00 03 01 08 00");
+    EXPECT_EQ(client.read_adu(), "00 03 00 00 00 03 01 08 01");
+}
+
+TEST_F(ServerSession, RequestAfterALength0xFFFrameIsAnsweredWhenTheClientHalfCloses) {
+    start();
+    auto client = connect();
+    ASSERT_TRUE(
+        client.send_hex("00 01 00 00 00 FF 01 03 00 00 00 01"
+                        "00 02 00 00 00 03 01 08 00"));
+    client.shutdown_send();
+    EXPECT_EQ(client.read_adu(), "00 01 00 00 00 03 01 83 03");
+    EXPECT_EQ(client.read_adu(), "00 02 00 00 00 03 01 08 00");
+    EXPECT_TRUE(client.closed_by_peer());
+}
+
 TEST_F(ServerSession, AnswersShortBodyWithException03ThenStaysInStep) {
     start();
     auto client = connect();

@@ -168,3 +168,32 @@ TEST(MbapFramer, EmptyInputNeedsMore) {
 
 }  // namespace
 }  // namespace mblab::protocol
+
+namespace mblab::protocol {
+namespace {
+
+using mblab::test::hex;
+
+// Issue 17 item 8: what follows a header of length 0xFF is that frame's body unless whole frames
+// read from some point to the end.
+TEST(MbapResync, BodyAloneHasNoFrames) {
+    const auto body = hex("01 03 00 00 00 01");
+    EXPECT_EQ(mbap_resync_offset(body), body.size());
+}
+
+TEST(MbapResync, FindsARequestThatFollowsTheBody) {
+    EXPECT_EQ(mbap_resync_offset(hex("03 00 00 00 01  00 02 00 00 00 06 01 03 00 00 00 01")), 5U);
+}
+
+TEST(MbapResync, FindsFramesFollowedByTheStartOfAnother) {
+    EXPECT_EQ(mbap_resync_offset(hex("03 00  00 02 00 00 00 03 01 08 00  00 03 00 00 00")), 2U);
+    EXPECT_EQ(mbap_resync_offset(hex("03 00  00 02 00 00 00 03 01 08 00  00 03 00 01 00")), 16U);
+}
+
+TEST(MbapResync, IgnoresRunsThatDoNotReachTheEnd) {
+    const auto bytes = hex("03  00 02 00 00 00 03 01 08 00  FF FF FF FF FF FF FF FF");
+    EXPECT_EQ(mbap_resync_offset(bytes), bytes.size());
+}
+
+}  // namespace
+}  // namespace mblab::protocol
