@@ -1,15 +1,35 @@
 #include "server/reply_queue.hpp"
 
+#include <algorithm>
+
 namespace mblab::server {
 
+namespace {
+
+// Most clients wait for each answer: two slots hold an answer and one queued behind it.
+constexpr std::size_t kFirstSlots = 2;
+
+}  // namespace
+
 PendingReply* ReplyQueue::push_back() {
-    if (slots_.empty()) slots_.resize(capacity_);
-    if (count_ == slots_.size()) return nullptr;
+    if (count_ == slots_.size()) {
+        if (count_ >= capacity_) return nullptr;
+        grow();
+    }
     auto& slot = at(count_++);
     slot.close = false;
     slot.deferred = false;
     slot.size = 0;
     return &slot;
+}
+
+void ReplyQueue::grow() {
+    const auto size = std::min(capacity_, std::max(kFirstSlots, 2 * slots_.size()));
+    std::vector<PendingReply> grown(size);
+    for (std::size_t i = 0; i < count_; ++i)
+        grown[i] = at(i);  // in order from the head, so the ring starts at 0 again
+    slots_ = std::move(grown);
+    head_ = 0;
 }
 
 void ReplyQueue::pop_front(std::size_t n) {

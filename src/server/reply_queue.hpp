@@ -24,9 +24,12 @@ struct PendingReply {
     std::array<std::uint8_t, protocol::limits::kMaxTcpAdu> adu{};
 };
 
-// Answers of one connection in request order. A fixed ring, allocated at the first answer so
-// that idle connections hold none: slots never move, so the writer can send straight from them
-// while the reader queues more.
+// Answers of one connection in request order: a ring that idle connections hold none of, and that
+// grows by doubling as a connection keeps more answers waiting, up to `capacity`. Allocating the
+// whole ring at the first answer cost 11.7 KB per connection by default and 1.16 MB with
+// --max-outstanding 4096, for clients that mostly have one request outstanding. Growth moves the
+// slots, so nobody may keep a pointer to one across a push_back (the writer sends from them and
+// is done before the reader queues more).
 class ReplyQueue {
   public:
     explicit ReplyQueue(std::size_t capacity) : capacity_(capacity) {}
@@ -34,8 +37,10 @@ class ReplyQueue {
     bool empty() const { return count_ == 0; }
     std::size_t size() const { return count_; }
 
-    // nullptr when the ring is full.
+    // nullptr when `capacity` answers are queued.
     PendingReply* push_back();
+    // Slots allocated now.
+    std::size_t allocated() const { return slots_.size(); }
     void pop_back() { --count_; }  // undoes the last push_back
     PendingReply& at(std::size_t i) { return slots_[(head_ + i) % slots_.size()]; }
     const PendingReply& at(std::size_t i) const { return slots_[(head_ + i) % slots_.size()]; }
@@ -44,6 +49,8 @@ class ReplyQueue {
     void pop_front(std::size_t n);
 
   private:
+    void grow();
+
     std::size_t capacity_;
     std::vector<PendingReply> slots_;
     std::size_t head_ = 0;
