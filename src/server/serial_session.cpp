@@ -39,6 +39,11 @@ SerialLineHooks device_line_hooks(device::ReferenceDevice& device) {
     return hooks;
 }
 
+std::string line_failure_text(const asio::error_code& ec) {
+    if (ec == asio::error::eof || ec == std::errc::io_error) return "the line hung up";
+    return ec.message();
+}
+
 LineSetup serial_line_setup(const transport::SerialUrl& url, SerialLineHooks hooks) {
     LineSetup setup;
     setup.hooks = std::move(hooks);
@@ -168,8 +173,7 @@ asio::awaitable<void> LineSession<Stream>::read_loop(Self /*self*/) {
             break;
         }
         if (ec) {
-            // On a serial port, end of file is a hang-up: the adapter or the pty went away.
-            fail(ec == asio::error::eof ? "the line hung up" : ec.message());
+            fail(line_failure_text(ec));
             break;
         }
         count_line_faults();
@@ -254,7 +258,7 @@ asio::awaitable<void> LineSession<Stream>::answer(std::uint8_t unit, std::size_t
         co_await asio::async_write(stream_, asio::buffer(output_.data(), size), use_tuple);
     (void)written;
     if (ec) {
-        fail(ec.message());
+        fail(kIsSerialPort<Stream> ? line_failure_text(ec) : ec.message());
         co_return;
     }
     last_activity_ = LineClock::now();

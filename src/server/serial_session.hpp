@@ -48,6 +48,11 @@ struct LineSetup {
     std::function<void(const std::string&)> on_failure;
 };
 
+// Why a serial line failed, as the server reports it. A line that goes away (a USB adapter
+// unplugged, the far end of a pty closed) shows as end of file or as EIO, whichever the kernel
+// reports first; both read "the line hung up".
+std::string line_failure_text(const asio::error_code& ec);
+
 // The setup of a server on a serial line at `url`'s settings: t3.5 from the baud rate (RTU) or
 // the 1 s inter-character timeout (ASCII).
 LineSetup serial_line_setup(const transport::SerialUrl& url, SerialLineHooks hooks);
