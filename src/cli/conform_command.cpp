@@ -35,7 +35,7 @@ struct ConformOptions {
     std::vector<std::string> suites;
     bool list = false;
     std::string dut_file;
-    int unit = 0;
+    int unit = 1;
     std::uint32_t registers = 0;
     int max_read = 125;
     bool object_messaging = false;
@@ -43,7 +43,8 @@ struct ConformOptions {
     std::string profile;
     std::string catalogue;
     int timeout_ms = 1000;
-    int pipeline = 16;
+    int pipeline = 1;
+    int settle_ms = 10;
     std::string json;
     std::string junit;
     std::string pcap;
@@ -209,6 +210,7 @@ int run_conform(const ConformOptions& options) {
     conf::EngineOptions engine_options;
     engine_options.timeout = std::chrono::milliseconds(options.timeout_ms);
     engine_options.pipeline_depth = static_cast<std::size_t>(options.pipeline);
+    engine_options.settle = std::chrono::milliseconds(options.settle_ms);
     conf::ConsoleReport console(stdout, stderr, ::isatty(STDERR_FILENO) != 0);
     conf::Capture capture;
     conf::Session session(target, dut, engine_options, options.pcap.empty() ? nullptr : &capture,
@@ -247,7 +249,8 @@ void add_conform_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_option("--dut", options->dut_file,
                     "TOML file declaring the device under test (keys as the flags below)")
         ->check(CLI::ExistingFile);
-    cmd->add_option("--unit", options->unit, "unit identifier of the DUT (seed 000 6.4)")
+    cmd->add_option("--unit", options->unit,
+                    "unit identifier of the DUT (seed 000 6.4; default 1, as every mblab command)")
         ->check(CLI::Range(0, 255));
     cmd->add_option("--registers", options->registers,
                     "number of holding registers of the DUT (seed 000 6.6)")
@@ -265,8 +268,14 @@ void add_conform_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_option("--timeout", options->timeout_ms, "milliseconds to wait for each answer")
         ->check(CLI::Range(1, 60000));
     cmd->add_option("--pipeline", options->pipeline,
-                    "requests in flight during the register sweep and SEMI scan (1: none)")
+                    "requests in flight during the register sweep and SEMI scan: a speed option; "
+                    "above 1 requests are numbered and paired with answers by transaction id "
+                    "(default 1: the policy's requests, one at a time)")
         ->check(CLI::Range(1, 64));
+    cmd->add_option("--settle", options->settle_ms,
+                    "milliseconds to watch for bytes nobody asked for after each case (a "
+                    "duplicate answer, noise between cases; default 10)")
+        ->check(CLI::Range(0, 10000));
     cmd->add_option("--json", options->json, "write the report as JSON to FILE");
     cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
     cmd->add_option("--pcap", options->pcap, "write every exchange as a pcap capture to FILE");

@@ -51,7 +51,7 @@ struct LoadOptions {
     double rate = 0;
     std::string mix = "fc3:125=70,fc16:10=20,fc1:100=10";
     std::size_t pipeline = 1;
-    int unit = 0;
+    int unit = 1;
     std::uint32_t registers = 0;
     bool object_messaging = false;
     std::string dut_file;
@@ -276,7 +276,9 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_option("--pipeline", options->pipeline, "requests in flight per generator connection")
         ->check(CLI::Range(1, 1024))
         ->capture_default_str();
-    cmd->add_option("--unit", options->unit, "unit identifier of the nodes (seed 000 6.4)")
+    cmd->add_option(
+           "--unit", options->unit,
+           "unit identifier of the nodes (seed 000 6.4; default 1, as every mblab command)")
         ->check(CLI::Range(0, 255));
     cmd->add_option("--registers", options->registers,
                     "holding registers of the nodes (seed 000 6.6; the 9.1.2 read goes past them)")

@@ -53,7 +53,8 @@ enum class ReceiveStatus : std::uint8_t {
 struct Received {
     ReceiveStatus status = ReceiveStatus::Timeout;
     std::vector<std::uint8_t> bytes;
-    std::string detail;  // why, for Closed and Malformed
+    std::string detail;         // why, for Closed and Malformed
+    std::size_t discarded = 0;  // bytes that came after `bytes` and were counted, not kept
 };
 
 class RawLink {
@@ -79,8 +80,11 @@ class RawLink {
     // the frame stay buffered for the next call, so pipelined answers are taken one at a time.
     Received receive_frame(std::chrono::milliseconds timeout);
 
-    // Reads whatever arrives until `timeout` passes quietly; used to check a device stays silent.
+    // Reads whatever arrives for `timeout` (or until the peer closes); used to check a device
+    // stays silent. A device that floods is not allowed to fill memory: the first
+    // kKeptUnasked bytes are kept, the rest only counted in `discarded`.
     Received receive_any(std::chrono::milliseconds timeout);
+    static constexpr std::size_t kKeptUnasked = 4096;
 
     void close();
 

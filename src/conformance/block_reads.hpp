@@ -19,13 +19,21 @@ struct BlockRead {
     std::string phase;  // "phase 2 (blocks of 125)", for the failure report
 };
 
-// Asks for what to do with each answer's registers: true to go on, false to stop early.
+// Asks for what to do with each answer's registers, in the order of the reads: true to go on,
+// false to stop early.
 using BlockSink = std::function<bool(const BlockRead&, protocol::RegisterView)>;
 
-// Sends the reads with up to the session's pipeline depth in flight, and checks every answer is
-// "00 00 00 00 {len} {unit} 03 {2n} XX*2n" (seed 000 7.5.2.6). Returns the failure, if any;
-// nothing when every answer was right or the sink stopped the reads.
-std::optional<Outcome> read_blocks(Session& session, const std::vector<BlockRead>& reads,
-                                   std::string_view what, const BlockSink& sink);
+struct BlockRun {
+    std::optional<Outcome> failure;  // nothing when every answer was right or the sink stopped
+    std::string how;                 // "one request at a time", "pipelined 16 deep", ...
+};
+
+// Sends the reads and checks every answer is "{tid} 00 00 {len} {unit} 03 {2n} XX*2n" (seed 000
+// 7.5.2.6). With the session's pipeline depth at 1 (the default) the reads go as the policy
+// writes them: transaction id 0, one outstanding. Deeper, they are numbered, answers are paired
+// by transaction id in whatever order they come ([TCPG]), and an exception 06 (busy) answer is
+// back-pressure: the depth is lowered, the read sent again after a pause, and `how` says so.
+BlockRun read_blocks(Session& session, const std::vector<BlockRead>& reads, std::string_view what,
+                     const BlockSink& sink);
 
 }  // namespace mblab::conformance

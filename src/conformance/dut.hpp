@@ -14,7 +14,10 @@
 namespace mblab::conformance {
 
 struct Dut {
-    std::uint8_t unit = 0;                   // 6.4: 0 unless the vendor says otherwise
+    // 6.4 asks the vendor for a unit id other than 0. mblab's one default for every command and
+    // framing is 1: the serial address most devices ship with, and the id most TCP devices
+    // answer; the policy lab's 0 is `--unit 0`.
+    std::uint8_t unit = 1;
     std::optional<std::uint32_t> registers;  // 6.6: holding registers, 1..65536
     std::uint16_t max_read = 125;            // 6.6: most registers one FC 03 may read
     bool object_messaging = false;           // 6.5: FC 5B

@@ -2,12 +2,15 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <map>
 
+#include "conformance/answer_rules.hpp"
 #include "conformance/judge.hpp"
 #include "conformance/procedures.hpp"
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
+#include "protocol/response.hpp"
 
 namespace mblab::conformance {
 
@@ -32,12 +35,155 @@ std::optional<Outcome> check_requirements(const Case& c, const Dut& dut) {
     return std::nullopt;
 }
 
-// True when the device answered "illegal function" to the request's function code.
-bool is_illegal_function(const Exchange& exchange) {
+constexpr std::size_t kPduAt = 7;  // the PDU's place in an MBAP frame
+
+// True when the device answered exception `code` to the request's function code.
+bool is_exception(const Exchange& exchange, protocol::ExceptionCode code) {
     const auto& got = exchange.received;
     return exchange.status == client::ReceiveStatus::Frame && got.size() == 9 &&
-           exchange.sent.size() > 7 && got[7] == (exchange.sent[7] | protocol::kExceptionBit) &&
-           got[8] == static_cast<std::uint8_t>(protocol::ExceptionCode::IllegalFunction);
+           exchange.sent.size() > kPduAt &&
+           got[kPduAt] == (exchange.sent[kPduAt] | protocol::kExceptionBit) &&
+           got[8] == static_cast<std::uint8_t>(code);
+}
+
+bool is_illegal_function(const Exchange& exchange) {
+    return is_exception(exchange, protocol::ExceptionCode::IllegalFunction);
+}
+
+std::span<const std::uint8_t> pdu_of(std::span<const std::uint8_t> adu) {
+    return adu.size() > kPduAt ? adu.subspan(kPduAt) : std::span<const std::uint8_t>{};
+}
+
+// "00 01 02 ... (4096 of 90000 bytes shown)"
+std::string unasked_text(const client::Received& got) {
+    std::string text =
+        hex_text(std::span(got.bytes).first(std::min<std::size_t>(got.bytes.size(), 32)));
+    const std::size_t total = got.bytes.size() + got.discarded;
+    if (total > 32) text += fmt::format(" ... ({} bytes in all)", total);
+    return text;
+}
+
+// Evidence for bytes that came when nothing was asked.
+Exchange unasked_evidence(client::Received got, std::span<const std::uint8_t> last_request) {
+    Exchange exchange;
+    exchange.sent.assign(last_request.begin(), last_request.end());
+    exchange.status = got.status;
+    exchange.received = std::move(got.bytes);
+    exchange.discarded = got.discarded;
+    exchange.detail = std::move(got.detail);
+    exchange.silence_expected = true;
+    return exchange;
+}
+
+// "an unsolicited or duplicate answer" in words a vendor reads: what came and when.
+std::string unasked_reason(const client::Received& got, std::string_view when,
+                           std::span<const std::uint8_t> last_frame) {
+    const bool duplicate =
+        !last_frame.empty() &&
+        std::equal(got.bytes.begin(), got.bytes.end(), last_frame.begin(), last_frame.end()) &&
+        got.discarded == 0;
+    if (duplicate) {
+        return fmt::format(
+            "duplicate answer: {} the device sent its last answer a second time, unasked ({})",
+            when, unasked_text(got));
+    }
+    return fmt::format(
+        "unsolicited bytes: {} the device sent {} bytes nobody asked for (an unsolicited or "
+        "duplicate answer): {}",
+        when, got.bytes.size() + got.discarded, unasked_text(got));
+}
+
+// Checks every field the spec fixes in an answer the pattern accepted; the step's failure when
+// one is wrong.
+std::optional<std::string> spec_failure(const Exchange& exchange) {
+    if (exchange.status != client::ReceiveStatus::Frame) return std::nullopt;
+    return answer_rule_broken(pdu_of(exchange.sent), pdu_of(exchange.received));
+}
+
+constexpr std::uint8_t kEncapsulated = 0x2B;
+constexpr std::uint8_t kMeiReadDeviceId = 0x0E;
+constexpr std::uint8_t kMoreFollows = 0xFF;
+constexpr std::size_t kObjectIdAt = 10;  // in a 2B / 0E request ADU
+
+// The objects of a basic stream from object 00 that [APP] 6.21 makes mandatory.
+std::optional<Outcome> missing_basic_objects(const Exchange& first, const std::vector<bool>& seen) {
+    std::string missing;
+    for (std::uint8_t id = 0; id <= 2; ++id) {
+        if (!seen[id]) missing += fmt::format("{}{:02X}", missing.empty() ? "" : ", ", id);
+    }
+    if (missing.empty()) return std::nullopt;
+    return Outcome{Verdict::Fail,
+                   fmt::format("basic device identification must hold objects 00 (vendor name), "
+                               "01 (product code) and 02 (revision); the stream lacks {}",
+                               missing),
+                   {first}};
+}
+
+// A stream read of device identification (2B / 0E, codes 01..03) whose answer says more
+// follows: the same request is asked again from the next object id until none follows. Each
+// answer is judged like the first; a stream that asks for an object twice never ends. A basic
+// stream from object 00 must have delivered the mandatory objects when it ends.
+std::optional<Outcome> follow_device_id_stream(Session& session, const Exchange& first,
+                                               std::chrono::milliseconds timeout) {
+    const auto& request = first.sent;
+    if (request.size() != 11 || request[kPduAt] != kEncapsulated ||
+        request[kPduAt + 1] != kMeiReadDeviceId || request[9] < 1 || request[9] > 3) {
+        return std::nullopt;
+    }
+    const bool basic_from_start = request[9] == 1 && request[kObjectIdAt] == 0;
+    std::vector<std::uint8_t> answer = first.received;
+    std::vector<bool> asked(256, false);
+    std::vector<bool> seen(256, false);
+    asked[request[kObjectIdAt]] = true;
+    for (std::size_t round = 2;; ++round) {
+        auto decoded = protocol::decode_response(pdu_of(answer));
+        if (!decoded) return std::nullopt;  // judged by the spec check already
+        const auto* id = std::get_if<protocol::ReadDeviceIdResponse>(&*decoded);
+        if (id == nullptr) return std::nullopt;
+        std::size_t offset = 0;
+        protocol::DeviceIdObject object;
+        while (id->next(offset, object))
+            seen[object.id] = true;
+        if (id->more_follows != kMoreFollows) {
+            return basic_from_start ? missing_basic_objects(first, seen) : std::nullopt;
+        }
+        const std::uint8_t next = id->next_object_id;
+        std::vector<std::uint8_t> again = request;
+        again[kObjectIdAt] = next;
+        if (asked[next]) {
+            return Outcome{Verdict::Fail,
+                           fmt::format("more follows never ends: answer {} says more follows "
+                                       "(FF) from object {:02X}, which was asked for already",
+                                       round - 1, next),
+                           {first}};
+        }
+        asked[next] = true;
+        client::LinkError error;
+        if (!session.send(again, 1, error)) {
+            return Outcome{Verdict::Fail, "cannot send: " + error.message, {}};
+        }
+        Judgement judgement = judge(again, session.receive_frame(timeout), timeout, {});
+        Exchange& exchange = judgement.exchange;
+        exchange.on_connection = session.connection_requests();
+        const auto& got = exchange.received;
+        std::optional<std::string> broken;
+        if (exchange.status != client::ReceiveStatus::Frame) {
+            broken = describe_failure(exchange);
+        } else if (got.size() < 9 || !std::equal(got.begin(), got.begin() + 4, again.begin()) ||
+                   got[6] != again[6]) {
+            broken = "wrong transaction id, protocol id or unit id";
+        } else {
+            broken = spec_failure(exchange);
+        }
+        if (broken) {
+            return Outcome{Verdict::Fail,
+                           fmt::format("device identification answer {} (from object {:02X}, "
+                                       "after more follows FF): {}",
+                                       round, next, *broken),
+                           {exchange}};
+        }
+        answer = got;
+    }
 }
 
 // The transaction id of a request or answer.
@@ -112,20 +258,44 @@ SuiteResult Engine::run_suite(const Suite& suite) {
 }
 
 Outcome Engine::run_case(const Case& c) {
+    closing_ = false;
     if (auto not_applicable = check_requirements(c, session_.dut())) return *not_applicable;
-    if (c.procedure.empty()) return run_steps(c);
-    const ProcedureInfo* info = find_procedure(c.procedure);
-    if (info == nullptr) return verdict(Verdict::NotRun, "unknown procedure " + c.procedure);
-    for (auto need : info->needs) {
-        Requirement requirement{std::string(need), "", 0, std::string(need)};
-        if (auto why = unmet(requirement, session_.dut())) {
-            return verdict(Verdict::NotApplicable, *why);
+    const std::size_t requests_before = session_.requests();
+    Outcome outcome;
+    if (c.procedure.empty()) {
+        outcome = run_steps(c);
+    } else {
+        const ProcedureInfo* info = find_procedure(c.procedure);
+        if (info == nullptr) return verdict(Verdict::NotRun, "unknown procedure " + c.procedure);
+        for (auto need : info->needs) {
+            Requirement requirement{std::string(need), "", 0, std::string(need)};
+            if (auto why = unmet(requirement, session_.dut())) {
+                return verdict(Verdict::NotApplicable, *why);
+            }
+        }
+        if (info->talks_modbus) {
+            if (auto unreachable = check_reachable()) return *unreachable;
+        }
+        outcome = info->run(session_, c);
+    }
+    // A case that talked to the device is over only when the device has said all it will: bytes
+    // nobody asked for (an answer sent twice, noise between cases) fail the case that provoked
+    // them here, not the next case that would take them for its answer.
+    if (session_.requests() != requests_before && outcome.verdict != Verdict::Fail &&
+        outcome.verdict != Verdict::NotRun) {
+        auto unasked = session_.take_unasked(session_.options().settle);
+        if (!unasked.bytes.empty()) {
+            std::vector<std::uint8_t> last = session_.last_frame();
+            Outcome failed{Verdict::Fail,
+                           unasked_reason(unasked, "after the case's last answer,", last),
+                           {unasked_evidence(std::move(unasked), {})}};
+            session_.close();
+            return failed;
         }
     }
-    if (info->talks_modbus) {
-        if (auto unreachable = check_reachable()) return *unreachable;
-    }
-    return info->run(session_, c);
+    if (closing_) session_.close();
+    closing_ = false;
+    return outcome;
 }
 
 std::optional<Outcome> Engine::check_reachable() {
@@ -179,6 +349,14 @@ Outcome Engine::run_steps(const Case& c) {
     Outcome outcome;
     std::vector<std::string> remarks;
     bool out_of_step = false;
+    std::size_t busy = 0;
+    auto fail_step = [&](std::size_t i, std::string reason, Exchange evidence) {
+        outcome.verdict = Verdict::Fail;
+        outcome.reason = steps.size() > 1
+                             ? fmt::format("step {} of {}: {}", i + 1, steps.size(), reason)
+                             : std::move(reason);
+        outcome.evidence.push_back(std::move(evidence));
+    };
     for (std::size_t i = 0; i < steps.size(); ++i) {
         const ResolvedStep& resolved = steps[i];
         const Step& step = *resolved.step;
@@ -186,14 +364,13 @@ Outcome Engine::run_steps(const Case& c) {
             !session_.send(resolved.request, 1, error, step.split, step.split_delay)) {
             // The device hung up while the request was going out (e.g. after part of it).
             client::Received none{client::ReceiveStatus::Closed, {}, error.message};
-            outcome.verdict = Verdict::Fail;
-            outcome.reason = "cannot send: " + error.message;
-            outcome.evidence.push_back(
-                judge(resolved.request, std::move(none), {}, resolved.expect).exchange);
+            fail_step(i, "cannot send: " + error.message,
+                      judge(resolved.request, std::move(none), {}, resolved.expect).exchange);
             break;
         }
         const auto waited =
             step.silence ? *step.silence : step.timeout.value_or(session_.options().timeout);
+        const std::vector<std::uint8_t> previous_frame = session_.last_frame();
         client::Received received;
         if (c.pipeline) {
             received = answers[i] ? std::move(*answers[i])
@@ -204,14 +381,8 @@ Outcome Engine::run_steps(const Case& c) {
         const bool closed = received.status == client::ReceiveStatus::Closed;
         Judgement judgement = judge(resolved.request, std::move(received), waited, resolved.expect);
         judgement.exchange.silence_expected = step.silence.has_value();
+        judgement.exchange.on_connection = session_.connection_requests();
         const Exchange& exchange = judgement.exchange;
-        if (i == 0 && c.unsupported_is_na && is_illegal_function(exchange)) {
-            session_.close();
-            return verdict(Verdict::NotApplicable,
-                           fmt::format("the device answered exception 01: function {:02X} is "
-                                       "not supported",
-                                       resolved.request[7]));
-        }
         bool passed = false;
         const bool silent =
             exchange.status == client::ReceiveStatus::Timeout && exchange.received.empty();
@@ -228,15 +399,41 @@ Outcome Engine::run_steps(const Case& c) {
             passed = true;
             const auto& remark = step.expect[static_cast<std::size_t>(judgement.matched)].remark;
             if (!remark.empty()) remarks.push_back(remark);
+        } else if (c.pipeline &&
+                   is_exception(exchange, protocol::ExceptionCode::ServerDeviceBusy) &&
+                   std::equal(exchange.received.begin(), exchange.received.begin() + 2,
+                              exchange.sent.begin())) {
+            // [TCPG]: a server may take fewer outstanding requests than were sent and answer
+            // the rest "busy"; that is back-pressure, not a fault.
+            passed = true;
+            ++busy;
         }
         if (!passed) {
-            outcome.verdict = Verdict::Fail;
-            outcome.reason = describe_failure(exchange);
-            if (steps.size() > 1) {
-                outcome.reason =
-                    fmt::format("step {} of {}: {}", i + 1, steps.size(), outcome.reason);
+            // An optional function the device does not serve makes the case N/A, whichever
+            // step asked for it: 01 is then the right answer.
+            if (c.unsupported_is_na && is_illegal_function(exchange)) {
+                closing_ = true;
+                return verdict(
+                    Verdict::NotApplicable,
+                    fmt::format("the device answered exception 01: function {:02X} is not "
+                                "supported{}",
+                                resolved.request[kPduAt],
+                                steps.size() > 1
+                                    ? fmt::format(" (step {} of {})", i + 1, steps.size())
+                                    : std::string()));
             }
-            outcome.evidence.push_back(judgement.exchange);
+            std::string reason;
+            if (exchange.status == client::ReceiveStatus::Frame && !previous_frame.empty() &&
+                exchange.received == previous_frame) {
+                reason = fmt::format(
+                    "duplicate answer: instead of an answer to this request came a second copy "
+                    "of the answer before it ({}): the device answered one request twice",
+                    hex_text(exchange.received));
+            } else {
+                reason = describe_failure(exchange);
+                if (silent && !step.silence) reason += session_.no_answer_hint(resolved.request);
+            }
+            fail_step(i, std::move(reason), judgement.exchange);
             break;
         }
         // A tolerated close or silence leaves the connection closed or out of step.
@@ -244,14 +441,45 @@ Outcome Engine::run_steps(const Case& c) {
             out_of_step = true;
             break;
         }
+        if (step.silence) continue;
+        if (auto broken = spec_failure(exchange)) {
+            fail_step(i, *broken, judgement.exchange);
+            break;
+        }
+        if (auto stream = follow_device_id_stream(session_, exchange, waited)) {
+            fail_step(i, stream->reason,
+                      stream->evidence.empty() ? judgement.exchange : stream->evidence.front());
+            break;
+        }
+        // Pipelined answers are all in; otherwise the next request must not meet a leftover.
+        if (!c.pipeline && i + 1 < steps.size()) {
+            auto unasked = session_.take_unasked(std::chrono::milliseconds(0));
+            if (!unasked.bytes.empty()) {
+                fail_step(i, unasked_reason(unasked, "after this answer,", exchange.received),
+                          unasked_evidence(std::move(unasked), resolved.request));
+                break;
+            }
+        }
+    }
+    if (outcome.verdict == Verdict::Pass && busy == steps.size()) {
+        outcome.verdict = Verdict::Fail;
+        outcome.reason = "every pipelined request was answered exception 06 (busy)";
+    } else if (busy > 0) {
+        remarks.push_back(fmt::format(
+            "{} of {} pipelined requests were answered 06 (busy): the device takes fewer "
+            "requests at once",
+            busy, steps.size()));
     }
     if (outcome.verdict == Verdict::Pass) {
         for (const auto& remark : remarks) {
             outcome.reason += (outcome.reason.empty() ? "" : "; ") + remark;
         }
     }
-    // A failed or isolated case may leave answers in flight; start the next case afresh.
-    if (outcome.verdict != Verdict::Pass || c.isolated || out_of_step) session_.close();
+    // A failed or isolated case may leave answers in flight; start the next case afresh. The
+    // engine closes after it has looked for bytes nobody asked for.
+    if (outcome.verdict != Verdict::Pass) session_.close();
+    if (c.isolated || out_of_step) closing_ = true;
+    if (out_of_step) session_.close();
     return outcome;
 }
 

@@ -34,6 +34,7 @@ class Engine {
     std::optional<Outcome> check_reachable();
     Session& session_;
     RunListener* listener_;
+    bool closing_ = false;  // the case asks for a fresh connection once it is judged
 };
 
 }  // namespace mblab::conformance

@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <array>
 
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
@@ -11,14 +12,43 @@ namespace mblab::conformance {
 
 namespace {
 
-// MBAP fields by byte position, to name what differs.
-std::string_view field_at(std::size_t position) {
+// Fields by byte position in an MBAP frame, to name what differs. Past the function code the
+// name depends on the function: the answer layouts of [APP] 6.
+std::string_view field_at(std::size_t position, int function) {
     if (position < 2) return "transaction id";
     if (position < 4) return "protocol id";
     if (position < 6) return "length field";
     if (position == 6) return "unit id";
     if (position == 7) return "function code";
-    return "data";
+    if (function < 0) return "data";
+    if ((function & protocol::kExceptionBit) != 0) return "exception code";
+    switch (function) {
+        case 0x01:
+        case 0x02:
+            return position == 8 ? "byte count" : "bit values";
+        case 0x03:
+        case 0x04:
+        case 0x17:
+            return position == 8 ? "byte count" : "register values";
+        case 0x05:
+        case 0x06:
+            return position < 10 ? "address" : "value";
+        case 0x0F:
+        case 0x10:
+            return position < 10 ? "starting address" : "quantity";
+        case 0x08:
+            return position < 10 ? "sub-function" : "data";
+        case 0x16:
+            return position < 10 ? "address" : position < 12 ? "AND mask" : "OR mask";
+        case 0x2B: {
+            constexpr std::array<std::string_view, 6> kDeviceId = {
+                "MEI type",     "read device id code", "conformity level",
+                "more follows", "next object id",      "number of objects"};
+            return position - 8 < kDeviceId.size() ? kDeviceId[position - 8] : "objects";
+        }
+        default:
+            return position == 8 ? "byte count" : "data";
+    }
 }
 
 }  // namespace
@@ -31,6 +61,7 @@ Judgement judge(std::span<const std::uint8_t> sent, client::Received received,
     out.exchange.status = received.status;
     out.exchange.received = std::move(received.bytes);
     out.exchange.detail = std::move(received.detail);
+    out.exchange.discarded = received.discarded;
     out.exchange.waited = waited;
     std::size_t best_differs = SIZE_MAX;
     for (std::size_t i = 0; i < alternatives.size(); ++i) {
@@ -51,28 +82,47 @@ Judgement judge(std::span<const std::uint8_t> sent, client::Received received,
     return out;
 }
 
+namespace {
+
+// " from unit 1", when the request names one.
+std::string from_unit(const Exchange& exchange) {
+    if (exchange.sent.size() <= 6) return {};
+    return fmt::format(" from unit {}", exchange.sent[6]);
+}
+
+// " (request 57 on this connection)": a device that stops after N requests shows here.
+std::string connection_count(const Exchange& exchange) {
+    if (exchange.on_connection == 0) return {};
+    return fmt::format(" (request {} on this connection)", exchange.on_connection);
+}
+
+}  // namespace
+
 std::string describe_failure(const Exchange& exchange) {
     const auto& got = exchange.received;
     switch (exchange.status) {
         case client::ReceiveStatus::Timeout:
             if (exchange.silence_expected) break;
             return got.empty()
-                       ? fmt::format("no answer: timeout after {} ms", exchange.waited.count())
-                       : fmt::format("incomplete answer ({} bytes): timeout after {} ms",
-                                     got.size(), exchange.waited.count());
+                       ? fmt::format("no answer{}: timeout after {} ms{}", from_unit(exchange),
+                                     exchange.waited.count(), connection_count(exchange))
+                       : fmt::format("incomplete answer ({} bytes): timeout after {} ms{}",
+                                     got.size(), exchange.waited.count(),
+                                     connection_count(exchange));
         case client::ReceiveStatus::Closed:
-            return got.empty() ? fmt::format("no answer: {}", exchange.detail)
-                               : fmt::format("incomplete answer ({} bytes): {}", got.size(),
-                                             exchange.detail);
+            return got.empty() ? fmt::format("no answer{}: {}{}", from_unit(exchange),
+                                             exchange.detail, connection_count(exchange))
+                               : fmt::format("incomplete answer ({} bytes): {}{}", got.size(),
+                                             exchange.detail, connection_count(exchange));
         case client::ReceiveStatus::Malformed:
             return fmt::format("malformed answer: {}", exchange.detail);
         case client::ReceiveStatus::Frame:
             break;
     }
     if (exchange.silence_expected) {
-        return got.empty()
-                   ? std::string("the device was to stay silent")
-                   : fmt::format("the device was to stay silent but sent {} bytes", got.size());
+        return got.empty() ? std::string("the device was to stay silent")
+                           : fmt::format("the device sent {} bytes when silence was expected",
+                                         got.size() + exchange.discarded);
     }
     // An exception answer to a request that expected data is the most common failure: name it.
     const auto& cells = exchange.match.expected_cells;
@@ -88,9 +138,15 @@ std::string describe_failure(const Exchange& exchange) {
         }
     }
     std::vector<std::string_view> fields;
+    const int function = got.size() > 7 ? got[7] : -1;
     for (std::size_t position : exchange.match.differs) {
-        auto name = position < got.size() ? field_at(position) : std::string_view("missing bytes");
+        auto name = position < got.size() ? field_at(position, function)
+                                          : std::string_view("missing bytes");
         if (std::find(fields.begin(), fields.end(), name) == fields.end()) fields.push_back(name);
+    }
+    if (fields.size() == 1 && fields.front() == "missing bytes") {
+        return fmt::format("the answer is too short: {} bytes where at least {} were expected",
+                           got.size(), exchange.match.expected_cells.size());
     }
     std::string text = "wrong ";
     for (std::size_t i = 0; i < fields.size(); ++i) {

@@ -63,7 +63,7 @@ std::optional<FailureKind> judge_load_answer(const LoadPlan& plan, NodeTally& ta
                                              std::span<const std::uint8_t> frame) {
     const LoadExchange& sent = plan.exchanges[exchange];
     std::optional<FailureKind> failure = judge_answer(sent.answers, frame);
-    if (failure && tests && sent.first_step && plan.cases[sent.test_case].unsupported_is_na &&
+    if (failure && tests && plan.cases[sent.test_case].unsupported_is_na &&
         is_illegal_function_answer(sent.request, frame)) {
         tally.not_applicable[sent.test_case] = fmt::format(
             "N/A: the device answered exception 01 to function {:02X}", sent.request[7]);

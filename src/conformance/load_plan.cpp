@@ -7,6 +7,7 @@
 #include <optional>
 #include <set>
 
+#include "conformance/procedures.hpp"
 #include "protocol/limits.hpp"
 
 namespace mblab::conformance {
@@ -46,10 +47,24 @@ LoadExchange make_exchange(std::string name, std::string source, std::vector<std
 // The case's exchanges, or why it stays out of the loop.
 protocol::Result<std::vector<LoadExchange>, std::string> case_exchanges(const Case& c,
                                                                         const Dut& dut) {
-    if (!c.procedure.empty()) return fmt::format("procedure {}", c.procedure);
     if (c.isolated) return std::string("needs a connection of its own");
     for (const auto& requirement : c.requirements) {
         if (auto why = unmet(requirement, dut)) return "N/A: " + *why;
+    }
+    if (!c.procedure.empty()) {
+        const ProcedureInfo* info = find_procedure(c.procedure);
+        if (info == nullptr || info->load_steps == nullptr) {
+            return fmt::format("procedure {}", c.procedure);
+        }
+        std::vector<LoadExchange> out;
+        auto steps = info->load_steps(dut);
+        for (std::size_t i = 0; i < steps.size(); ++i) {
+            auto name = steps.size() == 1 ? c.id : fmt::format("{} step {}", c.id, i + 1);
+            out.push_back(make_exchange(std::move(name), c.source, std::move(steps[i].request),
+                                        std::move(steps[i].expect)));
+            out.back().first_step = i == 0;
+        }
+        return out;
     }
     const DutFacts facts(dut);
     std::vector<LoadExchange> out;
@@ -112,6 +127,61 @@ protocol::Result<bool, std::string> add_protocol_tests(LoadPlan& plan,
     return true;
 }
 
+namespace {
+
+// Which table a function reads or writes: 'c' coils, 'r' holding registers, 0 neither.
+char table_of(std::uint8_t function) {
+    switch (function) {
+        case 0x01:
+        case 0x05:
+        case 0x0F:
+            return 'c';
+        case 0x03:
+        case 0x06:
+        case 0x10:
+            return 'r';
+        default:
+            return 0;
+    }
+}
+
+bool is_write(std::uint8_t function) {
+    return function == 0x05 || function == 0x06 || function == 0x0F || function == 0x10;
+}
+
+// A read-back among the test exchanges whose range a mix entry writes keeps its form (length,
+// byte count) but no longer pins the values, which the generator changes under it.
+void unpin_read_backs(LoadPlan& plan) {
+    for (std::size_t i = 0; i < plan.test_exchanges; ++i) {
+        LoadExchange& exchange = plan.exchanges[i];
+        const auto& request = exchange.request;
+        if (request.size() < 12 || is_write(request[7]) || table_of(request[7]) == 0) continue;
+        const std::uint32_t first = (std::uint32_t{request[8]} << 8) | request[9];
+        const std::uint32_t count = (std::uint32_t{request[10]} << 8) | request[11];
+        const bool overlapped = std::any_of(plan.mix.begin(), plan.mix.end(), [&](const auto& e) {
+            return is_write(e.function) && table_of(e.function) == table_of(request[7]) &&
+                   e.address < first + count && first < std::uint32_t{e.address} + e.quantity;
+        });
+        if (!overlapped) continue;
+        constexpr std::size_t kValuesAt = 9;  // after the MBAP header, function and byte count
+        for (auto& pattern : exchange.expect) {
+            std::size_t position = 0;  // in bytes: {len} stands for two
+            for (auto& token : pattern.tokens) {
+                if (position >= kValuesAt && token.kind == PatternToken::Kind::Byte) {
+                    token.kind = PatternToken::Kind::Any;
+                }
+                position += token.kind == PatternToken::Kind::Length ? 2 : 1;
+            }
+        }
+        exchange.answers.clear();
+        for (const auto& pattern : exchange.expect)
+            exchange.answers.emplace_back(pattern);
+        plan.values_unchecked.push_back(exchange.name);
+    }
+}
+
+}  // namespace
+
 void add_mix(LoadPlan& plan, const std::vector<MixEntry>& mix, const Dut& dut) {
     const DutFacts facts(dut);
     std::uint64_t sum = 0;
@@ -126,6 +196,7 @@ void add_mix(LoadPlan& plan, const std::vector<MixEntry>& mix, const Dut& dut) {
         plan.mix_cumulative.push_back(sum);
     }
     plan.mix = mix;
+    unpin_read_backs(plan);
 }
 
 protocol::Result<std::chrono::milliseconds, std::string> parse_duration(std::string_view text) {

@@ -76,6 +76,9 @@ struct LoadPlan {
     std::size_t test_exchanges = 0;
     std::vector<LoadCase> cases;
     std::vector<LeftOut> left_out;
+    // Test exchanges that read back a range the mix writes: their values cannot be known under
+    // concurrent writers, so only the answer's form is judged ("7.8.1 step 2").
+    std::vector<std::string> values_unchecked;
     std::vector<std::string> suites;            // names of the suites the tests come from
     std::vector<MixEntry> mix;                  // mix[i] is exchanges[test_exchanges + i]
     std::vector<std::uint64_t> mix_cumulative;  // running sum of the weights

@@ -168,6 +168,12 @@ std::string load_header(const LoadPlan& plan) {
         }
         out += "  not in the loop: " + left + "\n";
     }
+    if (s.tests && !plan.values_unchecked.empty()) {
+        std::string names;
+        for (const auto& name : plan.values_unchecked)
+            names += (names.empty() ? "" : ", ") + name;
+        out += "  read back without values (the mix writes there): " + names + "\n";
+    }
     for (const auto& target : plan.targets)
         out += "  node " + target.url + "\n";
     return out;
@@ -336,7 +342,8 @@ std::string load_json_report(const LoadPlan& plan, const LoadResult& result) {
                      {"tests", s.tests && plan.test_exchanges > 0},
                      {"suites", plan.suites},
                      {"cases", cases},
-                     {"left_out", left}}},
+                     {"left_out", left},
+                     {"values_unchecked", plan.values_unchecked}}},
                    {"totals",
                     {{"requests", result.sent()},
                      {"answers", result.answered()},

@@ -12,21 +12,32 @@ const std::vector<ProcedureInfo>& procedures() {
          {{"count", 10}, {"payload", 32}, {"timeout_ms", 1000}},
          {},
          false,
-         &run_ping},
+         &run_ping,
+         nullptr},
         {"register_sweep",
          "FC 03 reads of every size from 0, then in maximal blocks, then shrinking to the last "
          "register; checks length field, byte count and register count (seed 000 7.5.2)",
          {},
          {"registers"},
          true,
-         &run_register_sweep},
+         &run_register_sweep,
+         nullptr},
         {"semi_signature_scan",
          "FC 03 reads in blocks until 5345 4D49 5F72 appear in consecutive registers (seed 000 "
          "7.13.2)",
          {{"block", 125}},
          {},
          true,
-         &run_semi_scan},
+         &run_semi_scan,
+         nullptr},
+        {"out_of_range_read",
+         "FC 03 at 0x8001 answers 02; when 0x8001 is a register, a read past the highest one "
+         "(declared count, else 2 registers from 0xFFFF) decides (seed 000 9.1.2 and its note)",
+         {},
+         {},
+         true,
+         &run_out_of_range,
+         &out_of_range_steps},
     };
     return list;
 }

@@ -5,12 +5,20 @@
 #include <utility>
 #include <vector>
 
+#include "conformance/pattern.hpp"
 #include "conformance/verdict.hpp"
 
 namespace mblab::conformance {
 
 class Session;
 struct Case;
+struct Dut;
+
+// A request and its acceptable answers, for a procedure that also runs under load.
+struct ProcedureStep {
+    std::vector<std::uint8_t> request;
+    std::vector<ResolvedPattern> expect;
+};
 
 // A check that is code rather than data: the register sweep, the SEMI scan, ping.
 struct ProcedureInfo {
@@ -20,6 +28,8 @@ struct ProcedureInfo {
     std::vector<std::string_view> needs;  // DUT facts without which the case is N/A
     bool talks_modbus = true;             // needs the connection to the device
     Outcome (*run)(Session& session, const Case& c);
+    // The procedure as independent exchanges for `mblab load`; none leaves it out of the loop.
+    std::vector<ProcedureStep> (*load_steps)(const Dut& dut) = nullptr;
 };
 
 const std::vector<ProcedureInfo>& procedures();
@@ -31,5 +41,7 @@ std::int64_t param(const Case& c, std::string_view name);
 Outcome run_register_sweep(Session& session, const Case& c);
 Outcome run_semi_scan(Session& session, const Case& c);
 Outcome run_ping(Session& session, const Case& c);
+Outcome run_out_of_range(Session& session, const Case& c);
+std::vector<ProcedureStep> out_of_range_steps(const Dut& dut);
 
 }  // namespace mblab::conformance

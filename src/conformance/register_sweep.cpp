@@ -39,13 +39,13 @@ Outcome run_register_sweep(Session& session, const Case& c) {
     (void)c;
     const Dut& dut = session.dut();
     auto reads = sweep_reads(*dut.registers, dut.max_read);
-    auto failure = read_blocks(session, reads, "register sweep",
-                               [](const BlockRead&, protocol::RegisterView) { return true; });
-    if (failure) return *failure;
+    auto run = read_blocks(session, reads, "register sweep",
+                           [](const BlockRead&, protocol::RegisterView) { return true; });
+    if (run.failure) return *run.failure;
     return Outcome{
         Verdict::Pass,
-        fmt::format("{} reads of up to {} registers over {} registers", reads.size(),
-                    std::min<std::uint32_t>(dut.max_read, *dut.registers), *dut.registers),
+        fmt::format("{} reads of up to {} registers over {} registers, {}", reads.size(),
+                    std::min<std::uint32_t>(dut.max_read, *dut.registers), *dut.registers, run.how),
         {}};
 }
 

@@ -30,28 +30,31 @@ Outcome run_semi_scan(Session& session, const Case& c) {
     // The signature may straddle two blocks, so matching runs over the register stream.
     std::size_t matched = 0;
     std::optional<std::uint32_t> found_at;
-    auto failure = read_blocks(session, reads, "SEMI signature scan",
-                               [&](const BlockRead& read, protocol::RegisterView values) {
-                                   for (std::size_t i = 0; i < values.size(); ++i) {
-                                       if (values[i] == kSignature[matched]) {
-                                           ++matched;
-                                       } else {
-                                           matched = values[i] == kSignature[0] ? 1 : 0;
-                                       }
-                                       if (matched == kSignature.size()) {
-                                           found_at = read.offset + i + 1 - kSignature.size();
-                                           return false;
-                                       }
+    auto run = read_blocks(session, reads, "SEMI signature scan",
+                           [&](const BlockRead& read, protocol::RegisterView values) {
+                               for (std::size_t i = 0; i < values.size(); ++i) {
+                                   if (values[i] == kSignature[matched]) {
+                                       ++matched;
+                                   } else {
+                                       matched = values[i] == kSignature[0] ? 1 : 0;
                                    }
-                                   return true;
-                               });
-    if (failure) return *failure;
+                                   if (matched == kSignature.size()) {
+                                       found_at = read.offset + i + 1 - kSignature.size();
+                                       return false;
+                                   }
+                               }
+                               return true;
+                           });
+    if (run.failure) return *run.failure;
     if (!found_at) {
         return Outcome{Verdict::Fail,
-                       fmt::format("5345 4D49 5F72 not found in registers 0000-{:04X}", end - 1),
+                       fmt::format("5345 4D49 5F72 not found in registers 0000-{:04X} (scan: {})",
+                                   end - 1, run.how),
                        {}};
     }
-    return Outcome{Verdict::Pass, fmt::format("signature at register {:04X}", *found_at), {}};
+    return Outcome{Verdict::Pass,
+                   fmt::format("signature at register {:04X} (scan: {})", *found_at, run.how),
+                   {}};
 }
 
 }  // namespace mblab::conformance

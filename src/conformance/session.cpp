@@ -49,6 +49,7 @@ Session::Session(client::Target target, Dut dut, EngineOptions options,
       progress_(progress) {
     // A serial line carries one request at a time.
     if (!target_.tcp) options_.pipeline_depth = 1;
+    if (options_.pipeline_depth == 0) options_.pipeline_depth = 1;
 }
 
 Session::Session(const client::Endpoint& endpoint, Dut dut, EngineOptions options,
@@ -78,6 +79,8 @@ bool Session::connect(client::LinkError& error) {
             return false;
         }
         tcp_.emplace(std::move(connected.value()));
+        connection_requests_ = 0;
+        last_frame_.clear();
         return true;
     }
     if (line_ && line_->is_open()) return true;
@@ -88,6 +91,8 @@ bool Session::connect(client::LinkError& error) {
         return false;
     }
     line_ = std::move(opened.value());
+    connection_requests_ = 0;
+    last_frame_.clear();
     return true;
 }
 
@@ -100,6 +105,7 @@ bool Session::send(std::span<const std::uint8_t> bytes, std::size_t count, clien
                    std::span<const std::size_t> split, std::chrono::milliseconds delay) {
     if (!connect(error)) return false;
     requests_ += count;
+    connection_requests_ += count;
     if (!tcp_) {
         if (count != 1 || !split.empty()) {
             error.message = "a serial line carries one whole request at a time";
@@ -146,9 +152,80 @@ client::Received Session::from_line(client::Received received) const {
 }
 
 client::Received Session::receive_frame(std::chrono::milliseconds timeout) {
-    if (tcp_) return tcp_->receive_frame(timeout);
-    if (line_) return from_line(line_->receive_frame(timeout));
-    return {client::ReceiveStatus::Closed, {}, "connection closed"};
+    client::Received received{client::ReceiveStatus::Closed, {}, "connection closed"};
+    if (tcp_) {
+        received = tcp_->receive_frame(timeout);
+    } else if (line_) {
+        received = from_line(line_->receive_frame(timeout));
+    }
+    if (received.status == client::ReceiveStatus::Frame) last_frame_ = received.bytes;
+    return received;
+}
+
+client::Received Session::take_unasked(std::chrono::milliseconds wait) {
+    client::Received none{client::ReceiveStatus::Timeout, {}, {}};
+    if (tcp_ && tcp_->is_open()) {
+        auto got = tcp_->receive_any(wait);
+        return got.bytes.empty() ? none : got;
+    }
+    if (line_ && line_->is_open()) {
+        auto got = line_->receive_frame(wait);
+        // On a line a framing error also means bytes arrived; keep them as they came.
+        return got.bytes.empty() ? none : got;
+    }
+    return none;
+}
+
+std::vector<std::uint8_t> Session::probe_candidates() const {
+    // Serial addresses are 1..247; 0 is a broadcast nobody answers.
+    return target_.tcp ? std::vector<std::uint8_t>{1, 255, 0} : std::vector<std::uint8_t>{1};
+}
+
+std::optional<std::uint8_t> Session::probe_other_unit(std::span<const std::uint8_t> request) {
+    constexpr std::size_t kUnitAt = 6;
+    if (probed_ || request.size() <= kUnitAt + 1) return std::nullopt;
+    probed_ = true;
+    const std::vector<std::uint8_t> candidates = probe_candidates();
+    const std::uint8_t asked = request[kUnitAt];
+    std::optional<std::uint8_t> answered;
+    for (std::uint8_t unit : candidates) {
+        if (unit == asked) continue;
+        // A fresh connection each time, so a late answer to an earlier request is not taken
+        // for this one.
+        close();
+        client::LinkError error;
+        std::vector<std::uint8_t> probe(request.begin(), request.end());
+        probe[kUnitAt] = unit;
+        if (!send(probe, 1, error)) break;
+        auto got = receive_frame(options_.timeout);
+        if (got.status == client::ReceiveStatus::Frame && got.bytes.size() > kUnitAt &&
+            got.bytes[kUnitAt] == unit) {
+            answered = unit;
+            break;
+        }
+    }
+    close();
+    return answered;
+}
+
+std::string Session::no_answer_hint(std::span<const std::uint8_t> request) {
+    const bool first = !probed_;
+    auto other = probe_other_unit(request);
+    if (other) {
+        return fmt::format("; the device answers unit {} instead: declare it with --unit {}",
+                           *other, *other);
+    }
+    if (!first || request.size() <= 6) return {};
+    std::vector<std::string> tried;
+    for (std::uint8_t unit : probe_candidates()) {
+        if (unit != request[6]) tried.push_back(std::to_string(unit));
+    }
+    if (tried.empty()) return {};
+    std::string list = tried.front();
+    for (std::size_t i = 1; i < tried.size(); ++i) {
+        list += (i + 1 == tried.size() ? " and " : ", ") + tried[i];
+    }
+    return fmt::format("; unit{} {} did not answer either", tried.size() > 1 ? "s" : "", list);
 }
 
 client::Received Session::receive_any(std::chrono::milliseconds timeout) {

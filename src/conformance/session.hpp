@@ -18,7 +18,13 @@ namespace mblab::conformance {
 struct EngineOptions {
     std::chrono::milliseconds timeout{1000};  // for each answer
     std::chrono::milliseconds connect_timeout{3000};
-    std::size_t pipeline_depth = 16;  // requests in flight during sweeps and scans
+    // Requests in flight during sweeps and scans. 1 runs them as the policy writes them
+    // (transaction id 0, one outstanding); more is a speed option that numbers the requests and
+    // pairs answers by transaction id.
+    std::size_t pipeline_depth = 1;
+    // How long the device is watched after each case for bytes nobody asked for (a duplicate
+    // answer, noise between cases), before the case's verdict is given.
+    std::chrono::milliseconds settle{10};
 };
 
 // Told how far a long procedure has come; the console shows it on a TTY.
@@ -67,9 +73,27 @@ class Session {
     client::Received receive_any(std::chrono::milliseconds timeout);
 
     std::size_t requests() const { return requests_; }
+    // Requests the current connection has carried (a device that stops after N shows here).
+    std::size_t connection_requests() const { return connection_requests_; }
+    // The last whole frame received on this connection, to recognise an answer sent twice.
+    const std::vector<std::uint8_t>& last_frame() const { return last_frame_; }
+
+    // Whatever the device sent that nobody asked for, waiting up to `wait` for it: bytes are
+    // returned (the first few kilobytes, the rest counted in `discarded`); an empty result
+    // when it stayed quiet or the connection is not open.
+    client::Received take_unasked(std::chrono::milliseconds wait);
+
+    // After a request went unanswered: which other unit id answers the same request, asked once
+    // per run on a fresh connection (1, 255 and 0 over TCP; 1 on a serial line). Nothing when no
+    // other unit answers or the probe was made before.
+    std::optional<std::uint8_t> probe_other_unit(std::span<const std::uint8_t> request);
+    // "; the device answers unit 255: try --unit 255" after a request that went unanswered,
+    // from probe_other_unit(); empty when nothing more can be said.
+    std::string no_answer_hint(std::span<const std::uint8_t> request);
 
   private:
     bool send_on_line(std::span<const std::uint8_t> bytes, client::LinkError& error);
+    std::vector<std::uint8_t> probe_candidates() const;
     client::Received from_line(client::Received received) const;
 
     client::Target target_;
@@ -82,6 +106,9 @@ class Session {
     std::unique_ptr<client::Link> line_;  // RTU, ASCII, RTU over TCP
     std::uint16_t line_transaction_ = 0;  // of the request last sent on the line
     std::size_t requests_ = 0;
+    std::size_t connection_requests_ = 0;
+    std::vector<std::uint8_t> last_frame_;
+    bool probed_ = false;
 };
 
 // Why a case cannot run over the session's framing (pipelined or split requests are TCP stream

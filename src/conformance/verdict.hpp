@@ -23,7 +23,9 @@ struct Exchange {
     std::vector<std::uint8_t> sent;
     client::ReceiveStatus status = client::ReceiveStatus::Timeout;
     std::vector<std::uint8_t> received;
-    std::string detail;  // why a connection closed or a frame was malformed
+    std::string detail;             // why a connection closed or a frame was malformed
+    std::size_t discarded = 0;      // bytes that came after `received`, counted but not kept
+    std::size_t on_connection = 0;  // requests the connection had carried, this one included
     std::chrono::milliseconds waited{0};
     bool silence_expected = false;  // the device was to say nothing
     std::string expected;           // the expected pattern as text; empty for silence

@@ -30,5 +30,5 @@ check_verdicts --others PASS,N/A \
     exc.1=PASS exc.3=PASS exc.8=PASS \
     mbap.1=PASS mbap.5=FAIL mbap.6=PASS mbap.7=FAIL mbap.8=FAIL mbap.10=FAIL
 
-grep -q "9.1.3   Improper message length answers exception 03  (no answer: timeout after 2000 ms)" \
+grep -q "9.1.3   Improper message length answers exception 03  (no answer from unit 0: timeout after 2000 ms (request 1 on this connection)" \
     "$WORK/console.txt"

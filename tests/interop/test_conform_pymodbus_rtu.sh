@@ -23,5 +23,5 @@ check_verdicts --others PASS,N/A \
     fc17.5=FAIL \
     mbap.1=N/A mbap.5=N/A mbap.6=N/A mbap.10=N/A
 
-grep -q "9.1.1   Illegal function code 0x25 answers exception 01  (no answer: timeout after" \
+grep -q "9.1.1   Illegal function code 0x25 answers exception 01  (no answer from unit 1: timeout after" \
     "$WORK/console.txt"

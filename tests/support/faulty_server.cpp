@@ -89,6 +89,7 @@ void FaultyServer::serve() {
 
 void FaultyServer::serve_connection(int fd) {
     std::vector<std::uint8_t> buffer;
+    std::uint32_t requests = 0;  // on this connection
     // When the unfinished frame in the buffer began; the epoch while there is none.
     Clock::time_point partial_since{};
     while (true) {
@@ -103,9 +104,13 @@ void FaultyServer::serve_connection(int fd) {
             buffer.erase(buffer.begin(), end);
         }
         if (rule_.fault == Fault::ReorderAnswers) std::reverse(frames.begin(), frames.end());
-        for (const auto& frame : frames) {
+        for (std::size_t i = 0; i < frames.size(); ++i) {
+            const auto& frame = frames[i];
             const bool modbus = frame[2] == 0 && frame[3] == 0;
-            if (modbus) answer(fd, frame.data(), frame.size());
+            ++requests;
+            if (rule_.fault == Fault::SilentAfter && requests > rule_.after) continue;
+            if (rule_.fault == Fault::OnlyUnit255 && frame[6] != 0xFF) continue;
+            if (modbus) answer(fd, frame.data(), frame.size(), i > 0);
             if (rule_.fault == Fault::CloseConnection && modbus &&
                 (rule_.function == 0 || rule_.function == frame[7])) {
                 return;
@@ -144,15 +149,30 @@ void FaultyServer::serve_connection(int fd) {
     }
 }
 
-void FaultyServer::answer(int fd, const std::uint8_t* frame, std::size_t size) {
+void FaultyServer::answer(int fd, const std::uint8_t* frame, std::size_t size, bool queued) {
     std::array<std::uint8_t, 260> adu{};
-    device::RequestContext context{frame[6], device::Link::Tcp};
-    auto reply =
-        handler_.handle(context, std::span(frame + 7, size - 7), std::span(adu).subspan(7, 253));
-    if (reply.action != device::ReplyAction::Answer) return;
     const std::uint8_t function = frame[7];
     const bool faulty = rule_.function == 0 || rule_.function == function;
     const Fault fault = faulty ? rule_.fault : Fault::None;
+    device::RequestContext context{frame[6], device::Link::Tcp};
+    const auto request = std::span(frame + 7, size - 7);
+    auto pdu_out = std::span(adu).subspan(7, 253);
+    device::Reply reply;
+    if (fault == Fault::WriteNotApplied &&
+        (function == 0x05 || function == 0x06 || function == 0x0F || function == 0x10)) {
+        // The echo a device that wrote would give: the whole request for 05/06, address and
+        // quantity for 0F/10.
+        const std::size_t echo = function <= 0x06 ? request.size() : 5;
+        std::copy(request.begin(), request.begin() + static_cast<long>(echo), pdu_out.begin());
+        reply.size = echo;
+    } else if ((fault == Fault::BusyWhenQueued && queued) || fault == Fault::IllegalFunction) {
+        pdu_out[0] = static_cast<std::uint8_t>(function | 0x80);
+        pdu_out[1] = fault == Fault::IllegalFunction ? 0x01 : 0x06;
+        reply.size = 2;
+    } else {
+        reply = handler_.handle(context, request, pdu_out);
+        if (reply.action != device::ReplyAction::Answer) return;
+    }
     std::size_t length = reply.size + 1;
     std::copy(frame, frame + 2, adu.begin());
     adu[4] = static_cast<std::uint8_t>(length >> 8);
@@ -185,9 +205,55 @@ void FaultyServer::answer(int fd, const std::uint8_t* frame, std::size_t size) {
         case Fault::LateAnswer:
             std::this_thread::sleep_for(std::chrono::milliseconds(150));
             break;
+        case Fault::PadBitsSet:
+            if (!exception && (function == 0x01 || function == 0x02)) {
+                pdu[reply.size - 1] |= 0x80;  // bit 7 of the last byte: unused unless qty % 8 == 0
+            }
+            break;
+        case Fault::DeviceIdPastPdu:
+            // 2B 0E code level more next count | id length ...: the first length byte.
+            if (!exception && function == 0x2B && reply.size > 8)
+                pdu[8] = static_cast<std::uint8_t>(pdu[8] + 5);
+            break;
+        case Fault::DeviceIdEndless:
+            if (!exception && function == 0x2B && reply.size > 6 && pdu[2] != 0x04) {
+                pdu[4] = 0xFF;
+                // The id after the last object sent: walk the objects.
+                std::size_t at = 7;
+                std::uint8_t last = 0;
+                while (at + 1 < reply.size) {
+                    last = pdu[at];
+                    at += 2 + pdu[at + 1];
+                }
+                pdu[5] = static_cast<std::uint8_t>(last + 1);
+            }
+            break;
+        case Fault::DeviceIdBasicLevel:
+            if (!exception && function == 0x2B && reply.size > 3) pdu[3] = 0x81;
+            break;
+        case Fault::DataPastTheEnd:
+            if (exception && function == 0x03 && pdu[1] == 0x02) {
+                const std::uint16_t quantity =
+                    static_cast<std::uint16_t>(request[3] << 8 | request[4]);
+                pdu[0] = 0x03;
+                pdu[1] = static_cast<std::uint8_t>(2 * quantity);
+                std::fill(pdu + 2, pdu + 2 + 2 * quantity, 0);
+                reply.size = 2 + 2U * quantity;
+                length = reply.size + 1;
+                adu[4] = static_cast<std::uint8_t>(length >> 8);
+                adu[5] = static_cast<std::uint8_t>(length & 0xFF);
+            }
+            break;
         case Fault::None:
         case Fault::SplitAnswer:
         case Fault::ReorderAnswers:
+        case Fault::BusyWhenQueued:
+        case Fault::DuplicateAnswer:
+        case Fault::UnsolicitedBytes:
+        case Fault::WriteNotApplied:
+        case Fault::IllegalFunction:
+        case Fault::SilentAfter:
+        case Fault::OnlyUnit255:
             break;
     }
     const std::size_t total = 7 + reply.size;
@@ -201,6 +267,11 @@ void FaultyServer::answer(int fd, const std::uint8_t* frame, std::size_t size) {
         return;
     }
     write_all(fd, adu.data(), total);
+    if (fault == Fault::DuplicateAnswer) write_all(fd, adu.data(), total);
+    if (fault == Fault::UnsolicitedBytes) {
+        const std::array<std::uint8_t, 6> noise = {0xDE, 0xAD, 0xBE, 0xEF, 0x00, 0x01};
+        write_all(fd, noise.data(), noise.size());
+    }
 }
 
 }  // namespace mblab::test

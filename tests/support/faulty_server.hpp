@@ -25,11 +25,24 @@ enum class Fault : std::uint8_t {
     SplitAnswer,         // right, but written in three pieces 30 ms apart
     LateAnswer,          // right, but 150 ms late
     ReorderAnswers,      // right, but requests that arrive together are answered last first
+    BusyWhenQueued,      // requests that arrive behind an unanswered one are answered 06 (busy)
+    DuplicateAnswer,     // every answer is sent twice
+    UnsolicitedBytes,    // after the answer, 6 more bytes nobody asked for
+    WriteNotApplied,     // writes are acknowledged with the right echo and not made
+    PadBitsSet,          // FC 01/02: the unused bits of the last byte are set
+    IllegalFunction,     // the function is answered 01, as by a device without it
+    DeviceIdPastPdu,     // FC 2B/0E: the first object's length runs past the end of the PDU
+    DeviceIdEndless,     // FC 2B/0E streams: more follows FF, next object id past the last
+    DeviceIdBasicLevel,  // FC 2B/0E: conformity level 81 (basic) whatever objects are sent
+    DataPastTheEnd,      // FC 03 reads that should answer 02 answer zeros instead
+    SilentAfter,         // after `after` requests on a connection, nothing is answered
+    OnlyUnit255,         // requests to any other unit id are ignored
 };
 
 struct FaultRule {
     Fault fault = Fault::None;
     std::uint8_t function = 0;  // request function code the fault applies to; 0: every one
+    std::uint32_t after = 0;    // SilentAfter: requests answered before the silence
 };
 
 class FaultyServer {
@@ -49,7 +62,7 @@ class FaultyServer {
   private:
     void serve();
     void serve_connection(int fd);
-    void answer(int fd, const std::uint8_t* frame, std::size_t size);
+    void answer(int fd, const std::uint8_t* frame, std::size_t size, bool queued);
 
     device::RequestHandler& handler_;
     FaultRule rule_;

@@ -5,6 +5,7 @@
 
 #include "conformance/catalogue.hpp"
 #include "conformance/dut.hpp"
+#include "conformance/procedures.hpp"
 #include "support/hex.hpp"
 
 namespace mblab::conformance {
@@ -100,7 +101,7 @@ TEST(CatalogueLoader, RefusesMalformedSuitesWithFileLineAndReason) {
          "bad.toml:3: case x: a step gives either 'expect' or 'silence_ms'"},
         {case_head + "procedure = \"sweep\"\n",
          "bad.toml:7: unknown procedure 'sweep' (known: ping, register_sweep, "
-         "semi_signature_scan)"},
+         "semi_signature_scan, out_of_range_read)"},
         {case_head + "procedure = \"ping\"\nparams = { cnt = 1 }\n",
          "bad.toml:8: unknown key 'cnt' (known keys: count, payload, timeout_ms)"},
         {case_head + "procedure = \"ping\"\nrequest = \"00\"\n",
@@ -184,7 +185,19 @@ TEST(ShippedCatalogue, PolicyEncodesEveryTestOfSeed000) {
     EXPECT_EQ(request_of("9.1.3"), test::hex("00 00 00 00 00 FF 11 03 00 00 00 01"));
     EXPECT_EQ(request_of("7.13.1"),
               test::hex("00 00 00 00 00 0C 11 5B 09 00 00 01 00 01 00 07 00 01"));
-    EXPECT_EQ(request_of("9.1.2"), test::hex("00 00 00 00 00 06 11 03 80 01 00 01"));
+    // 9.1.2 is the policy's request first, then (only if 0x8001 is a register) a read past the end.
+    const auto out_of_range = out_of_range_steps(dut);
+    ASSERT_EQ(out_of_range.size(), 2U);
+    EXPECT_EQ(out_of_range[0].request, test::hex("00 00 00 00 00 06 11 03 80 01 00 01"));
+    EXPECT_EQ(out_of_range[1].request, test::hex("00 00 00 00 00 06 11 03 FF FF 00 02"));
+    dut.registers = 100;
+    EXPECT_EQ(out_of_range_steps(dut).at(0).request,
+              test::hex("00 00 00 00 00 06 11 03 80 01 00 01"));
+    dut.registers = 0x9000;
+    EXPECT_EQ(out_of_range_steps(dut).at(0).request,
+              test::hex("00 00 00 00 00 06 11 03 90 00 00 01"));
+    // The write cases begin with the policy's own request.
+    EXPECT_EQ(request_of("7.8.1"), test::hex("00 00 00 00 00 06 11 06 00 10 12 34"));
     EXPECT_EQ(request_of("7.9.1"), test::hex("00 00 00 00 00 02 11 07"));
 }
 
