@@ -133,6 +133,7 @@ LineClock::time_point LineSession<Stream>::next_deadline() const {
     if (setup_.idle_timeout.count() > 0) {
         deadline = std::min(deadline, last_activity_ + setup_.idle_timeout);
     }
+    if (frame_open_) deadline = std::min(deadline, frame_started_ + core_->options.frame_limit);
     return deadline;
 }
 
@@ -160,6 +161,12 @@ asio::awaitable<void> LineSession<Stream>::read_loop(Self /*self*/) {
             close();
             break;
         }
+        if (frame_open_ && now >= frame_started_ + core_->options.frame_limit) {
+            // A client that trickles a frame: the rest of it would be read out of step.
+            ServerStats::bump(core_->stats.closed_slow_frame);
+            close();
+            break;
+        }
         reading_ = true;
         watchdog_timer_.cancel();  // rearm it for the deadline of this read
         auto [ec, size] = co_await stream_.async_read_some(asio::buffer(input_), use_tuple);
@@ -182,6 +189,11 @@ asio::awaitable<void> LineSession<Stream>::read_loop(Self /*self*/) {
              event = receiver_.next()) {
             co_await handle(event);
         }
+        // Over TCP, a whole frame is bounded in time (ServerOptions::frame_limit); a serial line
+        // paces its bytes itself, and a long frame at a low baud rate takes seconds.
+        const bool open = !kIsSerialPort<Stream> && receiver_.has_partial();
+        if (open && !frame_open_) frame_started_ = LineClock::now();
+        frame_open_ = open;
     }
 }
 

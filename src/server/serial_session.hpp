@@ -97,6 +97,9 @@ class LineSession final : public std::enable_shared_from_this<LineSession<Stream
     asio::steady_timer watchdog_timer_;
     asio::steady_timer delay_timer_;
     LineClock::time_point last_activity_;
+    // The unfinished frame a TCP client is sending, since when (for ServerOptions::frame_limit).
+    bool frame_open_ = false;
+    LineClock::time_point frame_started_{};
     bool closed_ = false;
     bool in_table_ = false;
     bool reading_ = false;  // a read is outstanding: the watchdog may interrupt it

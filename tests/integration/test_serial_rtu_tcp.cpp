@@ -77,6 +77,21 @@ TEST_F(RtuOverTcp, DropsGarbageAfterTheFrameTimeoutAndCountsIt) {
 }
 
 // Interop: pymodbus's TCP client with its RTU framer.
+// Issue 17 item 1 over RTU framing: a frame whose bytes keep coming within the silence is still
+// bounded as a whole (the 1 s frame limit); the client is closed.
+TEST_F(RtuOverTcp, ClosesAClientThatTricklesAFrame) {
+    BlockingClient client(port_);
+    ASSERT_TRUE(client.connected());
+    // FC 16 with byte count 0xF6: a 255-byte frame, sent a byte every 30 ms (7.6 s in all).
+    const auto frame = hex("01 10 00 00 00 7B F6");
+    bool closed = false;
+    for (std::size_t i = 0; i < 150 && !closed; ++i) {
+        std::uint8_t byte = i < frame.size() ? frame[i] : 0x00;
+        closed = !client.send(std::span(&byte, 1)) || client.closed_by_peer(30ms);
+    }
+    EXPECT_TRUE(closed);
+}
+
 TEST_F(RtuOverTcp, ServesPymodbusRtuFramerOverTcp) {
     std::string output;
     const int status =
