@@ -164,15 +164,18 @@ void unpin_read_backs(LoadPlan& plan) {
         });
         if (!overlapped) continue;
         constexpr std::size_t kValuesAt = 9;  // after the MBAP header, function and byte count
+        bool unpinned = false;
         for (auto& pattern : exchange.expect) {
             std::size_t position = 0;  // in bytes: {len} stands for two
             for (auto& token : pattern.tokens) {
                 if (position >= kValuesAt && token.kind == PatternToken::Kind::Byte) {
                     token.kind = PatternToken::Kind::Any;
+                    unpinned = true;
                 }
                 position += token.kind == PatternToken::Kind::Length ? 2 : 1;
             }
         }
+        if (!unpinned) continue;  // an exception or values the pattern never pinned
         exchange.answers.clear();
         for (const auto& pattern : exchange.expect)
             exchange.answers.emplace_back(pattern);

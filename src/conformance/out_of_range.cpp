@@ -97,17 +97,16 @@ Outcome run_out_of_range(Session& session, const Case& c) {
         if (judgement.matched < 0) return failed(session, read, judgement, "");
         return Outcome{
             Verdict::Pass,
-            fmt::format("{} answered 02 ({} registers declared)", read_text(read), *dut.registers),
+            fmt::format("{} answered 02; {} registers declared", read_text(read), *dut.registers),
             {}};
     }
     const Read policy{kPolicyOffset, 1};
     auto first = exchange(session, policy, {refusal(unit), data_answer(unit, 1)}, sent);
     if (first.matched < 0) return failed(session, policy, first, "");
     if (first.matched == 0) {
-        return Outcome{
-            Verdict::Pass,
-            fmt::format("{} answered 02 (no register count declared)", read_text(policy)),
-            {}};
+        return Outcome{Verdict::Pass,
+                       fmt::format("{} answered 02; no register count declared", read_text(policy)),
+                       {}};
     }
     auto second = exchange(session, kPastTheEnd, {refusal(unit)}, sent);
     if (second.matched < 0) {

@@ -48,12 +48,12 @@ Outcome run_semi_scan(Session& session, const Case& c) {
     if (run.failure) return *run.failure;
     if (!found_at) {
         return Outcome{Verdict::Fail,
-                       fmt::format("5345 4D49 5F72 not found in registers 0000-{:04X} (scan: {})",
+                       fmt::format("5345 4D49 5F72 not found in registers 0000-{:04X}; scan {}",
                                    end - 1, run.how),
                        {}};
     }
     return Outcome{Verdict::Pass,
-                   fmt::format("signature at register {:04X} (scan: {})", *found_at, run.how),
+                   fmt::format("signature at register {:04X}; scan {}", *found_at, run.how),
                    {}};
 }
 
