@@ -23,6 +23,8 @@
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
 #include "server/gateway.hpp"
+#include "server/journal.hpp"
+#include "server/journaled_device.hpp"
 #include "server/rtu_tcp_server.hpp"
 #include "server/serial_server.hpp"
 #include "server/server_options.hpp"
@@ -53,6 +55,7 @@ struct ServeOptions {
     std::string state;
     double save_interval = 10;
     bool stats = false;
+    bool durable = false;
     int devices = 1;
     std::string gateway;
 };
@@ -175,11 +178,52 @@ asio::awaitable<void> every(asio::steady_timer& timer, std::chrono::milliseconds
     }
 }
 
-bool save_state(const device::ReferenceDevice& device, const fs::path& path) {
+using Journals = std::vector<std::unique_ptr<server::Journal>>;
+
+// With a journal, the records so far move aside before the state is taken, and go once the
+// state file holds them; a failed save keeps them for the next.
+bool save_state(const device::ReferenceDevice& device, const fs::path& path,
+                server::Journal* journal) {
     std::string error;
-    if (server::write_file_atomically(path, device.save_state(), error)) return true;
+    if (journal) journal->rotate();
+    if (server::write_file_atomically(path, device.save_state(), error)) {
+        if (journal) journal->drop_old();
+        return true;
+    }
     fmt::print(stderr, "mblab serve: cannot save state: {}\n", error);
     return false;
+}
+
+fs::path journal_path(const fs::path& state) {
+    auto path = state;
+    path += ".journal";
+    return path;
+}
+
+// The writes a journal holds that the state file may not (kill -9, a crash) are made again on
+// the device and saved, so that the journal can start empty. Any journal is replayed, with
+// --durable or not, so a restart without it loses nothing either.
+bool replay_journal(device::ReferenceDevice& device, const fs::path& state, std::string& error) {
+    const auto path = journal_path(state);
+    auto records = server::read_journal(path);
+    if (!records) {
+        error = records.error();
+        return false;
+    }
+    if (records->empty()) return true;
+    device::RequestContext context;
+    std::vector<std::uint8_t> request;
+    for (std::size_t i = 0; i < records->size(); ++i) {
+        if (!server::parse_journal_record((*records)[i], context, request)) {
+            error = fmt::format("journal {}: record {} is not a journal record ('{}')",
+                                path.string(), i + 1, (*records)[i].substr(0, 40));
+            return false;
+        }
+        device.replay_write(context, request);
+    }
+    if (!server::write_file_atomically(state, device.save_state(), error)) return false;
+    server::remove_journal(path);
+    return true;
 }
 
 // The state file of device `index` of `count`: FILE itself for one device; for several, one file
@@ -192,19 +236,23 @@ fs::path device_state_path(const fs::path& file, std::size_t index, std::size_t 
 
 // Saves every device's state; false when any save failed (each failure is reported).
 bool save_states(const std::vector<std::unique_ptr<device::ReferenceDevice>>& devices,
-                 const fs::path& file) {
+                 const fs::path& file, const Journals& journals) {
     bool saved = true;
-    for (std::size_t i = 0; i < devices.size(); ++i)
-        saved = save_state(*devices[i], device_state_path(file, i, devices.size())) && saved;
+    for (std::size_t i = 0; i < devices.size(); ++i) {
+        saved = save_state(*devices[i], device_state_path(file, i, devices.size()),
+                           journals[i].get()) &&
+                saved;
+    }
     return saved;
 }
 
 // --listen rtu:// or ascii://: the device on a serial line until SIGINT or SIGTERM, or until the
 // line fails (exit status 1).
 int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& device,
+                    device::RequestHandler& handler, server::Journal* journal,
                     const ServeOptions& options, std::chrono::milliseconds save_period) {
     asio::io_context io(1);
-    auto line = server::start_serial_server(io, device, url, server::device_line_hooks(device));
+    auto line = server::start_serial_server(io, handler, url, server::device_line_hooks(device));
     if (!line) return usage_error(line.error());
     int status = kExitOk;
     (*line)->on_failure([&](const std::string& why) {
@@ -220,10 +268,10 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
     asio::steady_timer save_timer(io);
     bool stopping = false;
     if (!options.state.empty() && save_period.count() > 0) {
-        asio::co_spawn(
-            io,
-            every(save_timer, save_period, stopping, [&] { save_state(device, options.state); }),
-            asio::detached);
+        asio::co_spawn(io,
+                       every(save_timer, save_period, stopping,
+                             [&] { save_state(device, options.state, journal); }),
+                       asio::detached);
     }
     asio::signal_set signals(io, SIGINT, SIGTERM);
     signals.async_wait([&](const asio::error_code& ec, int) {
@@ -234,7 +282,7 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
     });
     io.run();
     // The line is closed, so every write the device acknowledged is in it now.
-    if (!options.state.empty() && !save_state(device, options.state)) return kExitFailed;
+    if (!options.state.empty() && !save_state(device, options.state, journal)) return kExitFailed;
     return status;
 }
 
@@ -270,6 +318,11 @@ int run_serve(const ServeOptions& options) {
     const auto save_period =
         seconds_option("--save-interval", options.save_interval, "only on exit", error);
     if (!save_period) return usage_error(error);
+    if (options.durable && options.state.empty())
+        return usage_error("--durable needs --state FILE");
+    if (options.durable && gateway) {
+        return usage_error("--durable keeps a device's writes; a --gateway has none");
+    }
     auto first_port = static_cast<unsigned>(endpoint->port());
     if (first_port != 0 && first_port + static_cast<unsigned>(options.devices) - 1 > 65535) {
         return usage_error(fmt::format("{} devices from port {} run past port 65535",
@@ -292,15 +345,31 @@ int run_serve(const ServeOptions& options) {
         }
         // Found now rather than at the first save, which may be minutes away or at exit.
         if (!server::check_state_writable(path, error)) return usage_error("--state: " + error);
+        if (!replay_journal(*devices[i], path, error)) return usage_error(error);
     }
+    // Cleared before the io_context goes at the end (their threads post answers to it).
+    Journals journals(devices.size());
+    std::vector<std::unique_ptr<server::JournaledDevice>> journaled(devices.size());
+    for (std::size_t i = 0; i < devices.size() && options.durable; ++i) {
+        auto journal = server::Journal::create(
+            journal_path(device_state_path(options.state, i, devices.size())));
+        if (!journal) return usage_error(journal.error());
+        journals[i] = std::move(journal.value());
+        journaled[i] = std::make_unique<server::JournaledDevice>(*devices[i], *journals[i]);
+    }
+    auto device_handler = [&](std::size_t i) -> device::RequestHandler& {
+        if (journaled[i]) return *journaled[i];
+        return *devices[i];
+    };
 
     std::signal(SIGPIPE, SIG_IGN);
     if (serial && !rtu_over_tcp) {
-        return run_serial_line(*serial, first_device, options, *save_period);
+        return run_serial_line(*serial, first_device, device_handler(0), journals[0].get(), options,
+                               *save_period);
     }
-    // One thread runs every server; without a gateway nothing else touches the io_context, so
-    // it takes no locks. A gateway's thread posts its answers to it.
-    asio::io_context io(gateway ? 1 : ASIO_CONCURRENCY_HINT_UNSAFE);
+    // One thread runs every server; without a gateway or a journal nothing else touches the
+    // io_context, so it takes no locks. A gateway's or a journal's thread posts answers to it.
+    asio::io_context io(gateway || options.durable ? 1 : ASIO_CONCURRENCY_HINT_UNSAFE);
     std::vector<std::unique_ptr<server::TcpServer>> servers;
     std::vector<std::string> urls;
     for (std::size_t i = 0; i < devices.size(); ++i) {
@@ -308,7 +377,7 @@ int run_serve(const ServeOptions& options) {
         auto* device = devices[i].get();
         config.on_busy_reply = [device](std::uint8_t unit) { device->count_busy_reply(unit); };
         device::RequestHandler& handler =
-            gateway ? static_cast<device::RequestHandler&>(*gateway) : *device;
+            gateway ? static_cast<device::RequestHandler&>(*gateway) : device_handler(i);
         servers.push_back(
             rtu_over_tcp
                 ? std::make_unique<server::TcpServer>(
@@ -346,10 +415,10 @@ int run_serve(const ServeOptions& options) {
     StatsLine stats_line(servers);
     bool stopping = false;
     if (!options.state.empty() && save_period->count() > 0) {
-        asio::co_spawn(
-            io,
-            every(save_timer, *save_period, stopping, [&] { save_states(devices, options.state); }),
-            asio::detached);
+        asio::co_spawn(io,
+                       every(save_timer, *save_period, stopping,
+                             [&] { save_states(devices, options.state, journals); }),
+                       asio::detached);
     }
     if (options.stats) {
         asio::co_spawn(
@@ -374,8 +443,11 @@ int run_serve(const ServeOptions& options) {
         stats_line.print();
         stats_line.finish();
     }
-    if (!options.state.empty() && !save_states(devices, options.state)) return kExitFailed;
-    return kExitOk;
+    const bool saved = options.state.empty() || save_states(devices, options.state, journals);
+    // A journal's thread posts answers to `io`: end it while `io` is still there.
+    journaled.clear();
+    journals.clear();
+    return saved ? kExitOk : kExitFailed;
 }
 
 }  // namespace
@@ -425,6 +497,10 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
                     "seconds between saves of --state (0: only on exit)")
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
+    cmd->add_flag("--durable", options->durable,
+                  "with --state: every acknowledged write is in a journal on disk (FILE.journal, "
+                  "fdatasync shared by the writes that come together) before its answer is sent, "
+                  "so kill -9 loses none");
     cmd->add_flag("--stats", options->stats, "print a line of counters on stderr every second");
     cmd->add_option("--devices", options->devices,
                     "run K devices on consecutive ports from the --listen port")

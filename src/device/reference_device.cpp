@@ -33,6 +33,12 @@ bool executes_on_broadcast(std::uint8_t function) {
     }
 }
 
+// The requests that change what the state file keeps: the writes a broadcast carries, and FC 17.
+bool changes_state(std::uint8_t function) {
+    return executes_on_broadcast(function) ||
+           function == code(FunctionCode::ReadWriteMultipleRegisters);
+}
+
 // The data addresses a request names, for fault rules with an address filter.
 RequestScope scope_of(std::uint8_t function, const protocol::Result<protocol::Request>& decoded) {
     RequestScope scope;
@@ -167,6 +173,29 @@ Reply ReferenceDevice::handle(const RequestContext& context, std::span<const std
     return silent();
 }
 
+std::uint64_t ReferenceDevice::state_writes() const {
+    std::lock_guard lock(mutex_);
+    return state_writes_;
+}
+
+bool ReferenceDevice::replay_write(const RequestContext& context,
+                                   std::span<const std::uint8_t> request) {
+    std::lock_guard lock(mutex_);
+    if (request.empty() || !changes_state(request[0])) return false;
+    const auto decoded = protocol::decode_request(request);
+    const Route target = route(context);
+    if (!decoded) return false;
+    auto run = [&](UnitModel& unit) {
+        const auto outcome = unit.serve(decoded.value(), scratch_);
+        return outcome && !std::holds_alternative<protocol::ExceptionResponse>(*outcome);
+    };
+    if (target.kind == RouteKind::Unit) return run(*target.unit);
+    if (target.kind != RouteKind::Broadcast) return false;
+    for (auto& unit : units_)
+        run(unit);
+    return true;
+}
+
 Reply ReferenceDevice::serve(UnitModel& unit, std::span<const std::uint8_t> request,
                              std::span<std::uint8_t> response, bool broadcast) {
     CommState& comm = unit.comm();
@@ -219,6 +248,10 @@ Reply ReferenceDevice::serve(UnitModel& unit, std::span<const std::uint8_t> requ
         outcome = exception_outcome(function, decoded.error().exception);
     } else if (!broadcast || executes_on_broadcast(function)) {
         outcome = unit.serve(decoded.value(), scratch_);
+        if (changes_state(function) && outcome &&
+            !std::holds_alternative<protocol::ExceptionResponse>(*outcome)) {
+            ++state_writes_;
+        }
     }
 
     bool counts_as_event = function != code(FunctionCode::GetCommEventCounter) &&

@@ -80,6 +80,14 @@ class ReferenceDevice final : public RequestHandler {
     std::string save_state() const;
     bool load_state(std::string_view text, std::string& error);
 
+    // Requests that changed the writable data (coils, holding registers, file records) so far: a
+    // journal compares it before and after handle() to know what to record.
+    std::uint64_t state_writes() const;
+    // Executes a recorded request again, as at restart from a journal: routed like handle(), but
+    // without fault rules, counters or an answer. The writes are absolute (a mask write too), so
+    // replaying one already in the state changes nothing. False when it cannot be executed.
+    bool replay_write(const RequestContext& context, std::span<const std::uint8_t> request);
+
   private:
     enum class RouteKind : std::uint8_t { Unit, Broadcast, Silent, Gateway };
     struct Route {
@@ -103,6 +111,7 @@ class ReferenceDevice final : public RequestHandler {
     std::array<std::int16_t, 256> unit_index_{};
     Prng prng_;
     std::array<std::uint8_t, 256> scratch_{};
+    std::uint64_t state_writes_ = 0;
     mutable std::mutex mutex_;
 };
 

@@ -10,22 +10,14 @@
 #include <fstream>
 #include <sstream>
 
+#include "server/file_writes.hpp"
+
 namespace mblab::server {
 
 namespace {
 
 std::string errno_text(const std::string& what, const std::filesystem::path& path) {
     return what + " " + path.string() + ": " + std::strerror(errno);
-}
-
-bool write_all(int fd, std::string_view text) {
-    while (!text.empty()) {
-        auto n = ::write(fd, text.data(), text.size());
-        if (n < 0 && errno == EINTR) continue;
-        if (n <= 0) return false;
-        text.remove_prefix(static_cast<std::size_t>(n));
-    }
-    return true;
 }
 
 // A new file beside `path`. A fixed name such as FILE.tmp opened with O_CREAT would follow a
@@ -79,13 +71,7 @@ bool write_file_atomically(const std::filesystem::path& path, std::string_view t
         ::unlink(temporary.c_str());
         return false;
     }
-    // The rename itself is durable only once the directory is.
-    auto directory = path.parent_path().empty() ? std::filesystem::path(".") : path.parent_path();
-    int dir_fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-    if (dir_fd >= 0) {
-        ::fsync(dir_fd);
-        ::close(dir_fd);
-    }
+    sync_directory_of(path);
     return true;
 }
 

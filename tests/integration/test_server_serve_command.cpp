@@ -15,6 +15,7 @@
 #include "scripted_handler.hpp"
 #include "server/background_server.hpp"
 #include "server_fixture.hpp"
+#include "support/hex.hpp"
 #include "support/temp_dir.hpp"
 
 namespace mblab::test {
@@ -354,6 +355,65 @@ TEST(ServeCommand, StatePathThatCannotBeWrittenIsRefusedAtStart) {
     EXPECT_EQ(failure.stderr_text,
               "mblab serve: --state: cannot create a temporary file for /nonexistent/x.json: No "
               "such file or directory\n");
+}
+
+}  // namespace
+}  // namespace mblab::test
+
+namespace mblab::test {
+namespace {
+
+// Issue 17 item 5: with --state alone, kill -9 loses every write since the last save (here,
+// with saves only on exit, all of them). With --durable, none that was answered.
+TEST(ServeCommand, DurableKeepsEveryAcknowledgedWriteAcrossKill9) {
+    TempDir dir;
+    auto state = dir / "s.json";
+    {
+        Serve serve({"--listen", "tcp://127.0.0.1:0", "--state", state.string(), "--save-interval",
+                     "0", "--durable"});
+        ASSERT_EQ(serve.ports().size(), 1U) << serve.line();
+        auto client = serve.connect();
+        for (int i = 0; i < 50; ++i) {
+            auto tid = to_hex(std::vector<std::uint8_t>{0, static_cast<std::uint8_t>(i)});
+            auto value = to_hex(std::vector<std::uint8_t>{0x10, static_cast<std::uint8_t>(i)});
+            auto address = to_hex(std::vector<std::uint8_t>{0x01, static_cast<std::uint8_t>(i)});
+            auto request = tid + " 00 00 00 06 01 06 " + address + " " + value;
+            ASSERT_EQ(client.transact(request), request);
+        }
+        // Pipelined, several writes in flight at once (they share syncs).
+        std::string burst, answers;
+        for (int i = 0; i < 8; ++i) {
+            auto tid = to_hex(std::vector<std::uint8_t>{1, static_cast<std::uint8_t>(i)});
+            burst += tid + " 00 00 00 0B 01 10 02 0" + std::to_string(i) + " 00 02 04 AB CD 00 " +
+                     to_hex(std::vector<std::uint8_t>{static_cast<std::uint8_t>(i)}) + " ";
+            answers +=
+                (i ? " " : "") + tid + " 00 00 00 06 01 10 02 0" + std::to_string(i) + " 00 02";
+        }
+        ASSERT_TRUE(client.send_hex(burst));
+        std::string got;
+        for (int i = 0; i < 8; ++i)
+            got += client.read_adu() + (i < 7 ? " " : "");
+        ASSERT_EQ(got, answers);
+        serve.process().signal(SIGKILL);
+        serve.process().wait_exit(10s);
+    }
+    Serve again({"--listen", "tcp://127.0.0.1:0", "--state", state.string()});
+    ASSERT_EQ(again.ports().size(), 1U) << again.line();
+    auto client = again.connect();
+    EXPECT_EQ(client.transact("00 01 00 00 00 06 01 03 01 00 00 02"),
+              "00 01 00 00 00 07 01 03 04 10 00 10 01");
+    EXPECT_EQ(client.transact("00 02 00 00 00 06 01 03 01 31 00 01"),
+              "00 02 00 00 00 05 01 03 02 10 31");
+    EXPECT_EQ(client.transact("00 03 00 00 00 06 01 03 02 07 00 02"),
+              "00 03 00 00 00 07 01 03 04 AB CD 00 07");
+    EXPECT_EQ(again.terminate(), 0);
+    EXPECT_FALSE(fs::exists(dir / "s.json.journal.old"));
+}
+
+TEST(ServeCommand, DurableWithoutStateIsOneLine) {
+    auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--durable"});
+    EXPECT_EQ(failure.status, 2);
+    EXPECT_EQ(failure.stderr_text, "mblab serve: --durable needs --state FILE\n");
 }
 
 }  // namespace

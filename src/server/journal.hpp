@@ -1,0 +1,79 @@
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "protocol/result.hpp"
+
+// The write journal of `mblab serve --durable`: every acknowledged write is appended to a file
+// and made durable before its answer goes out. Records are lines of text; a thread of its own
+// writes and fdatasyncs them in groups (group commit: the records appended while one fdatasync
+// runs share the next), so many writes pay for one sync. Each save of the state file compacts
+// it: rotate() before the state is taken moves the records so far to PATH.old, drop_old() after
+// the state file is safely written removes them.
+namespace mblab::server {
+
+class Journal {
+  public:
+    // Told whether the record reached the disk. Called on the journal's thread.
+    using Durable = std::function<void(bool written)>;
+
+    // Starts an empty journal at `path` (replay an existing one first: it is truncated).
+    static protocol::Result<std::unique_ptr<Journal>, std::string> create(
+        const std::filesystem::path& path);
+    // Makes everything appended durable, then stops the thread.
+    ~Journal();
+    Journal(const Journal&) = delete;
+    Journal& operator=(const Journal&) = delete;
+
+    // `record` must not hold a newline. `done` may be empty.
+    void append(std::string record, Durable done);
+    // Records appended from now on start a new file; the earlier ones are kept in PATH.old.
+    void rotate();
+    // The state file now holds every record of PATH.old: remove it.
+    void drop_old();
+
+    // fdatasync calls so far (for tests and benchmarks: fewer than the records under load).
+    std::uint64_t syncs() const;
+
+  private:
+    struct Item {
+        enum class Kind : std::uint8_t { Record, Rotate, DropOld } kind = Kind::Record;
+        std::string record;
+        Durable done;
+    };
+
+    Journal(std::filesystem::path path, int fd);
+    void run();
+    void push(Item item);
+    void flush(std::string& buffer, std::vector<Durable>& waiting);
+    void do_rotate();
+
+    std::filesystem::path path_;
+    std::filesystem::path old_path_;
+    int fd_;
+    bool old_exists_ = false;
+    mutable std::mutex mutex_;
+    std::condition_variable wake_;
+    std::vector<Item> queue_;
+    bool stopping_ = false;
+    std::uint64_t syncs_ = 0;
+    std::thread thread_;
+};
+
+// The records of the journal at `path`: PATH.old's first, then PATH's, in order. A last line
+// without its newline (a write cut short by a crash, never acknowledged) is left out. No files:
+// no records.
+protocol::Result<std::vector<std::string>, std::string> read_journal(
+    const std::filesystem::path& path);
+// Removes PATH and PATH.old, once the state file holds their records.
+void remove_journal(const std::filesystem::path& path);
+
+}  // namespace mblab::server
