@@ -29,6 +29,7 @@
 #include "server/serial_server.hpp"
 #include "server/server_options.hpp"
 #include "server/state_file.hpp"
+#include "server/state_saver.hpp"
 #include "server/tcp_server.hpp"
 #include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
@@ -185,13 +186,28 @@ using Journals = std::vector<std::unique_ptr<server::Journal>>;
 bool save_state(const device::ReferenceDevice& device, const fs::path& path,
                 server::Journal* journal) {
     std::string error;
-    if (journal) journal->rotate();
+    const auto rotation = journal ? journal->rotate() : 0;
     if (server::write_file_atomically(path, device.save_state(), error)) {
-        if (journal) journal->drop_old();
+        if (journal) journal->drop_old(rotation);
         return true;
     }
     fmt::print(stderr, "mblab serve: cannot save state: {}\n", error);
     return false;
+}
+
+// A periodic save: the snapshot is taken here, on the server's thread, in step with the journal;
+// the rest happens on the saver's thread while clients are served.
+void save_state_soon(server::StateSaver& saver, const device::ReferenceDevice& device,
+                     const fs::path& path, server::Journal* journal) {
+    const auto rotation = journal ? journal->rotate() : 0;
+    saver.save(path, device.snapshot_state(),
+               [journal, rotation](bool saved, const std::string& error) {
+                   if (!saved) {
+                       fmt::print(stderr, "mblab serve: cannot save state: {}\n", error);
+                   } else if (journal) {
+                       journal->drop_old(rotation);
+                   }
+               });
 }
 
 fs::path journal_path(const fs::path& state) {
@@ -267,10 +283,11 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
     std::fflush(stdout);
     asio::steady_timer save_timer(io);
     bool stopping = false;
+    server::StateSaver saver;
     if (!options.state.empty() && save_period.count() > 0) {
         asio::co_spawn(io,
                        every(save_timer, save_period, stopping,
-                             [&] { save_state(device, options.state, journal); }),
+                             [&] { save_state_soon(saver, device, options.state, journal); }),
                        asio::detached);
     }
     asio::signal_set signals(io, SIGINT, SIGTERM);
@@ -281,6 +298,7 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
         save_timer.cancel();
     });
     io.run();
+    saver.wait_idle();
     // The line is closed, so every write the device acknowledged is in it now.
     if (!options.state.empty() && !save_state(device, options.state, journal)) return kExitFailed;
     return status;
@@ -413,11 +431,19 @@ int run_serve(const ServeOptions& options) {
     asio::steady_timer save_timer(io);
     asio::steady_timer stats_timer(io);
     StatsLine stats_line(servers);
+    server::StateSaver saver;
     bool stopping = false;
     if (!options.state.empty() && save_period->count() > 0) {
         asio::co_spawn(io,
                        every(save_timer, *save_period, stopping,
-                             [&] { save_states(devices, options.state, journals); }),
+                             [&] {
+                                 for (std::size_t i = 0; i < devices.size(); ++i) {
+                                     save_state_soon(
+                                         saver, *devices[i],
+                                         device_state_path(options.state, i, devices.size()),
+                                         journals[i].get());
+                                 }
+                             }),
                        asio::detached);
     }
     if (options.stats) {
@@ -443,6 +469,7 @@ int run_serve(const ServeOptions& options) {
         stats_line.print();
         stats_line.finish();
     }
+    saver.wait_idle();
     const bool saved = options.state.empty() || save_states(devices, options.state, journals);
     // A journal's thread posts answers to `io`: end it while `io` is still there.
     journaled.clear();

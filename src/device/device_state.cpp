@@ -48,38 +48,60 @@ bool read_values(const json& node, std::size_t size, std::uint16_t max, const st
 
 }  // namespace
 
-std::string ReferenceDevice::save_state() const {
+StateSnapshot ReferenceDevice::snapshot_state() const {
     std::lock_guard lock(mutex_);
-    json root;
-    root["format"] = kFormat;
-    root["version"] = kVersion;
-    root["profile"] = profile_.name;
-    json units = json::array();
+    StateSnapshot snapshot;
+    snapshot.profile = profile_.name;
     for (const auto& unit : units_) {
-        json entry;
-        entry["id"] = unit.spec().id;
+        StateSnapshot::Unit& copy = snapshot.units.emplace_back();
+        copy.id = unit.spec().id;
         for (BankKind kind : kWritableBanks) {
-            json ranges = json::array();
             const DataBank& bank = unit.bank(kind);
             for (const auto& segment : bank.segments()) {
                 if (!writable(segment.access)) continue;
-                json values = json::array();
-                for (std::uint32_t i = 0; i < segment.end - segment.start; ++i) {
-                    values.push_back(bank.at(segment.index + i));
-                }
-                ranges.push_back({{"start", segment.start}, {"values", std::move(values)}});
+                StateSnapshot::Range& range = copy.ranges.emplace_back();
+                range.kind = kind;
+                range.start = segment.start;
+                range.values.resize(segment.end - segment.start);
+                for (std::uint32_t i = 0; i < segment.end - segment.start; ++i)
+                    range.values[i] = bank.at(segment.index + i);
+            }
+        }
+        copy.files = unit.files().files();
+    }
+    return snapshot;
+}
+
+std::string StateSnapshot::to_json() const {
+    json root;
+    root["format"] = kFormat;
+    root["version"] = kVersion;
+    root["profile"] = profile;
+    json out_units = json::array();
+    for (const auto& unit : units) {
+        json entry;
+        entry["id"] = unit.id;
+        for (BankKind kind : kWritableBanks) {
+            json ranges = json::array();
+            for (const auto& range : unit.ranges) {
+                if (range.kind != kind) continue;
+                ranges.push_back({{"start", range.start}, {"values", range.values}});
             }
             entry[std::string(bank_key(kind))] = std::move(ranges);
         }
         json files = json::array();
-        for (const auto& file : unit.files().files()) {
+        for (const auto& file : unit.files) {
             files.push_back({{"number", file.number}, {"records", file.records}});
         }
         entry["files"] = std::move(files);
-        units.push_back(std::move(entry));
+        out_units.push_back(std::move(entry));
     }
-    root["units"] = std::move(units);
+    root["units"] = std::move(out_units);
     return root.dump(1) + "\n";
+}
+
+std::string ReferenceDevice::save_state() const {
+    return snapshot_state().to_json();
 }
 
 bool ReferenceDevice::load_state(std::string_view text, std::string& error) {

@@ -44,6 +44,25 @@ struct UnitDeclaration {
     std::array<bool, 256> functions{};
 };
 
+// The writable data of a device at one moment (see ReferenceDevice::snapshot_state).
+struct StateSnapshot {
+    struct Range {
+        BankKind kind = BankKind::HoldingRegisters;
+        std::uint32_t start = 0;
+        std::vector<std::uint16_t> values;
+    };
+    struct Unit {
+        std::uint8_t id = 0;
+        std::vector<Range> ranges;
+        std::vector<FileSpec> files;
+    };
+    std::string profile;
+    std::vector<Unit> units;
+
+    // The state file's text (docs/profiles.md "State files").
+    std::string to_json() const;
+};
+
 class ReferenceDevice final : public RequestHandler {
   public:
     explicit ReferenceDevice(Profile profile);
@@ -78,6 +97,10 @@ class ReferenceDevice final : public RequestHandler {
     // docs/profiles.md "State files". load_state changes nothing unless the whole text fits
     // the profile.
     std::string save_state() const;
+    // The same data copied under the lock, to be turned into the file's text elsewhere: a copy
+    // takes well under a millisecond where the text of the reference profile's 1.36 MB took up
+    // to 25 ms on the server's thread.
+    StateSnapshot snapshot_state() const;
     bool load_state(std::string_view text, std::string& error);
 
     // Requests that changed the writable data (coils, holding registers, file records) so far: a

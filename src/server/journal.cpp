@@ -76,12 +76,14 @@ void Journal::append(std::string record, Durable done) {
     push({Item::Kind::Record, std::move(record), std::move(done)});
 }
 
-void Journal::rotate() {
-    push({Item::Kind::Rotate, {}, {}});
+std::uint64_t Journal::rotate() {
+    const auto rotation = ++rotations_;
+    push({Item::Kind::Rotate, {}, {}, rotation});
+    return rotation;
 }
 
-void Journal::drop_old() {
-    push({Item::Kind::DropOld, {}, {}});
+void Journal::drop_old(std::uint64_t rotation) {
+    push({Item::Kind::DropOld, {}, {}, rotation});
 }
 
 std::uint64_t Journal::syncs() const {
@@ -117,8 +119,10 @@ void Journal::run() {
                 case Item::Kind::Rotate:
                     flush(buffer, waiting);
                     do_rotate();
+                    last_rotation_ = item.rotation;
                     break;
                 case Item::Kind::DropOld:
+                    if (item.rotation != last_rotation_) break;
                     flush(buffer, waiting);
                     ::unlink(old_path_.c_str());
                     old_exists_ = false;

@@ -36,9 +36,11 @@ class Journal {
     // `record` must not hold a newline. `done` may be empty.
     void append(std::string record, Durable done);
     // Records appended from now on start a new file; the earlier ones are kept in PATH.old.
-    void rotate();
-    // The state file now holds every record of PATH.old: remove it.
-    void drop_old();
+    // Returns the rotation's number, for drop_old().
+    std::uint64_t rotate();
+    // The state file now holds every record up to `rotation`: PATH.old is removed, unless a
+    // later rotation added records to it that a later save must cover first.
+    void drop_old(std::uint64_t rotation);
 
     // fdatasync calls so far (for tests and benchmarks: fewer than the records under load).
     std::uint64_t syncs() const;
@@ -48,6 +50,7 @@ class Journal {
         enum class Kind : std::uint8_t { Record, Rotate, DropOld } kind = Kind::Record;
         std::string record;
         Durable done;
+        std::uint64_t rotation = 0;
     };
 
     Journal(std::filesystem::path path, int fd);
@@ -60,6 +63,8 @@ class Journal {
     std::filesystem::path old_path_;
     int fd_;
     bool old_exists_ = false;
+    std::uint64_t rotations_ = 0;      // asked for, on the caller's side
+    std::uint64_t last_rotation_ = 0;  // done, on the journal's thread
     mutable std::mutex mutex_;
     std::condition_variable wake_;
     std::vector<Item> queue_;

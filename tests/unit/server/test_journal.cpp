@@ -47,18 +47,37 @@ TEST(Journal, RotateKeepsEarlierRecordsAsideUntilDropped) {
     auto journal = Journal::create(path);
     ASSERT_TRUE(journal) << journal.error();
     (*journal)->append("1 T 0600010001", {});
-    (*journal)->rotate();
+    (void)(*journal)->rotate();
     (*journal)->append("1 T 0600020002", {});
     journal.value().reset();
     EXPECT_EQ(records_at(path), (std::vector<std::string>{"1 T 0600010001", "1 T 0600020002"}));
     auto again = Journal::create(dir / "t.journal");
     ASSERT_TRUE(again);
     (*again)->append("1 T 0600010001", {});
-    (*again)->rotate();
+    const auto first = (*again)->rotate();
     (*again)->append("1 T 0600020002", {});
-    (*again)->drop_old();
+    (*again)->drop_old(first);
     again.value().reset();
     EXPECT_EQ(records_at(dir / "t.journal"), (std::vector<std::string>{"1 T 0600020002"}));
+}
+
+// A save that finishes after a later rotation covers only the records before its own: the
+// records the later rotation moved aside stay until the later save.
+TEST(Journal, AnOlderSaveDoesNotDropRecordsALaterRotationMovedAside) {
+    TempDir dir;
+    const auto path = dir / "s.json.journal";
+    auto journal = Journal::create(path);
+    ASSERT_TRUE(journal) << journal.error();
+    (*journal)->append("1 T 0600010001", {});
+    const auto first = (*journal)->rotate();
+    (*journal)->append("1 T 0600020002", {});
+    const auto second = (*journal)->rotate();
+    (*journal)->drop_old(first);
+    (*journal)->append("1 T 0600030003", {});
+    journal.value().reset();
+    EXPECT_EQ(records_at(path),
+              (std::vector<std::string>{"1 T 0600010001", "1 T 0600020002", "1 T 0600030003"}));
+    (void)second;
 }
 
 TEST(Journal, ARecordCutShortByACrashIsLeftOut) {
