@@ -26,10 +26,30 @@ void check_frame(const protocol::FrameEvent& event) {
             "re-encoded frame differs");
 }
 
+// What mbap_resync_offset finds reads, from there, as whole frames only: the framer reports
+// one or more frames and no error up to the end.
+void check_resync(std::span<const std::uint8_t> bytes) {
+    const std::size_t offset = protocol::mbap_resync_offset(bytes);
+    require(offset <= bytes.size(), "resync offset past the end");
+    if (offset == bytes.size()) return;
+    protocol::MbapFramer framer;
+    auto rest = bytes.subspan(offset);
+    std::size_t frames = 0;
+    while (!rest.empty()) {
+        std::size_t consumed = 0;
+        const auto event = framer.feed(rest, consumed);
+        require(event.status != protocol::FrameStatus::Error, "resync offset leads to an error");
+        if (event.status == protocol::FrameStatus::Frame) ++frames;
+        rest = rest.subspan(consumed);
+    }
+    require(frames > 0, "resync offset without a whole frame");
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     static const std::uint8_t kGood[] = {0, 1, 0, 0, 0, 2, 1, 7};
+    check_resync(std::span<const std::uint8_t>(data, size));
     return mblab::fuzz::fuzz_framer(
         data, size, [](std::uint8_t) { return protocol::MbapFramer{}; }, check_frame,
         [](std::uint8_t) { return std::span<const std::uint8_t>(kGood); });
