@@ -120,6 +120,7 @@ int with_client(const ClientOptions& options, CommandOutput& output, const Clien
     transaction.unit = static_cast<std::uint8_t>(options.unit);
     transaction.timeout = std::chrono::milliseconds(options.timeout_ms);
     transaction.retries = static_cast<unsigned>(options.retries);
+    transaction.probe_units = options.probe_units;
     const auto timeout = transaction.timeout;
     client::Transactor transactor(
         target->name, [&target, timeout] { return client::open_link(*target, timeout); },

@@ -23,6 +23,7 @@ struct ClientOptions {
     int retries = 0;
     std::string decode;
     bool json = false;
+    bool probe_units = true;  // off for watch: its polls stay the only requests on the wire
 };
 
 // TARGET (the first positional argument), --unit, --timeout, --retries, --decode, --json.

@@ -160,7 +160,9 @@ int run_watch(const WatchOptions& options) {
     g_stop = 0;
     std::signal(SIGINT, request_stop);
     std::signal(SIGTERM, request_stop);
-    return with_client(options.client, output, [&](client::Client& client, CommandOutput& out) {
+    ClientOptions client_options = options.client;
+    client_options.probe_units = false;
+    return with_client(client_options, output, [&](client::Client& client, CommandOutput& out) {
         return watch(client, out, options, *query);
     });
 }

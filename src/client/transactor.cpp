@@ -139,11 +139,57 @@ protocol::Result<std::vector<std::uint8_t>, ClientError> Transactor::transact(
             if (tries > 1 && failure.retry) {
                 failure.error.message += " (" + std::to_string(tries) + " tries)";
             }
+            if (failure.error.kind == ErrorKind::Timeout &&
+                failure.error.message.starts_with("no answer")) {
+                failure.error.message += unit_hint();
+            }
             return failure.error;
         }
         note("retry " + std::to_string(attempt_number) + " of " + std::to_string(options_.retries) +
              " after: " + failure.error.message);
     }
+}
+
+std::string Transactor::unit_hint() {
+    if (probed_ || !options_.probe_units) return {};
+    probed_ = true;
+    const std::uint8_t asked = options_.unit;
+    const bool tcp = link_ == nullptr || link_->framing() == Framing::Mbap;
+    const std::vector<std::uint8_t> candidates =
+        tcp ? std::vector<std::uint8_t>{1, 255, 0} : std::vector<std::uint8_t>{1};
+    // A harmless one-register read, never the request itself: a write must not reach another
+    // unit. Any answer, an exception included, shows the unit is there.
+    const std::array<std::uint8_t, 5> read = {0x03, 0, 0, 0, 1};
+    std::string tried;
+    std::optional<std::uint8_t> answered;
+    // The asked unit first: when it answers the read, the unit id is not what went wrong.
+    std::vector<std::uint8_t> units = {asked};
+    for (std::uint8_t unit : candidates) {
+        if (unit != asked) units.push_back(unit);
+    }
+    for (std::uint8_t unit : units) {
+        drop_link();
+        options_.unit = unit;
+        auto sent = send(read);
+        const bool answer = sent && await_answer(*sent, read[0]).ok();
+        if (unit != asked) tried += (tried.empty() ? "" : ", ") + std::to_string(unit);
+        if (answer) {
+            answered = unit;
+            break;
+        }
+    }
+    options_.unit = asked;
+    drop_link();
+    if (answered == asked) return {};
+    if (answered) {
+        return "; the device answers unit " + std::to_string(*answered) + ": try --unit " +
+               std::to_string(*answered);
+    }
+    if (tried.empty()) return {};
+    const auto last = tried.rfind(", ");
+    if (last == std::string::npos) return "; unit " + tried + " did not answer either";
+    return "; units " + tried.substr(0, last) + " and " + tried.substr(last + 2) +
+           " did not answer either";
 }
 
 Transactor::Attempt Transactor::attempt(std::span<const std::uint8_t> request) {
@@ -181,8 +227,11 @@ Transactor::Attempt Transactor::await_answer(std::uint16_t transaction_id, std::
                                    true};
                 }
                 if (unanswered_.size() < kMaxUnanswered) unanswered_.push_back(transaction_id);
-                return Failure{
-                    {ErrorKind::Timeout, "no answer from " + target_ + within, std::nullopt}, true};
+                return Failure{{ErrorKind::Timeout,
+                                "no answer from " + target_ + " (unit " +
+                                    std::to_string(options_.unit) + ")" + within,
+                                std::nullopt},
+                               true};
             }
             case ReceiveStatus::Closed:
                 return lost(received.bytes.empty()

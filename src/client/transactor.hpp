@@ -22,6 +22,9 @@ struct TransactionOptions {
     std::uint8_t unit = 1;
     std::chrono::milliseconds timeout{1000};  // for connecting and for each answer
     unsigned retries = 0;                     // extra tries after a timeout or a lost connection
+    // After a final timeout, ask once which other unit id answers (off for `watch`, whose polls
+    // must not be interleaved with other requests).
+    bool probe_units = true;
 };
 
 using LinkOpener = std::function<protocol::Result<std::unique_ptr<Link>, LinkError>()>;
@@ -67,6 +70,9 @@ class Transactor {
     Failure lost(std::string message);
     void drop_link();
     void note(const std::string& text);
+    // After the final timeout of a request: which other unit id (1, 255, 0 over TCP; 1 on a
+    // line) answers, asked once per transactor; "; the device answers unit 255: try --unit 255".
+    std::string unit_hint();
 
     std::string target_;
     LinkOpener opener_;
@@ -76,6 +82,7 @@ class Transactor {
     std::uint16_t next_transaction_id_ = 1;
     // Transaction ids sent on this connection whose answers never came.
     std::vector<std::uint16_t> unanswered_;
+    bool probed_ = false;  // unit_hint() asked the other units already
 };
 
 }  // namespace mblab::client

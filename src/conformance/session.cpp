@@ -185,17 +185,21 @@ std::optional<std::uint8_t> Session::probe_other_unit(std::span<const std::uint8
     constexpr std::size_t kUnitAt = 6;
     if (probed_ || request.size() <= kUnitAt + 1) return std::nullopt;
     probed_ = true;
-    const std::vector<std::uint8_t> candidates = probe_candidates();
     const std::uint8_t asked = request[kUnitAt];
     std::optional<std::uint8_t> answered;
-    for (std::uint8_t unit : candidates) {
-        if (unit == asked) continue;
-        // A fresh connection each time, so a late answer to an earlier request is not taken
-        // for this one.
+    // The asked unit first: when it answers the read, the unit id is not what went wrong.
+    std::vector<std::uint8_t> units = {asked};
+    for (std::uint8_t unit : probe_candidates()) {
+        if (unit != asked) units.push_back(unit);
+    }
+    for (std::uint8_t unit : units) {
+        // A harmless read, whatever the unanswered request was: a write must never reach another
+        // unit (on a gateway that is another device, and 0 a broadcast). Any answer, exception
+        // included, shows the unit is there. A fresh connection each time, so a late answer to
+        // an earlier request is not taken for this one.
         close();
         client::LinkError error;
-        std::vector<std::uint8_t> probe(request.begin(), request.end());
-        probe[kUnitAt] = unit;
+        const std::vector<std::uint8_t> probe = {0, 0, 0, 0, 0, 6, unit, 0x03, 0, 0, 0, 1};
         if (!send(probe, 1, error)) break;
         auto got = receive_frame(options_.timeout);
         if (got.status == client::ReceiveStatus::Frame && got.bytes.size() > kUnitAt &&
@@ -205,7 +209,8 @@ std::optional<std::uint8_t> Session::probe_other_unit(std::span<const std::uint8
         }
     }
     close();
-    return answered;
+    probe_answered_asked_ = answered == asked;
+    return answered == asked ? std::nullopt : answered;
 }
 
 std::string Session::no_answer_hint(std::span<const std::uint8_t> request) {
@@ -215,7 +220,7 @@ std::string Session::no_answer_hint(std::span<const std::uint8_t> request) {
         return fmt::format("; the device answers unit {} instead: declare it with --unit {}",
                            *other, *other);
     }
-    if (!first || request.size() <= 6) return {};
+    if (!first || request.size() <= 6 || probe_answered_asked_) return {};
     std::vector<std::string> tried;
     for (std::uint8_t unit : probe_candidates()) {
         if (unit != request[6]) tried.push_back(std::to_string(unit));

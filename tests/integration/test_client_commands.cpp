@@ -58,9 +58,10 @@ TEST_F(ClientCommands, DiagListenOnlyUntilRestart) {
     EXPECT_EQ(silent.status, 1);
     auto restart = mblab("diag", {"restart-communications", "--timeout", "300"});
     EXPECT_EQ(restart.status, 1);
+    // The device answers unit 1 again once restarted: no other unit is suggested.
     EXPECT_EQ(restart.err, "mblab diag: no answer from " + target() +
-                               " within 300 ms (a device in listen only mode restarts without "
-                               "answering)\n");
+                               " (unit 1) within 300 ms (a device in listen only mode restarts "
+                               "without answering)\n");
     EXPECT_EQ(mblab("read", {"holding", "0"}).status, 0);
 }
 
@@ -158,7 +159,7 @@ TEST(ClientWatch, CountsExceptionsAndTimeoutsAndGoesOn) {
                            "poll 2\nexception 02 illegal data address: 0x0007 is not on this "
                            "device\n"
                            "poll 3\nno answer from " +
-                           tcp_target(port) + " within 1000 ms\n" + "poll 4\n" + table +
+                           tcp_target(port) + " (unit 1) within 1000 ms\n" + "poll 4\n" + table +
                            "4 polls: 2 answered, 1 timeout, 1 exception, 0 other errors\n");
     EXPECT_EQ(ran.err, "mblab watch: 2 of 4 polls failed\n");
 }

@@ -135,7 +135,9 @@ TEST(ClientMalicious, ExceptionWithTrailingBytes) {
 TEST(ClientMalicious, SilenceAndClosedConnections) {
     auto silent = read_against([](auto) { return Answer{}; }, {}, "300");
     EXPECT_EQ(silent.status, 1);
-    EXPECT_NE(silent.err.find(" within 300 ms\n"), std::string::npos) << silent.err;
+    EXPECT_NE(silent.err.find(" (unit 1) within 300 ms; units 255 and 0 did not answer either\n"),
+              std::string::npos)
+        << silent.err;
     auto closed = read_against([](auto) { return Answer{{}, 0ms, true}; });
     expect_bad(closed, "the device closed the connection without answering");
     auto half = read_against([](auto request) {
@@ -203,7 +205,7 @@ TEST(ClientMalicious, RetriesSkipTheLateAnswerOfATimedOutRequest) {
     EXPECT_EQ(ran.status, 0) << ran.err;
     EXPECT_EQ(ran.out, "address     raw     u16\n0 (0x0000)  0x002A  42\n1 (0x0001)  0x002B  43\n");
     EXPECT_NE(ran.err.find("* retry 1 of 1 after: no answer from " + tcp_target(port) +
-                           " within 1000 ms\n"),
+                           " (unit 1) within 1000 ms\n"),
               std::string::npos)
         << ran.err;
     EXPECT_NE(ran.err.find("* skipped a late answer to transaction 0x0001\n"), std::string::npos)
@@ -216,9 +218,25 @@ TEST(ClientMalicious, RetriesGiveUpAfterTheLastTry) {
     auto ran =
         run_mblab({"read", tcp_target(port), "holding", "0", "--timeout", "200", "--retries", "2"});
     EXPECT_EQ(ran.status, 1);
-    EXPECT_EQ(ran.err,
-              "mblab read: no answer from " + tcp_target(port) + " within 200 ms (3 tries)\n");
-    EXPECT_EQ(server.requests(), 3);
+    // The unit asked is named, and it, then units 255 and 0, are asked once each with a harmless
+    // read.
+    EXPECT_EQ(ran.err, "mblab read: no answer from " + tcp_target(port) +
+                           " (unit 1) within 200 ms (3 tries); units 255 and 0 did not answer "
+                           "either\n");
+    EXPECT_EQ(server.requests(), 6);
+}
+
+TEST(ClientMalicious, NoAnswerNamesTheUnitThatDoesAnswer) {
+    MaliciousServer server([](std::span<const std::uint8_t> request, int) {
+        if (request[6] != 0xFF) return Answer{};
+        return Answer{mbap_answer(request, hex("03 02 00 07"))};
+    });
+    const auto port = server.start();
+    auto ran = run_mblab({"write", tcp_target(port), "register", "5", "9", "--timeout", "200"});
+    EXPECT_EQ(ran.status, 1);
+    EXPECT_EQ(ran.err, "mblab write: no answer from " + tcp_target(port) +
+                           " (unit 1) within 200 ms; the device answers unit 255: try --unit "
+                           "255\n");
 }
 
 TEST(ClientMalicious, RetriesReconnectAfterTheDeviceClosed) {
