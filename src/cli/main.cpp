@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <exception>
 
+#include "cli/build_info.hpp"
 #include "cli/commands.hpp"
 
 namespace {
@@ -39,7 +40,7 @@ int main(int argc, char** argv) {
     using namespace mblab::cli;
     CLI::App app{"mblab: a Modbus conformance lab (tester, reference device, load test, client)",
                  "mblab"};
-    app.set_version_flag("--version", std::string("mblab ") + MBLAB_VERSION);
+    app.set_version_flag("-V,--version", fmt::format("mblab {} (commit {})", kVersion, kCommit));
     app.require_subcommand(1);
     CommandRunner runner;
     add_conform_command(app, runner);
