@@ -1,21 +1,14 @@
 #pragma once
 
-#include <cstdlib>
 #include <filesystem>
 
-// Where shipped data (profiles, catalogues) is. Header-only on purpose: MBLAB_SOURCE_DIR is defined
-// for the mblab binary and the tests, not for the libraries.
+#include "shipped/data_dir.hpp"
+
+// Where shipped data (profiles, catalogues) is; the lookup order is in shipped/data_dir.hpp.
 namespace mblab::device {
 
-// $env_var if set, else <source tree>/<name> when it exists, else the install location.
 inline std::filesystem::path shipped_dir(const char* env_var, const char* name) {
-    if (const char* dir = std::getenv(env_var); dir && *dir) return dir;
-#ifdef MBLAB_SOURCE_DIR
-    const std::filesystem::path source = std::filesystem::path(MBLAB_SOURCE_DIR) / name;
-    std::error_code ignored;
-    if (std::filesystem::is_directory(source, ignored)) return source;
-#endif
-    return std::filesystem::path("/usr/local/share/mblab") / name;
+    return shipped::data_dir(env_var, name);
 }
 
 inline std::filesystem::path profiles_dir() {
