@@ -13,7 +13,6 @@ namespace {
 
 constexpr std::uint8_t kBasic = 0x01;
 constexpr std::uint8_t kRegular = 0x02;
-constexpr std::uint8_t kExtended = 0x03;
 constexpr std::uint8_t kIndividual = 0x04;
 constexpr std::uint8_t kIndividualAccessBit = 0x80;
 constexpr std::uint8_t kMoreFollows = 0xFF;
