@@ -1,6 +1,7 @@
 #!/bin/sh
 # The whole test suite, as CI runs it:
-#  1. g++-12, -Werror: build, then every test (unit, integration, interop with third-party peers).
+#  1. g++-12, -Werror: build, then every test (unit, integration, interop with third-party peers,
+#     install layout and .deb contents), then the .deb installed with dpkg, used and removed.
 #  2. clang++-14, -Werror, AddressSanitizer + UndefinedBehaviorSanitizer: build, unit tests again.
 #  3. clang++-14 libFuzzer targets, each run for MBLAB_FUZZ_SECONDS (default 30) on its corpus.
 #  4. clang-format check of every source file.
@@ -16,6 +17,13 @@ CC=gcc CXX=g++ cmake -S . -B build -G Ninja -DMBLAB_WERROR=ON >/dev/null
 cmake --build build -j "$jobs"
 step "all tests (g++-12 build)"
 ctest --test-dir build --output-on-failure -j "$jobs" --timeout 600
+
+step ".deb from the g++-12 build: install, conform from /, remove"
+if [ "$(id -u)" = 0 ]; then
+    tests/install/test_install.sh build --deb-install
+else
+    echo "skipped: installing the .deb needs root (the layout and the package were checked above)"
+fi
 
 step "clang++-14 build with ASan+UBSan (-Werror)"
 CC=clang-14 CXX=clang++-14 cmake -S . -B build-asan -G Ninja -DMBLAB_WERROR=ON \

@@ -1,0 +1,50 @@
+# bash completion for mblab(1); installed as share/bash-completion/completions/mblab.
+# Options are read from `mblab COMMAND --help` of the binary being completed, so the completion
+# never lists an option that binary lacks or misses one it gained.
+
+_mblab_options() {
+    "$1" "$2" --help 2>/dev/null | sed -nE 's/^ +((-[A-Za-z]),)?(--[A-Za-z][-A-Za-z0-9]*).*/\2 \3/p'
+}
+
+_mblab() {
+    local cur prev words cword
+    if declare -F _init_completion >/dev/null; then
+        _init_completion || return
+    else
+        cur="${COMP_WORDS[COMP_CWORD]}"
+        prev="${COMP_WORDS[COMP_CWORD - 1]}"
+        words=("${COMP_WORDS[@]}")
+        cword=$COMP_CWORD
+    fi
+    local commands="conform serve read write diag devid raw watch load"
+    local command="" i
+    for ((i = 1; i < cword; i++)); do
+        case " $commands " in *" ${words[i]} "*) command="${words[i]}"; break ;; esac
+    done
+    if [[ -z $command ]]; then
+        COMPREPLY=($(compgen -W "$commands --help --version -h -V" -- "$cur"))
+        return
+    fi
+    case $prev in
+        --suite)
+            COMPREPLY=($("${words[0]}" conform --list 2>/dev/null | sed -nE 's/^([^ ]+) \(.*/\1/p'))
+            COMPREPLY=($(compgen -W "${COMPREPLY[*]}" -- "$cur") $(compgen -f -- "$cur"))
+            return
+            ;;
+        --dut | --profile | --json | --junit | --pcap | --state | --devices)
+            COMPREPLY=($(compgen -f -- "$cur"))
+            return
+            ;;
+        --catalogue)
+            COMPREPLY=($(compgen -d -- "$cur"))
+            return
+            ;;
+    esac
+    if [[ $cur == -* ]]; then
+        COMPREPLY=($(compgen -W "$(_mblab_options "${words[0]}" "$command")" -- "$cur"))
+        return
+    fi
+    COMPREPLY=($(compgen -f -- "$cur"))
+}
+
+complete -F _mblab mblab

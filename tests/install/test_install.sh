@@ -1,0 +1,69 @@
+#!/bin/bash
+# What `cmake --install` and `cpack -G DEB` give a user, checked from outside the source tree:
+#   test_install.sh BUILD_DIR [--deb-install]
+# installs BUILD_DIR into a temporary prefix and checks the layout, that the installed binary is
+# stripped and runs from another directory with its installed data, the bash completion, and the
+# .deb's dependencies and contents. With --deb-install (root only, CI) the .deb is also installed
+# with dpkg, `mblab conform` run from /, and the package removed.
+set -euo pipefail
+build=$(cd "$1" && pwd)
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*" >&2; exit 1; }
+
+prefix="$work/prefix"
+cmake --install "$build" --prefix "$prefix" >/dev/null
+for f in bin/mblab share/mblab/catalogue/policy-2.1.toml share/mblab/profiles/reference.toml \
+    share/doc/mblab/README.md share/doc/mblab/LICENSE share/doc/mblab/catalogue.md \
+    share/bash-completion/completions/mblab; do
+    [ -f "$prefix/$f" ] || fail "$f not installed"
+done
+if readelf -S "$prefix/bin/mblab" | grep -q '\.debug_'; then fail "installed binary has debug info"; fi
+
+cd "$work"
+listed=$("$prefix/bin/mblab" conform --list | sed -n 1p)
+[ "$listed" = "policy-2.1 ($prefix/share/mblab/catalogue/policy-2.1.toml): Modbus/TCP Conformance Test Policy, version 2.1" ] ||
+    fail "installed binary does not read its installed catalogue: $listed"
+"$prefix/bin/mblab" conform --suite policy-2.1 >"$work/conform.txt" || fail "conform: $(cat "$work/conform.txt")"
+
+# Completion: as bash would call it on a TAB after each word.
+complete_words() {
+    (
+        # shellcheck disable=SC1091
+        source "$prefix/share/bash-completion/completions/mblab"
+        COMP_WORDS=("$@")
+        COMP_CWORD=$(($# - 1))
+        COMP_WORDS[0]="$prefix/bin/mblab"
+        _mblab
+        echo "${COMPREPLY[*]}"
+    )
+}
+[ "$(complete_words mblab con)" = conform ] || fail "completion of 'con': $(complete_words mblab con)"
+[ "$(complete_words mblab conform --su)" = --suite ] || fail "completion of 'conform --su'"
+[ "$(complete_words mblab serve --lis)" = --listen ] || fail "completion of 'serve --lis'"
+[ "$(complete_words mblab conform --suite polic)" = policy-2.1 ] || fail "completion of suite names"
+for command in conform serve read write diag devid raw watch load; do
+    options=$(complete_words mblab "$command" --)
+    case " $options " in *" --help "*) ;; *) fail "no options completed for $command: $options" ;; esac
+done
+
+deb_dir="$work/deb"
+cpack --config "$build/CPackConfig.cmake" -G DEB -B "$deb_dir" >"$work/cpack.log" 2>&1 ||
+    fail "cpack: $(cat "$work/cpack.log")"
+deb=$(ls "$deb_dir"/mblab_*.deb)
+depends=$(dpkg-deb -f "$deb" Depends)
+case "$depends" in *libc6*libpcap*) ;; *) fail "Depends: $depends" ;; esac
+contents=$(dpkg-deb -c "$deb")
+for f in ./usr/bin/mblab ./usr/share/mblab/catalogue/policy-2.1.toml ./usr/share/doc/mblab/LICENSE \
+    ./usr/share/bash-completion/completions/mblab; do
+    grep -q " $f\$" <<<"$contents" || fail "$f not in the .deb"
+done
+
+if [ "${2:-}" = --deb-install ]; then
+    dpkg -i "$deb" >/dev/null
+    trap 'dpkg --purge mblab >/dev/null; rm -rf "$work"' EXIT
+    (cd / && /usr/bin/mblab conform --suite policy-2.1 >"$work/deb-conform.txt") ||
+        fail "conform from the .deb: $(cat "$work/deb-conform.txt")"
+    grep -q '^Summary: 18 passed, 0 failed' "$work/deb-conform.txt" || fail "$(cat "$work/deb-conform.txt")"
+fi
+echo "install: ok"
