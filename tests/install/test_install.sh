@@ -15,7 +15,7 @@ prefix="$work/prefix"
 cmake --install "$build" --prefix "$prefix" >/dev/null
 for f in bin/mblab share/mblab/catalogue/policy-2.1.toml share/mblab/profiles/reference.toml \
     share/doc/mblab/README.md share/doc/mblab/LICENSE share/doc/mblab/catalogue.md \
-    share/bash-completion/completions/mblab; do
+    share/bash-completion/completions/mblab share/man/man1/mblab.1; do
     [ -f "$prefix/$f" ] || fail "$f not installed"
 done
 if readelf -S "$prefix/bin/mblab" | grep -q '\.debug_'; then fail "installed binary has debug info"; fi
@@ -55,7 +55,7 @@ depends=$(dpkg-deb -f "$deb" Depends)
 case "$depends" in *libc6*libpcap*) ;; *) fail "Depends: $depends" ;; esac
 contents=$(dpkg-deb -c "$deb")
 for f in ./usr/bin/mblab ./usr/share/mblab/catalogue/policy-2.1.toml ./usr/share/doc/mblab/LICENSE \
-    ./usr/share/bash-completion/completions/mblab; do
+    ./usr/share/bash-completion/completions/mblab ./usr/share/man/man1/mblab.1; do
     grep -q " $f\$" <<<"$contents" || fail "$f not in the .deb"
 done
 
