@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "client/adu_codec.hpp"
+#include "client/unit_probe.hpp"
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
 
@@ -154,42 +155,16 @@ std::string Transactor::unit_hint() {
     if (probed_ || !options_.probe_units) return {};
     probed_ = true;
     const std::uint8_t asked = options_.unit;
-    const bool tcp = link_ == nullptr || link_->framing() == Framing::Mbap;
-    const std::vector<std::uint8_t> candidates =
-        tcp ? std::vector<std::uint8_t>{1, 255, 0} : std::vector<std::uint8_t>{1};
-    // A harmless one-register read, never the request itself: a write must not reach another
-    // unit. Any answer, an exception included, shows the unit is there.
-    const std::array<std::uint8_t, 5> read = {0x03, 0, 0, 0, 1};
-    std::string tried;
-    std::optional<std::uint8_t> answered;
-    // The asked unit first: when it answers the read, the unit id is not what went wrong.
-    std::vector<std::uint8_t> units = {asked};
-    for (std::uint8_t unit : candidates) {
-        if (unit != asked) units.push_back(unit);
-    }
-    for (std::uint8_t unit : units) {
+    const Framing framing = link_ ? link_->framing() : Framing::Mbap;
+    auto hint = probe_units(framing, asked, [this](std::uint8_t unit) {
         drop_link();
         options_.unit = unit;
-        auto sent = send(read);
-        const bool answer = sent && await_answer(*sent, read[0]).ok();
-        if (unit != asked) tried += (tried.empty() ? "" : ", ") + std::to_string(unit);
-        if (answer) {
-            answered = unit;
-            break;
-        }
-    }
+        auto sent = send(kUnitProbePdu);
+        return sent && await_answer(*sent, kUnitProbePdu[0]).ok();
+    });
     options_.unit = asked;
     drop_link();
-    if (answered == asked) return {};
-    if (answered) {
-        return "; the device answers unit " + std::to_string(*answered) + ": try --unit " +
-               std::to_string(*answered);
-    }
-    if (tried.empty()) return {};
-    const auto last = tried.rfind(", ");
-    if (last == std::string::npos) return "; unit " + tried + " did not answer either";
-    return "; units " + tried.substr(0, last) + " and " + tried.substr(last + 2) +
-           " did not answer either";
+    return hint;
 }
 
 Transactor::Attempt Transactor::attempt(std::span<const std::uint8_t> request) {

@@ -6,6 +6,7 @@
 
 #include "client/answer_check.hpp"
 #include "protocol/request.hpp"
+#include "protocol/response.hpp"
 
 namespace mblab::conformance {
 
@@ -55,8 +56,8 @@ std::optional<std::string> pad_bits_broken(const protocol::ReadBitsRequest& requ
         request.function == protocol::FunctionCode::ReadCoils ? 1 : 2);
 }
 
-}  // namespace
-
+// Device identification ([APP] 6.21), as decoded: the conformity level, the read code's
+// category, object order, the first object, more follows and the next object id.
 std::optional<std::string> device_id_rule_broken(std::uint8_t read_code, std::uint8_t object_id,
                                                  const protocol::ReadDeviceIdResponse& answer) {
     const auto level = static_cast<std::uint8_t>(answer.conformity_level & ~kIndividualAccessBit);
@@ -72,10 +73,6 @@ std::optional<std::string> device_id_rule_broken(std::uint8_t read_code, std::ui
     int previous = -1;
     bool first = true;
     while (answer.next(offset, object)) {
-        if (read_code == kIndividual && object.id != object_id) {
-            return fmt::format("object id is {:02X}, expected {:02X} (individual access)",
-                               object.id, object_id);
-        }
         if (object.id > last_object_of(level)) {
             return fmt::format(
                 "object {:02X} is beyond conformity level {:02X}, which declares {} "
@@ -92,17 +89,19 @@ std::optional<std::string> device_id_rule_broken(std::uint8_t read_code, std::ui
             return fmt::format("object ids out of order: {:02X} follows {:02X}", object.id,
                                previous);
         }
-        if (first && read_code != kIndividual && object.id != object_id && object.id != 0) {
+        // A stream starts at the object asked for or at a later one (a device may leave out
+        // objects it does not have, or serve a category's own objects only), or over at 00 when
+        // the object asked for does not exist; never before it.
+        if (first && read_code != kIndividual && object.id < object_id && object.id != 0) {
             return fmt::format(
-                "the first object is {:02X}; a stream from object {:02X} starts there, or at 00 "
-                "when that object does not exist",
+                "the first object is {:02X}; a stream from object {:02X} starts there or later, "
+                "or at 00 when that object does not exist",
                 object.id, object_id);
         }
         previous = object.id;
         first = false;
     }
     if (answer.more_follows == kMoreFollows) {
-        if (read_code == kIndividual) return std::nullopt;  // the decoder refuses this already
         if (previous < 0) return std::string("more follows is FF, yet the answer holds no object");
         if (answer.next_object_id <= previous) {
             return fmt::format(
@@ -116,6 +115,8 @@ std::optional<std::string> device_id_rule_broken(std::uint8_t read_code, std::ui
     }
     return std::nullopt;
 }
+
+}  // namespace
 
 std::optional<std::string> answer_rule_broken(std::span<const std::uint8_t> request_pdu,
                                               std::span<const std::uint8_t> answer_pdu) {

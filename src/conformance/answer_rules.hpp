@@ -5,8 +5,6 @@
 #include <span>
 #include <string>
 
-#include "protocol/response.hpp"
-
 // What the Modbus application protocol spec says of an answer beyond its byte pattern: the
 // catalogue's patterns pin the fields a case is about, these rules check every other field of
 // every normal answer with the decoder the client uses, so a case fails on any field the spec
@@ -18,11 +16,5 @@ namespace mblab::conformance {
 // (the cases that send broken requests judge their answers by pattern alone).
 std::optional<std::string> answer_rule_broken(std::span<const std::uint8_t> request_pdu,
                                               std::span<const std::uint8_t> answer_pdu);
-
-// Device identification ([APP] 6.21), as decoded: the read code's category, the conformity
-// level's category, object order, more follows and next object id. Exposed for the stream
-// follower, which asks again from the next object id while more follow.
-std::optional<std::string> device_id_rule_broken(std::uint8_t read_code, std::uint8_t object_id,
-                                                 const protocol::ReadDeviceIdResponse& answer);
 
 }  // namespace mblab::conformance

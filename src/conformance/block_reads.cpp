@@ -16,7 +16,6 @@ namespace mblab::conformance {
 namespace {
 
 constexpr std::uint8_t kReadHolding = 0x03;
-constexpr std::uint8_t kBusyAnswer = kReadHolding | protocol::kExceptionBit;
 // A device that stays busy this many times in a row for one read is not pacing the tester, it
 // is refusing the read.
 constexpr std::size_t kMostBusyInARow = 20;
@@ -34,15 +33,6 @@ ResolvedPattern answer_for(const BlockRead& read, std::uint8_t unit, std::uint16
     const auto bytes = static_cast<std::uint8_t>(2 * read.count);
     answer.u16(tid).u16(0).length().byte(unit).byte(kReadHolding).byte(bytes).any(bytes);
     return ResolvedPattern{answer.tokens()};
-}
-
-std::uint16_t transaction_of(std::span<const std::uint8_t> adu) {
-    return adu.size() >= 2 ? static_cast<std::uint16_t>(adu[0] << 8 | adu[1]) : 0;
-}
-
-bool is_busy(std::span<const std::uint8_t> frame) {
-    return frame.size() == 9 && frame[7] == kBusyAnswer &&
-           frame[8] == static_cast<std::uint8_t>(protocol::ExceptionCode::ServerDeviceBusy);
 }
 
 struct InFlight {
@@ -151,7 +141,9 @@ class BlockReader {
         in_flight_.erase(slot);
         const BlockRead& read = reads_[flight.read];
         const auto request = request_for(read, unit_, flight.tid);
-        if (received.status == client::ReceiveStatus::Frame && is_busy(received.bytes) &&
+        if (received.status == client::ReceiveStatus::Frame &&
+            is_exception_answer(request, received.bytes,
+                                protocol::ExceptionCode::ServerDeviceBusy) &&
             transaction_of(received.bytes) == flight.tid) {
             back_off(flight);
             return;
@@ -172,9 +164,7 @@ class BlockReader {
             std::string reason;
             if (judgement.exchange.status == client::ReceiveStatus::Frame && !previous.empty() &&
                 got == previous) {
-                reason = fmt::format(
-                    "duplicate answer: a second copy of the answer before it came instead ({})",
-                    hex_text(got));
+                reason = describe_duplicate(got);
             } else {
                 reason = describe_failure(judgement.exchange);
                 if (silent) reason += session_.no_answer_hint(request);
@@ -194,22 +184,10 @@ class BlockReader {
             // Before the next read goes out, nothing else may be waiting from the device.
             auto unasked = session_.take_unasked(std::chrono::milliseconds(0));
             if (!unasked.bytes.empty()) {
-                Exchange evidence = judgement.exchange;
-                evidence.received = unasked.bytes;
-                evidence.discarded = unasked.discarded;
-                evidence.silence_expected = true;
-                evidence.expected.clear();
-                evidence.match = {};
-                const bool duplicate = unasked.bytes == judgement.exchange.received;
-                failure_ = fail_read(
-                    flight,
-                    duplicate
-                        ? fmt::format("duplicate answer: the device sent this answer twice ({})",
-                                      hex_text(unasked.bytes))
-                        : fmt::format("unsolicited bytes: after the answer the device sent {} "
-                                      "bytes nobody asked for",
-                                      unasked.bytes.size() + unasked.discarded),
-                    std::move(evidence));
+                auto reason =
+                    describe_unasked(unasked, "after this answer,", judgement.exchange.received);
+                failure_ = fail_read(flight, std::move(reason),
+                                     unasked_exchange(std::move(unasked), request));
             }
         }
     }

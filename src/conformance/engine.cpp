@@ -37,60 +37,13 @@ std::optional<Outcome> check_requirements(const Case& c, const Dut& dut) {
 
 constexpr std::size_t kPduAt = 7;  // the PDU's place in an MBAP frame
 
-// True when the device answered exception `code` to the request's function code.
 bool is_exception(const Exchange& exchange, protocol::ExceptionCode code) {
-    const auto& got = exchange.received;
-    return exchange.status == client::ReceiveStatus::Frame && got.size() == 9 &&
-           exchange.sent.size() > kPduAt &&
-           got[kPduAt] == (exchange.sent[kPduAt] | protocol::kExceptionBit) &&
-           got[8] == static_cast<std::uint8_t>(code);
-}
-
-bool is_illegal_function(const Exchange& exchange) {
-    return is_exception(exchange, protocol::ExceptionCode::IllegalFunction);
+    return exchange.status == client::ReceiveStatus::Frame &&
+           is_exception_answer(exchange.sent, exchange.received, code);
 }
 
 std::span<const std::uint8_t> pdu_of(std::span<const std::uint8_t> adu) {
     return adu.size() > kPduAt ? adu.subspan(kPduAt) : std::span<const std::uint8_t>{};
-}
-
-// "00 01 02 ... (4096 of 90000 bytes shown)"
-std::string unasked_text(const client::Received& got) {
-    std::string text =
-        hex_text(std::span(got.bytes).first(std::min<std::size_t>(got.bytes.size(), 32)));
-    const std::size_t total = got.bytes.size() + got.discarded;
-    if (total > 32) text += fmt::format(" ... ({} bytes in all)", total);
-    return text;
-}
-
-// Evidence for bytes that came when nothing was asked.
-Exchange unasked_evidence(client::Received got, std::span<const std::uint8_t> last_request) {
-    Exchange exchange;
-    exchange.sent.assign(last_request.begin(), last_request.end());
-    exchange.status = got.status;
-    exchange.received = std::move(got.bytes);
-    exchange.discarded = got.discarded;
-    exchange.detail = std::move(got.detail);
-    exchange.silence_expected = true;
-    return exchange;
-}
-
-// "an unsolicited or duplicate answer" in words a vendor reads: what came and when.
-std::string unasked_reason(const client::Received& got, std::string_view when,
-                           std::span<const std::uint8_t> last_frame) {
-    const bool duplicate =
-        !last_frame.empty() &&
-        std::equal(got.bytes.begin(), got.bytes.end(), last_frame.begin(), last_frame.end()) &&
-        got.discarded == 0;
-    if (duplicate) {
-        return fmt::format(
-            "duplicate answer: {} the device sent its last answer a second time, unasked ({})",
-            when, unasked_text(got));
-    }
-    return fmt::format(
-        "unsolicited bytes: {} the device sent {} bytes nobody asked for (an unsolicited or "
-        "duplicate answer): {}",
-        when, got.bytes.size() + got.discarded, unasked_text(got));
 }
 
 // Checks every field the spec fixes in an answer the pattern accepted; the step's failure when
@@ -186,11 +139,6 @@ std::optional<Outcome> follow_device_id_stream(Session& session, const Exchange&
     }
 }
 
-// The transaction id of a request or answer.
-std::uint16_t transaction_of(std::span<const std::uint8_t> adu) {
-    return adu.size() >= 2 ? static_cast<std::uint16_t>(adu[0] << 8 | adu[1]) : 0;
-}
-
 // Pipelined answers may come in any order ([TCPG]: the transaction id pairs them); each goes to
 // the unanswered step with its transaction id, or else to the first unanswered step.
 void collect_answers(Session& session, const std::vector<ResolvedStep>& steps,
@@ -258,12 +206,12 @@ SuiteResult Engine::run_suite(const Suite& suite) {
 }
 
 Outcome Engine::run_case(const Case& c) {
-    closing_ = false;
     if (auto not_applicable = check_requirements(c, session_.dut())) return *not_applicable;
     const std::size_t requests_before = session_.requests();
     Outcome outcome;
+    bool fresh = false;
     if (c.procedure.empty()) {
-        outcome = run_steps(c);
+        outcome = run_steps(c, fresh);
     } else {
         const ProcedureInfo* info = find_procedure(c.procedure);
         if (info == nullptr) return verdict(Verdict::NotRun, "unknown procedure " + c.procedure);
@@ -287,14 +235,13 @@ Outcome Engine::run_case(const Case& c) {
         if (!unasked.bytes.empty()) {
             std::vector<std::uint8_t> last = session_.last_frame();
             Outcome failed{Verdict::Fail,
-                           unasked_reason(unasked, "after the case's last answer,", last),
-                           {unasked_evidence(std::move(unasked), {})}};
+                           describe_unasked(unasked, "after the case's last answer,", last),
+                           {unasked_exchange(std::move(unasked), {})}};
             session_.close();
             return failed;
         }
     }
-    if (closing_) session_.close();
-    closing_ = false;
+    if (fresh) session_.close();
     return outcome;
 }
 
@@ -305,7 +252,7 @@ std::optional<Outcome> Engine::check_reachable() {
     return verdict(Verdict::NotRun, "cannot connect to the device: " + error.message);
 }
 
-Outcome Engine::run_steps(const Case& c) {
+Outcome Engine::run_steps(const Case& c, bool& fresh) {
     std::vector<ResolvedStep> steps;
     for (const auto& step : c.steps) {
         ResolvedStep resolved{&step, {}, {}};
@@ -411,8 +358,9 @@ Outcome Engine::run_steps(const Case& c) {
         if (!passed) {
             // An optional function the device does not serve makes the case N/A, whichever
             // step asked for it: 01 is then the right answer.
-            if (c.unsupported_is_na && is_illegal_function(exchange)) {
-                closing_ = true;
+            if (c.unsupported_is_na &&
+                is_exception(exchange, protocol::ExceptionCode::IllegalFunction)) {
+                fresh = true;
                 return verdict(
                     Verdict::NotApplicable,
                     fmt::format("the device answered exception 01: function {:02X} is not "
@@ -425,10 +373,7 @@ Outcome Engine::run_steps(const Case& c) {
             std::string reason;
             if (exchange.status == client::ReceiveStatus::Frame && !previous_frame.empty() &&
                 exchange.received == previous_frame) {
-                reason = fmt::format(
-                    "duplicate answer: instead of an answer to this request came a second copy "
-                    "of the answer before it ({}): the device answered one request twice",
-                    hex_text(exchange.received));
+                reason = describe_duplicate(exchange.received);
             } else {
                 reason = describe_failure(exchange);
                 if (silent && !step.silence) reason += session_.no_answer_hint(resolved.request);
@@ -455,8 +400,8 @@ Outcome Engine::run_steps(const Case& c) {
         if (!c.pipeline && i + 1 < steps.size()) {
             auto unasked = session_.take_unasked(std::chrono::milliseconds(0));
             if (!unasked.bytes.empty()) {
-                fail_step(i, unasked_reason(unasked, "after this answer,", exchange.received),
-                          unasked_evidence(std::move(unasked), resolved.request));
+                fail_step(i, describe_unasked(unasked, "after this answer,", exchange.received),
+                          unasked_exchange(std::move(unasked), resolved.request));
                 break;
             }
         }
@@ -475,11 +420,11 @@ Outcome Engine::run_steps(const Case& c) {
             outcome.reason += (outcome.reason.empty() ? "" : "; ") + remark;
         }
     }
-    // A failed or isolated case may leave answers in flight; start the next case afresh. The
-    // engine closes after it has looked for bytes nobody asked for.
-    if (outcome.verdict != Verdict::Pass) session_.close();
-    if (c.isolated || out_of_step) closing_ = true;
-    if (out_of_step) session_.close();
+    // A failed case, or one whose device closed or went out of step, may leave answers in
+    // flight: the next case starts afresh. An isolated case is closed by the engine once it has
+    // looked for bytes nobody asked for.
+    if (outcome.verdict != Verdict::Pass || out_of_step) session_.close();
+    fresh = c.isolated;
     return outcome;
 }
 

@@ -30,11 +30,13 @@ class Engine {
     Outcome run_case(const Case& c);
 
   private:
-    Outcome run_steps(const Case& c);
+    // `fresh` is set when the next case must start on a new connection (isolated cases, a
+    // tolerated close, an N/A that left the device mid-case); the engine closes it once it has
+    // looked for bytes nobody asked for.
+    Outcome run_steps(const Case& c, bool& fresh);
     std::optional<Outcome> check_reachable();
     Session& session_;
     RunListener* listener_;
-    bool closing_ = false;  // the case asks for a fresh connection once it is judged
 };
 
 }  // namespace mblab::conformance

@@ -53,6 +53,56 @@ std::string_view field_at(std::size_t position, int function) {
 
 }  // namespace
 
+std::uint16_t transaction_of(std::span<const std::uint8_t> adu) {
+    return adu.size() >= 2 ? static_cast<std::uint16_t>(adu[0] << 8 | adu[1]) : 0;
+}
+
+bool is_exception_answer(std::span<const std::uint8_t> request, std::span<const std::uint8_t> frame,
+                         protocol::ExceptionCode code) {
+    constexpr std::size_t kFunctionAt = 7;
+    return request.size() > kFunctionAt && frame.size() == kFunctionAt + 2 &&
+           frame[kFunctionAt] == (request[kFunctionAt] | protocol::kExceptionBit) &&
+           frame[kFunctionAt + 1] == static_cast<std::uint8_t>(code);
+}
+
+std::string describe_unasked(const client::Received& got, std::string_view when,
+                             std::span<const std::uint8_t> last_frame) {
+    const std::size_t total = got.bytes.size() + got.discarded;
+    std::string shown =
+        hex_text(std::span(got.bytes).first(std::min<std::size_t>(got.bytes.size(), 32)));
+    if (total > 32) shown += fmt::format(" ... ({} bytes in all)", total);
+    const bool again =
+        got.discarded == 0 && !last_frame.empty() &&
+        std::equal(got.bytes.begin(), got.bytes.end(), last_frame.begin(), last_frame.end());
+    if (again) {
+        return fmt::format(
+            "duplicate answer: {} the device sent its last answer a second time, unasked ({})",
+            when, shown);
+    }
+    return fmt::format(
+        "unsolicited bytes: {} the device sent {} bytes nobody asked for (an unsolicited or "
+        "duplicate answer): {}",
+        when, total, shown);
+}
+
+Exchange unasked_exchange(client::Received got, std::span<const std::uint8_t> last_request) {
+    Exchange exchange;
+    exchange.sent.assign(last_request.begin(), last_request.end());
+    exchange.status = got.status;
+    exchange.received = std::move(got.bytes);
+    exchange.discarded = got.discarded;
+    exchange.detail = std::move(got.detail);
+    exchange.silence_expected = true;
+    return exchange;
+}
+
+std::string describe_duplicate(std::span<const std::uint8_t> frame) {
+    return fmt::format(
+        "duplicate answer: instead of an answer to this request came a second copy of the answer "
+        "before it ({}): the device answered one request twice",
+        hex_text(frame));
+}
+
 Judgement judge(std::span<const std::uint8_t> sent, client::Received received,
                 std::chrono::milliseconds waited,
                 const std::vector<ResolvedPattern>& alternatives) {

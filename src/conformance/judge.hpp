@@ -8,6 +8,7 @@
 #include "client/raw_link.hpp"
 #include "conformance/pattern.hpp"
 #include "conformance/verdict.hpp"
+#include "protocol/exception_code.hpp"
 
 namespace mblab::conformance {
 
@@ -20,6 +21,25 @@ struct Judgement {
 // matching one, or with the closest when none matches.
 Judgement judge(std::span<const std::uint8_t> sent, client::Received received,
                 std::chrono::milliseconds waited, const std::vector<ResolvedPattern>& alternatives);
+
+// The transaction id of an MBAP request or answer (0 when too short to hold one).
+std::uint16_t transaction_of(std::span<const std::uint8_t> adu);
+
+// The device answered the request's function code with exception `code`.
+bool is_exception_answer(std::span<const std::uint8_t> request, std::span<const std::uint8_t> frame,
+                         protocol::ExceptionCode code);
+
+// Bytes that came when nothing was asked, in words a vendor reads: "duplicate answer: ..." when
+// they are `last_frame` again, else "unsolicited bytes: ..." with their count and first bytes.
+// `when` places them: "after this answer,".
+std::string describe_unasked(const client::Received& got, std::string_view when,
+                             std::span<const std::uint8_t> last_frame);
+
+// The evidence for bytes that came unasked after `last_request`: what came, nothing expected.
+Exchange unasked_exchange(client::Received got, std::span<const std::uint8_t> last_request);
+
+// A frame that came instead of an answer and repeats the answer before it.
+std::string describe_duplicate(std::span<const std::uint8_t> frame);
 
 // One line saying what went wrong: "timeout after 1000 ms", "exception 02 (illegal data
 // address)", "wrong transaction id, length field", ...

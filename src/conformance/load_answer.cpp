@@ -108,12 +108,4 @@ std::optional<FailureKind> judge_answer(std::span<const AnswerPattern> alternati
     return FailureKind::WrongAnswer;
 }
 
-bool is_illegal_function_answer(std::span<const std::uint8_t> request,
-                                std::span<const std::uint8_t> frame) {
-    return request.size() > kFunctionAt && frame.size() == kFunctionAt + 2 &&
-           frame[kFunctionAt] == (request[kFunctionAt] | protocol::kExceptionBit) &&
-           frame[kFunctionAt + 1] ==
-               static_cast<std::uint8_t>(protocol::ExceptionCode::IllegalFunction);
-}
-
 }  // namespace mblab::conformance

@@ -58,8 +58,4 @@ class AnswerPattern {
 std::optional<FailureKind> judge_answer(std::span<const AnswerPattern> alternatives,
                                         std::span<const std::uint8_t> frame);
 
-// The device refused the request's function code with exception 01.
-bool is_illegal_function_answer(std::span<const std::uint8_t> request,
-                                std::span<const std::uint8_t> frame);
-
 }  // namespace mblab::conformance

@@ -64,7 +64,7 @@ std::optional<FailureKind> judge_load_answer(const LoadPlan& plan, NodeTally& ta
     const LoadExchange& sent = plan.exchanges[exchange];
     std::optional<FailureKind> failure = judge_answer(sent.answers, frame);
     if (failure && tests && plan.cases[sent.test_case].unsupported_is_na &&
-        is_illegal_function_answer(sent.request, frame)) {
+        is_exception_answer(sent.request, frame, protocol::ExceptionCode::IllegalFunction)) {
         tally.not_applicable[sent.test_case] = fmt::format(
             "N/A: the device answered exception 01 to function {:02X}", sent.request[7]);
         failure.reset();

@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "client/adu_codec.hpp"
+#include "client/unit_probe.hpp"
 #include "protocol/limits.hpp"
 
 namespace mblab::conformance {
@@ -176,61 +177,24 @@ client::Received Session::take_unasked(std::chrono::milliseconds wait) {
     return none;
 }
 
-std::vector<std::uint8_t> Session::probe_candidates() const {
-    // Serial addresses are 1..247; 0 is a broadcast nobody answers.
-    return target_.tcp ? std::vector<std::uint8_t>{1, 255, 0} : std::vector<std::uint8_t>{1};
-}
-
-std::optional<std::uint8_t> Session::probe_other_unit(std::span<const std::uint8_t> request) {
-    constexpr std::size_t kUnitAt = 6;
-    if (probed_ || request.size() <= kUnitAt + 1) return std::nullopt;
-    probed_ = true;
-    const std::uint8_t asked = request[kUnitAt];
-    std::optional<std::uint8_t> answered;
-    // The asked unit first: when it answers the read, the unit id is not what went wrong.
-    std::vector<std::uint8_t> units = {asked};
-    for (std::uint8_t unit : probe_candidates()) {
-        if (unit != asked) units.push_back(unit);
-    }
-    for (std::uint8_t unit : units) {
-        // A harmless read, whatever the unanswered request was: a write must never reach another
-        // unit (on a gateway that is another device, and 0 a broadcast). Any answer, exception
-        // included, shows the unit is there. A fresh connection each time, so a late answer to
-        // an earlier request is not taken for this one.
-        close();
-        client::LinkError error;
-        const std::vector<std::uint8_t> probe = {0, 0, 0, 0, 0, 6, unit, 0x03, 0, 0, 0, 1};
-        if (!send(probe, 1, error)) break;
-        auto got = receive_frame(options_.timeout);
-        if (got.status == client::ReceiveStatus::Frame && got.bytes.size() > kUnitAt &&
-            got.bytes[kUnitAt] == unit) {
-            answered = unit;
-            break;
-        }
-    }
-    close();
-    probe_answered_asked_ = answered == asked;
-    return answered == asked ? std::nullopt : answered;
-}
-
 std::string Session::no_answer_hint(std::span<const std::uint8_t> request) {
-    const bool first = !probed_;
-    auto other = probe_other_unit(request);
-    if (other) {
-        return fmt::format("; the device answers unit {} instead: declare it with --unit {}",
-                           *other, *other);
-    }
-    if (!first || request.size() <= 6 || probe_answered_asked_) return {};
-    std::vector<std::string> tried;
-    for (std::uint8_t unit : probe_candidates()) {
-        if (unit != request[6]) tried.push_back(std::to_string(unit));
-    }
-    if (tried.empty()) return {};
-    std::string list = tried.front();
-    for (std::size_t i = 1; i < tried.size(); ++i) {
-        list += (i + 1 == tried.size() ? " and " : ", ") + tried[i];
-    }
-    return fmt::format("; unit{} {} did not answer either", tried.size() > 1 ? "s" : "", list);
+    constexpr std::size_t kUnitAt = 6;
+    if (probed_ || request.size() <= kUnitAt) return {};
+    probed_ = true;
+    auto hint = client::probe_units(framing(), request[kUnitAt], [this](std::uint8_t unit) {
+        // A fresh connection each time, so a late answer to an earlier request is not taken for
+        // this one.
+        close();
+        std::vector<std::uint8_t> probe = {0, 0, 0, 0, 0, 6, unit};
+        probe.insert(probe.end(), client::kUnitProbePdu.begin(), client::kUnitProbePdu.end());
+        client::LinkError error;
+        if (!send(probe, 1, error)) return false;
+        auto got = receive_frame(options_.timeout);
+        return got.status == client::ReceiveStatus::Frame && got.bytes.size() > kUnitAt &&
+               got.bytes[kUnitAt] == unit;
+    });
+    close();
+    return hint;
 }
 
 client::Received Session::receive_any(std::chrono::milliseconds timeout) {

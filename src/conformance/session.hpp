@@ -83,18 +83,12 @@ class Session {
     // when it stayed quiet or the connection is not open.
     client::Received take_unasked(std::chrono::milliseconds wait);
 
-    // After a request went unanswered: which other unit id answers a one-register FC 03 read
-    // (never the request itself, which may write), asked once per run on a fresh connection (1,
-    // 255 and 0 over TCP; 1 on a serial line). Nothing when no other unit answers or the probe
-    // was made before.
-    std::optional<std::uint8_t> probe_other_unit(std::span<const std::uint8_t> request);
-    // "; the device answers unit 255: try --unit 255" after a request that went unanswered,
-    // from probe_other_unit(); empty when nothing more can be said.
+    // "; the device answers unit 255: try --unit 255" after a request that went unanswered
+    // (client::probe_units, asked once per run); empty when nothing more can be said.
     std::string no_answer_hint(std::span<const std::uint8_t> request);
 
   private:
     bool send_on_line(std::span<const std::uint8_t> bytes, client::LinkError& error);
-    std::vector<std::uint8_t> probe_candidates() const;
     client::Received from_line(client::Received received) const;
 
     client::Target target_;
@@ -110,7 +104,6 @@ class Session {
     std::size_t connection_requests_ = 0;
     std::vector<std::uint8_t> last_frame_;
     bool probed_ = false;
-    bool probe_answered_asked_ = false;  // the asked unit answered the probe's read
 };
 
 // Why a case cannot run over the session's framing (pipelined or split requests are TCP stream

@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include "conformance/judge.hpp"
 #include "conformance/load_answer.hpp"
 #include "support/hex.hpp"
 
@@ -59,10 +60,11 @@ TEST(LoadAnswer, KindsOfFailure) {
 }
 
 TEST(LoadAnswer, IllegalFunctionAnswer) {
+    constexpr auto kIllegalFunction = protocol::ExceptionCode::IllegalFunction;
     const auto request = hex("00 00 00 00 00 06 01 14 00 00 00 01");
-    EXPECT_TRUE(is_illegal_function_answer(request, hex("00 03 00 00 00 03 01 94 01")));
-    EXPECT_FALSE(is_illegal_function_answer(request, hex("00 03 00 00 00 03 01 94 02")));
-    EXPECT_FALSE(is_illegal_function_answer(request, hex("00 03 00 00 00 03 01 83 01")));
+    EXPECT_TRUE(is_exception_answer(request, hex("00 03 00 00 00 03 01 94 01"), kIllegalFunction));
+    EXPECT_FALSE(is_exception_answer(request, hex("00 03 00 00 00 03 01 94 02"), kIllegalFunction));
+    EXPECT_FALSE(is_exception_answer(request, hex("00 03 00 00 00 03 01 83 01"), kIllegalFunction));
 }
 
 TEST(LoadAnswer, KindNames) {
