@@ -19,11 +19,11 @@
 #include "client/target.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/catalogue_paths.hpp"
-#include "conformance/load_mix.hpp"
-#include "conformance/load_plan.hpp"
-#include "conformance/load_report.hpp"
-#include "conformance/load_runner.hpp"
 #include "conformance/reports.hpp"
+#include "load/mix.hpp"
+#include "load/plan.hpp"
+#include "load/report.hpp"
+#include "load/runner.hpp"
 #include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
 
@@ -35,6 +35,7 @@ namespace mblab::cli {
 namespace {
 
 namespace conf = mblab::conformance;
+namespace load = mblab::load;
 namespace fs = std::filesystem;
 
 constexpr auto kLiveStatusPeriod = std::chrono::seconds(1);
@@ -102,12 +103,12 @@ protocol::Result<conf::Dut, std::string> declared_dut(const LoadOptions& options
     return dut;
 }
 
-protocol::Result<conf::LoadTarget, std::string> make_target(const std::string& text,
+protocol::Result<load::LoadTarget, std::string> make_target(const std::string& text,
                                                             std::chrono::milliseconds timeout) {
     if (transport::is_serial_url(text)) {
         auto parsed = client::parse_target(text);
         if (!parsed) return parsed.error();
-        conf::LoadTarget target;
+        load::LoadTarget target;
         target.url = parsed->name;
         // A line that cannot be opened is a setup error, as an unreachable TCP node is.
         auto link = client::open_link(*parsed, std::max(timeout, std::chrono::milliseconds(1000)));
@@ -117,7 +118,7 @@ protocol::Result<conf::LoadTarget, std::string> make_target(const std::string& t
     }
     auto endpoint = transport::parse_tcp_url(text);
     if (!endpoint) return endpoint.error();
-    conf::LoadTarget target;
+    load::LoadTarget target;
     target.url = transport::format_tcp_url(*endpoint);
     std::memcpy(&target.address, endpoint->data(), endpoint->size());
     target.address_size = static_cast<socklen_t>(endpoint->size());
@@ -129,19 +130,19 @@ protocol::Result<conf::LoadTarget, std::string> make_target(const std::string& t
 }
 
 // With a line among the nodes, the unit must be a serial address (1 unless declared).
-std::optional<std::string> check_line_unit(const LoadOptions& options, const conf::LoadPlan& plan,
+std::optional<std::string> check_line_unit(const LoadOptions& options, const load::LoadPlan& plan,
                                            conf::Dut& dut) {
     const auto line = std::find_if(plan.targets.begin(), plan.targets.end(),
-                                   [](const conf::LoadTarget& target) { return target.line; });
+                                   [](const load::LoadTarget& target) { return target.line; });
     if (line == plan.targets.end()) return std::nullopt;
     const bool declared = !options.dut_file.empty() || options.command->count("--unit") > 0;
     return conf::settle_serial_unit(dut, declared, line->url);
 }
 
-protocol::Result<conf::LoadPlan, std::string> make_plan(const LoadOptions& options) {
-    conf::LoadPlan plan;
+protocol::Result<load::LoadPlan, std::string> make_plan(const LoadOptions& options) {
+    load::LoadPlan plan;
     auto& s = plan.settings;
-    auto duration = conf::parse_duration(options.duration);
+    auto duration = load::parse_duration(options.duration);
     if (!duration) return duration.error();
     s.duration = *duration;
     s.connections = options.connections;
@@ -174,13 +175,13 @@ protocol::Result<conf::LoadPlan, std::string> make_plan(const LoadOptions& optio
             if (!suite) return suite.error();
             suites.push_back(std::move(suite.value()));
         }
-        auto added = conf::add_protocol_tests(plan, suites, *dut, options.cases);
+        auto added = load::add_protocol_tests(plan, suites, *dut, options.cases);
         if (!added) return added.error();
     }
     if (s.connections > 0) {
-        auto mix = conf::parse_mix(options.mix);
+        auto mix = load::parse_mix(options.mix);
         if (!mix) return mix.error();
-        conf::add_mix(plan, *mix, *dut);
+        load::add_mix(plan, *mix, *dut);
     }
     if (plan.test_exchanges == 0 && s.connections == 0) {
         return std::string(
@@ -216,33 +217,33 @@ void catch_stop_signals() {
 int run_load(const LoadOptions& options) {
     auto plan = make_plan(options);
     if (!plan) return usage_error(plan.error());
-    fmt::print("{}", conf::load_header(*plan));
+    fmt::print("{}", load::load_header(*plan));
     std::fflush(stdout);
 
     raise_descriptor_limit();
     catch_stop_signals();
     const bool live = ::isatty(STDERR_FILENO) != 0;
-    conf::LoadRunner runner(*plan);
+    load::LoadRunner runner(*plan);
     auto result = runner.run(
-        g_stop, live ? kLiveStatusPeriod : kLogStatusPeriod, [&](const conf::LoadStatus& status) {
+        g_stop, live ? kLiveStatusPeriod : kLogStatusPeriod, [&](const load::LoadStatus& status) {
             fmt::print(stderr, "{}{}{}", live ? "\r\033[K" : "",
-                       conf::load_status_line(*plan, status), live ? "" : "\n");
+                       load::load_status_line(*plan, status), live ? "" : "\n");
             std::fflush(stderr);
         });
     if (live) fmt::print(stderr, "\r\033[K");
-    fmt::print("{}", conf::load_summary(*plan, result));
+    fmt::print("{}", load::load_summary(*plan, result));
     std::fflush(stdout);
 
     std::string error;
     if (!options.json.empty() &&
-        !conf::write_text_file(options.json, conf::load_json_report(*plan, result), error)) {
+        !conf::write_text_file(options.json, load::load_json_report(*plan, result), error)) {
         return usage_error(error);
     }
     if (!options.junit.empty() &&
-        !conf::write_text_file(options.junit, conf::load_junit_report(*plan, result), error)) {
+        !conf::write_text_file(options.junit, load::load_junit_report(*plan, result), error)) {
         return usage_error(error);
     }
-    return result.verdict() == conf::LoadVerdict::Pass ? kExitOk : kExitFailed;
+    return result.verdict() == load::LoadVerdict::Pass ? kExitOk : kExitFailed;
 }
 
 }  // namespace

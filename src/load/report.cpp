@@ -1,4 +1,4 @@
-#include "conformance/load_report.hpp"
+#include "load/report.hpp"
 
 #include <fmt/core.h>
 
@@ -8,7 +8,7 @@
 #include "conformance/evidence_text.hpp"
 #include "conformance/reports.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 namespace {
 
@@ -95,7 +95,7 @@ json latency_json(const LatencySnapshot& latency) {
 // Conform's report shape for the evidence, taken from its own JSON writer.
 std::vector<json> evidence_json(const LoadPlan& plan, const LoadResult& result) {
     std::vector<json> out;
-    const json conform = json::parse(json_report(load_as_run(plan, result)));
+    const json conform = json::parse(conformance::json_report(load_as_run(plan, result)));
     for (const auto& c : conform["suites"][0]["cases"]) {
         out.push_back(c["evidence"].empty() ? json() : c["evidence"][0]);
     }
@@ -228,7 +228,7 @@ std::string load_summary(const LoadPlan& plan, const LoadResult& result) {
         if (node.failure_total() == 0) continue;
         out += fmt::format("\n{}: FAIL, {}\n", node.target, node_reason(plan, node, false));
         if (node.first_failure) {
-            for (const auto& line : evidence_lines(node.first_failure->evidence)) {
+            for (const auto& line : conformance::evidence_lines(node.first_failure->evidence)) {
                 out += "    " + line + "\n";
             }
         }
@@ -274,15 +274,16 @@ std::string load_summary(const LoadPlan& plan, const LoadResult& result) {
     return out;
 }
 
-RunResult load_as_run(const LoadPlan& plan, const LoadResult& result) {
-    RunResult run;
+conformance::RunResult load_as_run(const LoadPlan& plan, const LoadResult& result) {
+    conformance::RunResult run;
     run.target = result.nodes.size() == 1 ? result.nodes.front().target
                                           : plural(result.nodes.size(), "node", "nodes");
     run.elapsed = result.elapsed;
     run.requests = result.sent();
-    SuiteResult suite{"load", "Interoperability test under load (seed 000 section 8)", "", {}};
+    conformance::SuiteResult suite{
+        "load", "Interoperability test under load (seed 000 section 8)", "", {}};
     for (const auto& node : result.nodes) {
-        CaseResult c;
+        conformance::CaseResult c;
         c.id = node.target;
         c.source = "seed 000 8.4";
         c.title = fmt::format("no failure for {} under load",
@@ -292,13 +293,13 @@ RunResult load_as_run(const LoadPlan& plan, const LoadResult& result) {
         c.outcome.reason = node_reason(plan, node, result.interrupted);
         switch (node.verdict(result.interrupted)) {
             case LoadVerdict::Pass:
-                c.outcome.verdict = Verdict::Pass;
+                c.outcome.verdict = conformance::Verdict::Pass;
                 break;
             case LoadVerdict::Incomplete:
-                c.outcome.verdict = Verdict::NotRun;
+                c.outcome.verdict = conformance::Verdict::NotRun;
                 break;
             case LoadVerdict::Fail:
-                c.outcome.verdict = Verdict::Fail;
+                c.outcome.verdict = conformance::Verdict::Fail;
                 if (node.first_failure) c.outcome.evidence.push_back(node.first_failure->evidence);
                 break;
         }
@@ -354,7 +355,7 @@ std::string load_json_report(const LoadPlan& plan, const LoadResult& result) {
 }
 
 std::string load_junit_report(const LoadPlan& plan, const LoadResult& result) {
-    std::string xml = junit_report(load_as_run(plan, result));
+    std::string xml = conformance::junit_report(load_as_run(plan, result));
     // The conformance writer names its own tool in the outer element.
     const std::string_view theirs = "<testsuites name=\"mblab conform ";
     if (auto at = xml.find(theirs); at != std::string::npos) {
@@ -363,4 +364,4 @@ std::string load_junit_report(const LoadPlan& plan, const LoadResult& result) {
     return xml;
 }
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

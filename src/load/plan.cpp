@@ -1,4 +1,4 @@
-#include "conformance/load_plan.hpp"
+#include "load/plan.hpp"
 
 #include <fmt/core.h>
 
@@ -10,14 +10,14 @@
 #include "conformance/procedures.hpp"
 #include "protocol/limits.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 namespace {
 
 namespace limits = protocol::limits;
 
 // Why a step cannot run in the loop; nothing when it can.
-std::optional<std::string> loop_obstacle(const Step& step) {
+std::optional<std::string> loop_obstacle(const conformance::Step& step) {
     if (!step.split.empty()) return "writes its request in pieces";
     if (step.silence) return "expects silence";
     if (step.accept_close || step.accept_silence) return "tolerates a close or silence";
@@ -33,7 +33,7 @@ bool is_whole_mbap_request(const std::vector<std::uint8_t>& bytes) {
 }
 
 LoadExchange make_exchange(std::string name, std::string source, std::vector<std::uint8_t> request,
-                           std::vector<ResolvedPattern> expect) {
+                           std::vector<conformance::ResolvedPattern> expect) {
     LoadExchange exchange;
     exchange.name = std::move(name);
     exchange.source = std::move(source);
@@ -45,14 +45,14 @@ LoadExchange make_exchange(std::string name, std::string source, std::vector<std
 }
 
 // The case's exchanges, or why it stays out of the loop.
-protocol::Result<std::vector<LoadExchange>, std::string> case_exchanges(const Case& c,
-                                                                        const Dut& dut) {
+protocol::Result<std::vector<LoadExchange>, std::string> case_exchanges(
+    const conformance::Case& c, const conformance::Dut& dut) {
     if (c.isolated) return std::string("needs a connection of its own");
     for (const auto& requirement : c.requirements) {
-        if (auto why = unmet(requirement, dut)) return "N/A: " + *why;
+        if (auto why = conformance::unmet(requirement, dut)) return "N/A: " + *why;
     }
     if (!c.procedure.empty()) {
-        const ProcedureInfo* info = find_procedure(c.procedure);
+        const conformance::ProcedureInfo* info = conformance::find_procedure(c.procedure);
         if (info == nullptr || info->load_steps == nullptr) {
             return fmt::format("procedure {}", c.procedure);
         }
@@ -66,19 +66,19 @@ protocol::Result<std::vector<LoadExchange>, std::string> case_exchanges(const Ca
         }
         return out;
     }
-    const DutFacts facts(dut);
+    const conformance::DutFacts facts(dut);
     std::vector<LoadExchange> out;
     for (std::size_t i = 0; i < c.steps.size(); ++i) {
-        const Step& step = c.steps[i];
+        const conformance::Step& step = c.steps[i];
         if (auto why = loop_obstacle(step)) return *why;
-        auto request = resolve(step.request, facts);
+        auto request = conformance::resolve(step.request, facts);
         if (!request) return fmt::format("N/A: the DUT does not declare {}", request.error().name);
-        auto bytes = render_bytes(request.value());
+        auto bytes = conformance::render_bytes(request.value());
         if (!is_whole_mbap_request(bytes))
             return std::string("its request is not a whole MBAP frame");
-        std::vector<ResolvedPattern> expect;
+        std::vector<conformance::ResolvedPattern> expect;
         for (const auto& alternative : step.expect) {
-            auto pattern = resolve(alternative.pattern, facts);
+            auto pattern = conformance::resolve(alternative.pattern, facts);
             if (!pattern) {
                 return fmt::format("N/A: the DUT does not declare {}", pattern.error().name);
             }
@@ -94,10 +94,9 @@ protocol::Result<std::vector<LoadExchange>, std::string> case_exchanges(const Ca
 
 }  // namespace
 
-protocol::Result<bool, std::string> add_protocol_tests(LoadPlan& plan,
-                                                       const std::vector<Suite>& suites,
-                                                       const Dut& dut,
-                                                       const std::vector<std::string>& only) {
+protocol::Result<bool, std::string> add_protocol_tests(
+    LoadPlan& plan, const std::vector<conformance::Suite>& suites, const conformance::Dut& dut,
+    const std::vector<std::string>& only) {
     const std::set<std::string> wanted(only.begin(), only.end());
     std::set<std::string> found;
     for (const auto& suite : suites) {
@@ -168,11 +167,11 @@ void unpin_read_backs(LoadPlan& plan) {
         for (auto& pattern : exchange.expect) {
             std::size_t position = 0;  // in bytes: {len} stands for two
             for (auto& token : pattern.tokens) {
-                if (position >= kValuesAt && token.kind == PatternToken::Kind::Byte) {
-                    token.kind = PatternToken::Kind::Any;
+                if (position >= kValuesAt && token.kind == conformance::PatternToken::Kind::Byte) {
+                    token.kind = conformance::PatternToken::Kind::Any;
                     unpinned = true;
                 }
-                position += token.kind == PatternToken::Kind::Length ? 2 : 1;
+                position += token.kind == conformance::PatternToken::Kind::Length ? 2 : 1;
             }
         }
         if (!unpinned) continue;  // an exception or values the pattern never pinned
@@ -185,15 +184,16 @@ void unpin_read_backs(LoadPlan& plan) {
 
 }  // namespace
 
-void add_mix(LoadPlan& plan, const std::vector<MixEntry>& mix, const Dut& dut) {
-    const DutFacts facts(dut);
+void add_mix(LoadPlan& plan, const std::vector<MixEntry>& mix, const conformance::Dut& dut) {
+    const conformance::DutFacts facts(dut);
     std::uint64_t sum = 0;
     for (const auto& entry : mix) {
         MixExchange patterns = mix_exchange(entry);
         // The mix only uses {unit}, which every DUT declares.
-        auto request = resolve(patterns.request, facts);
-        auto expect = resolve(patterns.expect, facts);
-        plan.exchanges.push_back(make_exchange(entry.text, "--mix", render_bytes(request.value()),
+        auto request = conformance::resolve(patterns.request, facts);
+        auto expect = conformance::resolve(patterns.expect, facts);
+        plan.exchanges.push_back(make_exchange(entry.text, "--mix",
+                                               conformance::render_bytes(request.value()),
                                                {std::move(expect.value())}));
         sum += entry.weight;
         plan.mix_cumulative.push_back(sum);
@@ -262,4 +262,4 @@ std::size_t LoadPlan::tcp_connections() const {
     return count;
 }
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

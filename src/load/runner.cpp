@@ -1,13 +1,13 @@
-#include "conformance/load_runner.hpp"
+#include "load/runner.hpp"
 
 #include <algorithm>
 #include <memory>
 #include <thread>
 
-#include "conformance/load_line.hpp"
-#include "conformance/load_worker.hpp"
+#include "load/line_worker.hpp"
+#include "load/worker.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 namespace {
 
@@ -167,4 +167,4 @@ LoadResult LoadRunner::run(const std::atomic<bool>& stop, milliseconds status_pe
     return result;
 }
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

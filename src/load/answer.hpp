@@ -11,7 +11,7 @@
 
 // Judging answers at load-test speed: no allocation, no evidence. The evidence of a failure is
 // built afterwards with judge(), from the same patterns.
-namespace mblab::conformance {
+namespace mblab::load {
 
 // The kinds of failure a load run counts (seed 000 8.4: "no detected failures anywhere").
 enum class FailureKind : std::uint8_t {
@@ -34,7 +34,7 @@ std::string_view failure_label(FailureKind kind);
 // matches answers to requests by them.
 class AnswerPattern {
   public:
-    explicit AnswerPattern(const ResolvedPattern& pattern);
+    explicit AnswerPattern(const conformance::ResolvedPattern& pattern);
 
     bool matches(std::span<const std::uint8_t> frame) const;
     // The function byte the pattern expects has the exception bit set.
@@ -58,4 +58,4 @@ class AnswerPattern {
 std::optional<FailureKind> judge_answer(std::span<const AnswerPattern> alternatives,
                                         std::span<const std::uint8_t> frame);
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

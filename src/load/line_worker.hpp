@@ -6,12 +6,12 @@
 #include <memory>
 #include <vector>
 
-#include "conformance/load_exchanges.hpp"
-#include "conformance/load_plan.hpp"
-#include "conformance/load_thread.hpp"
 #include "conformance/session.hpp"
+#include "load/exchanges.hpp"
+#include "load/plan.hpp"
+#include "load/thread.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 // A node reached over RTU, ASCII or RTU over TCP (`LoadTarget::line`). A serial line has one
 // master and carries one request at a time, so the node gets one thread that sends the node's
@@ -40,7 +40,7 @@ class LoadLineWorker final : public LoadThread {
     LoadClock::time_point start_;
     std::chrono::nanoseconds send_interval_;
     device::Prng prng_;
-    Session session_;
+    conformance::Session session_;
     std::vector<std::unique_ptr<NodeTally>> tallies_;
     NodeTally& tally_;
     bool tests_ = true;
@@ -49,4 +49,4 @@ class LoadLineWorker final : public LoadThread {
     LoadClock::time_point next_send_{};
 };
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

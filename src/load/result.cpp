@@ -1,6 +1,6 @@
-#include "conformance/load_result.hpp"
+#include "load/result.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 std::string_view load_verdict_label(LoadVerdict verdict) {
     switch (verdict) {
@@ -76,4 +76,4 @@ void merge_tally(NodeResult& result, const NodeTally& tally, const LoadPlan& pla
     }
 }
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -9,14 +9,14 @@
 #include <vector>
 
 #include "client/raw_link.hpp"
-#include "conformance/load_answer.hpp"
-#include "conformance/load_event_loop.hpp"
-#include "conformance/load_exchanges.hpp"
-#include "conformance/load_plan.hpp"
-#include "conformance/load_tally.hpp"
 #include "device/prng.hpp"
+#include "load/answer.hpp"
+#include "load/event_loop.hpp"
+#include "load/exchanges.hpp"
+#include "load/plan.hpp"
+#include "load/tally.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 // What the connections of one worker thread share.
 struct WorkerContext {
@@ -120,4 +120,4 @@ class LoadConnection {
     std::size_t out_end_ = 0;
 };
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -1,17 +1,18 @@
 #include <gtest/gtest.h>
 
 #include "conformance/catalogue.hpp"
-#include "conformance/load_plan.hpp"
+#include "load/plan.hpp"
 #include "support/hex.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 namespace {
 
 using std::chrono::milliseconds;
 using test::hex;
 
-Suite policy() {
-    auto suite = load_suite_file(std::string(MBLAB_SOURCE_DIR) + "/catalogue/policy-2.1.toml");
+conformance::Suite policy() {
+    auto suite =
+        conformance::load_suite_file(std::string(MBLAB_SOURCE_DIR) + "/catalogue/policy-2.1.toml");
     EXPECT_TRUE(suite.ok()) << suite.error();
     return suite.value();
 }
@@ -25,7 +26,7 @@ std::vector<std::string> ids(const LoadPlan& plan) {
 
 TEST(LoadPlan, PolicyRequestResponseCasesLoop) {
     LoadPlan plan;
-    Dut dut;
+    conformance::Dut dut;
     dut.unit = 1;
     dut.registers = 65536;
     ASSERT_TRUE(add_protocol_tests(plan, {policy()}, dut, {}).ok());
@@ -62,7 +63,7 @@ TEST(LoadPlan, PolicyRequestResponseCasesLoop) {
 
 TEST(LoadPlan, OutOfRangeWithoutADeclaredCountIsTwoExchanges) {
     LoadPlan plan;
-    Dut dut;
+    conformance::Dut dut;
     ASSERT_TRUE(add_protocol_tests(plan, {policy()}, dut, {"9.1.2"}).ok());
     ASSERT_EQ(plan.test_exchanges, 2U);
     // 0x8001 may answer 02 or data; the read past the end must answer 02.
@@ -77,7 +78,7 @@ TEST(LoadPlan, OutOfRangeWithoutADeclaredCountIsTwoExchanges) {
 
 TEST(LoadPlan, ReadBacksOfRangesTheMixWritesKeepTheirFormOnly) {
     LoadPlan plan;
-    Dut dut;
+    conformance::Dut dut;
     ASSERT_TRUE(add_protocol_tests(plan, {policy()}, dut, {"7.7.1", "7.8.1"}).ok());
     add_mix(plan, parse_mix("fc16:10=1").value(), dut);  // registers 0x10..0x19
     EXPECT_EQ(plan.values_unchecked, (std::vector<std::string>{"7.8.1 step 2", "7.8.1 step 4"}));
@@ -91,9 +92,10 @@ TEST(LoadPlan, ReadBacksOfRangesTheMixWritesKeepTheirFormOnly) {
 
 TEST(LoadPlan, CaseChoiceAndMultiStepCases) {
     LoadPlan plan;
-    auto suite = load_suite_file(std::string(MBLAB_SOURCE_DIR) + "/catalogue/function-codes.toml");
+    auto suite = conformance::load_suite_file(std::string(MBLAB_SOURCE_DIR) +
+                                              "/catalogue/function-codes.toml");
     ASSERT_TRUE(suite.ok()) << suite.error();
-    Dut dut;
+    conformance::Dut dut;
     dut.registers = 65536;
     ASSERT_TRUE(add_protocol_tests(plan, {policy(), suite.value()}, dut, {"7.8.1", "fc01.1"}).ok());
     EXPECT_EQ(ids(plan), (std::vector<std::string>{"7.8.1", "fc01.1"}));
@@ -112,7 +114,7 @@ TEST(LoadPlan, CaseChoiceAndMultiStepCases) {
 
 TEST(LoadPlan, MixFollowsTheTests) {
     LoadPlan plan;
-    Dut dut;
+    conformance::Dut dut;
     ASSERT_TRUE(add_protocol_tests(plan, {policy()}, dut, {"7.3.1"}).ok());
     add_mix(plan, parse_mix("fc3:2=3,fc6=1").value(), dut);
     ASSERT_EQ(plan.exchanges.size(), 3U);
@@ -141,4 +143,4 @@ TEST(LoadPlan, Durations) {
 }
 
 }  // namespace
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -1,4 +1,4 @@
-#include "conformance/load_exchanges.hpp"
+#include "load/exchanges.hpp"
 
 #include <fmt/core.h>
 
@@ -7,7 +7,7 @@
 
 #include "conformance/judge.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 namespace {
 
@@ -21,16 +21,17 @@ void put_tid(std::span<std::uint8_t> adu, std::uint16_t tid) {
 
 // The expected answers as they apply to one request on the wire: with its transaction id in
 // place of the catalogue's, so the evidence marks only bytes that really differ.
-std::vector<ResolvedPattern> with_transaction_id(const std::vector<ResolvedPattern>& expect,
-                                                 std::uint16_t tid) {
-    std::vector<ResolvedPattern> out = expect;
+std::vector<conformance::ResolvedPattern> with_transaction_id(
+    const std::vector<conformance::ResolvedPattern>& expect, std::uint16_t tid) {
+    std::vector<conformance::ResolvedPattern> out = expect;
     for (auto& pattern : out) {
         const std::uint8_t bytes[2] = {static_cast<std::uint8_t>(tid >> 8),
                                        static_cast<std::uint8_t>(tid & 0xFF)};
         for (std::size_t i = 0; i < 2 && i < pattern.tokens.size(); ++i) {
             auto& token = pattern.tokens[i];
-            if (token.kind == PatternToken::Kind::Byte || token.kind == PatternToken::Kind::Any) {
-                token = {PatternToken::Kind::Byte, bytes[i], {}};
+            if (token.kind == conformance::PatternToken::Kind::Byte ||
+                token.kind == conformance::PatternToken::Kind::Any) {
+                token = {conformance::PatternToken::Kind::Byte, bytes[i], {}};
             }
         }
     }
@@ -64,7 +65,8 @@ std::optional<FailureKind> judge_load_answer(const LoadPlan& plan, NodeTally& ta
     const LoadExchange& sent = plan.exchanges[exchange];
     std::optional<FailureKind> failure = judge_answer(sent.answers, frame);
     if (failure && tests && plan.cases[sent.test_case].unsupported_is_na &&
-        is_exception_answer(sent.request, frame, protocol::ExceptionCode::IllegalFunction)) {
+        conformance::is_exception_answer(sent.request, frame,
+                                         protocol::ExceptionCode::IllegalFunction)) {
         tally.not_applicable[sent.test_case] = fmt::format(
             "N/A: the device answered exception 01 to function {:02X}", sent.request[7]);
         failure.reset();
@@ -90,8 +92,8 @@ void count_failure(NodeTally& tally, const LoadPlan& plan, LoadClock::time_point
         std::vector<std::uint8_t> request = exchange.request;
         put_tid(request, sent->tid);
         record.exchange = exchange.name;
-        record.evidence = judge(request, std::move(received), timeout,
-                                with_transaction_id(exchange.expect, sent->tid))
+        record.evidence = conformance::judge(request, std::move(received), timeout,
+                                             with_transaction_id(exchange.expect, sent->tid))
                               .exchange;
     } else {
         record.evidence.status = received.status;
@@ -99,9 +101,9 @@ void count_failure(NodeTally& tally, const LoadPlan& plan, LoadClock::time_point
         record.evidence.detail = std::move(received.detail);
         record.evidence.waited = timeout;
     }
-    record.reason = reason.empty() ? describe_failure(record.evidence)
+    record.reason = reason.empty() ? conformance::describe_failure(record.evidence)
                                    : std::string(reason) + std::string(seen.detail);
     tally.first_failure = std::move(record);
 }
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

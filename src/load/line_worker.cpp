@@ -1,8 +1,8 @@
-#include "conformance/load_line.hpp"
+#include "load/line_worker.hpp"
 
 #include <thread>
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 namespace {
 
@@ -15,8 +15,8 @@ constexpr std::chrono::milliseconds kReopenDelay{100};
 constexpr std::chrono::milliseconds kIdleNap{20};
 constexpr std::chrono::milliseconds kMaxSendDebt{50};
 
-EngineOptions line_options(const LoadSettings& settings) {
-    EngineOptions options;
+conformance::EngineOptions line_options(const LoadSettings& settings) {
+    conformance::EngineOptions options;
     options.timeout = settings.timeout;
     options.connect_timeout = std::max(settings.timeout, std::chrono::milliseconds(1000));
     options.pipeline_depth = 1;
@@ -33,7 +33,7 @@ LoadLineWorker::LoadLineWorker(const LoadPlan& plan, std::size_t node, std::size
       start_(start),
       send_interval_(send_interval),
       prng_(seed),
-      session_(*plan.targets[node].line, Dut{}, line_options(plan.settings)),
+      session_(*plan.targets[node].line, conformance::Dut{}, line_options(plan.settings)),
       tallies_([&] {
           std::vector<std::unique_ptr<NodeTally>> out;
           for (std::size_t i = 0; i < plan.targets.size(); ++i)
@@ -75,7 +75,7 @@ void LoadLineWorker::exchange(std::uint32_t index, bool test) {
     const LoadExchange& chosen = plan_.exchanges[index];
     if (test) {
         // A case that tests the MBAP header has no equivalent on the line.
-        if (auto why = mbap_only_reason(session_, false, false, chosen.request)) {
+        if (auto why = conformance::mbap_only_reason(session_, false, false, chosen.request)) {
             tally_.not_applicable[chosen.test_case] = "N/A: " + *why;
             return;
         }
@@ -139,4 +139,4 @@ void LoadLineWorker::run(const std::atomic<bool>& draining) {
     session_.close();
 }
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

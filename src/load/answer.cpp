@@ -1,11 +1,11 @@
-#include "conformance/load_answer.hpp"
+#include "load/answer.hpp"
 
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/response.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 namespace {
 
@@ -54,11 +54,11 @@ std::string_view failure_label(FailureKind kind) {
     return "unknown";
 }
 
-AnswerPattern::AnswerPattern(const ResolvedPattern& pattern) {
+AnswerPattern::AnswerPattern(const conformance::ResolvedPattern& pattern) {
     std::size_t pos = 0;
     for (const auto& token : pattern.tokens) {
         switch (token.kind) {
-            case PatternToken::Kind::Byte:
+            case conformance::PatternToken::Kind::Byte:
                 if (pos >= kTransactionIdBytes) {
                     literals_.push_back({static_cast<std::uint16_t>(pos), token.value});
                 }
@@ -67,15 +67,15 @@ AnswerPattern::AnswerPattern(const ResolvedPattern& pattern) {
                 }
                 ++pos;
                 break;
-            case PatternToken::Kind::Length:
+            case conformance::PatternToken::Kind::Length:
                 length_at_ = pos;
                 pos += 2;
                 break;
-            case PatternToken::Kind::Rest:
+            case conformance::PatternToken::Kind::Rest:
                 open_ended_ = true;
                 break;
-            case PatternToken::Kind::Any:
-            case PatternToken::Kind::Fact:
+            case conformance::PatternToken::Kind::Any:
+            case conformance::PatternToken::Kind::Fact:
                 ++pos;
                 break;  // facts are resolved away before
         }
@@ -108,4 +108,4 @@ std::optional<FailureKind> judge_answer(std::span<const AnswerPattern> alternati
     return FailureKind::WrongAnswer;
 }
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -8,12 +8,12 @@
 #include <string>
 #include <vector>
 
-#include "conformance/load_answer.hpp"
-#include "conformance/load_histogram.hpp"
 #include "conformance/verdict.hpp"
+#include "load/answer.hpp"
+#include "load/histogram.hpp"
 
 // What one worker thread counts about one node while a load run goes on.
-namespace mblab::conformance {
+namespace mblab::load {
 
 // The first failure seen, with the exchange that shows it.
 struct FailureRecord {
@@ -21,7 +21,7 @@ struct FailureRecord {
     std::chrono::microseconds at{0};  // since the run started
     std::string exchange;             // the exchange's name; empty when no request was involved
     std::string reason;               // one line: "no answer: timeout after 1000 ms"
-    Exchange evidence;
+    conformance::Exchange evidence;
 };
 
 struct ExchangeTally {
@@ -62,4 +62,4 @@ class NodeTally {
     std::size_t exchange_count_;
 };
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -6,10 +6,10 @@
 #include <functional>
 #include <vector>
 
-#include "conformance/load_plan.hpp"
-#include "conformance/load_result.hpp"
+#include "load/plan.hpp"
+#include "load/result.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 // How a run is going, for the live status line: rates and latency over the last period.
 struct NodeStatus {
@@ -40,4 +40,4 @@ class LoadRunner {
     const LoadPlan& plan_;
 };
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

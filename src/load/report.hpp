@@ -2,14 +2,14 @@
 
 #include <string>
 
-#include "conformance/load_plan.hpp"
-#include "conformance/load_result.hpp"
-#include "conformance/load_runner.hpp"
 #include "conformance/verdict.hpp"
+#include "load/plan.hpp"
+#include "load/result.hpp"
+#include "load/runner.hpp"
 
 // What a load run tells its user: the plan before it starts, a status line while it runs, and
 // at the end a summary table and the JSON / JUnit reports (docs/load.md describes the fields).
-namespace mblab::conformance {
+namespace mblab::load {
 
 std::string load_header(const LoadPlan& plan);
 
@@ -26,6 +26,6 @@ std::string load_junit_report(const LoadPlan& plan, const LoadResult& result);
 
 // The run as the conformance reports see it: a suite "load" with a case per node, its verdict
 // and the evidence of its first failure.
-RunResult load_as_run(const LoadPlan& plan, const LoadResult& result);
+conformance::RunResult load_as_run(const LoadPlan& plan, const LoadResult& result);
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

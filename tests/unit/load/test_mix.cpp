@@ -1,24 +1,26 @@
 #include <gtest/gtest.h>
 
 #include "conformance/dut.hpp"
-#include "conformance/load_mix.hpp"
+#include "load/mix.hpp"
 #include "support/hex.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 namespace {
 
 using test::hex;
 
 std::vector<std::uint8_t> request_bytes(const MixEntry& entry, std::uint8_t unit) {
-    Dut dut;
+    conformance::Dut dut;
     dut.unit = unit;
-    return render_bytes(resolve(mix_exchange(entry).request, DutFacts(dut)).value());
+    return conformance::render_bytes(
+        conformance::resolve(mix_exchange(entry).request, conformance::DutFacts(dut)).value());
 }
 
 std::string expected_text(const MixEntry& entry, std::uint8_t unit) {
-    Dut dut;
+    conformance::Dut dut;
     dut.unit = unit;
-    return to_text(resolve(mix_exchange(entry).expect, DutFacts(dut)).value());
+    return conformance::to_text(
+        conformance::resolve(mix_exchange(entry).expect, conformance::DutFacts(dut)).value());
 }
 
 MixEntry only(std::string_view text) {
@@ -89,4 +91,4 @@ TEST(LoadMix, RequestsAndAnswersOnTheWire) {
 }
 
 }  // namespace
-}  // namespace mblab::conformance
+}  // namespace mblab::load

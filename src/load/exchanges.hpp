@@ -8,15 +8,15 @@
 #include <string_view>
 
 #include "client/raw_link.hpp"
-#include "conformance/load_answer.hpp"
-#include "conformance/load_plan.hpp"
-#include "conformance/load_tally.hpp"
 #include "device/prng.hpp"
+#include "load/answer.hpp"
+#include "load/plan.hpp"
+#include "load/tally.hpp"
 
 // What every kind of load connection does with exchanges, whatever carries them (a Modbus/TCP
 // connection on an epoll loop, or a serial line): choose the next one, judge its answer, and
 // count a failure with the evidence of the node's first.
-namespace mblab::conformance {
+namespace mblab::load {
 
 using LoadClock = std::chrono::steady_clock;
 
@@ -55,4 +55,4 @@ void count_failure(NodeTally& tally, const LoadPlan& plan, LoadClock::time_point
                    FailureKind kind, const LoadSent* sent, const LoadSeen& seen,
                    LoadClock::time_point now, std::string_view reason = {});
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
-#include "conformance/load_histogram.hpp"
+#include "load/histogram.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 namespace {
 
 using B = LatencyBuckets;
@@ -77,4 +77,4 @@ TEST(LoadHistogram, SnapshotsMergeAndSubtract) {
 }
 
 }  // namespace
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -14,24 +14,25 @@
 #include "client/target.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/dut.hpp"
-#include "conformance/load_answer.hpp"
-#include "conformance/load_mix.hpp"
+#include "load/answer.hpp"
+#include "load/mix.hpp"
 #include "protocol/result.hpp"
 
 // What a load run (`mblab load`, seed 000 section 8) repeats, against which nodes, how hard.
-namespace mblab::conformance {
+namespace mblab::load {
 
 inline constexpr std::size_t kNoCase = std::numeric_limits<std::size_t>::max();
 
 // One exchange the load run repeats: a request and the answers that pass. Requests carry
 // transaction id 00 00; the runner writes its own id over it on the wire.
 struct LoadExchange {
-    std::string name;                     // "7.3.1", "fc16.3 step 2", "fc3:125"
-    std::string source;                   // "seed 000 7.3.1", "--mix"
-    std::vector<std::uint8_t> request;    // the whole ADU
-    std::vector<ResolvedPattern> expect;  // alternatives, for the evidence of a failure
-    std::vector<AnswerPattern> answers;   // the same, compiled for the hot path
-    std::size_t test_case = kNoCase;      // index into LoadPlan::cases for protocol tests
+    std::string name;                   // "7.3.1", "fc16.3 step 2", "fc3:125"
+    std::string source;                 // "seed 000 7.3.1", "--mix"
+    std::vector<std::uint8_t> request;  // the whole ADU
+    std::vector<conformance::ResolvedPattern>
+        expect;                          // alternatives, for the evidence of a failure
+    std::vector<AnswerPattern> answers;  // the same, compiled for the hot path
+    std::size_t test_case = kNoCase;     // index into LoadPlan::cases for protocol tests
     bool first_step = false;
 };
 
@@ -99,16 +100,15 @@ struct LoadPlan {
 // no procedure, not isolated, every step one well-formed MBAP request answered by a frame (no
 // split writes, no silence, no tolerated close). The others go to `left_out` with the reason.
 // `only` (case ids) narrows the choice; an id no suite has is an error.
-protocol::Result<bool, std::string> add_protocol_tests(LoadPlan& plan,
-                                                       const std::vector<Suite>& suites,
-                                                       const Dut& dut,
-                                                       const std::vector<std::string>& only);
+protocol::Result<bool, std::string> add_protocol_tests(
+    LoadPlan& plan, const std::vector<conformance::Suite>& suites, const conformance::Dut& dut,
+    const std::vector<std::string>& only);
 
-void add_mix(LoadPlan& plan, const std::vector<MixEntry>& mix, const Dut& dut);
+void add_mix(LoadPlan& plan, const std::vector<MixEntry>& mix, const conformance::Dut& dut);
 
 // "1h", "10m", "30s", "1500ms", "1h30m"; a bare number is seconds.
 protocol::Result<std::chrono::milliseconds, std::string> parse_duration(std::string_view text);
 // "1 h", "10 min", "30 s", "1 h 30 min", "1.5 s".
 std::string format_duration_words(std::chrono::milliseconds duration);
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -3,9 +3,9 @@
 #include <atomic>
 #include <cstddef>
 
-#include "conformance/load_tally.hpp"
+#include "load/tally.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 // One thread of a load run: it runs until told to drain and keeps its own counts per node (no
 // other thread writes them, so counting needs no lock).
@@ -17,4 +17,4 @@ class LoadThread {
     virtual const NodeTally& tally(std::size_t node) const = 0;
 };
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

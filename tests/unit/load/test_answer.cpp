@@ -1,16 +1,16 @@
 #include <gtest/gtest.h>
 
 #include "conformance/judge.hpp"
-#include "conformance/load_answer.hpp"
+#include "load/answer.hpp"
 #include "support/hex.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 namespace {
 
 using test::hex;
 
 AnswerPattern compiled(std::string_view text) {
-    return AnswerPattern(ResolvedPattern{Pattern::parse(text)->tokens()});
+    return AnswerPattern(conformance::ResolvedPattern{conformance::Pattern::parse(text)->tokens()});
 }
 
 std::optional<FailureKind> judged(std::vector<std::string_view> patterns, std::string_view frame) {
@@ -62,9 +62,12 @@ TEST(LoadAnswer, KindsOfFailure) {
 TEST(LoadAnswer, IllegalFunctionAnswer) {
     constexpr auto kIllegalFunction = protocol::ExceptionCode::IllegalFunction;
     const auto request = hex("00 00 00 00 00 06 01 14 00 00 00 01");
-    EXPECT_TRUE(is_exception_answer(request, hex("00 03 00 00 00 03 01 94 01"), kIllegalFunction));
-    EXPECT_FALSE(is_exception_answer(request, hex("00 03 00 00 00 03 01 94 02"), kIllegalFunction));
-    EXPECT_FALSE(is_exception_answer(request, hex("00 03 00 00 00 03 01 83 01"), kIllegalFunction));
+    EXPECT_TRUE(conformance::is_exception_answer(request, hex("00 03 00 00 00 03 01 94 01"),
+                                                 kIllegalFunction));
+    EXPECT_FALSE(conformance::is_exception_answer(request, hex("00 03 00 00 00 03 01 94 02"),
+                                                  kIllegalFunction));
+    EXPECT_FALSE(conformance::is_exception_answer(request, hex("00 03 00 00 00 03 01 83 01"),
+                                                  kIllegalFunction));
 }
 
 TEST(LoadAnswer, KindNames) {
@@ -74,4 +77,4 @@ TEST(LoadAnswer, KindNames) {
 }
 
 }  // namespace
-}  // namespace mblab::conformance
+}  // namespace mblab::load

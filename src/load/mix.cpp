@@ -1,4 +1,4 @@
-#include "conformance/load_mix.hpp"
+#include "load/mix.hpp"
 
 #include <fmt/core.h>
 
@@ -7,7 +7,7 @@
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 namespace {
 
@@ -116,8 +116,8 @@ protocol::Result<MixEntry, std::string> parse_entry(std::string_view text) {
 }
 
 // The MBAP header up to and including the unit id; transaction id 0, {len} computed.
-Pattern header() {
-    Pattern p;
+conformance::Pattern header() {
+    conformance::Pattern p;
     p.u16(0).u16(0).length().fact("unit");
     return p;
 }
@@ -142,8 +142,8 @@ protocol::Result<std::vector<MixEntry>, std::string> parse_mix(std::string_view 
 MixExchange mix_exchange(const MixEntry& entry) {
     MixExchange out{header(), header()};
     const std::uint8_t fc = entry.function;
-    Pattern& request = out.request.byte(fc).u16(entry.address);
-    Pattern& expect = out.expect.byte(fc);
+    conformance::Pattern& request = out.request.byte(fc).u16(entry.address);
+    conformance::Pattern& expect = out.expect.byte(fc);
     const std::size_t bit_bytes = (std::size_t{entry.quantity} + 7) / 8;
     switch (static_cast<FunctionCode>(fc)) {
         case FunctionCode::ReadCoils:
@@ -183,4 +183,4 @@ MixExchange mix_exchange(const MixEntry& entry) {
     return out;
 }
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -1,10 +1,10 @@
-#include "conformance/load_histogram.hpp"
+#include "load/histogram.hpp"
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 std::size_t LatencyBuckets::index(std::uint64_t micros) {
     micros = std::min(micros, kMaxValue);
@@ -62,4 +62,4 @@ void LatencyHistogram::snapshot_into(LatencySnapshot& out) const {
     out.max_ = std::max(out.max_, max_.get());
 }
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -9,7 +9,7 @@
 // the generator's ceiling is measured against a bare epoll client (bench/run_load_bench.sh), so
 // it talks to epoll itself. Level-triggered: a connection reads once per wake-up and is woken
 // again while bytes remain.
-namespace mblab::conformance {
+namespace mblab::load {
 
 class EventLoop {
   public:
@@ -46,4 +46,4 @@ class EventLoop {
     int fd_;
 };
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -1,10 +1,10 @@
-#include "conformance/load_worker.hpp"
+#include "load/worker.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cerrno>
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 namespace {
 
@@ -71,4 +71,4 @@ void LoadWorker::run(const std::atomic<bool>& draining) {
     }
 }
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -6,13 +6,13 @@
 #include <memory>
 #include <vector>
 
-#include "conformance/load_connection.hpp"
-#include "conformance/load_event_loop.hpp"
-#include "conformance/load_plan.hpp"
-#include "conformance/load_tally.hpp"
-#include "conformance/load_thread.hpp"
+#include "load/connection.hpp"
+#include "load/event_loop.hpp"
+#include "load/plan.hpp"
+#include "load/tally.hpp"
+#include "load/thread.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 struct ConnectionSpec {
     std::size_t node = 0;
@@ -41,4 +41,4 @@ class LoadWorker final : public LoadThread {
     std::chrono::microseconds tick_;
 };
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -14,7 +14,7 @@
 // with 0x; QUANTITY is registers or bits (default 1); ADDRESS defaults to 0 for reads and to
 // 0x0010 for writes (seed 000 7.8.1.1 keeps writes off the first registers, where a SEMI
 // signature may sit); WEIGHT is the entry's share of requests (default 1).
-namespace mblab::conformance {
+namespace mblab::load {
 
 struct MixEntry {
     std::uint8_t function = 3;
@@ -29,8 +29,8 @@ protocol::Result<std::vector<MixEntry>, std::string> parse_mix(std::string_view 
 // The request of an entry and the answer a correct device gives, with transaction id 00 00
 // and {unit} for the unit id (the load runner owns both).
 struct MixExchange {
-    Pattern request;
-    Pattern expect;
+    conformance::Pattern request;
+    conformance::Pattern expect;
 };
 
 MixExchange mix_exchange(const MixEntry& entry);
@@ -38,4 +38,4 @@ MixExchange mix_exchange(const MixEntry& entry);
 // The function codes --mix accepts, for the error message and the docs.
 inline constexpr std::string_view kMixFunctions = "1, 2, 3, 4, 5, 6, 15, 16";
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -8,12 +8,12 @@
 #include <string_view>
 #include <vector>
 
-#include "conformance/load_answer.hpp"
-#include "conformance/load_histogram.hpp"
-#include "conformance/load_plan.hpp"
-#include "conformance/load_tally.hpp"
+#include "load/answer.hpp"
+#include "load/histogram.hpp"
+#include "load/plan.hpp"
+#include "load/tally.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 // Seed 000 8.4: PASS only with no failure anywhere for the whole duration. A run stopped early
 // without failures is INCOMPLETE: it did not show what the policy asks.
@@ -55,4 +55,4 @@ struct LoadResult {
 // Adds one thread's counts for `node` (the first failure kept is the earliest).
 void merge_tally(NodeResult& result, const NodeTally& tally, const LoadPlan& plan);
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

@@ -9,7 +9,7 @@
 // Latency of a load run, kept the way HDR histograms keep it: buckets that are exact for small
 // values and a fixed share of the value wide above, so p99.9 of a million answers costs a few
 // kilobytes and no sorting.
-namespace mblab::conformance {
+namespace mblab::load {
 
 // A count that one thread writes and any thread reads. The owner's add is a plain load and
 // store (no locked instruction), yet a status line may read it while the run goes on.
@@ -82,4 +82,4 @@ class LatencyHistogram {
     Tally max_;
 };
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load

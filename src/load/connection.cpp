@@ -1,4 +1,4 @@
-#include "conformance/load_connection.hpp"
+#include "load/connection.hpp"
 
 #include <fmt/core.h>
 #include <netinet/in.h>
@@ -13,7 +13,7 @@
 
 #include "protocol/limits.hpp"
 
-namespace mblab::conformance {
+namespace mblab::load {
 
 namespace {
 
@@ -399,4 +399,4 @@ void LoadConnection::fail(FailureKind kind, const Slot* slot, const LoadSeen& se
     count_failure(tally_, context_.plan, context_.start, kind, &sent, seen, now, reason);
 }
 
-}  // namespace mblab::conformance
+}  // namespace mblab::load
