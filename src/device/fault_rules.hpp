@@ -4,8 +4,8 @@
 #include <optional>
 #include <vector>
 
-#include "device/prng.hpp"
 #include "device/profile.hpp"
+#include "support/prng.hpp"
 
 // The fault rules of one unit: which rule, if any, fires for a request. Counting and chance are
 // kept here so a run with the same seed and requests fires the same faults.

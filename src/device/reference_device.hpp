@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "device/comm_state.hpp"
-#include "device/prng.hpp"
 #include "device/profile.hpp"
 #include "device/profile_loader.hpp"
 #include "device/request_handler.hpp"
 #include "device/unit_model.hpp"
+#include "support/prng.hpp"
 
 // The reference device: a profile's units behind the RequestHandler seam. It routes by unit id
 // (serial broadcast and foreign addresses, TCP unit 0 / 0xFF), applies listen-only mode and the

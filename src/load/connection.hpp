@@ -9,12 +9,12 @@
 #include <vector>
 
 #include "client/raw_link.hpp"
-#include "device/prng.hpp"
 #include "load/answer.hpp"
 #include "load/event_loop.hpp"
 #include "load/exchanges.hpp"
 #include "load/plan.hpp"
 #include "load/tally.hpp"
+#include "support/prng.hpp"
 
 namespace mblab::load {
 
@@ -96,7 +96,7 @@ class LoadConnection {
     NodeTally& tally_;
     const LoadTarget& target_;
     Role role_;
-    device::Prng prng_;
+    Prng prng_;
     State state_ = State::Closed;
     int fd_ = -1;
     bool want_write_ = false;

@@ -39,7 +39,7 @@ std::vector<conformance::ResolvedPattern> with_transaction_id(
 }
 }  // namespace
 
-std::uint32_t next_mix_exchange(const LoadPlan& plan, device::Prng& prng) {
+std::uint32_t next_mix_exchange(const LoadPlan& plan, Prng& prng) {
     const auto& sums = plan.mix_cumulative;
     const std::uint64_t pick = prng.next() % sums.back();
     const auto at = std::upper_bound(sums.begin(), sums.end(), pick) - sums.begin();

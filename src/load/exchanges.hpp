@@ -8,10 +8,10 @@
 #include <string_view>
 
 #include "client/raw_link.hpp"
-#include "device/prng.hpp"
 #include "load/answer.hpp"
 #include "load/plan.hpp"
 #include "load/tally.hpp"
+#include "support/prng.hpp"
 
 // What every kind of load connection does with exchanges, whatever carries them (a Modbus/TCP
 // connection on an epoll loop, or a serial line): choose the next one, judge its answer, and
@@ -34,7 +34,7 @@ struct LoadSent {
 };
 
 // The generator's next request, drawn from the mix by weight.
-std::uint32_t next_mix_exchange(const LoadPlan& plan, device::Prng& prng);
+std::uint32_t next_mix_exchange(const LoadPlan& plan, Prng& prng);
 
 // The protocol tests' next exchange: round the cases in catalogue order from `cursor`, skipping
 // the ones this node took out of the loop as N/A. False when every case is N/A here.

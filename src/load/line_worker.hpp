@@ -10,6 +10,7 @@
 #include "load/exchanges.hpp"
 #include "load/plan.hpp"
 #include "load/thread.hpp"
+#include "support/prng.hpp"
 
 namespace mblab::load {
 
@@ -39,7 +40,7 @@ class LoadLineWorker final : public LoadThread {
     std::size_t traffic_;
     LoadClock::time_point start_;
     std::chrono::nanoseconds send_interval_;
-    device::Prng prng_;
+    Prng prng_;
     conformance::Session session_;
     std::vector<std::unique_ptr<NodeTally>> tallies_;
     NodeTally& tally_;

@@ -2,7 +2,9 @@
 
 #include <cstdint>
 
-namespace mblab::device {
+// Below every layer: the reference device draws its faults from it, the load generator its mix
+// and its send spread. Neither is the other's helper, so it lives with neither.
+namespace mblab {
 
 // SplitMix64: tiny, fully specified, so a fault seed replays the same run on every platform
 // (std::uniform_*_distribution results differ between standard libraries).
@@ -27,4 +29,4 @@ class Prng {
     std::uint64_t state_;
 };
 
-}  // namespace mblab::device
+}  // namespace mblab
