@@ -1,0 +1,112 @@
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "device/request_handler.hpp"
+#include "server/mbap_session.hpp"
+#include "server/server_stats.hpp"
+#include "support/manual_clock.hpp"
+#include "support/memory_stream.hpp"
+
+// An MbapSession driven the way TcpSession drives it, over an in-memory stream and a manual
+// clock, so that a test reads as a protocol trace: the client sends hex, time passes, the device
+// answers hex.
+namespace mblab::test {
+
+// The device behind the session, a small gateway double:
+//   unit 1, FC 03: holding register N holds N; FC 06: echoed;
+//           FC 41 NN: echoed after NN * 10 ms (fault "delay"); FC 42: no answer (fault "drop");
+//           FC 43: the connection is closed (fault "close")
+//   unit 0: a broadcast: executed, never answered
+//   unit 9: behind a serial line: answered like unit 1 when the test says the line answered
+//           (RequestHandler::handle_or_defer); a broadcast goes there too once
+//           `broadcasts_on_line` is set
+class TraceDevice final : public device::RequestHandler {
+  public:
+    static constexpr std::uint8_t kLineUnit = 9;
+
+    device::Reply handle(const device::RequestContext& context,
+                         std::span<const std::uint8_t> request,
+                         std::span<std::uint8_t> response) override;
+    std::optional<device::Reply> handle_or_defer(const device::RequestContext& context,
+                                                 std::span<const std::uint8_t> request,
+                                                 std::span<std::uint8_t> response,
+                                                 device::Deferral& deferral) override;
+    // The serial line answers the oldest request waiting on it.
+    void line_answers();
+    std::size_t waiting_on_line() const { return line_.size(); }
+
+    bool broadcasts_on_line = false;
+    int broadcasts = 0;
+
+  private:
+    struct LineRequest {
+        device::RequestContext context;
+        std::vector<std::uint8_t> pdu;
+        device::DeferredDone done;
+    };
+    std::deque<LineRequest> line_;
+};
+
+class SessionTrace final : private server::MbapSession::Host {
+  public:
+    explicit SessionTrace(server::MbapSessionLimits limits = {});
+
+    // The client writes these bytes; the session reads and answers what it can.
+    void client_sends(std::string_view hex);
+    void client_sends_byte_by_byte(std::string_view hex, std::chrono::milliseconds gap);
+    void client_shuts_down();
+    void client_resets();
+    // Time passes; the session is woken at each of its deadlines on the way.
+    void after(std::chrono::milliseconds time);
+    // Everything the device sent that the client has not read yet, as "00 01 ...".
+    std::string client_reads();
+    // Takes what arrived, lets the session send more, and again until nothing comes.
+    std::string client_reads_everything();
+    // What the client reads now is exactly `hex` (spaces anywhere); nothing when empty.
+    void device_answers(std::string_view hex);
+    void device_says_nothing() { device_answers(""); }
+
+    // Whether the session reads its socket.
+    bool reading() const { return !closed_ && session_.wants_input(); }
+    // The session closed the connection (after its answers, or at once).
+    bool closed() const { return closed_; }
+    bool client_sees_end_of_input() const { return stream_.client().at_end_of_input(); }
+
+    TraceDevice& device() { return device_; }
+    StreamPair::End& client() { return stream_.client(); }
+    // The session's end, for failures on its side (short writes).
+    StreamPair::End& server_end() { return stream_.server(); }
+    server::MbapSession& session() { return session_; }
+    const server::ServerStats& stats() const { return stats_; }
+    ManualClock& clock() { return clock_; }
+    int busy_replies() const { return busy_replies_; }
+
+  private:
+    device::DeferredDone route_deferred(std::uint32_t ticket,
+                                        const protocol::MbapHeader& request) override;
+    void on_busy_reply(std::uint8_t unit) override;
+
+    // What a readiness loop does: read while the session wants input, send what it has.
+    void run();
+    void flush();
+    void close(bool after_answers);
+
+    TraceDevice device_;
+    server::ServerStats stats_;
+    ManualClock clock_;
+    StreamPair stream_;
+    server::MbapSession session_;
+    bool closed_ = false;
+    bool write_blocked_ = false;
+    int busy_replies_ = 0;
+};
+
+}  // namespace mblab::test
