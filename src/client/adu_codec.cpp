@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-#include "protocol/adu_writer.hpp"
+#include "protocol/adu.hpp"
 #include "protocol/ascii_framer.hpp"
 #include "protocol/crc16.hpp"
 #include "protocol/limits.hpp"
@@ -76,15 +76,7 @@ std::string hex8(unsigned value) {
 
 std::size_t wrap_pdu(Framing framing, std::uint8_t unit, std::uint16_t transaction_id,
                      std::span<const std::uint8_t> pdu, std::span<std::uint8_t> out) {
-    switch (framing) {
-        case Framing::Mbap:
-            return protocol::write_mbap_adu({transaction_id, 0, 0, unit}, pdu, out);
-        case Framing::Rtu:
-            return protocol::write_rtu_adu(unit, pdu, out);
-        case Framing::Ascii:
-            return protocol::write_ascii_adu(unit, pdu, out);
-    }
-    return 0;
+    return protocol::write_adu({framing, unit, transaction_id}, pdu, out);
 }
 
 protocol::Result<AduParts, std::string> unwrap_frame(Framing framing,

@@ -5,19 +5,13 @@
 #include <span>
 #include <string>
 
-#include "client/raw_link.hpp"
+#include "client/link_types.hpp"
 
 // The seam between the client's transactions and a transport. A link moves whole ADUs: it sends
 // the bytes it is given and hands back one frame at a time, cut by its own framing rules. How a
 // PDU is wrapped for it (MBAP header, RTU CRC, ASCII hex and LRC) depends on framing(), so a new
 // transport plugs in by implementing this interface and naming its framing.
 namespace mblab::client {
-
-enum class Framing : std::uint8_t {
-    Mbap,   // Modbus/TCP: MBAP header, transaction ids
-    Rtu,    // address, PDU, CRC-16
-    Ascii,  // ':' hex(address, PDU, LRC) CR LF
-};
 
 class Link {
   public:
@@ -31,6 +25,9 @@ class Link {
     virtual bool send(std::span<const std::uint8_t> adu, LinkError& error) = 0;
     // One whole frame in the link's framing, or why none came before `timeout`.
     virtual Received receive_frame(std::chrono::milliseconds timeout) = 0;
+    // Whatever the device sends within `timeout` that nobody asked for: raw bytes on a TCP link
+    // (the first kilobytes kept, the rest counted), a frame or a framing error on a line.
+    virtual Received receive_any(std::chrono::milliseconds timeout) = 0;
     virtual void close() = 0;
 };
 

@@ -87,15 +87,6 @@ void describe(const sockaddr_storage& address, std::uint32_t& ip, std::uint16_t&
 
 }  // namespace
 
-long mbap_frame_size(std::span<const std::uint8_t> head) {
-    if (head.size() < 6) return 0;
-    long length = (head[4] << 8) | head[5];
-    if (length == 0 || length + 6 > static_cast<long>(protocol::limits::kMaxTcpAdu)) {
-        return -1;
-    }
-    return length + 6;
-}
-
 protocol::Result<RawLink, LinkError> RawLink::connect(const Endpoint& endpoint,
                                                       std::chrono::milliseconds timeout,
                                                       LinkObserver* observer) {
@@ -141,7 +132,7 @@ RawLink::RawLink(RawLink&& other) noexcept
     : fd_(std::exchange(other.fd_, -1)),
       addresses_(other.addresses_),
       observer_(other.observer_),
-      buffer_(std::move(other.buffer_)) {}
+      reader_(std::move(other.reader_)) {}
 
 RawLink& RawLink::operator=(RawLink&& other) noexcept {
     if (this != &other) {
@@ -149,7 +140,7 @@ RawLink& RawLink::operator=(RawLink&& other) noexcept {
         fd_ = std::exchange(other.fd_, -1);
         addresses_ = other.addresses_;
         observer_ = other.observer_;
-        buffer_ = std::move(other.buffer_);
+        reader_ = std::move(other.reader_);
     }
     return *this;
 }
@@ -165,7 +156,7 @@ void RawLink::close() {
 void RawLink::drop(bool by_peer) {
     ::close(fd_);
     fd_ = -1;
-    buffer_.clear();
+    reader_.reset();
     if (observer_ != nullptr) observer_->on_close(by_peer);
 }
 
@@ -205,16 +196,9 @@ RawLink::Fill RawLink::fill(Clock::time_point deadline, std::string& detail) {
         return Fill::Closed;
     }
     auto got = std::span<const std::uint8_t>(chunk, static_cast<std::size_t>(n));
-    buffer_.insert(buffer_.end(), got.begin(), got.end());
+    reader_.add(got);
     if (observer_ != nullptr) observer_->on_received(got);
     return Fill::Data;
-}
-
-Received RawLink::take(ReceiveStatus status, std::size_t count, std::string detail) {
-    Received out{status, {}, std::move(detail)};
-    out.bytes.assign(buffer_.begin(), buffer_.begin() + static_cast<long>(count));
-    buffer_.erase(buffer_.begin(), buffer_.begin() + static_cast<long>(count));
-    return out;
 }
 
 std::optional<Received> RawLink::wait(Clock::time_point deadline) {
@@ -223,11 +207,11 @@ std::optional<Received> RawLink::wait(Clock::time_point deadline) {
         case Fill::Data:
             return std::nullopt;
         case Fill::Timeout:
-            return take(ReceiveStatus::Timeout, buffer_.size());
+            return reader_.take(ReceiveStatus::Timeout);
         case Fill::Closed:
             break;
     }
-    Received out = take(ReceiveStatus::Closed, buffer_.size(), detail);
+    Received out = reader_.take(ReceiveStatus::Closed, detail);
     if (fd_ >= 0) drop(true);
     return out;
 }
@@ -235,15 +219,7 @@ std::optional<Received> RawLink::wait(Clock::time_point deadline) {
 Received RawLink::receive_frame(std::chrono::milliseconds timeout) {
     const auto deadline = Clock::now() + timeout;
     while (true) {
-        long size = mbap_frame_size(buffer_);
-        if (size < 0) {
-            // Nothing after a broken header can be trusted to start a frame: hand it all over.
-            return take(ReceiveStatus::Malformed, buffer_.size(),
-                        "length field does not describe an MBAP frame");
-        }
-        if (size > 0 && buffer_.size() >= static_cast<std::size_t>(size)) {
-            return take(ReceiveStatus::Frame, static_cast<std::size_t>(size));
-        }
+        if (auto frame = reader_.next()) return std::move(*frame);
         if (auto done = wait(deadline)) return std::move(*done);
     }
 }
@@ -251,18 +227,26 @@ Received RawLink::receive_frame(std::chrono::milliseconds timeout) {
 Received RawLink::receive_any(std::chrono::milliseconds timeout) {
     const auto deadline = Clock::now() + timeout;
     std::size_t discarded = 0;
+    std::vector<std::uint8_t> kept;
+    // Bytes are taken as they come, not as frames; whatever the reader held comes first.
+    auto keep = [&] {
+        Received held = reader_.take(ReceiveStatus::Timeout);
+        const std::size_t room = kKeptUnasked - std::min(kKeptUnasked, kept.size());
+        const std::size_t taken = std::min(room, held.bytes.size());
+        kept.insert(kept.end(), held.bytes.begin(), held.bytes.begin() + static_cast<long>(taken));
+        discarded += held.bytes.size() - taken;
+    };
     while (true) {
+        keep();
         if (auto done = wait(deadline)) {
+            done->bytes.insert(done->bytes.begin(), kept.begin(), kept.end());
             done->discarded = discarded;
             return std::move(*done);
         }
-        if (buffer_.size() > kKeptUnasked) {
-            discarded += buffer_.size() - kKeptUnasked;
-            buffer_.resize(kKeptUnasked);
-        }
         // A device that never stops sending must not keep the tester here past the deadline.
         if (Clock::now() >= deadline) {
-            Received out = take(ReceiveStatus::Timeout, buffer_.size());
+            keep();
+            Received out{ReceiveStatus::Timeout, std::move(kept), {}};
             out.discarded = discarded;
             return out;
         }

@@ -8,8 +8,6 @@
 #include <cerrno>
 #include <cstring>
 
-#include "protocol/ascii_framer.hpp"
-#include "protocol/rtu_framer.hpp"
 #include "transport/serial_port.hpp"
 
 namespace mblab::client {
@@ -27,22 +25,6 @@ constexpr milliseconds kTcpSilence{200};
 // [SER 2.5.2.1]: the ASCII inter-character timeout.
 constexpr milliseconds kAsciiSilence{1000};
 
-template <class Framer>
-class FramerCutter final : public FrameCutter {
-  public:
-    template <class... Args>
-    explicit FramerCutter(Args... args) : framer_(args...) {}
-    protocol::FrameEvent feed(std::span<const std::uint8_t> input, std::size_t& consumed) override {
-        return framer_.feed(input, consumed);
-    }
-    protocol::FrameEvent on_silence() override { return framer_.on_silence(); }
-    bool has_partial() const override { return framer_.has_partial(); }
-    void reset() override { framer_.reset(); }
-
-  private:
-    Framer framer_;
-};
-
 std::string lowercase_first(std::string text) {
     if (!text.empty())
         text[0] = static_cast<char>(std::tolower(static_cast<unsigned char>(text[0])));
@@ -56,14 +38,14 @@ int poll_ms(Clock::duration wait) {
 
 }  // namespace
 
-StreamLink::StreamLink(std::string name, Framing framing, std::unique_ptr<asio::io_context> io,
-                       std::unique_ptr<Port> port, std::unique_ptr<FrameCutter> cutter,
+StreamLink::StreamLink(std::string name, std::unique_ptr<asio::io_context> io,
+                       std::unique_ptr<Port> port, const protocol::FramerOptions& framing,
                        std::chrono::microseconds silence)
     : name_(std::move(name)),
-      framing_(framing),
+      framing_(framing.framing),
       io_(std::move(io)),
       port_(std::move(port)),
-      cutter_(std::move(cutter)),
+      reader_(framing),
       silence_(silence) {
     fd_ = std::visit([](auto& p) { return static_cast<int>(p.native_handle()); }, *port_);
 }
@@ -75,9 +57,7 @@ StreamLink::~StreamLink() {
 void StreamLink::close() {
     port_.reset();  // closes the descriptor
     fd_ = -1;
-    pending_.clear();
-    partial_.clear();
-    cutter_->reset();
+    reader_.reset();
 }
 
 protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_serial(
@@ -87,15 +67,14 @@ protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_serial(
     if (!opened) return LinkError{opened.error()};
     auto port = std::make_unique<Port>(std::move(opened.value()));
     if (url.kind == transport::SerialUrl::Kind::Ascii) {
-        return std::unique_ptr<Link>(
-            new StreamLink(std::move(name), Framing::Ascii, std::move(io), std::move(port),
-                           std::make_unique<FramerCutter<protocol::AsciiFramer>>(), kAsciiSilence));
+        return std::unique_ptr<Link>(new StreamLink(std::move(name), std::move(io), std::move(port),
+                                                    {.framing = Framing::Ascii}, kAsciiSilence));
     }
     const auto t35 = transport::rtu_char_times(url.line.baud).t35;
-    return std::unique_ptr<Link>(new StreamLink(
-        std::move(name), Framing::Rtu, std::move(io), std::move(port),
-        std::make_unique<FramerCutter<protocol::RtuFramer>>(protocol::Direction::Response),
-        std::max<std::chrono::microseconds>(t35, kMinSerialSilence)));
+    return std::unique_ptr<Link>(
+        new StreamLink(std::move(name), std::move(io), std::move(port),
+                       {.framing = Framing::Rtu, .direction = protocol::Direction::Response},
+                       std::max<std::chrono::microseconds>(t35, kMinSerialSilence)));
 }
 
 protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_rtu_over_tcp(
@@ -109,11 +88,12 @@ protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_rtu_over_tcp
     if (result) return LinkError{lowercase_first(result.message())};
     asio::error_code ignored;
     socket.set_option(asio::ip::tcp::no_delay(true), ignored);
-    return std::unique_ptr<Link>(new StreamLink(
-        std::move(name), Framing::Rtu, std::move(io), std::make_unique<Port>(std::move(socket)),
-        std::make_unique<FramerCutter<protocol::RtuFramer>>(
-            protocol::Direction::Response, protocol::RtuFramer::UnknownLength::EndOnCrcMatch),
-        kTcpSilence));
+    return std::unique_ptr<Link>(
+        new StreamLink(std::move(name), std::move(io), std::make_unique<Port>(std::move(socket)),
+                       {.framing = Framing::Rtu,
+                        .direction = protocol::Direction::Response,
+                        .unknown_length = protocol::RtuFramer::UnknownLength::EndOnCrcMatch},
+                       kTcpSilence));
 }
 
 bool StreamLink::send(std::span<const std::uint8_t> adu, LinkError& error) {
@@ -139,40 +119,13 @@ bool StreamLink::send(std::span<const std::uint8_t> adu, LinkError& error) {
     return true;
 }
 
-Received StreamLink::take(ReceiveStatus status, std::string detail) {
-    Received out{status, std::move(partial_), std::move(detail)};
-    partial_.clear();
-    return out;
-}
-
-std::optional<Received> StreamLink::cut(const protocol::FrameEvent& event) {
-    if (event.is_frame()) {
-        partial_.clear();
-        return Received{ReceiveStatus::Frame, {event.adu.begin(), event.adu.end()}, {}};
-    }
-    if (event.is_error()) {
-        if (!event.adu.empty()) partial_.assign(event.adu.begin(), event.adu.end());
-        return take(ReceiveStatus::Malformed, event.error);
-    }
-    return std::nullopt;
-}
-
 Received StreamLink::receive_frame(milliseconds timeout) {
     const auto deadline = Clock::now() + timeout;
     while (true) {
-        while (!pending_.empty()) {
-            std::size_t consumed = 0;
-            const auto event = cutter_->feed(pending_, consumed);
-            partial_.insert(partial_.end(), pending_.begin(),
-                            pending_.begin() + static_cast<long>(consumed));
-            // The event may view `pending_`: copy it out before those bytes go.
-            auto done = cut(event);
-            pending_.erase(pending_.begin(), pending_.begin() + static_cast<long>(consumed));
-            if (done) return std::move(*done);
-        }
-        if (fd_ < 0) return take(ReceiveStatus::Closed, "connection closed");
+        if (auto frame = reader_.next()) return std::move(*frame);
+        if (fd_ < 0) return reader_.take(ReceiveStatus::Closed, "connection closed");
         const auto left = deadline - Clock::now();
-        const bool held = cutter_->has_partial();
+        const bool held = reader_.has_partial();
         const auto wait = held ? std::min<Clock::duration>(left, silence_) : left;
         pollfd ready{fd_, POLLIN, 0};
         const int polled = ::poll(&ready, 1, poll_ms(wait));
@@ -181,23 +134,20 @@ Received StreamLink::receive_frame(milliseconds timeout) {
             std::uint8_t chunk[512];
             const ssize_t got = ::read(fd_, chunk, sizeof chunk);
             if (got > 0) {
-                pending_.insert(pending_.end(), chunk, chunk + got);
+                reader_.add({chunk, static_cast<std::size_t>(got)});
                 continue;
             }
             if (got < 0 && (errno == EAGAIN || errno == EINTR)) continue;
             const std::string why =
                 got == 0 ? "connection closed by peer" : lowercase_first(std::strerror(errno));
-            Received out = take(ReceiveStatus::Closed, why);
+            Received out = reader_.take(ReceiveStatus::Closed, why);
             close();
             return out;
         }
         if (held) {
-            if (auto done = cut(cutter_->on_silence())) return std::move(*done);
+            if (auto done = reader_.on_silence()) return std::move(*done);
         }
-        if (Clock::now() >= deadline) {
-            cutter_->reset();
-            return take(ReceiveStatus::Timeout, {});
-        }
+        if (Clock::now() >= deadline) return reader_.take(ReceiveStatus::Timeout);
     }
 }
 

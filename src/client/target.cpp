@@ -28,8 +28,9 @@ Framing framing_of(const Target& target) {
 }
 
 protocol::Result<std::unique_ptr<Link>, LinkError> open_link(const Target& target,
-                                                             std::chrono::milliseconds timeout) {
-    if (target.tcp) return TcpLink::open(*target.tcp, target.name, timeout);
+                                                             std::chrono::milliseconds timeout,
+                                                             LinkObserver* observer) {
+    if (target.tcp) return TcpLink::open(*target.tcp, target.name, timeout, observer);
     if (target.serial->kind == transport::SerialUrl::Kind::RtuOverTcp) {
         return StreamLink::open_rtu_over_tcp(target.serial->endpoint, target.name, timeout);
     }

@@ -28,7 +28,9 @@ Framing framing_of(const Target& target);
 protocol::Result<Target, std::string> parse_target(std::string_view text);
 
 // Connects to the target; the error says why it cannot be reached ("connection refused").
+// `observer` sees the traffic of TCP links (captures are of Modbus/TCP only).
 protocol::Result<std::unique_ptr<Link>, LinkError> open_link(const Target& target,
-                                                             std::chrono::milliseconds timeout);
+                                                             std::chrono::milliseconds timeout,
+                                                             LinkObserver* observer = nullptr);
 
 }  // namespace mblab::client

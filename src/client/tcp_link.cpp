@@ -4,9 +4,11 @@
 
 namespace mblab::client {
 
-protocol::Result<std::unique_ptr<Link>, LinkError> TcpLink::open(
-    const Endpoint& endpoint, std::string name, std::chrono::milliseconds timeout) {
-    auto raw = RawLink::connect(endpoint, timeout);
+protocol::Result<std::unique_ptr<Link>, LinkError> TcpLink::open(const Endpoint& endpoint,
+                                                                 std::string name,
+                                                                 std::chrono::milliseconds timeout,
+                                                                 LinkObserver* observer) {
+    auto raw = RawLink::connect(endpoint, timeout, observer);
     if (!raw) return raw.error();
     return std::unique_ptr<Link>(new TcpLink(std::move(raw.value()), std::move(name)));
 }

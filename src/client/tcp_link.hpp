@@ -14,13 +14,17 @@ namespace mblab::client {
 class TcpLink final : public Link {
   public:
     static protocol::Result<std::unique_ptr<Link>, LinkError> open(
-        const Endpoint& endpoint, std::string name, std::chrono::milliseconds timeout);
+        const Endpoint& endpoint, std::string name, std::chrono::milliseconds timeout,
+        LinkObserver* observer = nullptr);
 
     Framing framing() const override { return Framing::Mbap; }
     const std::string& name() const override { return name_; }
     bool is_open() const override { return raw_.is_open(); }
     bool send(std::span<const std::uint8_t> adu, LinkError& error) override;
     Received receive_frame(std::chrono::milliseconds timeout) override;
+    Received receive_any(std::chrono::milliseconds timeout) override {
+        return raw_.receive_any(timeout);
+    }
     void close() override { raw_.close(); }
 
   private:

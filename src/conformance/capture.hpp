@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "client/raw_link.hpp"
+#include "client/link_types.hpp"
 
 namespace mblab::conformance {
 

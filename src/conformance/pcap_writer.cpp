@@ -6,6 +6,7 @@
 #include <optional>
 
 #include "conformance/capture.hpp"
+#include "protocol/framer.hpp"
 
 namespace mblab::conformance {
 
@@ -162,14 +163,16 @@ bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events
             std::size_t cut = bytes.size();
             if (whole_frames_only) {
                 cut = 0;
-                while (true) {
-                    long size = client::mbap_frame_size(std::span(bytes).subspan(cut));
-                    if (size < 0) {
+                protocol::Framer framer({.framing = protocol::Framing::Mbap, .lenient = true});
+                while (cut < bytes.size()) {
+                    std::size_t consumed = 0;
+                    const auto event = framer.feed(std::span(bytes).subspan(cut), consumed);
+                    if (event.is_error()) {
                         cut = bytes.size();  // not MBAP: nothing to wait for
                         break;
                     }
-                    if (size == 0 || cut + static_cast<std::size_t>(size) > bytes.size()) break;
-                    cut += static_cast<std::size_t>(size);
+                    if (!event.is_frame()) break;  // the rest is a frame still arriving
+                    cut += consumed;
                 }
             }
             if (cut == 0 || !stream) return;

@@ -6,7 +6,9 @@
 #include <thread>
 
 #include "client/adu_codec.hpp"
+#include "client/target.hpp"
 #include "client/unit_probe.hpp"
+#include "protocol/adu.hpp"
 #include "protocol/limits.hpp"
 
 namespace mblab::conformance {
@@ -70,36 +72,21 @@ client::Framing Session::framing() const {
 }
 
 bool Session::connect(client::LinkError& error) {
-    if (target_.tcp) {
-        if (tcp_ && tcp_->is_open()) return true;
-        tcp_.reset();
-        auto connected =
-            client::RawLink::connect(*target_.tcp, options_.connect_timeout, observer_);
-        if (!connected) {
-            error = connected.error();
-            return false;
-        }
-        tcp_.emplace(std::move(connected.value()));
-        connection_requests_ = 0;
-        last_frame_.clear();
-        return true;
-    }
-    if (line_ && line_->is_open()) return true;
-    line_.reset();
-    auto opened = client::open_link(target_, options_.connect_timeout);
+    if (link_ && link_->is_open()) return true;
+    link_.reset();
+    auto opened = client::open_link(target_, options_.connect_timeout, observer_);
     if (!opened) {
         error = opened.error();
         return false;
     }
-    line_ = std::move(opened.value());
+    link_ = std::move(opened.value());
     connection_requests_ = 0;
     last_frame_.clear();
     return true;
 }
 
 void Session::close() {
-    tcp_.reset();
-    line_.reset();
+    link_.reset();
 }
 
 bool Session::send(std::span<const std::uint8_t> bytes, std::size_t count, client::LinkError& error,
@@ -107,7 +94,7 @@ bool Session::send(std::span<const std::uint8_t> bytes, std::size_t count, clien
     if (!connect(error)) return false;
     requests_ += count;
     connection_requests_ += count;
-    if (!tcp_) {
+    if (link_->framing() != client::Framing::Mbap) {
         if (count != 1 || !split.empty()) {
             error.message = "a serial line carries one whole request at a time";
             return false;
@@ -117,11 +104,11 @@ bool Session::send(std::span<const std::uint8_t> bytes, std::size_t count, clien
     std::size_t from = 0;
     for (std::size_t cut : split) {
         if (cut <= from || cut >= bytes.size()) continue;
-        if (!tcp_->send(bytes.subspan(from, cut - from), error)) return false;
+        if (!link_->send(bytes.subspan(from, cut - from), error)) return false;
         std::this_thread::sleep_for(delay);
         from = cut;
     }
-    return tcp_->send(bytes.subspan(from), error);
+    return link_->send(bytes.subspan(from), error);
 }
 
 bool Session::send_on_line(std::span<const std::uint8_t> bytes, client::LinkError& error) {
@@ -132,49 +119,38 @@ bool Session::send_on_line(std::span<const std::uint8_t> bytes, client::LinkErro
     }
     line_transaction_ = parts->mbap ? parts->mbap->transaction_id : 0;
     std::array<std::uint8_t, protocol::limits::kMaxAsciiChars> adu{};
-    const std::size_t size = client::wrap_pdu(line_->framing(), parts->unit, 0, parts->pdu, adu);
+    const std::size_t size = protocol::write_adu({link_->framing(), parts->unit}, parts->pdu, adu);
     if (size == 0) {
         error.message = "the request does not fit in one serial frame";
         return false;
     }
-    return line_->send(std::span(adu).first(size), error);
+    return link_->send(std::span(adu).first(size), error);
 }
 
-client::Received Session::from_line(client::Received received) const {
-    if (received.status != client::ReceiveStatus::Frame) return received;
-    auto parts = client::unwrap_frame(line_->framing(), received.bytes);
-    if (!parts) {
-        return {client::ReceiveStatus::Malformed, std::move(received.bytes), parts.error()};
+client::Received Session::in_case_notation(client::Received received) const {
+    if (received.status != client::ReceiveStatus::Frame ||
+        received.header.framing == client::Framing::Mbap) {
+        return received;
     }
     std::array<std::uint8_t, protocol::limits::kMaxTcpAdu> adu{};
-    const std::size_t size =
-        client::wrap_pdu(client::Framing::Mbap, parts->unit, line_transaction_, parts->pdu, adu);
-    return {client::ReceiveStatus::Frame, {adu.begin(), adu.begin() + size}, {}};
+    const std::size_t size = protocol::write_adu(
+        {client::Framing::Mbap, received.header.unit, line_transaction_}, received.pdu, adu);
+    received.bytes.assign(adu.begin(), adu.begin() + static_cast<long>(size));
+    return received;
 }
 
 client::Received Session::receive_frame(std::chrono::milliseconds timeout) {
     client::Received received{client::ReceiveStatus::Closed, {}, "connection closed"};
-    if (tcp_) {
-        received = tcp_->receive_frame(timeout);
-    } else if (line_) {
-        received = from_line(line_->receive_frame(timeout));
-    }
+    if (link_) received = in_case_notation(link_->receive_frame(timeout));
     if (received.status == client::ReceiveStatus::Frame) last_frame_ = received.bytes;
     return received;
 }
 
 client::Received Session::take_unasked(std::chrono::milliseconds wait) {
-    client::Received none{client::ReceiveStatus::Timeout, {}, {}};
-    if (tcp_ && tcp_->is_open()) {
-        auto got = tcp_->receive_any(wait);
-        return got.bytes.empty() ? none : got;
-    }
-    if (line_ && line_->is_open()) {
-        auto got = line_->receive_frame(wait);
-        // On a line a framing error also means bytes arrived; keep them as they came.
-        return got.bytes.empty() ? none : got;
-    }
-    return none;
+    if (!link_ || !link_->is_open()) return {client::ReceiveStatus::Timeout};
+    // On a line a framing error also means bytes arrived; they are kept as they came.
+    auto got = link_->receive_any(wait);
+    return got.bytes.empty() ? client::Received{client::ReceiveStatus::Timeout} : got;
 }
 
 std::string Session::no_answer_hint(std::span<const std::uint8_t> request) {
@@ -198,10 +174,9 @@ std::string Session::no_answer_hint(std::span<const std::uint8_t> request) {
 }
 
 client::Received Session::receive_any(std::chrono::milliseconds timeout) {
-    if (tcp_) return tcp_->receive_any(timeout);
-    // On a line, anything the device sends arrives as a frame (or a framing error).
-    if (line_) return from_line(line_->receive_frame(timeout));
-    return {client::ReceiveStatus::Closed, {}, "connection closed"};
+    if (!link_) return {client::ReceiveStatus::Closed, {}, "connection closed"};
+    auto got = link_->receive_any(timeout);
+    return link_->framing() == client::Framing::Mbap ? got : in_case_notation(std::move(got));
 }
 
 std::optional<std::string> mbap_only_reason(const Session& session, bool pipelined, bool split,

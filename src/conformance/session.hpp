@@ -9,7 +9,6 @@
 #include <vector>
 
 #include "client/link.hpp"
-#include "client/raw_link.hpp"
 #include "client/target.hpp"
 #include "conformance/dut.hpp"
 
@@ -38,10 +37,12 @@ class Progress {
 // The connection to the device under test, shared by every case of a run. It reconnects when a
 // case left it closed or out of step, and counts the requests sent.
 //
-// Cases are written as Modbus/TCP frames. Over RTU, ASCII or RTU over TCP the session carries
-// each request's unit id and PDU in that framing, one request at a time, and hands the answer
-// back as an MBAP frame (the request's transaction id, unit id = the address that answered), so
-// every case is judged the same way; cases that test MBAP itself are N/A there (`requires mbap`).
+// Cases are written in the catalogue's notation, Modbus/TCP frames. The session has one link,
+// whatever the target: over RTU, ASCII or RTU over TCP it writes each request's unit id and PDU
+// in that framing, one request at a time, and the link's framer reads the answer's header and
+// PDU. The answer is handed back in the catalogue's notation (the request's transaction id, unit
+// id = the address that answered), laid out from those fields, so every case is judged the same
+// way; cases that test MBAP itself are N/A there (`requires mbap`).
 class Session {
   public:
     Session(client::Target target, Dut dut, EngineOptions options,
@@ -89,7 +90,8 @@ class Session {
 
   private:
     bool send_on_line(std::span<const std::uint8_t> bytes, client::LinkError& error);
-    client::Received from_line(client::Received received) const;
+    // An answer from a line in the catalogue's notation.
+    client::Received in_case_notation(client::Received received) const;
 
     client::Target target_;
     Dut dut_;
@@ -97,9 +99,8 @@ class Session {
     EngineOptions options_;
     client::LinkObserver* observer_;
     Progress* progress_;
-    std::optional<client::RawLink> tcp_;  // Modbus/TCP
-    std::unique_ptr<client::Link> line_;  // RTU, ASCII, RTU over TCP
-    std::uint16_t line_transaction_ = 0;  // of the request last sent on the line
+    std::unique_ptr<client::Link> link_;
+    std::uint16_t line_transaction_ = 0;  // of the request last sent on a line
     std::size_t requests_ = 0;
     std::size_t connection_requests_ = 0;
     std::vector<std::uint8_t> last_frame_;

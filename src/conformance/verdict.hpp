@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "client/raw_link.hpp"
+#include "client/link_types.hpp"
 #include "conformance/dut.hpp"
 #include "conformance/pattern.hpp"
 

@@ -111,14 +111,22 @@ FrameEvent AsciiFramer::finish() {
     } else {
         const std::size_t body = byte_count_ - 1;
         const std::uint8_t computed = lrc({bytes_.data(), body});
+        const auto pdu = std::span<const std::uint8_t>(bytes_).subspan(1, body - 1);
         if (computed != bytes_[body]) {
-            event = frame_error(error_.format("LRC mismatch: frame has 0x%02X, computed 0x%02X",
-                                              unsigned{bytes_[body]}, unsigned{computed}));
+            const char* why = error_.format("LRC mismatch: frame has 0x%02X, computed 0x%02X",
+                                            unsigned{bytes_[body]}, unsigned{computed});
+            if (lenient_) {
+                event.status = FrameStatus::Frame;
+                event.violation = why;
+            } else {
+                event = frame_error(why);
+            }
         } else {
             event.status = FrameStatus::Frame;
-            event.pdu = std::span<const std::uint8_t>(bytes_).subspan(1, body - 1);
         }
+        if (event.is_frame()) event.pdu = pdu;
         event.unit = bytes_[0];
+        event.header = {Framing::Ascii, bytes_[0]};
     }
     event.adu = chars;
     return event;

@@ -22,6 +22,10 @@ namespace mblab::protocol {
 // number of hex digits, fewer than 3 bytes, bad LRC, more than 513 characters.
 class AsciiFramer {
   public:
+    // Lenient (the tester's mode): a frame whose LRC does not match comes through as a Frame with
+    // `violation` set.
+    explicit AsciiFramer(bool lenient = false) : lenient_(lenient) {}
+
     // Same contract as MbapFramer::feed: the first event, `consumed` bytes used; NeedMore means
     // all of `input` was consumed; every Frame or Error consumes at least one byte.
     FrameEvent feed(std::span<const std::uint8_t> input, std::size_t& consumed);
@@ -54,6 +58,7 @@ class AsciiFramer {
     std::array<std::uint8_t, (limits::kMaxAsciiChars - 1) / 2> bytes_{};
     std::size_t byte_count_ = 0;
     int high_nibble_ = -1;
+    bool lenient_ = false;
     FrameErrorText error_;
 };
 

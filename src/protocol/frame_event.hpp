@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <span>
 
+#include "protocol/adu.hpp"
 #include "protocol/mbap_header.hpp"
 
 namespace mblab::protocol {
@@ -20,13 +21,19 @@ struct FrameEvent {
     std::span<const std::uint8_t> adu;
     // The PDU inside it, function code first (for ASCII: decoded from hex).
     std::span<const std::uint8_t> pdu;
-    std::uint8_t unit = 0;  // unit id (MBAP) or serial address (RTU, ASCII)
-    MbapHeader mbap{};      // MbapFramer only
+    // Framing, unit, transaction: set for frames and for errors about a whole received frame.
+    AduHeader header{};
+    std::uint8_t unit = 0;  // header.unit, for the callers that predate the header
+    MbapHeader mbap{};      // MBAP only: the header as received, length field included
     // When status == Error: why, e.g. "MBAP length 300 exceeds 254". Owned by the framer.
     const char* error = "";
+    // Lenient framers only: why a strict framer would have refused this Frame (a protocol id
+    // other than 0, a bad checksum); empty when it is clean.
+    const char* violation = "";
 
     bool is_frame() const { return status == FrameStatus::Frame; }
     bool is_error() const { return status == FrameStatus::Error; }
+    bool is_clean_frame() const { return is_frame() && *violation == '\0'; }
 };
 
 inline FrameEvent frame_error(const char* reason) {

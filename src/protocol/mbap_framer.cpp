@@ -25,7 +25,7 @@ std::optional<MbapHeader> MbapFramer::partial_header() const {
 
 std::optional<FrameEvent> MbapFramer::check_length(const MbapHeader& header) {
     FrameEvent event;
-    if (header.length < kMinLength) {
+    if (header.length < (lenient_ ? 1U : kMinLength)) {
         event = frame_error(error_.format("MBAP length %u is under %u (unit id and function code)",
                                           unsigned{header.length}, kMinLength));
     } else if (header.length > kMaxLength) {
@@ -36,6 +36,7 @@ std::optional<FrameEvent> MbapFramer::check_length(const MbapHeader& header) {
     }
     event.mbap = header;
     event.unit = header.unit_id;
+    event.header = {Framing::Mbap, header.unit_id, header.transaction_id, header.protocol_id};
     return event;
 }
 
@@ -45,8 +46,17 @@ FrameEvent MbapFramer::finish(std::span<const std::uint8_t> adu) {
     event.adu = adu;
     event.pdu = adu.subspan(kHeader);
     event.unit = event.mbap.unit_id;
-    if (event.mbap.protocol_id == 0) {
+    event.header = {Framing::Mbap, event.unit, event.mbap.transaction_id, event.mbap.protocol_id};
+    if (event.mbap.protocol_id == 0 && event.mbap.length >= kMinLength) {
         event.status = FrameStatus::Frame;
+    } else if (lenient_) {
+        event.status = FrameStatus::Frame;
+        event.violation =
+            event.mbap.protocol_id != 0
+                ? error_.format("MBAP protocol id 0x%04X is not 0 (Modbus)",
+                                unsigned{event.mbap.protocol_id})
+                : error_.format("MBAP length %u is under %u (unit id and function code)",
+                                unsigned{event.mbap.length}, kMinLength);
     } else {
         event.status = FrameStatus::Error;
         event.error =

@@ -22,8 +22,14 @@ namespace mblab::protocol {
 // - protocol id != 0 with a sane length: the framer takes the frame's declared bytes and then
 //   reports Error (with adu, pdu, unit and mbap filled, so a caller can log what it dropped). The
 //   stream stays in step, so a server keeps serving [TCPG 4.4.2.2].
+//
+// Lenient (the tester's mode): a protocol id other than 0 and a length of 1 (a unit id and no
+// PDU) come through as Frames with `violation` saying what a strict framer refuses, so that the
+// tester can judge what a device sent. Lengths of 0 or over 254 stay errors: they give no frame.
 class MbapFramer {
   public:
+    explicit MbapFramer(bool lenient = false) : lenient_(lenient) {}
+
     // Consumes bytes from `input` (sets `consumed`, never past input.size()) and reports the
     // first event. Call again with the unconsumed rest until it reports NeedMore, which always
     // means everything was consumed. Every Frame or Error consumes at least one byte.
@@ -43,6 +49,7 @@ class MbapFramer {
 
     std::array<std::uint8_t, limits::kMaxTcpAdu> buffer_{};
     std::size_t held_ = 0;
+    bool lenient_ = false;
     FrameErrorText error_;
 };
 

@@ -33,14 +33,20 @@ FrameEvent RtuFramer::check_crc(std::span<const std::uint8_t> adu) {
     FrameEvent event;
     event.adu = adu;
     event.unit = adu[0];
-    if (computed != received) {
-        event.status = FrameStatus::Error;
-        event.error = error_.format("CRC mismatch: frame has 0x%04X, computed 0x%04X",
-                                    unsigned{received}, unsigned{computed});
-        return event;
-    }
+    event.header = {Framing::Rtu, adu[0]};
     event.status = FrameStatus::Frame;
     event.pdu = adu.subspan(1, body - 1);
+    if (computed != received) {
+        const char* why = error_.format("CRC mismatch: frame has 0x%04X, computed 0x%04X",
+                                        unsigned{received}, unsigned{computed});
+        if (lenient_) {
+            event.violation = why;
+        } else {
+            event.status = FrameStatus::Error;
+            event.error = why;
+            event.pdu = {};
+        }
+    }
     return event;
 }
 

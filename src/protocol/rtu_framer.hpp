@@ -41,9 +41,12 @@ class RtuFramer {
         EndOnCrcMatch,
     };
 
+    // Lenient (the tester's mode): a frame whose CRC does not match comes through as a Frame
+    // with `violation` set, since its extent is known and its bytes are worth showing.
     explicit RtuFramer(Direction direction,
-                       UnknownLength unknown_length = UnknownLength::AwaitSilence)
-        : direction_(direction), unknown_length_(unknown_length) {}
+                       UnknownLength unknown_length = UnknownLength::AwaitSilence,
+                       bool lenient = false)
+        : direction_(direction), unknown_length_(unknown_length), lenient_(lenient) {}
 
     // Same contract as MbapFramer::feed: the first event, `consumed` bytes used; NeedMore means
     // all of `input` was consumed; every Frame or Error consumes at least one byte.
@@ -64,6 +67,7 @@ class RtuFramer {
 
     Direction direction_;
     UnknownLength unknown_length_;
+    bool lenient_ = false;
     std::array<std::uint8_t, limits::kMaxRtuAdu> buffer_{};
     std::size_t held_ = 0;
     // Running CRC over buffer_[0, crc_len_) for EndOnCrcMatch.

@@ -11,19 +11,20 @@ constexpr std::size_t kMinRtuFrame = 4;  // address, function code, CRC
 SerialLineReceiver::SerialLineReceiver(LineFraming framing, LineTiming timing,
                                        protocol::Direction direction,
                                        protocol::RtuFramer::UnknownLength unknown_length)
-    : framer_(std::in_place_type<protocol::RtuFramer>, direction, unknown_length), timing_(timing) {
-    if (framing == LineFraming::Ascii) framer_.emplace<protocol::AsciiFramer>();
-}
+    : framer_({.framing = framing == LineFraming::Ascii ? protocol::Framing::Ascii
+                                                        : protocol::Framing::Rtu,
+               .direction = direction,
+               .unknown_length = unknown_length}),
+      timing_(timing) {}
 
 bool SerialLineReceiver::has_partial() const {
-    return std::visit([](const auto& framer) { return framer.has_partial(); }, framer_);
+    return framer_.has_partial();
 }
 
 LineClock::time_point SerialLineReceiver::deadline() const {
     // An RTU burst ends with silence even when the framer holds nothing: the silence closes
     // the burst's error count, and a frame of unknown length has no other end.
-    const bool waiting =
-        std::holds_alternative<protocol::RtuFramer>(framer_) ? in_burst_ : has_partial();
+    const bool waiting = is_rtu() ? in_burst_ : has_partial();
     return waiting ? last_byte_ + timing_.silence : LineClock::time_point::max();
 }
 
@@ -31,8 +32,7 @@ void SerialLineReceiver::receive(std::span<const std::uint8_t> bytes, LineClock:
     if (bytes.empty()) return;
     if (now >= deadline()) {
         silence_due_ = true;
-    } else if (timing_.char_gap.count() > 0 && has_partial() &&
-               std::holds_alternative<protocol::RtuFramer>(framer_) &&
+    } else if (timing_.char_gap.count() > 0 && has_partial() && is_rtu() &&
                now - last_byte_ > timing_.char_gap) {
         broken_ = true;
     }
@@ -52,8 +52,7 @@ LineEvent SerialLineReceiver::next() {
         in_burst_ = true;
         std::size_t consumed = 0;
         const auto rest = input_.subspan(position_);
-        const protocol::FrameEvent event =
-            std::visit([&](auto& framer) { return framer.feed(rest, consumed); }, framer_);
+        const protocol::FrameEvent event = framer_.feed(rest, consumed);
         position_ += consumed;
         if (event.status == protocol::FrameStatus::NeedMore) {
             held_ += consumed;
@@ -77,8 +76,7 @@ LineEvent SerialLineReceiver::silence() {
     const std::size_t held_before = held_;
     held_ = 0;
     in_burst_ = false;
-    const protocol::FrameEvent event =
-        std::visit([](auto& framer) { return framer.on_silence(); }, framer_);
+    const protocol::FrameEvent event = framer_.on_silence();
     LineEvent out = classify(event, held_before);
     broken_ = false;
     error_counted_ = false;
@@ -87,7 +85,7 @@ LineEvent SerialLineReceiver::silence() {
 
 LineEvent SerialLineReceiver::classify(const protocol::FrameEvent& event, std::size_t held_before) {
     if (event.status == protocol::FrameStatus::NeedMore) return {};
-    if (std::holds_alternative<protocol::AsciiFramer>(framer_)) {
+    if (!is_rtu()) {
         // ASCII frames are delimited by characters, not silence: each bad one counts.
         return {event, event.is_error() ? LineError::Checksum : LineError::None};
     }
@@ -112,7 +110,7 @@ LineEvent SerialLineReceiver::count_once(const protocol::FrameEvent& event, Line
 }
 
 void SerialLineReceiver::reset() {
-    std::visit([](auto& framer) { framer.reset(); }, framer_);
+    framer_.reset();
     input_ = {};
     position_ = 0;
     held_ = 0;
@@ -123,12 +121,11 @@ void SerialLineReceiver::reset() {
 }
 
 void SerialLineReceiver::set_ascii_delimiter(std::uint8_t end) {
-    if (auto* ascii = std::get_if<protocol::AsciiFramer>(&framer_)) ascii->set_end_delimiter(end);
+    framer_.set_ascii_delimiter(end);
 }
 
 std::uint8_t SerialLineReceiver::ascii_delimiter() const {
-    const auto* ascii = std::get_if<protocol::AsciiFramer>(&framer_);
-    return ascii ? ascii->end_delimiter() : static_cast<std::uint8_t>('\n');
+    return framer_.ascii_delimiter();
 }
 
 }  // namespace mblab::server

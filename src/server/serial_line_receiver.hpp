@@ -4,11 +4,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
-#include <variant>
 
-#include "protocol/ascii_framer.hpp"
 #include "protocol/frame_event.hpp"
-#include "protocol/rtu_framer.hpp"
+#include "protocol/framer.hpp"
 
 // The receiving half of a serial link without I/O: bytes and the clock in, frames and counted
 // line errors out. The owner reads the link, passes each chunk with the time it arrived, and
@@ -76,8 +74,9 @@ class SerialLineReceiver {
     LineEvent silence();
     LineEvent classify(const protocol::FrameEvent& event, std::size_t held_before);
     LineEvent count_once(const protocol::FrameEvent& event, LineError error);
+    bool is_rtu() const { return framer_.framing() == protocol::Framing::Rtu; }
 
-    std::variant<protocol::RtuFramer, protocol::AsciiFramer> framer_;
+    protocol::Framer framer_;
     LineTiming timing_;
     std::span<const std::uint8_t> input_;
     std::size_t position_ = 0;

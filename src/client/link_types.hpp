@@ -1,0 +1,66 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "protocol/adu.hpp"
+
+// The vocabulary every link speaks, whatever carries its bytes: what came back, what went wrong,
+// and who watches the traffic.
+namespace mblab::client {
+
+using Framing = protocol::Framing;
+
+struct LinkError {
+    std::string message;  // "connection refused", "timeout after 2000 ms", ...
+};
+
+// Both ends of a connection; IPv4 addresses in host order, 0 for IPv6.
+struct LinkAddresses {
+    std::uint32_t local_ip = 0;
+    std::uint16_t local_port = 0;
+    std::uint32_t peer_ip = 0;
+    std::uint16_t peer_port = 0;
+};
+
+// Watches traffic for captures (pcap); every callback sees the bytes as they crossed the socket.
+class LinkObserver {
+  public:
+    virtual ~LinkObserver() = default;
+    virtual void on_open(const LinkAddresses& addresses) = 0;
+    virtual void on_sent(std::span<const std::uint8_t> bytes) = 0;
+    virtual void on_received(std::span<const std::uint8_t> bytes) = 0;
+    // `by_peer` is true when the device closed or reset the connection first.
+    virtual void on_close(bool by_peer) = 0;
+};
+
+enum class ReceiveStatus : std::uint8_t {
+    Frame,      // `bytes` holds one whole frame
+    Timeout,    // nothing, or only part of a frame (in `bytes`), before the deadline
+    Closed,     // the peer closed or reset; `bytes` holds any partial frame
+    Malformed,  // the bytes cannot be a frame (a length field that describes none, a bad CRC);
+                // `bytes` holds what came
+};
+
+struct Received {
+    Received() = default;
+    Received(ReceiveStatus status_, std::vector<std::uint8_t> bytes_ = {}, std::string detail_ = {})
+        : status(status_), bytes(std::move(bytes_)), detail(std::move(detail_)) {}
+
+    ReceiveStatus status = ReceiveStatus::Timeout;
+    std::vector<std::uint8_t> bytes;  // as they came over the link
+    std::string detail;               // why, for Closed and Malformed
+    std::size_t discarded = 0;        // bytes that came after `bytes` and were counted, not kept
+    // For a Frame: its header and PDU, as the link's framer read them.
+    protocol::AduHeader header{};
+    std::vector<std::uint8_t> pdu;
+    // For a Frame on a lenient link: what a strict framer would refuse in it (a protocol id
+    // other than 0, an MBAP length of 1); empty when it is clean.
+    std::string violation;
+};
+
+}  // namespace mblab::client
