@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "device/diagnostics.hpp"
+#include "protocol/function_table.hpp"
 #include "protocol/response.hpp"
 
 namespace mblab::device {
@@ -18,29 +19,26 @@ constexpr std::uint8_t code(FunctionCode fc) {
     return static_cast<std::uint8_t>(fc);
 }
 
-// [SER]: a broadcast carries a write; seed 001: no self-diagnostics on broadcast.
-bool executes_on_broadcast(std::uint8_t function) {
-    switch (static_cast<FunctionCode>(function)) {
-        case FunctionCode::WriteSingleCoil:
-        case FunctionCode::WriteSingleRegister:
-        case FunctionCode::WriteMultipleCoils:
-        case FunctionCode::WriteMultipleRegisters:
-        case FunctionCode::WriteFileRecord:
-        case FunctionCode::MaskWriteRegister:
-            return true;
-        default:
-            return false;
-    }
+// Codes without a row: not run on broadcast, no state change, an event, no addresses.
+constexpr protocol::FunctionRow kUnlisted{};
+
+const protocol::FunctionRow& row_of(std::uint8_t function) {
+    const protocol::FunctionRow* row = protocol::find_function(function);
+    return row ? *row : kUnlisted;
 }
 
-// The requests that change what the state file keeps: the writes a broadcast carries, and FC 17.
-bool changes_state(std::uint8_t function) {
-    return executes_on_broadcast(function) ||
-           function == code(FunctionCode::ReadWriteMultipleRegisters);
-}
+template <class Message>
+concept NamesAddress = requires(Message message) {
+    message.address;
+};
+template <class Message>
+concept NamesRange = NamesAddress<Message> && requires(Message message) {
+    message.quantity;
+};
 
 // The data addresses a request names, for fault rules with an address filter.
-RequestScope scope_of(std::uint8_t function, const protocol::Result<protocol::Request>& decoded) {
+RequestScope scope_of(std::uint8_t function, const protocol::FunctionRow& row,
+                      const protocol::Result<protocol::Request>& decoded) {
     RequestScope scope;
     scope.function = function;
     if (!decoded) return scope;
@@ -49,29 +47,52 @@ RequestScope scope_of(std::uint8_t function, const protocol::Result<protocol::Re
         scope.first = first;
         scope.last = first + (count ? count - 1 : 0);
     };
-    std::visit(
-        [&](const auto& r) {
-            using namespace protocol;
-            using T = std::decay_t<decltype(r)>;
-            if constexpr (std::is_same_v<T, ReadBitsRequest> ||
-                          std::is_same_v<T, ReadRegistersRequest> ||
-                          std::is_same_v<T, WriteMultipleCoilsRequest> ||
-                          std::is_same_v<T, WriteMultipleRegistersRequest>) {
-                span(r.address, r.quantity);
-            } else if constexpr (std::is_same_v<T, WriteSingleCoilRequest> ||
-                                 std::is_same_v<T, WriteSingleRegisterRequest> ||
-                                 std::is_same_v<T, MaskWriteRegisterRequest> ||
-                                 std::is_same_v<T, ReadFifoQueueRequest>) {
-                span(r.address, 1);
-            } else if constexpr (std::is_same_v<T, ReadWriteMultipleRegistersRequest>) {
-                const std::uint32_t first = std::min(r.read_address, r.write_address);
+    const protocol::Request& request = decoded.value();
+    switch (row.scope) {
+        case protocol::AddressScope::None:
+            break;
+        case protocol::AddressScope::Range:
+            std::visit(
+                [&](const auto& r) {
+                    if constexpr (NamesRange<decltype(r)>) span(r.address, r.quantity);
+                },
+                request);
+            break;
+        case protocol::AddressScope::Single:
+            std::visit(
+                [&](const auto& r) {
+                    if constexpr (NamesAddress<decltype(r)>) span(r.address, 1);
+                },
+                request);
+            break;
+        case protocol::AddressScope::ReadWrite:
+            if (const auto* r =
+                    std::get_if<protocol::ReadWriteMultipleRegistersRequest>(&request)) {
+                const std::uint32_t first = std::min(r->read_address, r->write_address);
                 const std::uint32_t end = std::max<std::uint32_t>(
-                    r.read_address + r.read_quantity, r.write_address + r.write_quantity);
+                    r->read_address + r->read_quantity, r->write_address + r->write_quantity);
                 span(first, end - first);
             }
-        },
-        decoded.value());
+            break;
+    }
     return scope;
+}
+
+// FC 08 is an event unless its sub-function resets the counter it would add to.
+bool counts_as_event(const protocol::FunctionRow& row,
+                     const protocol::Result<protocol::Request>& decoded) {
+    switch (row.events) {
+        case protocol::EventCounting::Counts:
+            return true;
+        case protocol::EventCounting::Never:
+            return false;
+        case protocol::EventCounting::BySubFunction: {
+            const auto* diag =
+                decoded ? std::get_if<protocol::DiagnosticsRequest>(&decoded.value()) : nullptr;
+            return !diag || !resets_event_counter(diag->sub_function);
+        }
+    }
+    return true;
 }
 
 bool is_restart(const protocol::Result<protocol::Request>& decoded) {
@@ -181,7 +202,7 @@ std::uint64_t ReferenceDevice::state_writes() const {
 bool ReferenceDevice::replay_write(const RequestContext& context,
                                    std::span<const std::uint8_t> request) {
     std::lock_guard lock(mutex_);
-    if (request.empty() || !changes_state(request[0])) return false;
+    if (request.empty() || row_of(request[0]).writes != protocol::Writes::Yes) return false;
     const auto decoded = protocol::decode_request(request);
     const Route target = route(context);
     if (!decoded) return false;
@@ -208,6 +229,7 @@ Reply ReferenceDevice::serve(UnitModel& unit, std::span<const std::uint8_t> requ
     comm.log.add(received);
 
     const std::uint8_t function = request[0];
+    const protocol::FunctionRow& row = row_of(function);
     const auto decoded = protocol::decode_request(request);
     if (comm.listen_only) {
         ++comm.counters.no_response;
@@ -221,7 +243,7 @@ Reply ReferenceDevice::serve(UnitModel& unit, std::span<const std::uint8_t> requ
     std::chrono::milliseconds delay{0};
     Outcome outcome;
     const FaultSpec* fault =
-        broadcast ? nullptr : unit.faults().fire(scope_of(function, decoded), prng_);
+        broadcast ? nullptr : unit.faults().fire(scope_of(function, row, decoded), prng_);
     if (fault) {
         switch (fault->action) {
             case FaultAction::Delay:
@@ -246,29 +268,24 @@ Reply ReferenceDevice::serve(UnitModel& unit, std::span<const std::uint8_t> requ
         outcome = exception_outcome(function, ExceptionCode::IllegalFunction);
     } else if (!decoded) {
         outcome = exception_outcome(function, decoded.error().exception);
-    } else if (!broadcast || executes_on_broadcast(function)) {
+    } else if (!broadcast || row.broadcast == protocol::Broadcast::Execute) {
         outcome = unit.serve(decoded.value(), scratch_);
-        if (changes_state(function) && outcome &&
+        if (row.writes == protocol::Writes::Yes && outcome &&
             !std::holds_alternative<protocol::ExceptionResponse>(*outcome)) {
             ++state_writes_;
         }
     }
 
-    bool counts_as_event = function != code(FunctionCode::GetCommEventCounter) &&
-                           function != code(FunctionCode::GetCommEventLog);
-    if (const auto* diag =
-            decoded ? std::get_if<protocol::DiagnosticsRequest>(&decoded.value()) : nullptr) {
-        counts_as_event = counts_as_event && !resets_event_counter(diag->sub_function);
-    }
+    const bool is_event = counts_as_event(row, decoded);
     if (broadcast || !outcome) {
         const bool completed =
             outcome && !std::holds_alternative<protocol::ExceptionResponse>(*outcome);
-        if (completed && counts_as_event) ++comm.event_count;
+        if (completed && is_event) ++comm.event_count;
         ++comm.counters.no_response;
         comm.apply_pending();
         return silent();
     }
-    Reply reply = answer(unit, function, outcome, response, counts_as_event);
+    Reply reply = answer(unit, function, outcome, response, is_event);
     reply.delay = delay;
     comm.apply_pending();
     return reply;

@@ -2,6 +2,8 @@
 
 #include <array>
 
+#include "protocol/function_table.hpp"
+
 namespace mblab::protocol {
 
 namespace {
@@ -29,75 +31,11 @@ constexpr UnknownFunctionNames kUnknownFunctionNames;
 }  // namespace
 
 bool is_public_function(std::uint8_t code) {
-    switch (static_cast<FunctionCode>(code)) {
-        case FunctionCode::ReadCoils:
-        case FunctionCode::ReadDiscreteInputs:
-        case FunctionCode::ReadHoldingRegisters:
-        case FunctionCode::ReadInputRegisters:
-        case FunctionCode::WriteSingleCoil:
-        case FunctionCode::WriteSingleRegister:
-        case FunctionCode::ReadExceptionStatus:
-        case FunctionCode::Diagnostics:
-        case FunctionCode::GetCommEventCounter:
-        case FunctionCode::GetCommEventLog:
-        case FunctionCode::WriteMultipleCoils:
-        case FunctionCode::WriteMultipleRegisters:
-        case FunctionCode::ReportServerId:
-        case FunctionCode::ReadFileRecord:
-        case FunctionCode::WriteFileRecord:
-        case FunctionCode::MaskWriteRegister:
-        case FunctionCode::ReadWriteMultipleRegisters:
-        case FunctionCode::ReadFifoQueue:
-        case FunctionCode::EncapsulatedInterface:
-        case FunctionCode::ObjectMessaging:
-            return true;
-    }
-    return false;
+    return find_function(code) != nullptr;
 }
 
 std::string_view function_name(std::uint8_t code) {
-    switch (static_cast<FunctionCode>(code)) {
-        case FunctionCode::ReadCoils:
-            return "read coils";
-        case FunctionCode::ReadDiscreteInputs:
-            return "read discrete inputs";
-        case FunctionCode::ReadHoldingRegisters:
-            return "read holding registers";
-        case FunctionCode::ReadInputRegisters:
-            return "read input registers";
-        case FunctionCode::WriteSingleCoil:
-            return "write single coil";
-        case FunctionCode::WriteSingleRegister:
-            return "write single register";
-        case FunctionCode::ReadExceptionStatus:
-            return "read exception status";
-        case FunctionCode::Diagnostics:
-            return "diagnostics";
-        case FunctionCode::GetCommEventCounter:
-            return "get comm event counter";
-        case FunctionCode::GetCommEventLog:
-            return "get comm event log";
-        case FunctionCode::WriteMultipleCoils:
-            return "write multiple coils";
-        case FunctionCode::WriteMultipleRegisters:
-            return "write multiple registers";
-        case FunctionCode::ReportServerId:
-            return "report server id";
-        case FunctionCode::ReadFileRecord:
-            return "read file record";
-        case FunctionCode::WriteFileRecord:
-            return "write file record";
-        case FunctionCode::MaskWriteRegister:
-            return "mask write register";
-        case FunctionCode::ReadWriteMultipleRegisters:
-            return "read/write multiple registers";
-        case FunctionCode::ReadFifoQueue:
-            return "read FIFO queue";
-        case FunctionCode::EncapsulatedInterface:
-            return "encapsulated interface transport";
-        case FunctionCode::ObjectMessaging:
-            return "object messaging";
-    }
+    if (const FunctionRow* row = find_function(code)) return row->name;
     const auto& name = kUnknownFunctionNames.names[code];
     return {name.data(), name.size()};
 }

@@ -5,7 +5,8 @@
 
 namespace mblab::protocol {
 
-// Public function codes of [APP] plus 0x5B (SEMI object messaging, seed 000 7.13).
+// Public function codes of [APP] plus 0x5B (SEMI object messaging, seed 000 7.13). Each has a
+// row in kFunctionTable (function_table.hpp) that holds what mblab knows about it.
 enum class FunctionCode : std::uint8_t {
     ReadCoils = 0x01,
     ReadDiscreteInputs = 0x02,
@@ -33,7 +34,7 @@ inline constexpr std::uint8_t kExceptionBit = 0x80;
 inline constexpr std::uint8_t kMeiReadDeviceId = 0x0E;
 inline constexpr std::uint8_t kMeiCanopen = 0x0D;
 
-// True for the codes listed above (the ones mblab decodes into typed messages).
+// True for the codes with a row in kFunctionTable (the ones mblab decodes into typed messages).
 bool is_public_function(std::uint8_t code);
 // "read holding registers", or "function 0x41" for others.
 std::string_view function_name(std::uint8_t code);

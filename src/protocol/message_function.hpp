@@ -3,43 +3,97 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <type_traits>
+#include <utility>
+#include <variant>
 
 #include "protocol/function_code.hpp"
+#include "protocol/function_table.hpp"
+#include "protocol/request.hpp"
+#include "protocol/response.hpp"
 
 // Function codes of the message types (not part of the public API).
 namespace mblab::protocol::detail {
 
-// The code of each typed message by its index in the Request and Response variants, which list
-// the function codes in the same order. Types that carry a `function` member are read from it.
-inline constexpr std::array<FunctionCode, 19> kFunctionByIndex = {
-    FunctionCode::ReadCoils,             // read bits: from the member
-    FunctionCode::ReadHoldingRegisters,  // read registers: from the member
-    FunctionCode::WriteSingleCoil,
-    FunctionCode::WriteSingleRegister,
-    FunctionCode::ReadExceptionStatus,
-    FunctionCode::Diagnostics,
-    FunctionCode::GetCommEventCounter,
-    FunctionCode::GetCommEventLog,
-    FunctionCode::WriteMultipleCoils,
-    FunctionCode::WriteMultipleRegisters,
-    FunctionCode::ReportServerId,
-    FunctionCode::ReadFileRecord,
-    FunctionCode::WriteFileRecord,
-    FunctionCode::MaskWriteRegister,
-    FunctionCode::ReadWriteMultipleRegisters,
-    FunctionCode::ReadFifoQueue,
-    FunctionCode::EncapsulatedInterface,  // read device id (MEI 0E)
-    FunctionCode::EncapsulatedInterface,  // other MEI types
-    FunctionCode::ObjectMessaging,
+// The request and response types of one function code whose messages do not carry the code.
+template <FunctionCode Code, class RequestMessage, class ResponseMessage>
+struct MessagePair {
+    static constexpr FunctionCode code = Code;
+    template <class Message>
+    static constexpr bool holds =
+        std::is_same_v<Message, RequestMessage> || std::is_same_v<Message, ResponseMessage>;
 };
 
+template <class... Pairs>
+struct CodeByType {
+    template <class Message>
+    static constexpr FunctionCode of() {
+        static_assert((static_cast<int>(Pairs::template holds<Message>) + ...) == 1,
+                      "a message type without a `function` member needs one pair in CodeByMessage");
+        FunctionCode code{};
+        static_cast<void>(((Pairs::template holds<Message> && (code = Pairs::code, true)) || ...));
+        return code;
+    }
+    static constexpr bool all_have_rows =
+        ((find_function(static_cast<std::uint8_t>(Pairs::code)) != nullptr) && ...);
+};
+
+// Looked up by type, so the order of the Request and Response variants does not matter. Types
+// with a `function` member (read bits, read registers, raw) are not listed: they carry their code.
+using CodeByMessage = CodeByType<
+    MessagePair<FunctionCode::WriteSingleCoil, WriteSingleCoilRequest, WriteSingleCoilResponse>,
+    MessagePair<FunctionCode::WriteSingleRegister, WriteSingleRegisterRequest,
+                WriteSingleRegisterResponse>,
+    MessagePair<FunctionCode::ReadExceptionStatus, ReadExceptionStatusRequest,
+                ReadExceptionStatusResponse>,
+    MessagePair<FunctionCode::Diagnostics, DiagnosticsRequest, DiagnosticsResponse>,
+    MessagePair<FunctionCode::GetCommEventCounter, GetCommEventCounterRequest,
+                GetCommEventCounterResponse>,
+    MessagePair<FunctionCode::GetCommEventLog, GetCommEventLogRequest, GetCommEventLogResponse>,
+    MessagePair<FunctionCode::WriteMultipleCoils, WriteMultipleCoilsRequest,
+                WriteMultipleCoilsResponse>,
+    MessagePair<FunctionCode::WriteMultipleRegisters, WriteMultipleRegistersRequest,
+                WriteMultipleRegistersResponse>,
+    MessagePair<FunctionCode::ReportServerId, ReportServerIdRequest, ReportServerIdResponse>,
+    MessagePair<FunctionCode::ReadFileRecord, ReadFileRecordRequest, ReadFileRecordResponse>,
+    MessagePair<FunctionCode::WriteFileRecord, WriteFileRecordRequest, WriteFileRecordResponse>,
+    MessagePair<FunctionCode::MaskWriteRegister, MaskWriteRegisterRequest,
+                MaskWriteRegisterResponse>,
+    MessagePair<FunctionCode::ReadWriteMultipleRegisters, ReadWriteMultipleRegistersRequest,
+                ReadWriteMultipleRegistersResponse>,
+    MessagePair<FunctionCode::ReadFifoQueue, ReadFifoQueueRequest, ReadFifoQueueResponse>,
+    MessagePair<FunctionCode::EncapsulatedInterface, ReadDeviceIdRequest, ReadDeviceIdResponse>,
+    MessagePair<FunctionCode::EncapsulatedInterface, EncapsulatedRequest, EncapsulatedResponse>,
+    MessagePair<FunctionCode::ObjectMessaging, ObjectMessagingRequest, ObjectMessagingResponse>>;
+
+static_assert(CodeByMessage::all_have_rows, "every code of a message type needs a row");
+
 template <class Message>
-std::uint8_t function_byte(const Message& message, std::size_t index) {
+constexpr std::uint8_t function_byte(const Message& message) {
     if constexpr (requires { message.function; }) {
         return static_cast<std::uint8_t>(message.function);
     } else {
-        return static_cast<std::uint8_t>(kFunctionByIndex[index]);
+        return static_cast<std::uint8_t>(CodeByMessage::of<Message>());
     }
 }
+
+// The callers in request_encode.cpp and response_encode.cpp still pass the variant index;
+// nothing reads it any more.
+template <class Message>
+constexpr std::uint8_t function_byte(const Message& message, std::size_t /*index*/) {
+    return function_byte(message);
+}
+
+template <class Variant, std::size_t... I>
+constexpr auto codes_in_variant_order(std::index_sequence<I...>) {
+    return std::array<FunctionCode, sizeof...(I)>{
+        static_cast<FunctionCode>(function_byte(std::variant_alternative_t<I, Variant>{}))...};
+}
+
+// The typed requests' codes in variant order (RawRequest, last, left out), derived from the
+// types. Only its size is still read, by the static_asserts of request_encode.cpp and
+// response_encode.cpp.
+inline constexpr auto kFunctionByIndex =
+    codes_in_variant_order<Request>(std::make_index_sequence<std::variant_size_v<Request> - 1>{});
 
 }  // namespace mblab::protocol::detail

@@ -3,6 +3,7 @@
 #include <array>
 
 #include "protocol/function_code.hpp"
+#include "protocol/function_table.hpp"
 #include "protocol/limits.hpp"
 
 namespace mblab::protocol {
@@ -74,91 +75,39 @@ RtuFrameLength device_id_request(std::span<const std::uint8_t> head) {
     return is_read_device_id(head) ? known(4) : kUnknown;
 }
 
-// How a PDU's size is found, as [APP] section 6 lays each one out.
-enum class Shape : std::uint8_t {
-    Unknown,      // only silence tells
-    Fixed,        // `value` bytes
-    Count8,       // a byte count at PDU offset `value` gives the bytes after it
-    Count16,      // the same with a two-byte count
-    Diagnostics,  // FC 08: by sub-function
-    DeviceIdRequest,
-    DeviceIdResponse,
-};
-
-struct Layout {
-    Shape shape = Shape::Unknown;
-    std::uint8_t value = 0;
-};
-
-constexpr Layout fixed(std::uint8_t size) {
-    return {Shape::Fixed, size};
-}
-constexpr Layout count_at(std::uint8_t offset) {
-    return {Shape::Count8, offset};
-}
-
-struct LayoutRow {
-    FunctionCode function;
-    Layout request;
-    Layout response;
-};
-
-// The two tables, side by side: one row per function code.
-constexpr LayoutRow kLayouts[] = {
-    {FunctionCode::ReadCoils, fixed(5), count_at(1)},
-    {FunctionCode::ReadDiscreteInputs, fixed(5), count_at(1)},
-    {FunctionCode::ReadHoldingRegisters, fixed(5), count_at(1)},
-    {FunctionCode::ReadInputRegisters, fixed(5), count_at(1)},
-    {FunctionCode::WriteSingleCoil, fixed(5), fixed(5)},
-    {FunctionCode::WriteSingleRegister, fixed(5), fixed(5)},
-    {FunctionCode::ReadExceptionStatus, fixed(1), fixed(2)},
-    {FunctionCode::Diagnostics, {Shape::Diagnostics}, {Shape::Diagnostics}},
-    {FunctionCode::GetCommEventCounter, fixed(1), fixed(5)},
-    {FunctionCode::GetCommEventLog, fixed(1), count_at(1)},
-    {FunctionCode::WriteMultipleCoils, count_at(5), fixed(5)},
-    {FunctionCode::WriteMultipleRegisters, count_at(5), fixed(5)},
-    {FunctionCode::ReportServerId, fixed(1), count_at(1)},
-    {FunctionCode::ReadFileRecord, count_at(1), count_at(1)},
-    {FunctionCode::WriteFileRecord, count_at(1), count_at(1)},
-    {FunctionCode::MaskWriteRegister, fixed(7), fixed(7)},
-    {FunctionCode::ReadWriteMultipleRegisters, count_at(9), count_at(1)},
-    {FunctionCode::ReadFifoQueue, fixed(3), {Shape::Count16, 1}},
-    {FunctionCode::EncapsulatedInterface, {Shape::DeviceIdRequest}, {Shape::DeviceIdResponse}},
-    {FunctionCode::ObjectMessaging, count_at(1), count_at(1)},
-};
-
-// Indexed by function code for a lookup per byte fed; codes not listed stay Unknown.
+// Dense copies of the table's layout columns, indexed by function code: one load per byte fed.
+// Codes without a row stay Unknown.
 struct LayoutIndex {
-    std::array<Layout, 256> request{};
-    std::array<Layout, 256> response{};
+    std::array<PduLayout, 256> request{};
+    std::array<PduLayout, 256> response{};
 };
 
 constexpr LayoutIndex make_index() {
     LayoutIndex index;
-    for (const LayoutRow& row : kLayouts) {
-        index.request[static_cast<std::uint8_t>(row.function)] = row.request;
-        index.response[static_cast<std::uint8_t>(row.function)] = row.response;
+    for (const FunctionRow& row : kFunctionTable) {
+        index.request[static_cast<std::uint8_t>(row.code)] = row.request;
+        index.response[static_cast<std::uint8_t>(row.code)] = row.response;
     }
     return index;
 }
 
 constexpr LayoutIndex kIndex = make_index();
 
-RtuFrameLength measure(Layout layout, std::span<const std::uint8_t> head) {
+RtuFrameLength measure(PduLayout layout, std::span<const std::uint8_t> head) {
     switch (layout.shape) {
-        case Shape::Unknown:
+        case PduShape::Unknown:
             return kUnknown;
-        case Shape::Fixed:
+        case PduShape::Fixed:
             return known(layout.value);
-        case Shape::Count8:
+        case PduShape::Count8:
             return counted(head, layout.value);
-        case Shape::Count16:
+        case PduShape::Count16:
             return counted(head, layout.value, 2);
-        case Shape::Diagnostics:
+        case PduShape::Diagnostics:
             return diagnostics(head);
-        case Shape::DeviceIdRequest:
+        case PduShape::DeviceIdRequest:
             return device_id_request(head);
-        case Shape::DeviceIdResponse:
+        case PduShape::DeviceIdResponse:
             return device_id_response(head);
     }
     return kUnknown;
