@@ -284,17 +284,19 @@ std::size_t MbapSession::output(Clock::time_point now, std::span<iovec> out) {
 void MbapSession::sent(std::size_t bytes, Clock::time_point now) {
     // Answers with nothing to send (a deferred "no answer") go with the bytes around them, or
     // with none at all.
+    if (gathered_ == 0) return;  // nothing was offered (the queue may hold no slot at all)
     auto written = bytes + head_sent_;
     std::size_t done = 0;
     while (done < gathered_ && written >= replies_.at(done).size) {
         written -= replies_.at(done).size;
         ++done;
     }
-    replies_.pop_front(done);
     head_sent_ = written;
     gathered_ = 0;
     if (bytes > 0) last_activity_ = now;
-    if (done > 0) process_input(now);  // reading may have paused for room
+    if (done == 0) return;
+    replies_.pop_front(done);
+    process_input(now);  // reading may have paused for room
 }
 
 MbapSession::Ending MbapSession::ending(Clock::time_point now) const {
