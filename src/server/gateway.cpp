@@ -8,7 +8,7 @@
 #include <cerrno>
 #include <thread>
 
-#include "protocol/adu_writer.hpp"
+#include "protocol/adu.hpp"
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
 #include "server/serial_session.hpp"
@@ -170,9 +170,7 @@ device::Reply SerialGateway::forward(std::uint8_t unit, std::span<const std::uin
 }
 
 bool SerialGateway::send_frame(std::uint8_t unit, std::span<const std::uint8_t> request) {
-    const std::size_t size = framing_ == LineFraming::Ascii
-                                 ? protocol::write_ascii_adu(unit, request, frame_)
-                                 : protocol::write_rtu_adu(unit, request, frame_);
+    const std::size_t size = protocol::write_adu({framing_, unit}, request, frame_);
     if (size == 0) return false;
     const int fd = port_.native_handle();
     const auto give_up = LineClock::now() + response_timeout_;

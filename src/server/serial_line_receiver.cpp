@@ -11,10 +11,7 @@ constexpr std::size_t kMinRtuFrame = 4;  // address, function code, CRC
 SerialLineReceiver::SerialLineReceiver(LineFraming framing, LineTiming timing,
                                        protocol::Direction direction,
                                        protocol::RtuFramer::UnknownLength unknown_length)
-    : framer_({.framing = framing == LineFraming::Ascii ? protocol::Framing::Ascii
-                                                        : protocol::Framing::Rtu,
-               .direction = direction,
-               .unknown_length = unknown_length}),
+    : framer_({.framing = framing, .direction = direction, .unknown_length = unknown_length}),
       timing_(timing) {}
 
 bool SerialLineReceiver::has_partial() const {

@@ -15,7 +15,8 @@ namespace mblab::server {
 
 using LineClock = std::chrono::steady_clock;
 
-enum class LineFraming : std::uint8_t { Rtu, Ascii };
+// Rtu or Ascii: a line speaks one of the serial framings.
+using LineFraming = protocol::Framing;
 
 struct LineTiming {
     // RTU: t3.5 of silence ends a frame. ASCII: the inter-character timeout drops an unfinished

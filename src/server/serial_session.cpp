@@ -8,7 +8,7 @@
 #include <asio/write.hpp>
 #include <type_traits>
 
-#include "protocol/adu_writer.hpp"
+#include "protocol/adu.hpp"
 #include "protocol/function_code.hpp"
 
 namespace mblab::server {
@@ -251,15 +251,11 @@ asio::awaitable<void> LineSession<Stream>::answer(std::uint8_t unit, std::size_t
     if (pdu_size > 0 && (pdu.front() & protocol::kExceptionBit)) {
         ServerStats::bump(core_->stats.exceptions);
     }
-    std::size_t size = 0;
-    if (setup_.framing == LineFraming::Ascii) {
-        size = protocol::write_ascii_adu(unit, pdu, output_, receiver_.ascii_delimiter());
-        // FC 08 sub 03 changes the delimiter for the frames after its own answer.
-        if (setup_.hooks.ascii_delimiter) {
-            receiver_.set_ascii_delimiter(setup_.hooks.ascii_delimiter(unit));
-        }
-    } else {
-        size = protocol::write_rtu_adu(unit, pdu, output_);
+    const std::size_t size =
+        protocol::write_adu({setup_.framing, unit}, pdu, output_, receiver_.ascii_delimiter());
+    // FC 08 sub 03 changes the ASCII delimiter for the frames after its own answer.
+    if (setup_.framing == LineFraming::Ascii && setup_.hooks.ascii_delimiter) {
+        receiver_.set_ascii_delimiter(setup_.hooks.ascii_delimiter(unit));
     }
     if (LineClock::now() < ready_at) {
         delay_timer_.expires_at(ready_at);
