@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
+#include <sys/epoll.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -42,6 +43,11 @@ const char* socket_error_text(int code) {
         default:
             return std::strerror(code);
     }
+}
+
+// Level-triggered: a connection reads once per wake-up and is woken again while bytes remain.
+std::uint32_t interest(bool want_write) {
+    return EPOLLIN | (want_write ? std::uint32_t{EPOLLOUT} : 0U);
 }
 
 void put_tid(std::span<std::uint8_t> adu, std::uint16_t tid) {
@@ -103,7 +109,7 @@ void LoadConnection::connect(LoadClock::time_point now) {
         return;
     }
     want_write_ = true;
-    context_.loop.add(fd_, this, true);
+    context_.epoll.add(fd_, this, interest(true));
 }
 
 void LoadConnection::finish_connect(LoadClock::time_point now) {
@@ -124,9 +130,9 @@ void LoadConnection::opened(LoadClock::time_point now) {
     state_ = State::Open;
     want_write_ = false;
     if (registered) {
-        context_.loop.modify(fd_, this, false);
+        context_.epoll.modify(fd_, this, interest(false));
     } else {
-        context_.loop.add(fd_, this, false);
+        context_.epoll.add(fd_, this, interest(false));
     }
     const auto interval = context_.send_interval;
     if (interval.count() > 0) {
@@ -138,7 +144,7 @@ void LoadConnection::opened(LoadClock::time_point now) {
 
 void LoadConnection::disconnect(LoadClock::time_point now) {
     if (fd_ >= 0) {
-        context_.loop.remove(fd_);
+        context_.epoll.remove(fd_);
         ::close(fd_);
         fd_ = -1;
     }
@@ -294,7 +300,7 @@ void LoadConnection::flush(LoadClock::time_point now) {
 void LoadConnection::set_write_interest(bool want) {
     if (want == want_write_) return;
     want_write_ = want;
-    context_.loop.modify(fd_, this, want);
+    context_.epoll.modify(fd_, this, interest(want));
 }
 
 void LoadConnection::read(LoadClock::time_point now) {

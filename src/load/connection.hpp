@@ -10,18 +10,18 @@
 
 #include "client/raw_link.hpp"
 #include "load/answer.hpp"
-#include "load/event_loop.hpp"
 #include "load/exchanges.hpp"
 #include "load/plan.hpp"
 #include "load/tally.hpp"
 #include "support/prng.hpp"
+#include "transport/epoll_set.hpp"
 
 namespace mblab::load {
 
 // What the connections of one worker thread share.
 struct WorkerContext {
     const LoadPlan& plan;
-    EventLoop& loop;
+    transport::EpollSet& epoll;
     LoadClock::time_point start;
     std::chrono::nanoseconds send_interval{0};  // per connection, from --rate; 0: none
     bool running = true;                        // false once the run drains: no new requests

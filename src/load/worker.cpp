@@ -30,7 +30,7 @@ int millis_until(LoadClock::time_point when, LoadClock::time_point now) {
 
 LoadWorker::LoadWorker(const LoadPlan& plan, const std::vector<ConnectionSpec>& connections,
                        LoadClock::time_point start, std::chrono::nanoseconds send_interval)
-    : context_{plan, loop_, start, send_interval, true}, tick_(tick_period(plan.settings)) {
+    : context_{plan, epoll_, start, send_interval, true}, tick_(tick_period(plan.settings)) {
     for (std::size_t i = 0; i < plan.targets.size(); ++i) {
         tallies_.push_back(std::make_unique<NodeTally>(plan.exchanges.size(), plan.cases.size()));
     }
@@ -56,8 +56,7 @@ void LoadWorker::run(const std::atomic<bool>& draining) {
             context_.running = false;
             next_tick = now;
         }
-        const int n = loop_.wait(events.data(), static_cast<int>(events.size()),
-                                 millis_until(next_tick, now));
+        const int n = epoll_.wait(events, millis_until(next_tick, now));
         for (int i = 0; i < n; ++i) {
             static_cast<LoadConnection*>(events[static_cast<std::size_t>(i)].data.ptr)
                 ->on_event(events[static_cast<std::size_t>(i)].events, LoadClock::now());

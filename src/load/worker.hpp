@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "load/connection.hpp"
-#include "load/event_loop.hpp"
 #include "load/plan.hpp"
 #include "load/tally.hpp"
 #include "load/thread.hpp"
+#include "transport/epoll_set.hpp"
 
 namespace mblab::load {
 
@@ -34,7 +34,7 @@ class LoadWorker final : public LoadThread {
   private:
     bool all_settled() const;
 
-    EventLoop loop_;
+    transport::EpollSet epoll_;
     WorkerContext context_;
     std::vector<std::unique_ptr<NodeTally>> tallies_;
     std::vector<std::unique_ptr<LoadConnection>> connections_;

@@ -13,10 +13,12 @@ namespace {
 
 constexpr std::size_t kBatch = 256;  // events taken per wake-up
 
-int open_epoll() {
-    int fd = ::epoll_create1(EPOLL_CLOEXEC);
-    if (fd < 0) throw std::system_error(errno, std::generic_category(), "epoll_create1");
-    return fd;
+// The set's descriptor for the io_context to watch and, in the end, to close: closing it also
+// takes it out of the io_context's own epoll set, where a separate close would cost an
+// epoll_ctl first.
+int watched_descriptor(EpollSet& epoll) {
+    if (!epoll.ok()) throw std::system_error(errno, std::generic_category(), "epoll_create1");
+    return epoll.hand_over();
 }
 
 }  // namespace
@@ -26,7 +28,7 @@ std::shared_ptr<SocketPoller> SocketPoller::create(asio::any_io_executor executo
 }
 
 SocketPoller::SocketPoller(asio::any_io_executor executor)
-    : epoll_fd_(open_epoll()), descriptor_(std::move(executor), epoll_fd_), events_(kBatch) {}
+    : descriptor_(std::move(executor), watched_descriptor(epoll_)), events_(kBatch) {}
 
 SocketPoller::~SocketPoller() = default;  // the descriptor closes the epoll set
 
@@ -51,10 +53,7 @@ bool SocketPoller::add(int fd, const std::shared_ptr<Watcher>& watcher, std::uin
     auto entry = std::make_unique<Entry>();
     entry->events = events;
     entry->watcher = watcher;
-    epoll_event event{};
-    event.events = events;
-    event.data.ptr = entry.get();
-    if (::epoll_ctl(epoll_fd_, EPOLL_CTL_ADD, fd, &event) != 0) return false;
+    if (!epoll_.add(fd, entry.get(), events)) return false;
     auto index = static_cast<std::size_t>(fd);
     if (index >= entries_.size()) entries_.resize(index + 1);
     entries_[index] = std::move(entry);
@@ -67,16 +66,13 @@ bool SocketPoller::add(int fd, const std::shared_ptr<Watcher>& watcher, std::uin
 void SocketPoller::modify(int fd, std::uint32_t events) {
     auto* entry = find(fd);
     if (!entry || entry->events == events) return;
-    epoll_event event{};
-    event.events = events;
-    event.data.ptr = entry;
-    if (::epoll_ctl(epoll_fd_, EPOLL_CTL_MOD, fd, &event) == 0) entry->events = events;
+    if (epoll_.modify(fd, entry, events)) entry->events = events;
 }
 
 void SocketPoller::remove(int fd) {
     auto* entry = find(fd);
     if (!entry) return;
-    ::epoll_ctl(epoll_fd_, EPOLL_CTL_DEL, fd, nullptr);
+    epoll_.remove(fd);
     entry->removed = true;
     auto& slot = entries_[static_cast<std::size_t>(fd)];
     // An event of the batch being delivered may still point at the entry.
@@ -122,7 +118,7 @@ int SocketPoller::dispatch() {
         events_[0].data.ptr = sole_;
         count = 1;
     } else {
-        count = ::epoll_wait(epoll_fd_, events_.data(), static_cast<int>(events_.size()), 0);
+        count = epoll_.wait(events_, 0);
     }
     dispatching_ = true;
     for (int i = 0; i < count; ++i) {

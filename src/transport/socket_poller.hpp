@@ -8,6 +8,8 @@
 #include <memory>
 #include <vector>
 
+#include "transport/epoll_set.hpp"
+
 // Readiness of many sockets through one epoll set of our own, level-triggered, that the
 // io_context watches as a single descriptor. A socket Asio reads itself costs a second recv()
 // per request: after each answer Asio tries to read again, speculatively, before waiting, and
@@ -62,8 +64,8 @@ class SocketPoller : public std::enable_shared_from_this<SocketPoller> {
     // Delivers the ready events; returns how many.
     int dispatch();
 
-    int epoll_fd_ = -1;
-    asio::posix::stream_descriptor descriptor_;    // epoll_fd_ as the io_context sees it
+    EpollSet epoll_;                               // handed over: descriptor_ closes it
+    asio::posix::stream_descriptor descriptor_;    // epoll_ as the io_context sees it
     std::vector<std::unique_ptr<Entry>> entries_;  // by descriptor number
     std::vector<std::unique_ptr<Entry>> removed_;  // entries an undelivered event may name
     std::vector<epoll_event> events_;
