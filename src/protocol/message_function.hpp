@@ -77,23 +77,4 @@ constexpr std::uint8_t function_byte(const Message& message) {
     }
 }
 
-// The callers in request_encode.cpp and response_encode.cpp still pass the variant index;
-// nothing reads it any more.
-template <class Message>
-constexpr std::uint8_t function_byte(const Message& message, std::size_t /*index*/) {
-    return function_byte(message);
-}
-
-template <class Variant, std::size_t... I>
-constexpr auto codes_in_variant_order(std::index_sequence<I...>) {
-    return std::array<FunctionCode, sizeof...(I)>{
-        static_cast<FunctionCode>(function_byte(std::variant_alternative_t<I, Variant>{}))...};
-}
-
-// The typed requests' codes in variant order (RawRequest, last, left out), derived from the
-// types. Only its size is still read, by the static_asserts of request_encode.cpp and
-// response_encode.cpp.
-inline constexpr auto kFunctionByIndex =
-    codes_in_variant_order<Request>(std::make_index_sequence<std::variant_size_v<Request> - 1>{});
-
 }  // namespace mblab::protocol::detail

@@ -81,11 +81,7 @@ struct RequestBodyWriter {
 }  // namespace
 
 std::uint8_t function_of(const Request& request) {
-    static_assert(std::variant_size_v<Request> == detail::kFunctionByIndex.size() + 1);
-    static_assert(std::is_same_v<std::variant_alternative_t<18, Request>, ObjectMessagingRequest>);
-    return std::visit(
-        [&](const auto& message) { return detail::function_byte(message, request.index()); },
-        request);
+    return std::visit([](const auto& message) { return detail::function_byte(message); }, request);
 }
 
 bool encode_request(const Request& request, WriteCursor& out) {

@@ -108,15 +108,10 @@ struct ResponseBodyWriter {
 }  // namespace
 
 std::uint8_t function_of(const Response& response) {
-    static_assert(std::variant_size_v<Response> == detail::kFunctionByIndex.size() + 2);
-    static_assert(
-        std::is_same_v<std::variant_alternative_t<18, Response>, ObjectMessagingResponse>);
     if (const auto* exception = std::get_if<ExceptionResponse>(&response)) {
         return static_cast<std::uint8_t>(exception->function | kExceptionBit);
     }
-    return std::visit(
-        [&](const auto& message) { return detail::function_byte(message, response.index()); },
-        response);
+    return std::visit([](const auto& message) { return detail::function_byte(message); }, response);
 }
 
 bool encode_response(const Response& response, WriteCursor& out) {
