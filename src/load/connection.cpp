@@ -27,8 +27,6 @@ using std::chrono::microseconds;
 constexpr std::chrono::milliseconds kReconnectDelay{100};
 constexpr std::size_t kMinInput = 4096;
 constexpr std::chrono::milliseconds kMaxSendDebt{50};
-constexpr std::size_t kMaxFrameLength = limits::kMaxTcpAdu - 6;  // MBAP length field
-static_assert(kMaxFrameLength == 254);
 
 const char* socket_error_text(int code) {
     switch (code) {
@@ -321,11 +319,18 @@ void LoadConnection::read(LoadClock::time_point now) {
         return;
     }
     in_end_ += static_cast<std::size_t>(n);
-    while (in_end_ - in_begin_ >= 6) {
-        const std::uint8_t* head = in_.data() + in_begin_;
-        const std::size_t length = (std::size_t{head[4]} << 8) | head[5];
-        if (length < 2 || length > kMaxFrameLength) {
-            // The stream cannot be split into frames any more: start a fresh connection.
+    while (in_begin_ < in_end_) {
+        std::size_t consumed = 0;
+        const protocol::FrameEvent event = framer_.feed(held(), consumed);
+        if (event.status == protocol::FrameStatus::NeedMore) {
+            // The framer copied the unfinished frame; it stays in in_ instead, where a failure's
+            // evidence shows it, and is fed whole once the rest has come.
+            framer_.reset();
+            break;
+        }
+        if (event.is_error() && event.adu.empty()) {
+            // A length no frame has: the stream cannot be split into frames any more, so start a
+            // fresh connection.
             fail(FailureKind::Malformed, oldest_slot(),
                  {client::ReceiveStatus::Malformed, held(),
                   "the MBAP length field cannot describe an answer (2..254)"},
@@ -333,9 +338,10 @@ void LoadConnection::read(LoadClock::time_point now) {
             disconnect(now);
             return;
         }
-        if (in_end_ - in_begin_ < length + 6) break;
-        answer({head, length + 6}, now);
-        in_begin_ += length + 6;
+        // A whole frame, also one the framer refuses for its protocol id: judged as an answer
+        // (malformed), and it still takes its request's place.
+        answer(event.adu, now);
+        in_begin_ += consumed;
     }
     if (in_begin_ == in_end_) {
         in_begin_ = in_end_ = 0;
