@@ -166,7 +166,11 @@ void TcpSession::settle() {
 
 void TcpSession::arm_timer() {
     const auto at = session_.deadline();
-    if (at >= timer_at_) return;  // the timer wakes first; on_time() then finds nothing due
+    // The timer wakes first; on_time() then finds nothing due.
+    if (timer_pending_ && at >= timer_at_) return;
+    // A wait is always pending while the session is open, at time_point::max() when nothing is
+    // due: its handler is what keeps an open session alive (the poller only watches it).
+    timer_pending_ = true;
     timer_at_ = at;
     timer_.expires_at(at);
     timer_.async_wait([self = shared_from_this()](const asio::error_code& ec) {
@@ -175,7 +179,7 @@ void TcpSession::arm_timer() {
 }
 
 void TcpSession::on_timer() {
-    timer_at_ = Clock::time_point::max();
+    timer_pending_ = false;
     const auto now = Clock::now();
     session_.on_time(now);
     if (session_.ending(now) == MbapSession::Ending::Now) {

@@ -61,6 +61,7 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     // When the timer wakes; a later session deadline waits for that wake-up, which costs less
     // than setting the timer again on every request.
     Clock::time_point timer_at_ = Clock::time_point::max();
+    bool timer_pending_ = false;
     bool closed_ = false;
     bool in_table_ = false;
     bool write_blocked_ = false;  // the socket took less than it was given
