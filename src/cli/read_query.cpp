@@ -270,8 +270,8 @@ protocol::Result<ReadQuery, std::string> parse_read_query(const std::string& kin
     return query;
 }
 
-client::Outcome<Reading> perform_read(client::Client& client, const ReadQuery& query) {
-    auto done = [](auto outcome, auto make) -> client::Outcome<Reading> {
+client::CallResult<Reading> perform_read(client::Client& client, const ReadQuery& query) {
+    auto done = [](auto outcome, auto make) -> client::CallResult<Reading> {
         if (!outcome) return outcome.error();
         return make(*outcome);
     };

@@ -74,7 +74,7 @@ struct Reading {
     nlohmann::json json = nlohmann::json::object();
 };
 
-client::Outcome<Reading> perform_read(client::Client& client, const ReadQuery& query);
+client::CallResult<Reading> perform_read(client::Client& client, const ReadQuery& query);
 
 // Registers as typed values, one row per value; `label` names the row of the value at `index`
 // (the register offset from the first): its text, and its JSON key and number.

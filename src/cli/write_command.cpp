@@ -32,7 +32,7 @@ constexpr const char* kWriteKinds =
 
 // A parsed command line: what to send and how to report it.
 struct Plan {
-    std::function<client::Outcome<Reading>(client::Client&)> run;
+    std::function<client::CallResult<Reading>(client::Client&)> run;
     std::string summary;  // "wrote 2 registers at 0 (0x0000)"
     nlohmann::json json;
 };
@@ -61,8 +61,8 @@ std::string plural(std::size_t count, const char* one, const char* many) {
 
 // Wraps a call that answers nothing but success into a plan step.
 template <class Call>
-std::function<client::Outcome<Reading>(client::Client&)> no_reading(Call call) {
-    return [call](client::Client& c) -> client::Outcome<Reading> {
+std::function<client::CallResult<Reading>(client::Client&)> no_reading(Call call) {
+    return [call](client::Client& c) -> client::CallResult<Reading> {
         auto done = call(c);
         if (!done) return done.error();
         Reading nothing;
@@ -157,7 +157,7 @@ Planned plan_read_write(const std::vector<std::string>& args, const ValueFormat&
     plan.json = {
         {"read_address", *read_address}, {"write_address", *write_address}, {"registers", *values}};
     plan.run = [r = *read_address, registers, w = *write_address, v = *values,
-                format](client::Client& c) -> client::Outcome<Reading> {
+                format](client::Client& c) -> client::CallResult<Reading> {
         auto read = c.read_write_multiple_registers(r, registers, w, v);
         if (!read) return read.error();
         return register_reading(*read, format, address_label(r));

@@ -13,8 +13,11 @@ namespace {
 
 using namespace protocol;
 
-// Room for the largest PDU and for the scratch bytes its views point at.
-using PduBuffer = std::array<std::uint8_t, limits::kMaxPdu + 8>;
+// Room for the largest PDU, and a little more: a request just over [APP]'s limits (2000 coils to
+// write make a 256-byte PDU) still encodes, so that the codec's check in call() names the field at
+// fault ("quantity: must be 1..1968") instead of saying the request does not fit.
+constexpr std::size_t kRoomOverLimit = 8;
+using PduBuffer = std::array<std::uint8_t, limits::kMaxPdu + kRoomOverLimit>;
 
 ClientError invalid(std::string message) {
     return {ErrorKind::Invalid, std::move(message), std::nullopt};
@@ -53,7 +56,7 @@ std::vector<std::uint8_t> bytes_of(std::span<const std::uint8_t> bytes) {
 
 template <class Answer, class Extract>
 auto Client::call(const Request& request, Extract extract)
-    -> Outcome<decltype(extract(std::declval<const Answer&>()))> {
+    -> CallResult<decltype(extract(std::declval<const Answer&>()))> {
     const std::uint8_t function = function_of(request);
     PduBuffer pdu{};
     WriteCursor out(pdu);
@@ -84,8 +87,8 @@ auto Client::call(const Request& request, Extract extract)
     return extract(std::get<Answer>(*decoded));
 }
 
-Outcome<std::vector<bool>> Client::read_bits(FunctionCode function, std::uint16_t address,
-                                             std::uint16_t count) {
+CallResult<std::vector<bool>> Client::read_bits(FunctionCode function, std::uint16_t address,
+                                                std::uint16_t count) {
     return call<ReadBitsResponse>(ReadBitsRequest{function, address, count},
                                   [count](const ReadBitsResponse& answer) {
                                       BitView bits(answer.packed, count);
@@ -96,52 +99,52 @@ Outcome<std::vector<bool>> Client::read_bits(FunctionCode function, std::uint16_
                                   });
 }
 
-Outcome<std::vector<std::uint16_t>> Client::read_registers(FunctionCode function,
-                                                           std::uint16_t address,
-                                                           std::uint16_t count) {
+CallResult<std::vector<std::uint16_t>> Client::read_registers(FunctionCode function,
+                                                              std::uint16_t address,
+                                                              std::uint16_t count) {
     return call<ReadRegistersResponse>(
         ReadRegistersRequest{function, address, count},
         [](const ReadRegistersResponse& answer) { return registers_of(answer.values); });
 }
 
-Outcome<std::vector<bool>> Client::read_coils(std::uint16_t address, std::uint16_t count) {
+CallResult<std::vector<bool>> Client::read_coils(std::uint16_t address, std::uint16_t count) {
     return read_bits(FunctionCode::ReadCoils, address, count);
 }
 
-Outcome<std::vector<bool>> Client::read_discrete_inputs(std::uint16_t address,
-                                                        std::uint16_t count) {
+CallResult<std::vector<bool>> Client::read_discrete_inputs(std::uint16_t address,
+                                                           std::uint16_t count) {
     return read_bits(FunctionCode::ReadDiscreteInputs, address, count);
 }
 
-Outcome<std::vector<std::uint16_t>> Client::read_holding_registers(std::uint16_t address,
-                                                                   std::uint16_t count) {
+CallResult<std::vector<std::uint16_t>> Client::read_holding_registers(std::uint16_t address,
+                                                                      std::uint16_t count) {
     return read_registers(FunctionCode::ReadHoldingRegisters, address, count);
 }
 
-Outcome<std::vector<std::uint16_t>> Client::read_input_registers(std::uint16_t address,
-                                                                 std::uint16_t count) {
+CallResult<std::vector<std::uint16_t>> Client::read_input_registers(std::uint16_t address,
+                                                                    std::uint16_t count) {
     return read_registers(FunctionCode::ReadInputRegisters, address, count);
 }
 
-Outcome<Done> Client::write_single_coil(std::uint16_t address, bool on) {
+CallResult<Done> Client::write_single_coil(std::uint16_t address, bool on) {
     return call<WriteSingleCoilResponse>(
         WriteSingleCoilRequest{address, static_cast<std::uint16_t>(on ? 0xFF00 : 0x0000)},
         [](const auto&) { return Done{}; });
 }
 
-Outcome<Done> Client::write_single_register(std::uint16_t address, std::uint16_t value) {
+CallResult<Done> Client::write_single_register(std::uint16_t address, std::uint16_t value) {
     return call<WriteSingleRegisterResponse>(WriteSingleRegisterRequest{address, value},
                                              [](const auto&) { return Done{}; });
 }
 
-Outcome<std::uint8_t> Client::read_exception_status() {
+CallResult<std::uint8_t> Client::read_exception_status() {
     return call<ReadExceptionStatusResponse>(
         ReadExceptionStatusRequest{},
         [](const ReadExceptionStatusResponse& answer) { return answer.status; });
 }
 
-Outcome<DiagnosticsAnswer> Client::diagnostics(std::uint16_t sub_function,
-                                               std::span<const std::uint8_t> data) {
+CallResult<DiagnosticsAnswer> Client::diagnostics(std::uint16_t sub_function,
+                                                  std::span<const std::uint8_t> data) {
     if (sub_function == static_cast<std::uint16_t>(DiagnosticSub::ForceListenOnly)) {
         return invalid("force listen only mode is never answered: use send_listen_only()");
     }
@@ -151,19 +154,19 @@ Outcome<DiagnosticsAnswer> Client::diagnostics(std::uint16_t sub_function,
         });
 }
 
-Outcome<Done> Client::send_listen_only() {
+CallResult<Done> Client::send_listen_only() {
     static constexpr std::uint8_t kListenOnly[] = {0x08, 0x00, 0x04, 0x00, 0x00};
     return transactor_.send_only(kListenOnly);
 }
 
-Outcome<EventCounter> Client::get_comm_event_counter() {
+CallResult<EventCounter> Client::get_comm_event_counter() {
     return call<GetCommEventCounterResponse>(
         GetCommEventCounterRequest{}, [](const GetCommEventCounterResponse& answer) {
             return EventCounter{answer.status, answer.event_count};
         });
 }
 
-Outcome<EventLog> Client::get_comm_event_log() {
+CallResult<EventLog> Client::get_comm_event_log() {
     return call<GetCommEventLogResponse>(
         GetCommEventLogRequest{}, [](const GetCommEventLogResponse& answer) {
             return EventLog{answer.status, answer.event_count, answer.message_count,
@@ -171,7 +174,8 @@ Outcome<EventLog> Client::get_comm_event_log() {
         });
 }
 
-Outcome<Done> Client::write_multiple_coils(std::uint16_t address, const std::vector<bool>& values) {
+CallResult<Done> Client::write_multiple_coils(std::uint16_t address,
+                                              const std::vector<bool>& values) {
     PduBuffer packed{};
     const std::size_t bytes = (values.size() + 7) / 8;
     if (bytes > packed.size()) {
@@ -188,8 +192,8 @@ Outcome<Done> Client::write_multiple_coils(std::uint16_t address, const std::vec
         [](const auto&) { return Done{}; });
 }
 
-Outcome<Done> Client::write_multiple_registers(std::uint16_t address,
-                                               std::span<const std::uint16_t> values) {
+CallResult<Done> Client::write_multiple_registers(std::uint16_t address,
+                                                  std::span<const std::uint16_t> values) {
     PduBuffer scratch{};
     // Past 123 the PDU would outgrow 253 bytes before the codec could name the quantity.
     if (values.size() > limits::kMaxWriteRegisters) {
@@ -203,13 +207,13 @@ Outcome<Done> Client::write_multiple_registers(std::uint16_t address,
         [](const auto&) { return Done{}; });
 }
 
-Outcome<std::vector<std::uint8_t>> Client::report_server_id() {
+CallResult<std::vector<std::uint8_t>> Client::report_server_id() {
     return call<ReportServerIdResponse>(
         ReportServerIdRequest{},
         [](const ReportServerIdResponse& answer) { return bytes_of(answer.data); });
 }
 
-Outcome<std::vector<std::vector<std::uint16_t>>> Client::read_file_records(
+CallResult<std::vector<std::vector<std::uint16_t>>> Client::read_file_records(
     std::span<const FileRecordRef> references) {
     PduBuffer scratch{};
     WriteCursor subs(scratch);
@@ -227,7 +231,7 @@ Outcome<std::vector<std::vector<std::uint16_t>>> Client::read_file_records(
                                         });
 }
 
-Outcome<Done> Client::write_file_records(std::span<const FileRecordWrite> records) {
+CallResult<Done> Client::write_file_records(std::span<const FileRecordWrite> records) {
     PduBuffer scratch{};
     PduBuffer values{};
     WriteCursor subs(scratch);
@@ -244,13 +248,13 @@ Outcome<Done> Client::write_file_records(std::span<const FileRecordWrite> record
                                          [](const auto&) { return Done{}; });
 }
 
-Outcome<Done> Client::mask_write_register(std::uint16_t address, std::uint16_t and_mask,
-                                          std::uint16_t or_mask) {
+CallResult<Done> Client::mask_write_register(std::uint16_t address, std::uint16_t and_mask,
+                                             std::uint16_t or_mask) {
     return call<MaskWriteRegisterResponse>(MaskWriteRegisterRequest{address, and_mask, or_mask},
                                            [](const auto&) { return Done{}; });
 }
 
-Outcome<std::vector<std::uint16_t>> Client::read_write_multiple_registers(
+CallResult<std::vector<std::uint16_t>> Client::read_write_multiple_registers(
     std::uint16_t read_address, std::uint16_t read_count, std::uint16_t write_address,
     std::span<const std::uint16_t> values) {
     PduBuffer scratch{};
@@ -267,14 +271,14 @@ Outcome<std::vector<std::uint16_t>> Client::read_write_multiple_registers(
         });
 }
 
-Outcome<std::vector<std::uint16_t>> Client::read_fifo_queue(std::uint16_t address) {
+CallResult<std::vector<std::uint16_t>> Client::read_fifo_queue(std::uint16_t address) {
     return call<ReadFifoQueueResponse>(
         ReadFifoQueueRequest{address},
         [](const ReadFifoQueueResponse& answer) { return registers_of(answer.values); });
 }
 
-Outcome<DeviceIdentification> Client::read_device_identification(std::uint8_t read_code,
-                                                                 std::uint8_t object_id) {
+CallResult<DeviceIdentification> Client::read_device_identification(std::uint8_t read_code,
+                                                                    std::uint8_t object_id) {
     struct Part {
         std::uint8_t conformity_level = 0;
         bool more = false;
@@ -316,7 +320,7 @@ Outcome<DeviceIdentification> Client::read_device_identification(std::uint8_t re
     }
 }
 
-Outcome<ObjectMessageAnswer> Client::object_messaging(const ObjectMessage& message) {
+CallResult<ObjectMessageAnswer> Client::object_messaging(const ObjectMessage& message) {
     ObjectMessagingRequest request;
     request.fragment_protocol = message.fragment_protocol;
     request.class_id = message.class_id;
@@ -335,7 +339,7 @@ Outcome<ObjectMessageAnswer> Client::object_messaging(const ObjectMessage& messa
     });
 }
 
-Outcome<std::vector<std::uint8_t>> Client::raw(std::span<const std::uint8_t> pdu) {
+CallResult<std::vector<std::uint8_t>> Client::raw(std::span<const std::uint8_t> pdu) {
     if (pdu.empty()) return invalid("the PDU is empty: give at least a function code");
     if (pdu.size() > limits::kMaxPdu) {
         return invalid("the PDU is " + std::to_string(pdu.size()) +

@@ -18,7 +18,7 @@
 namespace mblab::client {
 
 template <class T>
-using Outcome = protocol::Result<T, ClientError>;
+using CallResult = protocol::Result<T, ClientError>;
 
 struct DiagnosticsAnswer {
     std::uint16_t sub_function = 0;
@@ -71,55 +71,56 @@ class Client {
   public:
     explicit Client(Transactor& transactor) : transactor_(transactor) {}
 
-    Outcome<std::vector<bool>> read_coils(std::uint16_t address, std::uint16_t count);
-    Outcome<std::vector<bool>> read_discrete_inputs(std::uint16_t address, std::uint16_t count);
-    Outcome<std::vector<std::uint16_t>> read_holding_registers(std::uint16_t address,
-                                                               std::uint16_t count);
-    Outcome<std::vector<std::uint16_t>> read_input_registers(std::uint16_t address,
-                                                             std::uint16_t count);
-    Outcome<Done> write_single_coil(std::uint16_t address, bool on);
-    Outcome<Done> write_single_register(std::uint16_t address, std::uint16_t value);
-    Outcome<std::uint8_t> read_exception_status();
+    CallResult<std::vector<bool>> read_coils(std::uint16_t address, std::uint16_t count);
+    CallResult<std::vector<bool>> read_discrete_inputs(std::uint16_t address, std::uint16_t count);
+    CallResult<std::vector<std::uint16_t>> read_holding_registers(std::uint16_t address,
+                                                                  std::uint16_t count);
+    CallResult<std::vector<std::uint16_t>> read_input_registers(std::uint16_t address,
+                                                                std::uint16_t count);
+    CallResult<Done> write_single_coil(std::uint16_t address, bool on);
+    CallResult<Done> write_single_register(std::uint16_t address, std::uint16_t value);
+    CallResult<std::uint8_t> read_exception_status();
     // Sub-function 04 (force listen-only) is never answered: send it with send_listen_only().
-    Outcome<DiagnosticsAnswer> diagnostics(std::uint16_t sub_function,
-                                           std::span<const std::uint8_t> data);
-    Outcome<Done> send_listen_only();
-    Outcome<EventCounter> get_comm_event_counter();
-    Outcome<EventLog> get_comm_event_log();
-    Outcome<Done> write_multiple_coils(std::uint16_t address, const std::vector<bool>& values);
-    Outcome<Done> write_multiple_registers(std::uint16_t address,
-                                           std::span<const std::uint16_t> values);
+    CallResult<DiagnosticsAnswer> diagnostics(std::uint16_t sub_function,
+                                              std::span<const std::uint8_t> data);
+    CallResult<Done> send_listen_only();
+    CallResult<EventCounter> get_comm_event_counter();
+    CallResult<EventLog> get_comm_event_log();
+    CallResult<Done> write_multiple_coils(std::uint16_t address, const std::vector<bool>& values);
+    CallResult<Done> write_multiple_registers(std::uint16_t address,
+                                              std::span<const std::uint16_t> values);
     // The device-specific bytes: server id, run indicator, additional data.
-    Outcome<std::vector<std::uint8_t>> report_server_id();
+    CallResult<std::vector<std::uint8_t>> report_server_id();
     // One list of registers per reference, in order.
-    Outcome<std::vector<std::vector<std::uint16_t>>> read_file_records(
+    CallResult<std::vector<std::vector<std::uint16_t>>> read_file_records(
         std::span<const protocol::FileRecordRef> references);
-    Outcome<Done> write_file_records(std::span<const FileRecordWrite> records);
-    Outcome<Done> mask_write_register(std::uint16_t address, std::uint16_t and_mask,
-                                      std::uint16_t or_mask);
-    Outcome<std::vector<std::uint16_t>> read_write_multiple_registers(
+    CallResult<Done> write_file_records(std::span<const FileRecordWrite> records);
+    CallResult<Done> mask_write_register(std::uint16_t address, std::uint16_t and_mask,
+                                         std::uint16_t or_mask);
+    CallResult<std::vector<std::uint16_t>> read_write_multiple_registers(
         std::uint16_t read_address, std::uint16_t read_count, std::uint16_t write_address,
         std::span<const std::uint16_t> values);
-    Outcome<std::vector<std::uint16_t>> read_fifo_queue(std::uint16_t address);
+    CallResult<std::vector<std::uint16_t>> read_fifo_queue(std::uint16_t address);
     // Read codes 01..03 follow "more follows" across transactions until the device has sent
     // every object; code 04 reads `object_id` alone.
-    Outcome<DeviceIdentification> read_device_identification(std::uint8_t read_code,
-                                                             std::uint8_t object_id = 0);
-    Outcome<ObjectMessageAnswer> object_messaging(const ObjectMessage& message);
+    CallResult<DeviceIdentification> read_device_identification(std::uint8_t read_code,
+                                                                std::uint8_t object_id = 0);
+    CallResult<ObjectMessageAnswer> object_messaging(const ObjectMessage& message);
     // Any PDU; the answer PDU comes back as it is (its frame checked, its body not), exceptions
     // included, for the caller to decode.
-    Outcome<std::vector<std::uint8_t>> raw(std::span<const std::uint8_t> pdu);
+    CallResult<std::vector<std::uint8_t>> raw(std::span<const std::uint8_t> pdu);
 
     Transactor& transactor() { return transactor_; }
 
   private:
     template <class Answer, class Extract>
     auto call(const protocol::Request& request, Extract extract)
-        -> Outcome<decltype(extract(std::declval<const Answer&>()))>;
-    Outcome<std::vector<bool>> read_bits(protocol::FunctionCode function, std::uint16_t address,
-                                         std::uint16_t count);
-    Outcome<std::vector<std::uint16_t>> read_registers(protocol::FunctionCode function,
-                                                       std::uint16_t address, std::uint16_t count);
+        -> CallResult<decltype(extract(std::declval<const Answer&>()))>;
+    CallResult<std::vector<bool>> read_bits(protocol::FunctionCode function, std::uint16_t address,
+                                            std::uint16_t count);
+    CallResult<std::vector<std::uint16_t>> read_registers(protocol::FunctionCode function,
+                                                          std::uint16_t address,
+                                                          std::uint16_t count);
 
     Transactor& transactor_;
 };

@@ -57,7 +57,8 @@ void DataBank::each_part(std::uint32_t address, std::uint32_t count, Visit visit
     }
 }
 
-void DataBank::read(std::uint32_t address, std::span<std::uint16_t> out, const Access* skip) const {
+void DataBank::read(std::uint32_t address, std::span<std::uint16_t> out,
+                    std::optional<Access> skip) const {
     each_part(address, static_cast<std::uint32_t>(out.size()),
               [&](const Segment& s, std::uint32_t stored, std::uint32_t done, std::uint32_t n) {
                   if (skip && s.access == *skip) {
@@ -69,7 +70,7 @@ void DataBank::read(std::uint32_t address, std::span<std::uint16_t> out, const A
 }
 
 void DataBank::read_be(std::uint32_t address, std::span<std::uint8_t> out,
-                       const Access* skip) const {
+                       std::optional<Access> skip) const {
     each_part(address, static_cast<std::uint32_t>(out.size() / 2),
               [&](const Segment& s, std::uint32_t stored, std::uint32_t done, std::uint32_t n) {
                   std::uint8_t* to = out.data() + 2 * done;
@@ -97,7 +98,7 @@ void DataBank::read_be(std::uint32_t address, std::span<std::uint8_t> out,
 }
 
 void DataBank::write(std::uint32_t address, std::span<const std::uint16_t> values,
-                     const Access* skip) {
+                     std::optional<Access> skip) {
     each_part(address, static_cast<std::uint32_t>(values.size()),
               [&](const Segment& s, std::uint32_t stored, std::uint32_t done, std::uint32_t n) {
                   if (skip && s.access == *skip) return;

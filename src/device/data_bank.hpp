@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -27,10 +28,13 @@ class DataBank {
 
     // Copy out / in a span that find() reported mapped. `skip` leaves addresses of that access
     // alone: reads give 0 for them, writes keep their value.
-    void read(std::uint32_t address, std::span<std::uint16_t> out, const Access* skip) const;
-    void write(std::uint32_t address, std::span<const std::uint16_t> values, const Access* skip);
+    void read(std::uint32_t address, std::span<std::uint16_t> out,
+              std::optional<Access> skip) const;
+    void write(std::uint32_t address, std::span<const std::uint16_t> values,
+               std::optional<Access> skip);
     // As read(), straight into big-endian bytes, two per address, as register answers carry them.
-    void read_be(std::uint32_t address, std::span<std::uint8_t> out, const Access* skip) const;
+    void read_be(std::uint32_t address, std::span<std::uint8_t> out,
+                 std::optional<Access> skip) const;
 
     std::uint16_t at(std::uint32_t index) const { return values_[index]; }
     std::uint16_t& at(std::uint32_t index) { return values_[index]; }

@@ -56,11 +56,12 @@ std::uint8_t conformity_level(const IdentitySpec& spec) {
     return spec.read_codes[kIndividual] ? static_cast<std::uint8_t>(level | 0x80) : level;
 }
 
-Outcome serve_device_identification(const protocol::ReadDeviceIdRequest& request,
-                                    const IdentitySpec& spec, std::span<std::uint8_t> scratch) {
+MaybeResponse serve_device_identification(const protocol::ReadDeviceIdRequest& request,
+                                          const IdentitySpec& spec,
+                                          std::span<std::uint8_t> scratch) {
     if (request.read_code == 0 || request.read_code >= spec.read_codes.size() ||
         !spec.read_codes[request.read_code]) {
-        return exception_outcome(kFc, ExceptionCode::IllegalDataValue);
+        return exception_response(kFc, ExceptionCode::IllegalDataValue);
     }
     protocol::ReadDeviceIdResponse response;
     response.read_code = request.read_code;
@@ -68,7 +69,7 @@ Outcome serve_device_identification(const protocol::ReadDeviceIdRequest& request
     const IdentityObject* named = find_object(spec, request.object_id);
 
     if (request.read_code == kIndividual) {
-        if (!named) return exception_outcome(kFc, ExceptionCode::IllegalDataAddress);
+        if (!named) return exception_response(kFc, ExceptionCode::IllegalDataAddress);
         response.object_count = 1;
         response.objects = scratch.first(put_object(*named, scratch));
         return protocol::Response{response};
@@ -78,7 +79,7 @@ Outcome serve_device_identification(const protocol::ReadDeviceIdRequest& request
     std::uint8_t first = request.object_id;
     if (!named || first > last) {
         if (!spec.unknown_object_restarts) {
-            return exception_outcome(kFc, ExceptionCode::IllegalDataAddress);
+            return exception_response(kFc, ExceptionCode::IllegalDataAddress);
         }
         first = 0;
     }

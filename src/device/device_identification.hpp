@@ -3,7 +3,7 @@
 #include <cstdint>
 #include <span>
 
-#include "device/outcome.hpp"
+#include "device/maybe_response.hpp"
 #include "device/profile.hpp"
 #include "protocol/request.hpp"
 
@@ -12,8 +12,9 @@
 // individual access to one object.
 namespace mblab::device {
 
-Outcome serve_device_identification(const protocol::ReadDeviceIdRequest& request,
-                                    const IdentitySpec& spec, std::span<std::uint8_t> scratch);
+MaybeResponse serve_device_identification(const protocol::ReadDeviceIdRequest& request,
+                                          const IdentitySpec& spec,
+                                          std::span<std::uint8_t> scratch);
 
 // 0x01 basic, 0x02 regular, 0x03 extended; +0x80 when individual access (code 04) is served.
 std::uint8_t conformity_level(const IdentitySpec& spec);

@@ -208,7 +208,7 @@ bool ReferenceDevice::load_state(std::string_view text, std::string& error) {
         if (change.is_file) {
             change.unit->files().files()[change.file].records = std::move(change.values);
         } else {
-            change.unit->bank(change.kind).write(change.start, change.values, nullptr);
+            change.unit->bank(change.kind).write(change.start, change.values, std::nullopt);
         }
     }
     return true;

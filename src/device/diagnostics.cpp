@@ -11,11 +11,11 @@ using protocol::ExceptionCode;
 
 constexpr auto kFc = static_cast<std::uint8_t>(protocol::FunctionCode::Diagnostics);
 
-Outcome answer(std::uint16_t sub, std::span<const std::uint8_t> data) {
+MaybeResponse answer(std::uint16_t sub, std::span<const std::uint8_t> data) {
     return protocol::Response{protocol::DiagnosticsResponse{sub, data}};
 }
 
-Outcome answer_word(std::uint16_t sub, std::uint16_t value, std::span<std::uint8_t> scratch) {
+MaybeResponse answer_word(std::uint16_t sub, std::uint16_t value, std::span<std::uint8_t> scratch) {
     scratch[0] = static_cast<std::uint8_t>(value >> 8);
     scratch[1] = static_cast<std::uint8_t>(value & 0xFF);
     return answer(sub, scratch.first(2));
@@ -48,12 +48,12 @@ std::uint16_t counter(const CommCounters& c, DiagnosticSub sub) {
     }
 }
 
-Outcome echo(const protocol::DiagnosticsRequest& request, const DiagnosticsSpec& spec) {
+MaybeResponse echo(const protocol::DiagnosticsRequest& request, const DiagnosticsSpec& spec) {
     if (spec.echo_min_words || spec.echo_max_words) {
         const std::size_t words = request.data.size() / 2;
         if (request.data.size() % 2 != 0 || words < spec.echo_min_words.value_or(0) ||
             words > spec.echo_max_words.value_or(125)) {
-            return exception_outcome(kFc, ExceptionCode::IllegalDataValue);
+            return exception_response(kFc, ExceptionCode::IllegalDataValue);
         }
     }
     return answer(request.sub_function, request.data);
@@ -66,11 +66,12 @@ bool resets_event_counter(std::uint16_t sub_function) {
            sub_function == static_cast<std::uint16_t>(DiagnosticSub::ClearCounters);
 }
 
-Outcome serve_diagnostics(const protocol::DiagnosticsRequest& request, const DiagnosticsSpec& spec,
-                          CommState& state, std::span<std::uint8_t> scratch) {
+MaybeResponse serve_diagnostics(const protocol::DiagnosticsRequest& request,
+                                const DiagnosticsSpec& spec, CommState& state,
+                                std::span<std::uint8_t> scratch) {
     const std::uint16_t sub = request.sub_function;
     if (!std::binary_search(spec.sub_functions.begin(), spec.sub_functions.end(), sub)) {
-        return exception_outcome(kFc, ExceptionCode::IllegalFunction);
+        return exception_response(kFc, ExceptionCode::IllegalFunction);
     }
     const auto which = static_cast<DiagnosticSub>(sub);
     switch (which) {
@@ -92,7 +93,7 @@ Outcome serve_diagnostics(const protocol::DiagnosticsRequest& request, const Dia
     }
     if (which == DiagnosticSub::RestartCommunications ||
         which == DiagnosticSub::ChangeAsciiDelimiter || !is_word(request.data, 0)) {
-        return exception_outcome(kFc, ExceptionCode::IllegalDataValue);
+        return exception_response(kFc, ExceptionCode::IllegalDataValue);
     }
     switch (which) {
         case DiagnosticSub::ReturnDiagnosticRegister:
@@ -112,11 +113,11 @@ Outcome serve_diagnostics(const protocol::DiagnosticsRequest& request, const Dia
     }
 }
 
-Outcome serve_event_counter(const CommState& state) {
+MaybeResponse serve_event_counter(const CommState& state) {
     return protocol::Response{protocol::GetCommEventCounterResponse{0x0000, state.event_count}};
 }
 
-Outcome serve_event_log(const CommState& state, std::span<std::uint8_t> scratch) {
+MaybeResponse serve_event_log(const CommState& state, std::span<std::uint8_t> scratch) {
     const std::size_t n = state.log.copy(scratch.first(EventLog::kCapacity));
     return protocol::Response{protocol::GetCommEventLogResponse{
         0x0000, state.event_count, state.counters.bus_messages, scratch.first(n)}};

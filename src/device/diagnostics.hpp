@@ -4,7 +4,7 @@
 #include <span>
 
 #include "device/comm_state.hpp"
-#include "device/outcome.hpp"
+#include "device/maybe_response.hpp"
 #include "device/profile.hpp"
 #include "protocol/request.hpp"
 
@@ -12,10 +12,11 @@
 // `scratch` holds response bytes the outcome points into.
 namespace mblab::device {
 
-Outcome serve_diagnostics(const protocol::DiagnosticsRequest& request, const DiagnosticsSpec& spec,
-                          CommState& state, std::span<std::uint8_t> scratch);
-Outcome serve_event_counter(const CommState& state);
-Outcome serve_event_log(const CommState& state, std::span<std::uint8_t> scratch);
+MaybeResponse serve_diagnostics(const protocol::DiagnosticsRequest& request,
+                                const DiagnosticsSpec& spec, CommState& state,
+                                std::span<std::uint8_t> scratch);
+MaybeResponse serve_event_counter(const CommState& state);
+MaybeResponse serve_event_log(const CommState& state, std::span<std::uint8_t> scratch);
 
 // FC 08 sub-functions that reset the event counter, so their own answer does not count.
 bool resets_event_counter(std::uint16_t sub_function);

@@ -24,15 +24,16 @@ std::size_t FileStore::index_of(const protocol::FileRecordRef& ref) const {
     return files_.size();
 }
 
-Outcome FileStore::read(const protocol::ReadFileRecordRequest& request,
-                        std::span<std::uint8_t> scratch) const {
+MaybeResponse FileStore::read(const protocol::ReadFileRecordRequest& request,
+                              std::span<std::uint8_t> scratch) const {
     std::size_t needed = 0;
     for (std::size_t i = 0; i < request.count(); ++i)
         needed += 2 + 2 * std::size_t{request.at(i).length};
-    if (needed > kSubResponseRoom) return exception_outcome(kRead, ExceptionCode::IllegalDataValue);
+    if (needed > kSubResponseRoom)
+        return exception_response(kRead, ExceptionCode::IllegalDataValue);
     for (std::size_t i = 0; i < request.count(); ++i) {
         if (index_of(request.at(i)) == files_.size())
-            return exception_outcome(kRead, ExceptionCode::IllegalDataAddress);
+            return exception_response(kRead, ExceptionCode::IllegalDataAddress);
     }
     std::size_t used = 0;
     for (std::size_t i = 0; i < request.count(); ++i) {
@@ -49,12 +50,12 @@ Outcome FileStore::read(const protocol::ReadFileRecordRequest& request,
     return protocol::Response{protocol::ReadFileRecordResponse{scratch.first(used)}};
 }
 
-Outcome FileStore::write(const protocol::WriteFileRecordRequest& request) {
+MaybeResponse FileStore::write(const protocol::WriteFileRecordRequest& request) {
     std::size_t offset = 0;
     protocol::FileRecordData sub;
     while (request.next(offset, sub)) {
         if (index_of(sub.ref) == files_.size())
-            return exception_outcome(kWrite, ExceptionCode::IllegalDataAddress);
+            return exception_response(kWrite, ExceptionCode::IllegalDataAddress);
     }
     offset = 0;
     while (request.next(offset, sub)) {

@@ -4,7 +4,7 @@
 #include <span>
 #include <vector>
 
-#include "device/outcome.hpp"
+#include "device/maybe_response.hpp"
 #include "device/profile.hpp"
 #include "protocol/request.hpp"
 
@@ -17,9 +17,9 @@ class FileStore {
     FileStore() = default;
     explicit FileStore(std::vector<FileSpec> files) : files_(std::move(files)) {}
 
-    Outcome read(const protocol::ReadFileRecordRequest& request,
-                 std::span<std::uint8_t> scratch) const;
-    Outcome write(const protocol::WriteFileRecordRequest& request);
+    MaybeResponse read(const protocol::ReadFileRecordRequest& request,
+                       std::span<std::uint8_t> scratch) const;
+    MaybeResponse write(const protocol::WriteFileRecordRequest& request);
 
     const std::vector<FileSpec>& files() const { return files_; }
     std::vector<FileSpec>& files() { return files_; }

@@ -9,9 +9,9 @@ namespace mblab::device {
 
 // What serving one request gives: the response (an exception response included), or no
 // answer at all (listen-only mode, entering it, a restart from it).
-using Outcome = std::optional<protocol::Response>;
+using MaybeResponse = std::optional<protocol::Response>;
 
-inline Outcome exception_outcome(std::uint8_t function, protocol::ExceptionCode code) {
+inline MaybeResponse exception_response(std::uint8_t function, protocol::ExceptionCode code) {
     return protocol::Response{protocol::ExceptionResponse{function, code}};
 }
 

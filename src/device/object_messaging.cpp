@@ -7,8 +7,8 @@ namespace {
 // Fragment protocol, class, instance, service code and error code precede the parameters.
 constexpr std::size_t kFragmentHeader = 9;
 
-Outcome reply(const protocol::ObjectMessagingRequest& request, std::uint16_t error,
-              std::span<const std::uint8_t> parameters) {
+MaybeResponse reply(const protocol::ObjectMessagingRequest& request, std::uint16_t error,
+                    std::span<const std::uint8_t> parameters) {
     protocol::ObjectMessagingResponse response;
     response.fragment_byte_count = static_cast<std::uint8_t>(kFragmentHeader + parameters.size());
     response.fragment_protocol = 0;
@@ -20,14 +20,14 @@ Outcome reply(const protocol::ObjectMessagingRequest& request, std::uint16_t err
     return protocol::Response{response};
 }
 
-Outcome service_error(const protocol::ObjectMessagingRequest& request, ServiceError error) {
+MaybeResponse service_error(const protocol::ObjectMessagingRequest& request, ServiceError error) {
     return reply(request, static_cast<std::uint16_t>(error), request.parameters);
 }
 
 }  // namespace
 
-Outcome serve_object_messaging(const protocol::ObjectMessagingRequest& request,
-                               const std::vector<SemiObject>& objects) {
+MaybeResponse serve_object_messaging(const protocol::ObjectMessagingRequest& request,
+                                     const std::vector<SemiObject>& objects) {
     if (request.fragment_protocol != 0) {
         return service_error(request, ServiceError::FragmentationNotSupported);
     }

@@ -4,7 +4,7 @@
 #include <span>
 #include <vector>
 
-#include "device/outcome.hpp"
+#include "device/maybe_response.hpp"
 #include "device/profile.hpp"
 #include "protocol/request.hpp"
 
@@ -24,7 +24,7 @@ enum class ServiceError : std::uint16_t {
     FragmentationNotSupported = 0x0005,
 };
 
-Outcome serve_object_messaging(const protocol::ObjectMessagingRequest& request,
-                               const std::vector<SemiObject>& objects);
+MaybeResponse serve_object_messaging(const protocol::ObjectMessagingRequest& request,
+                                     const std::vector<SemiObject>& objects);
 
 }  // namespace mblab::device

@@ -241,7 +241,7 @@ Reply ReferenceDevice::serve(UnitModel& unit, std::span<const std::uint8_t> requ
     }
 
     std::chrono::milliseconds delay{0};
-    Outcome outcome;
+    MaybeResponse outcome;
     const FaultSpec* fault =
         broadcast ? nullptr : unit.faults().fire(scope_of(function, row, decoded), prng_);
     if (fault) {
@@ -256,7 +256,7 @@ Reply ReferenceDevice::serve(UnitModel& unit, std::span<const std::uint8_t> requ
                 ++comm.counters.no_response;
                 return Reply{ReplyAction::Close, 0, {}};
             case FaultAction::Exception:
-                outcome = exception_outcome(function, fault->exception);
+                outcome = exception_response(function, fault->exception);
                 break;
             case FaultAction::Garbage:
                 return garbage(fault->garbage_bytes, response);
@@ -265,9 +265,9 @@ Reply ReferenceDevice::serve(UnitModel& unit, std::span<const std::uint8_t> requ
     if (outcome) {
         // the fault answers in the request's place
     } else if (!unit.supports(function)) {
-        outcome = exception_outcome(function, ExceptionCode::IllegalFunction);
+        outcome = exception_response(function, ExceptionCode::IllegalFunction);
     } else if (!decoded) {
-        outcome = exception_outcome(function, decoded.error().exception);
+        outcome = exception_response(function, decoded.error().exception);
     } else if (!broadcast || row.broadcast == protocol::Broadcast::Execute) {
         outcome = unit.serve(decoded.value(), scratch_);
         if (row.writes == protocol::Writes::Yes && outcome &&
@@ -291,7 +291,7 @@ Reply ReferenceDevice::serve(UnitModel& unit, std::span<const std::uint8_t> requ
     return reply;
 }
 
-Reply ReferenceDevice::answer(UnitModel& unit, std::uint8_t function, const Outcome& outcome,
+Reply ReferenceDevice::answer(UnitModel& unit, std::uint8_t function, const MaybeResponse& outcome,
                               std::span<std::uint8_t> response, bool counts_as_event) {
     CommState& comm = unit.comm();
     protocol::WriteCursor out(response);

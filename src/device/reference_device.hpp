@@ -124,7 +124,7 @@ class ReferenceDevice final : public RequestHandler {
 
     Reply serve(UnitModel& unit, std::span<const std::uint8_t> request,
                 std::span<std::uint8_t> response, bool broadcast);
-    Reply answer(UnitModel& unit, std::uint8_t function, const Outcome& outcome,
+    Reply answer(UnitModel& unit, std::uint8_t function, const MaybeResponse& outcome,
                  std::span<std::uint8_t> response, bool counts_as_event);
     Reply garbage(std::size_t size, std::span<std::uint8_t> response);
     void count_bus_error();

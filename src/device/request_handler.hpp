@@ -26,10 +26,8 @@ enum class ReplyAction : std::uint8_t {
 
 struct Reply {
     ReplyAction action = ReplyAction::Answer;
-    std::size_t size = 0;  // response PDU bytes written
+    std::size_t size = 0;  // response PDU bytes written (random ones for fault "garbage")
     std::chrono::milliseconds delay{0};
-    // For fault "garbage": the bytes written are to go on the wire as the whole ADU body
-    // (the server still frames them, so the fault reaches the client's PDU parser).
 };
 
 // Called once with a deferred answer: the reply and the response PDU it describes.

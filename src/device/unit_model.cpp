@@ -14,15 +14,12 @@ namespace {
 using protocol::ExceptionCode;
 using protocol::FunctionCode;
 
-constexpr Access kReadOnly = Access::ReadOnly;
-constexpr Access kWriteOnly = Access::WriteOnly;
-
 constexpr std::uint8_t code(FunctionCode fc) {
     return static_cast<std::uint8_t>(fc);
 }
 
-Outcome refused(FunctionCode fc, ExceptionCode why) {
-    return exception_outcome(code(fc), why);
+MaybeResponse refused(FunctionCode fc, ExceptionCode why) {
+    return exception_response(code(fc), why);
 }
 
 }  // namespace
@@ -41,19 +38,21 @@ UnitModel::UnitModel(const UnitSpec& spec) : spec_(spec), files_(spec.files), fa
 UnitModel::Permit UnitModel::may_read(BankKind kind, std::uint32_t address,
                                       std::uint32_t count) const {
     const auto span = bank(kind).find(address, count);
-    if (!span.mapped) return {ExceptionCode::IllegalDataAddress, nullptr};
+    if (!span.mapped) return {ExceptionCode::IllegalDataAddress, std::nullopt};
     if (!span.has_write_only) return {};
-    if (spec_.access_policy.read_write_only) return {spec_.access_policy.read_write_only, nullptr};
-    return {std::nullopt, &kWriteOnly};
+    if (spec_.access_policy.read_write_only)
+        return {spec_.access_policy.read_write_only, std::nullopt};
+    return {std::nullopt, Access::WriteOnly};
 }
 
 UnitModel::Permit UnitModel::may_write(BankKind kind, std::uint32_t address,
                                        std::uint32_t count) const {
     const auto span = bank(kind).find(address, count);
-    if (!span.mapped) return {ExceptionCode::IllegalDataAddress, nullptr};
+    if (!span.mapped) return {ExceptionCode::IllegalDataAddress, std::nullopt};
     if (!span.has_read_only) return {};
-    if (spec_.access_policy.write_read_only) return {spec_.access_policy.write_read_only, nullptr};
-    return {std::nullopt, &kReadOnly};
+    if (spec_.access_policy.write_read_only)
+        return {spec_.access_policy.write_read_only, std::nullopt};
+    return {std::nullopt, Access::ReadOnly};
 }
 
 std::optional<ExceptionCode> UnitModel::store(BankKind kind, std::uint32_t address,
@@ -73,8 +72,8 @@ std::optional<ExceptionCode> UnitModel::load_registers(BankKind kind, std::uint3
     return std::nullopt;
 }
 
-Outcome UnitModel::read_bits(const protocol::ReadBitsRequest& request,
-                             std::span<std::uint8_t> scratch) {
+MaybeResponse UnitModel::read_bits(const protocol::ReadBitsRequest& request,
+                                   std::span<std::uint8_t> scratch) {
     if (request.quantity > spec_.max_read_bits) {
         return refused(request.function, ExceptionCode::IllegalDataValue);
     }
@@ -92,8 +91,8 @@ Outcome UnitModel::read_bits(const protocol::ReadBitsRequest& request,
     return protocol::Response{protocol::ReadBitsResponse{request.function, scratch.first(bytes)}};
 }
 
-Outcome UnitModel::read_registers(const protocol::ReadRegistersRequest& request,
-                                  std::span<std::uint8_t> scratch) {
+MaybeResponse UnitModel::read_registers(const protocol::ReadRegistersRequest& request,
+                                        std::span<std::uint8_t> scratch) {
     if (request.quantity > spec_.max_read_registers) {
         return refused(request.function, ExceptionCode::IllegalDataValue);
     }
@@ -107,7 +106,7 @@ Outcome UnitModel::read_registers(const protocol::ReadRegistersRequest& request,
         request.function, protocol::RegisterView(scratch.first(2u * request.quantity))}};
 }
 
-Outcome UnitModel::write_coil(const protocol::WriteSingleCoilRequest& request) {
+MaybeResponse UnitModel::write_coil(const protocol::WriteSingleCoilRequest& request) {
     const std::uint16_t value = request.on() ? 1 : 0;
     if (auto why = store(BankKind::Coils, request.address, std::span(&value, 1))) {
         return refused(FunctionCode::WriteSingleCoil, *why);
@@ -115,7 +114,7 @@ Outcome UnitModel::write_coil(const protocol::WriteSingleCoilRequest& request) {
     return protocol::Response{protocol::WriteSingleCoilResponse{request.address, request.value}};
 }
 
-Outcome UnitModel::write_register(const protocol::WriteSingleRegisterRequest& request) {
+MaybeResponse UnitModel::write_register(const protocol::WriteSingleRegisterRequest& request) {
     if (auto why =
             store(BankKind::HoldingRegisters, request.address, std::span(&request.value, 1))) {
         return refused(FunctionCode::WriteSingleRegister, *why);
@@ -124,7 +123,7 @@ Outcome UnitModel::write_register(const protocol::WriteSingleRegisterRequest& re
         protocol::WriteSingleRegisterResponse{request.address, request.value}};
 }
 
-Outcome UnitModel::write_coils(const protocol::WriteMultipleCoilsRequest& request) {
+MaybeResponse UnitModel::write_coils(const protocol::WriteMultipleCoilsRequest& request) {
     std::array<std::uint16_t, protocol::limits::kMaxWriteCoils> bits{};
     for (std::size_t i = 0; i < request.quantity; ++i)
         bits[i] = request.values[i] ? 1 : 0;
@@ -136,7 +135,7 @@ Outcome UnitModel::write_coils(const protocol::WriteMultipleCoilsRequest& reques
         protocol::WriteMultipleCoilsResponse{request.address, request.quantity}};
 }
 
-Outcome UnitModel::write_registers(const protocol::WriteMultipleRegistersRequest& request) {
+MaybeResponse UnitModel::write_registers(const protocol::WriteMultipleRegistersRequest& request) {
     std::array<std::uint16_t, protocol::limits::kMaxWriteRegisters> values{};
     for (std::size_t i = 0; i < request.quantity; ++i)
         values[i] = request.values[i];
@@ -148,7 +147,7 @@ Outcome UnitModel::write_registers(const protocol::WriteMultipleRegistersRequest
         protocol::WriteMultipleRegistersResponse{request.address, request.quantity}};
 }
 
-Outcome UnitModel::mask_write(const protocol::MaskWriteRegisterRequest& request) {
+MaybeResponse UnitModel::mask_write(const protocol::MaskWriteRegisterRequest& request) {
     const Permit permit = may_write(BankKind::HoldingRegisters, request.address, 1);
     if (permit.refusal) return refused(FunctionCode::MaskWriteRegister, *permit.refusal);
     if (!permit.skip) {
@@ -161,8 +160,8 @@ Outcome UnitModel::mask_write(const protocol::MaskWriteRegisterRequest& request)
         protocol::MaskWriteRegisterResponse{request.address, request.and_mask, request.or_mask}};
 }
 
-Outcome UnitModel::read_write(const protocol::ReadWriteMultipleRegistersRequest& request,
-                              std::span<std::uint8_t> scratch) {
+MaybeResponse UnitModel::read_write(const protocol::ReadWriteMultipleRegistersRequest& request,
+                                    std::span<std::uint8_t> scratch) {
     constexpr auto fc = FunctionCode::ReadWriteMultipleRegisters;
     constexpr auto kind = BankKind::HoldingRegisters;
     if (request.read_quantity > spec_.max_read_registers) {
@@ -183,8 +182,8 @@ Outcome UnitModel::read_write(const protocol::ReadWriteMultipleRegistersRequest&
         protocol::RegisterView(scratch.first(2u * request.read_quantity))}};
 }
 
-Outcome UnitModel::read_fifo(const protocol::ReadFifoQueueRequest& request,
-                             std::span<std::uint8_t> scratch) {
+MaybeResponse UnitModel::read_fifo(const protocol::ReadFifoQueueRequest& request,
+                                   std::span<std::uint8_t> scratch) {
     constexpr auto fc = FunctionCode::ReadFifoQueue;
     constexpr auto kind = BankKind::HoldingRegisters;
     if (!std::binary_search(spec_.fifos.begin(), spec_.fifos.end(), request.address)) {
@@ -203,7 +202,7 @@ Outcome UnitModel::read_fifo(const protocol::ReadFifoQueueRequest& request,
         protocol::ReadFifoQueueResponse{protocol::RegisterView(scratch.first(2u * count))}};
 }
 
-Outcome UnitModel::report_server_id(std::span<std::uint8_t> scratch) const {
+MaybeResponse UnitModel::report_server_id(std::span<std::uint8_t> scratch) const {
     const auto& id = spec_.server_id;
     std::size_t used = 0;
     for (char c : id.id)
@@ -214,10 +213,10 @@ Outcome UnitModel::report_server_id(std::span<std::uint8_t> scratch) const {
     return protocol::Response{protocol::ReportServerIdResponse{scratch.first(used)}};
 }
 
-Outcome UnitModel::serve(const protocol::Request& request, std::span<std::uint8_t> scratch) {
+MaybeResponse UnitModel::serve(const protocol::Request& request, std::span<std::uint8_t> scratch) {
     using namespace protocol;
     return std::visit(
-        [&](const auto& r) -> Outcome {
+        [&](const auto& r) -> MaybeResponse {
             using T = std::decay_t<decltype(r)>;
             if constexpr (std::is_same_v<T, ReadBitsRequest>) {
                 return read_bits(r, scratch);
@@ -257,7 +256,7 @@ Outcome UnitModel::serve(const protocol::Request& request, std::span<std::uint8_
                 return serve_object_messaging(r, spec_.objects);
             } else {
                 // MEI types other than 0E (CANopen 0D) and codes without a typed request.
-                return exception_outcome(function_of(request), ExceptionCode::IllegalFunction);
+                return exception_response(function_of(request), ExceptionCode::IllegalFunction);
             }
         },
         request);

@@ -9,7 +9,7 @@
 #include "device/data_bank.hpp"
 #include "device/fault_rules.hpp"
 #include "device/file_store.hpp"
-#include "device/outcome.hpp"
+#include "device/maybe_response.hpp"
 #include "device/profile.hpp"
 #include "protocol/request.hpp"
 
@@ -26,7 +26,7 @@ class UnitModel {
     bool supports(std::uint8_t function) const { return spec_.functions[function]; }
 
     // `scratch` (at least 253 bytes) holds response data the outcome points into.
-    Outcome serve(const protocol::Request& request, std::span<std::uint8_t> scratch);
+    MaybeResponse serve(const protocol::Request& request, std::span<std::uint8_t> scratch);
 
     CommState& comm() { return comm_; }
     const CommState& comm() const { return comm_; }
@@ -38,27 +38,28 @@ class UnitModel {
 
   private:
     // Why the span cannot be read or written (02 or the profile's code), or the access whose
-    // addresses the operation passes over (read as zeros, writes ignored); nullptr if none.
+    // addresses the operation passes over (read as zeros, writes ignored), if any.
     struct Permit {
         std::optional<protocol::ExceptionCode> refusal;
-        const Access* skip = nullptr;
+        std::optional<Access> skip;
     };
     Permit may_read(BankKind kind, std::uint32_t address, std::uint32_t count) const;
     Permit may_write(BankKind kind, std::uint32_t address, std::uint32_t count) const;
 
-    Outcome read_bits(const protocol::ReadBitsRequest& request, std::span<std::uint8_t> scratch);
-    Outcome read_registers(const protocol::ReadRegistersRequest& request,
-                           std::span<std::uint8_t> scratch);
-    Outcome write_coil(const protocol::WriteSingleCoilRequest& request);
-    Outcome write_register(const protocol::WriteSingleRegisterRequest& request);
-    Outcome write_coils(const protocol::WriteMultipleCoilsRequest& request);
-    Outcome write_registers(const protocol::WriteMultipleRegistersRequest& request);
-    Outcome mask_write(const protocol::MaskWriteRegisterRequest& request);
-    Outcome read_write(const protocol::ReadWriteMultipleRegistersRequest& request,
-                       std::span<std::uint8_t> scratch);
-    Outcome read_fifo(const protocol::ReadFifoQueueRequest& request,
-                      std::span<std::uint8_t> scratch);
-    Outcome report_server_id(std::span<std::uint8_t> scratch) const;
+    MaybeResponse read_bits(const protocol::ReadBitsRequest& request,
+                            std::span<std::uint8_t> scratch);
+    MaybeResponse read_registers(const protocol::ReadRegistersRequest& request,
+                                 std::span<std::uint8_t> scratch);
+    MaybeResponse write_coil(const protocol::WriteSingleCoilRequest& request);
+    MaybeResponse write_register(const protocol::WriteSingleRegisterRequest& request);
+    MaybeResponse write_coils(const protocol::WriteMultipleCoilsRequest& request);
+    MaybeResponse write_registers(const protocol::WriteMultipleRegistersRequest& request);
+    MaybeResponse mask_write(const protocol::MaskWriteRegisterRequest& request);
+    MaybeResponse read_write(const protocol::ReadWriteMultipleRegistersRequest& request,
+                             std::span<std::uint8_t> scratch);
+    MaybeResponse read_fifo(const protocol::ReadFifoQueueRequest& request,
+                            std::span<std::uint8_t> scratch);
+    MaybeResponse report_server_id(std::span<std::uint8_t> scratch) const;
 
     // Writes `values` after may_write() allowed it; returns the refusal otherwise.
     std::optional<protocol::ExceptionCode> store(BankKind kind, std::uint32_t address,
