@@ -132,12 +132,14 @@ class StatsLine {
 
     void print() {
         using server::ServerStats;
-        std::uint64_t open = 0, requests = 0, exceptions = 0, busy = 0, refused = 0, evicted = 0;
+        std::uint64_t open = 0, requests = 0, exceptions = 0, busy = 0, refused = 0, evicted = 0,
+                      slow = 0;
         for (const auto& s : servers_) {
             open += ServerStats::read(s->stats().connections_open);
             requests += ServerStats::read(s->stats().requests);
             exceptions += ServerStats::read(s->stats().exceptions);
             busy += ServerStats::read(s->stats().busy);
+            slow += ServerStats::read(s->stats().closed_slow_frame);
             refused += s->listener_counters().refused_address.load() +
                        s->listener_counters().refused_full.load();
             evicted += s->listener_counters().evicted_idle.load() +
@@ -145,10 +147,10 @@ class StatsLine {
         }
         fmt::print(stderr,
                    "{}mblab serve: {} connections, {} req/s, {} exc/s; total {} requests, {} "
-                   "exceptions, {} busy, {} refused, {} evicted{}",
+                   "exceptions, {} busy, {} refused, {} evicted, {} closed for a slow frame{}",
                    live_ ? "\r\033[K" : "", open, requests - last_requests_,
                    exceptions - last_exceptions_, requests, exceptions, busy, refused, evicted,
-                   live_ ? "" : "\n");
+                   slow, live_ ? "" : "\n");
         std::fflush(stderr);
         last_requests_ = requests;
         last_exceptions_ = exceptions;

@@ -11,7 +11,7 @@
 #include "device/request_handler.hpp"
 #include "protocol/exception_code.hpp"
 #include "protocol/frame_event.hpp"
-#include "protocol/mbap_framer.hpp"
+#include "protocol/framer.hpp"
 #include "server/reply_queue.hpp"
 #include "server/server_stats.hpp"
 #include "server/unfinished_mbap_frame.hpp"
@@ -130,7 +130,7 @@ class MbapSession {
     ServerStats& stats_;
     Host& host_;
 
-    protocol::MbapFramer framer_;
+    protocol::Framer framer_{{.framing = protocol::Framing::Mbap}};
     UnfinishedMbapFrame unfinished_;
     Clock::time_point partial_deadline_{};  // when the unfinished frame's gap runs out
     ReplyQueue replies_;

@@ -190,9 +190,10 @@ TEST(ServeCommand, StatsLineCountsRequestsAndExceptions) {
     EXPECT_EQ(serve.terminate(), 0);
     auto text = serve.process().drain_stderr();
     auto last = text.substr(text.rfind('\n', text.size() - 2) + 1);
-    EXPECT_TRUE(std::regex_match(last, std::regex("mblab serve: [01] connections, [0-9]+ req/s, "
-                                                  "[0-9]+ exc/s; total 2 requests, 1 exceptions, "
-                                                  "0 busy, 0 refused, 0 evicted\n")))
+    EXPECT_TRUE(std::regex_match(
+        last, std::regex("mblab serve: [01] connections, [0-9]+ req/s, "
+                         "[0-9]+ exc/s; total 2 requests, 1 exceptions, "
+                         "0 busy, 0 refused, 0 evicted, 0 closed for a slow frame\n")))
         << text;
 }
 

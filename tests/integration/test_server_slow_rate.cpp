@@ -112,6 +112,7 @@ TEST_F(ServerSlowRate, FrameStillArrivingAfterTheFrameLimitIsAnswered03AndClosed
     EXPECT_EQ(answer, "00 07 00 00 00 03 01 90 03");
     EXPECT_TRUE(client.closed_by_peer());
     EXPECT_EQ(handler_.calls.load(), 0);
+    EXPECT_EQ(server::ServerStats::read(server_->stats().closed_slow_frame), 1U);
 }
 
 }  // namespace
