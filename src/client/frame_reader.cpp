@@ -23,7 +23,7 @@ Received FrameReader::take(ReceiveStatus status, std::string detail) {
     return out;
 }
 
-std::optional<Received> FrameReader::cut(const protocol::FrameEvent& event) {
+std::optional<Received> FrameReader::cut(const protocol::FrameEvent& event, std::size_t consumed) {
     if (event.is_frame()) {
         partial_.clear();
         Received out{ReceiveStatus::Frame, {event.adu.begin(), event.adu.end()}, {}};
@@ -38,7 +38,8 @@ std::optional<Received> FrameReader::cut(const protocol::FrameEvent& event) {
     } else if (framer_.framing() == protocol::Framing::Mbap) {
         // A header whose length describes no frame: where the next frame starts is unknown, so
         // nothing after it can be trusted either. It is all handed over.
-        partial_.insert(partial_.end(), pending_.begin(), pending_.end());
+        partial_.insert(partial_.end(), pending_.begin() + static_cast<long>(consumed),
+                        pending_.end());
         pending_.clear();
     }
     Received out{ReceiveStatus::Malformed, std::move(partial_), event.error};
@@ -53,7 +54,7 @@ std::optional<Received> FrameReader::next() {
         partial_.insert(partial_.end(), pending_.begin(),
                         pending_.begin() + static_cast<long>(consumed));
         // The event may view `pending_`: it is copied out before those bytes go.
-        auto done = cut(event);
+        auto done = cut(event, consumed);
         pending_.erase(pending_.begin(),
                        pending_.begin() + static_cast<long>(std::min(consumed, pending_.size())));
         if (done) return done;
@@ -62,7 +63,7 @@ std::optional<Received> FrameReader::next() {
 }
 
 std::optional<Received> FrameReader::on_silence() {
-    return cut(framer_.on_silence());
+    return cut(framer_.on_silence(), 0);
 }
 
 }  // namespace mblab::client

@@ -33,7 +33,8 @@ class FrameReader {
     void reset();
 
   private:
-    std::optional<Received> cut(const protocol::FrameEvent& event);
+    // `consumed`: the bytes at the front of pending_ the event took (already in partial_).
+    std::optional<Received> cut(const protocol::FrameEvent& event, std::size_t consumed);
 
     protocol::Framer framer_;
     std::vector<std::uint8_t> pending_;  // added, not yet given to the framer
