@@ -2,12 +2,12 @@
 
 #include <filesystem>
 
-#include "device/profile_paths.hpp"
+#include "shipped/data_dir.hpp"
 
 namespace mblab::conformance {
 
 inline std::filesystem::path catalogue_dir() {
-    return device::shipped_dir("MBLAB_CATALOGUE_DIR", "catalogue");
+    return shipped::data_dir("MBLAB_CATALOGUE_DIR", "catalogue");
 }
 
 }  // namespace mblab::conformance

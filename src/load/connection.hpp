@@ -13,7 +13,7 @@
 #include "load/exchanges.hpp"
 #include "load/plan.hpp"
 #include "load/tally.hpp"
-#include "protocol/mbap_framer.hpp"
+#include "protocol/framer.hpp"
 #include "support/prng.hpp"
 #include "transport/epoll_set.hpp"
 
@@ -113,7 +113,8 @@ class LoadConnection {
     LoadClock::time_point earliest_deadline_ = LoadClock::time_point::max();
     std::size_t test_cursor_ = 0;
 
-    protocol::MbapFramer framer_;  // cuts answers out of in_; holds nothing between reads
+    // Cuts answers out of in_; holds nothing between reads.
+    protocol::Framer framer_{{.framing = protocol::Framing::Mbap}};
     std::vector<std::uint8_t> in_;
     std::size_t in_begin_ = 0;
     std::size_t in_end_ = 0;
