@@ -1,11 +1,18 @@
+#include <fcntl.h>
 #include <fmt/core.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 #include "cli/commands.hpp"
@@ -150,17 +157,102 @@ bool declare_dut(const ConformOptions& options, conf::Dut& dut, std::string& err
     return true;
 }
 
+// The report files of a run, checked before any traffic: a run of an hour must not end with
+// "cannot write". Each is opened for writing, created when missing but never truncated, so a
+// report from an earlier run stays whole until the new one replaces it. A file the check created
+// is removed again unless the run writes it, so a refused or failed run leaves no empty report.
+class ReportFiles {
+  public:
+    ReportFiles() = default;
+    ReportFiles(const ReportFiles&) = delete;
+    ReportFiles& operator=(const ReportFiles&) = delete;
+    ~ReportFiles() {
+        for (const auto& path : created_)
+            ::unlink(path.c_str());
+    }
+
+    // False with `error` naming the option and the path when `path` cannot be written.
+    bool check(std::string_view option, const std::string& path, std::string& error) {
+        if (path.empty()) return true;
+        const auto same = std::find_if(checked_.begin(), checked_.end(), [&](const auto& seen) {
+            return seen.second == identity(path);
+        });
+        if (same != checked_.end()) {
+            error = fmt::format("{} {}: the same file as {}; each report needs its own file",
+                                option, path, same->first);
+            return false;
+        }
+        int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        const bool created = fd >= 0;
+        if (fd < 0 && errno == EEXIST) fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+        if (fd < 0) {
+            error = fmt::format("{} {}: cannot write the report: {}", option, path,
+                                why_not(path, errno));
+            return false;
+        }
+        ::close(fd);
+        if (created) created_.push_back(path);
+        checked_.emplace_back(std::string(option), identity(path));
+        return true;
+    }
+
+    // The run wrote `path`: it stays.
+    void written(const std::string& path) { std::erase(created_, path); }
+
+  private:
+    static std::string identity(const std::string& path) {
+        std::error_code ignored;
+        return std::filesystem::absolute(path, ignored).lexically_normal().string();
+    }
+
+    static std::string why_not(const std::string& path, int error) {
+        std::string parent = std::filesystem::path(path).parent_path().string();
+        if (parent.empty()) parent = ".";
+        switch (error) {
+            case ENOENT:
+                return fmt::format("directory {} does not exist", parent);
+            case ENOTDIR:
+                return fmt::format("{} is not a directory", parent);
+            case EISDIR:
+                return "it is a directory";
+            case EACCES:
+            case EPERM:
+                return "permission denied";
+            case EROFS:
+                return "read-only file system";
+            default: {
+                std::string text = std::strerror(error);
+                if (!text.empty()) text[0] = static_cast<char>(std::tolower(text[0]));
+                return text;
+            }
+        }
+    }
+
+    std::vector<std::string> created_;
+    std::vector<std::pair<std::string, std::string>> checked_;  // option, absolute path
+};
+
+bool check_report_files(const ConformOptions& options, ReportFiles& files, std::string& error) {
+    return files.check("--json", options.json, error) &&
+           files.check("--junit", options.junit, error) &&
+           files.check("--pcap", options.pcap, error);
+}
+
 bool write_reports(const ConformOptions& options, const conf::RunResult& result,
-                   const conf::Capture& capture, std::string& error) {
-    if (!options.json.empty() &&
-        !conf::write_text_file(options.json, conf::json_report(result), error)) {
-        return false;
+                   const conf::Capture& capture, ReportFiles& files, std::string& error) {
+    if (!options.json.empty()) {
+        if (!conf::write_text_file(options.json, conf::json_report(result), error)) return false;
+        files.written(options.json);
     }
-    if (!options.junit.empty() &&
-        !conf::write_text_file(options.junit, conf::junit_report(result), error)) {
-        return false;
+    if (!options.junit.empty()) {
+        if (!conf::write_text_file(options.junit, conf::junit_report(result), error)) return false;
+        files.written(options.junit);
     }
-    return options.pcap.empty() || conf::write_pcap(options.pcap, capture.events(), error);
+    if (!options.pcap.empty()) {
+        if (!conf::write_pcap(options.pcap, capture.events(), error)) return false;
+        files.written(options.pcap);
+    }
+    return true;
 }
 
 int run_conform(const ConformOptions& options) {
@@ -171,6 +263,8 @@ int run_conform(const ConformOptions& options) {
         print_catalogue(suites);
         return kExitOk;
     }
+    ReportFiles files;
+    if (!check_report_files(options, files, error)) return usage_error(error);
 
     conf::Dut dut;
     std::string note;
@@ -225,7 +319,7 @@ int run_conform(const ConformOptions& options) {
     conf::Engine engine(session, &console);
     conf::RunResult result = engine.run(suites, target.name);
     console.summary(result);
-    if (!write_reports(options, result, capture, error)) return usage_error(error);
+    if (!write_reports(options, result, capture, files, error)) return usage_error(error);
     return result.all_passed() ? kExitOk : kExitFailed;
 }
 
@@ -276,9 +370,12 @@ void add_conform_command(CLI::App& app, CommandRunner& runner) {
                     "milliseconds to watch for bytes nobody asked for after each case (a "
                     "duplicate answer, noise between cases; default 10)")
         ->check(CLI::Range(0, 10000));
-    cmd->add_option("--json", options->json, "write the report as JSON to FILE");
-    cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
-    cmd->add_option("--pcap", options->pcap, "write every exchange as a pcap capture to FILE");
+    cmd->add_option("--json", options->json,
+                    "write the report as JSON to FILE (checked before any traffic)");
+    cmd->add_option("--junit", options->junit,
+                    "write the report as JUnit XML to FILE (checked before any traffic)");
+    cmd->add_option("--pcap", options->pcap,
+                    "write every exchange as a pcap capture to FILE (checked before any traffic)");
     cmd->callback([options, &runner] { runner = [options] { return run_conform(*options); }; });
 }
 
