@@ -4,6 +4,7 @@
 #include <cctype>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/client_options.hpp"
@@ -23,25 +24,46 @@ struct RawOptions {
     std::vector<std::string> hex;
 };
 
+// Each token is one byte (one or two hex digits: `0` is 0x00, `A` is 0x0A) or a run of whole
+// bytes (an even number of digits: 030000000A); spaces and colons inside a token separate
+// pieces the same way. An odd run longer than two digits is refused: `raw P 03 0 0 0 1` once
+// became 03 00 01 without a word, and a PDU one byte short is worse than no PDU.
 protocol::Result<std::vector<std::uint8_t>, std::string> parse_hex(
     const std::vector<std::string>& tokens) {
-    std::string digits;
-    for (auto token : tokens) {
-        if (token.starts_with("0x") || token.starts_with("0X")) token.erase(0, 2);
-        for (char c : token) {
-            if (c == ' ' || c == ':') continue;
-            if (!std::isxdigit(static_cast<unsigned char>(c))) {
-                return fmt::format(
-                    "'{}' is not hex: give the PDU as hex bytes, e.g. 03 00 00 00 0A", token);
+    std::vector<std::uint8_t> bytes;
+    for (std::size_t position = 0; position < tokens.size(); ++position) {
+        const std::string& token = tokens[position];
+        std::string_view rest = token;
+        while (!rest.empty()) {
+            const auto cut = rest.find_first_of(" :");
+            std::string_view piece = rest.substr(0, cut);
+            rest = cut == std::string_view::npos ? std::string_view{} : rest.substr(cut + 1);
+            if (piece.starts_with("0x") || piece.starts_with("0X")) piece.remove_prefix(2);
+            if (piece.empty()) continue;
+            for (char c : piece) {
+                if (!std::isxdigit(static_cast<unsigned char>(c))) {
+                    return fmt::format(
+                        "'{}' is not hex: give the PDU as hex bytes, e.g. 03 00 00 00 0A", token);
+                }
             }
-            digits += c;
+            if (piece.size() == 1) {
+                bytes.push_back(
+                    static_cast<std::uint8_t>(std::stoul(std::string(piece), nullptr, 16)));
+                continue;
+            }
+            if (piece.size() % 2 != 0) {
+                return fmt::format(
+                    "PDU token {} '{}' has an odd number of hex digits: give each byte as 1 or 2 "
+                    "digits, or whole bytes run together (03 00 00 00 0A or 030000000A)",
+                    position + 1, token);
+            }
+            for (std::size_t i = 0; i < piece.size(); i += 2) {
+                bytes.push_back(static_cast<std::uint8_t>(
+                    std::stoul(std::string(piece.substr(i, 2)), nullptr, 16)));
+            }
         }
     }
-    if (digits.size() % 2 != 0) return std::string("odd number of hex digits: give whole bytes");
-    std::vector<std::uint8_t> bytes;
-    for (std::size_t i = 0; i < digits.size(); i += 2) {
-        bytes.push_back(static_cast<std::uint8_t>(std::stoul(digits.substr(i, 2), nullptr, 16)));
-    }
+    if (bytes.empty()) return std::string("no PDU: give at least the function code");
     return bytes;
 }
 
@@ -98,6 +120,8 @@ void add_raw_command(CLI::App& app, CommandRunner& runner) {
         app, runner, "raw", "Send any PDU (hex, function code first) and print the answer decoded",
         "The PDU goes out as given, without the checks the other commands make, framed for the\n"
         "target (MBAP header, or address and CRC). The answer is printed as hex and as fields.\n"
+        "Each HEX token is one byte (1 or 2 digits: 0 is 00) or whole bytes run together (an even\n"
+        "number of digits); 123 is refused, being neither.\n"
         "Exit status 1 when the device answers an exception or something that does not decode.\n"
         "Example: mblab raw tcp://127.0.0.1:502 03 00 00 00 0A",
         run_raw);

@@ -135,7 +135,9 @@ TEST(ClientUsage, BadArgumentsAreOneLineAndExitStatusTwo) {
          "object name\n"},
         {{"raw", target, "0G"},
          "mblab raw: '0G' is not hex: give the PDU as hex bytes, e.g. 03 00 00 00 0A\n"},
-        {{"raw", target, "031"}, "mblab raw: odd number of hex digits: give whole bytes\n"},
+        {{"raw", target, "031"},
+         "mblab raw: PDU token 1 '031' has an odd number of hex digits: give each byte as 1 or 2 "
+         "digits, or whole bytes run together (03 00 00 00 0A or 030000000A)\n"},
         {{"read", "tcp://127.0.0.1:99999", "holding", "0"},
          "mblab read: bad address 'tcp://127.0.0.1:99999': port must be a number from 0 to "
          "65535 (expected tcp://HOST:PORT, e.g. tcp://127.0.0.1:502)\n"},
