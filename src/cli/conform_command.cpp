@@ -40,6 +40,7 @@ namespace conf = mblab::conformance;
 struct ConformOptions {
     std::string target;
     std::vector<std::string> suites;
+    std::vector<std::string> cases;
     bool list = false;
     std::string dut_file;
     int unit = 1;
@@ -113,6 +114,79 @@ bool load_suites(const ConformOptions& options, std::vector<conf::Suite>& suites
         }
         suites.push_back(std::move(suite.value()));
     }
+    return true;
+}
+
+// A case id pattern: `*` stands for any run of characters, `?` for any one; the rest is literal.
+bool glob_match(std::string_view pattern, std::string_view text) {
+    std::size_t p = 0;
+    std::size_t t = 0;
+    std::size_t star = std::string_view::npos;  // the last `*` seen, to retry from on a mismatch
+    std::size_t star_text = 0;
+    while (t < text.size()) {
+        if (p < pattern.size() && (pattern[p] == '?' || pattern[p] == text[t])) {
+            ++p;
+            ++t;
+        } else if (p < pattern.size() && pattern[p] == '*') {
+            star = p++;
+            star_text = t;
+        } else if (star != std::string_view::npos) {
+            p = star + 1;
+            t = ++star_text;
+        } else {
+            return false;
+        }
+    }
+    while (p < pattern.size() && pattern[p] == '*')
+        ++p;
+    return p == pattern.size();
+}
+
+// Keeps the cases that match a --case pattern, with the earlier cases they depend on: a chosen
+// case's dependencies decide whether it can run at all, so rerunning it alone would otherwise
+// judge it without them. Suites with no case left are dropped. Every pattern must match a case,
+// or the user's typo would silently run nothing of what was meant.
+bool select_cases(const std::vector<std::string>& patterns, std::vector<conf::Suite>& suites,
+                  std::string& error) {
+    if (patterns.empty()) return true;
+    std::string names;
+    for (const auto& suite : suites)
+        names += (names.empty() ? "" : ", ") + suite.name;
+    std::vector<bool> used(patterns.size(), false);
+    std::vector<conf::Suite> chosen;
+    for (auto& suite : suites) {
+        std::vector<bool> keep(suite.cases.size(), false);
+        for (std::size_t i = 0; i < suite.cases.size(); ++i) {
+            for (std::size_t n = 0; n < patterns.size(); ++n) {
+                if (glob_match(patterns[n], suite.cases[i].id)) keep[i] = used[n] = true;
+            }
+        }
+        // Dependencies are earlier cases, so one pass from the end takes them transitively.
+        for (std::size_t i = suite.cases.size(); i-- > 0;) {
+            if (!keep[i]) continue;
+            for (const auto& dependency : suite.cases[i].depends_on) {
+                for (std::size_t j = 0; j < i; ++j) {
+                    if (suite.cases[j].id == dependency) keep[j] = true;
+                }
+            }
+        }
+        std::vector<conf::Case> cases;
+        for (std::size_t i = 0; i < suite.cases.size(); ++i) {
+            if (keep[i]) cases.push_back(std::move(suite.cases[i]));
+        }
+        if (cases.empty()) continue;
+        suite.cases = std::move(cases);
+        chosen.push_back(std::move(suite));
+    }
+    for (std::size_t n = 0; n < patterns.size(); ++n) {
+        if (used[n]) continue;
+        error = fmt::format(
+            "--case '{}' matches no case of the selected suites ({}); conform --list shows the "
+            "case ids",
+            patterns[n], names);
+        return false;
+    }
+    suites = std::move(chosen);
     return true;
 }
 
@@ -259,6 +333,7 @@ int run_conform(const ConformOptions& options) {
     std::vector<conf::Suite> suites;
     std::string error;
     if (!load_suites(options, suites, error)) return usage_error(error);
+    if (!select_cases(options.cases, suites, error)) return usage_error(error);
     if (options.list) {
         print_catalogue(suites);
         return kExitOk;
@@ -339,7 +414,11 @@ void add_conform_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_option("--suite", options->suites,
                     "suite to run, by name or TOML file; repeatable (default: every shipped "
                     "suite, policy first)");
-    cmd->add_flag("--list", options->list, "print the catalogue of the chosen suites and exit");
+    cmd->add_option("--case", options->cases,
+                    "run only the cases whose id matches, e.g. 7.5.1 or '7.5.*' (* any text, ? "
+                    "any one character), with the cases they depend on; repeatable");
+    cmd->add_flag("--list", options->list,
+                  "print the catalogue of the chosen suites (and cases) and exit");
     cmd->add_option("--dut", options->dut_file,
                     "TOML file declaring the device under test (keys as the flags below)")
         ->check(CLI::ExistingFile);

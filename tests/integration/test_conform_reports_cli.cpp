@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -101,6 +102,51 @@ TEST(ConformReportsCli, ACheckedReportIsWrittenByTheRun) {
     auto ran = mblab({"conform", "--suite", "mbap", "--json", json});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
     EXPECT_NE(test::file_text(json).find("\"tool\": \"mblab conform\""), std::string::npos);
+}
+
+std::vector<std::string> case_ids(const nlohmann::json& report) {
+    std::vector<std::string> ids;
+    for (const auto& suite : report["suites"]) {
+        for (const auto& c : suite["cases"])
+            ids.push_back(c["id"]);
+    }
+    return ids;
+}
+
+TEST(ConformReportsCli, CaseRunsOnlyTheMatchingCasesAndWhatTheyDependOn) {
+    test::TempDir dir;
+    const std::string json = (dir / "cases.json").string();
+    auto ran = mblab(
+        {"conform", "--case", "7.5.*", "--case", "7.13.2", "--case", "mbap.?", "--json", json});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    const auto report = nlohmann::json::parse(test::file_text(json));
+    // 7.13.2 depends on 7.5.1, which the pattern 7.5.* takes anyway; mbap.? leaves out mbap.10.
+    EXPECT_EQ(case_ids(report), (std::vector<std::string>{"7.5.1", "7.5.2", "7.13.2", "mbap.1",
+                                                          "mbap.2", "mbap.3", "mbap.4", "mbap.5",
+                                                          "mbap.6", "mbap.7", "mbap.8", "mbap.9"}));
+    EXPECT_EQ(report["summary"]["total"], 12);
+    EXPECT_EQ(ran.out.find("device-id"), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("  PASS     7.13.2  Alternate encoding"), std::string::npos) << ran.out;
+}
+
+TEST(ConformReportsCli, ACaseBringsTheCasesItDependsOn) {
+    auto ran = mblab({"conform", "--list", "--suite", "policy-2.1", "--case", "7.13.2"});
+    EXPECT_EQ(ran.status, 0) << ran.err;
+    EXPECT_NE(ran.out.find("\n  7.5.1   Function 0x03 read multiple registers  (seed 000 7.5.1)\n"
+                           "  7.13.2  Alternate encoding"),
+              std::string::npos)
+        << ran.out;
+    EXPECT_EQ(ran.out.find("9.1.1"), std::string::npos) << ran.out;
+}
+
+TEST(ConformReportsCli, ACasePatternThatMatchesNothingIsRefusedBeforeConnecting) {
+    auto ran = mblab({"conform", unreachable(), "--suite", "policy-2.1", "--suite", "mbap",
+                      "--case", "7.5.1", "--case", "9.9.*"});
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err,
+              "mblab conform: --case '9.9.*' matches no case of the selected suites (policy-2.1, "
+              "mbap); conform --list shows the case ids\n");
+    EXPECT_EQ(ran.out, "");
 }
 
 }  // namespace
