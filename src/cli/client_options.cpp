@@ -2,11 +2,13 @@
 
 #include <fmt/core.h>
 
+#include <cmath>
 #include <cstdio>
 #include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/frame_log.hpp"
+#include "cli/number_text.hpp"
 #include "client/target.hpp"
 #include "client/transactor.hpp"
 
@@ -20,10 +22,13 @@ void add_client_options(CLI::App& command, ClientOptions& options) {
                     "rtu+tcp://HOST:PORT")
         ->required();
     command.add_option("--unit,-u", options.unit, "unit id (default 1)")->check(CLI::Range(0, 255));
-    command
-        .add_option("--timeout", options.timeout_ms,
-                    "milliseconds to wait for the connection and for each answer (default 1000)")
-        ->check(CLI::Range(1, 600000));
+    accept_duration_units(
+        command
+            .add_option("--timeout", options.timeout_ms,
+                        "time to wait for the connection and for each answer: 1000 (ms), 250ms, "
+                        "2s (default 1000)")
+            ->check(CLI::Range(1, 600000)),
+        DurationUnit::milliseconds, true);
     command
         .add_option("--retries", options.retries,
                     "tries again after a timeout or a lost connection, up to N times "
@@ -35,6 +40,37 @@ void add_client_options(CLI::App& command, ClientOptions& options) {
                     "(also MBAP header), bytes (also hex)")
         ->check(CLI::IsMember({"app", "frame", "bytes"}));
     command.add_flag("--json", options.json, "print one JSON document on stdout");
+}
+
+CLI::Option* accept_duration_units(CLI::Option* option, DurationUnit bare_unit, bool whole) {
+    const bool ms = bare_unit == DurationUnit::milliseconds;
+    const std::chrono::duration<double> unit =
+        ms ? std::chrono::duration<double>(0.001) : std::chrono::duration<double>(1);
+    const char* unit_name = ms ? "milliseconds" : "seconds";
+    auto rewrite = [unit, unit_name, whole](std::string& text) -> std::string {
+        // A bare number goes to the option untouched, so it is taken and refused exactly as
+        // before units were accepted (1e10 seconds still meets --idle-timeout's own limit).
+        if (parse_real(text)) return {};
+        auto length = parse_duration(text, unit);
+        if (!length) {
+            return fmt::format(
+                "'{}' is not a duration: give e.g. 250ms, 1s, 1.5s or 2m (a number alone is {})",
+                text, unit_name);
+        }
+        const double count = *length / unit;
+        if (!whole) {
+            text = fmt::format("{}", count);
+            return {};
+        }
+        // 1.1s is 1100.0000000000002 ms in doubles: a hair off a whole number is that number.
+        const double rounded = std::round(count);
+        if (std::abs(count - rounded) > 1e-6) {
+            return fmt::format("'{}' is not a whole number of {}", text, unit_name);
+        }
+        text = fmt::format("{:.0f}", rounded);
+        return {};
+    };
+    return option->transform(CLI::Validator(rewrite, "", "duration"))->type_name("DURATION");
 }
 
 void add_format_options(CLI::App& command, FormatOptions& options) {

@@ -45,6 +45,13 @@ std::pair<CLI::App*, std::shared_ptr<Options>> add_client_command(
     return {command, options};
 }
 
+// Lets a duration option take a unit as well, 250ms, 1s, 1.5s, 2m, 1h, while a bare number
+// keeps the option's unit. The text is rewritten into a number in that unit before the option's
+// own checks (ranges) run, so every option keeps its type, default and limits. `whole`: the option
+// holds an integer, so 1.5ms is refused rather than rounded to a different value.
+enum class DurationUnit { milliseconds, seconds };
+CLI::Option* accept_duration_units(CLI::Option* option, DurationUnit bare_unit, bool whole);
+
 struct FormatOptions {
     std::string type = "u16";
     std::string word_order = "big";

@@ -14,6 +14,7 @@
 #include <thread>
 #include <vector>
 
+#include "cli/client_options.hpp"
 #include "cli/commands.hpp"
 #include "client/raw_link.hpp"
 #include "client/target.hpp"
@@ -288,9 +289,12 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
                   "the nodes support function code 0x5B (seed 000 6.5)");
     cmd->add_option("--dut", options->dut_file, "TOML file declaring the nodes (as mblab conform)")
         ->check(CLI::ExistingFile);
-    cmd->add_option("--timeout", options->timeout_ms, "milliseconds to wait for each answer")
-        ->check(CLI::Range(1, 600000))
-        ->capture_default_str();
+    accept_duration_units(cmd->add_option("--timeout", options->timeout_ms,
+                                          "time to wait for each answer: milliseconds, or 250ms, "
+                                          "2s")
+                              ->check(CLI::Range(1, 600000))
+                              ->capture_default_str(),
+                          DurationUnit::milliseconds, true);
     cmd->add_option("--suite", options->suites,
                     "suite whose request/response cases loop, by name or file; repeatable "
                     "(default: policy-2.1)");

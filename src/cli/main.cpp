@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "cli/build_info.hpp"
+#include "cli/client_options.hpp"
 #include "cli/commands.hpp"
 
 namespace {
@@ -34,6 +35,21 @@ std::string usage_line(const CLI::App& app, const CLI::ParseError& error, int ar
     return fmt::format("{}: {} (run '{} --help' for usage)", prefix, error.what(), prefix);
 }
 
+// conform's millisecond options take units as every other duration option does. conform
+// declares them in its own file; they are reached here by name so that file need not change,
+// and an option renamed there is skipped rather than stopping every command at startup.
+void accept_conform_duration_units(CLI::App& app) {
+    for (auto* command :
+         app.get_subcommands([](const CLI::App* sub) { return sub->get_name() == "conform"; })) {
+        for (const char* name : {"--timeout", "--settle"}) {
+            if (auto* option = command->get_option_no_throw(name)) {
+                mblab::cli::accept_duration_units(option, mblab::cli::DurationUnit::milliseconds,
+                                                  true);
+            }
+        }
+    }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -44,6 +60,7 @@ int main(int argc, char** argv) {
     app.require_subcommand(1);
     CommandRunner runner;
     add_conform_command(app, runner);
+    accept_conform_duration_units(app);
     add_serve_command(app, runner);
     add_read_command(app, runner);
     add_write_command(app, runner);

@@ -43,6 +43,37 @@ std::optional<double> parse_real(std::string_view text) {
     return value;
 }
 
+std::optional<std::chrono::duration<double>> parse_duration(
+    std::string_view text, std::chrono::duration<double> bare_unit) {
+    using std::chrono::duration;
+    struct Unit {
+        std::string_view suffix;
+        duration<double> length;
+    };
+    // "ms" before "m" and "s", so 250ms is not read as 250m followed by junk.
+    static constexpr Unit kUnits[] = {{"ms", duration<double, std::milli>(1)},
+                                      {"s", duration<double>(1)},
+                                      {"m", duration<double, std::ratio<60>>(1)},
+                                      {"h", duration<double, std::ratio<3600>>(1)}};
+    duration<double> unit = bare_unit;
+    for (const auto& candidate : kUnits) {
+        if (text.ends_with(candidate.suffix)) {
+            text.remove_suffix(candidate.suffix.size());
+            unit = candidate.length;
+            break;
+        }
+    }
+    // Digits and at most one point only: strtod would also take signs, exponents, hex and inf.
+    const auto point = text.find('.');
+    if (text.empty() || text == "." || text.find_first_not_of("0123456789.") != text.npos ||
+        (point != text.npos && text.find('.', point + 1) != text.npos)) {
+        return std::nullopt;
+    }
+    auto number = parse_real(text);
+    if (!number) return std::nullopt;
+    return *number * unit;
+}
+
 std::string address_text(unsigned address) {
     return fmt::format("{} (0x{:04X})", address, address);
 }

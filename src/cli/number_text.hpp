@@ -1,5 +1,6 @@
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -11,6 +12,12 @@ namespace mblab::cli {
 std::optional<std::uint64_t> parse_unsigned(std::string_view text, std::uint64_t max);
 std::optional<std::int64_t> parse_signed(std::string_view text, std::int64_t min, std::int64_t max);
 std::optional<double> parse_real(std::string_view text);
+
+// A duration as typed: a number with a unit, 250ms, 1s, 1.5s, 2m, 1h, or a bare number, which is
+// in `bare_unit` (the unit the option always took, so command lines written before units keep
+// their meaning). nullopt for anything else: 1x, -1s, 1e3, inf, an empty text.
+std::optional<std::chrono::duration<double>> parse_duration(
+    std::string_view text, std::chrono::duration<double> bare_unit);
 
 // "0 (0x0000)": how every command shows an address.
 std::string address_text(unsigned address);

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "cli/client_options.hpp"
 #include "cli/commands.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
@@ -500,32 +501,41 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
                     "or idle one is closed (0: no limit)")
         ->check(CLI::Range(0LL, 1'000'000LL))
         ->capture_default_str();
-    cmd->add_option("--idle-timeout", options->idle_timeout,
-                    "seconds without a request before a connection is closed (0: never)")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
+    accept_duration_units(cmd->add_option("--idle-timeout", options->idle_timeout,
+                                          "time without a request before a connection is closed: "
+                                          "seconds, or 500ms, 5m (0: never)")
+                              ->check(CLI::NonNegativeNumber)
+                              ->capture_default_str(),
+                          DurationUnit::seconds, false);
     cmd->add_option("--allow", options->allow,
                     "admit only clients from this address or CIDR network (repeatable)");
     cmd->add_option("--max-outstanding", options->max_outstanding,
                     "requests a connection may have unanswered; more are answered 06 busy")
         ->check(CLI::Range(1LL, 4096LL))
         ->capture_default_str();
-    cmd->add_option("--frame-timeout", options->frame_timeout_ms,
-                    "milliseconds an unfinished frame may wait before it is answered 03")
-        ->check(CLI::Range(1, 60000))
-        ->capture_default_str();
-    cmd->add_option("--frame-limit", options->frame_limit_ms,
-                    "milliseconds a whole frame may take from its first byte; a client still "
-                    "sending it then is answered 03 and closed")
-        ->check(CLI::Range(1, 600000))
-        ->capture_default_str();
+    accept_duration_units(
+        cmd->add_option("--frame-timeout", options->frame_timeout_ms,
+                        "time an unfinished frame may wait before it is answered 03: "
+                        "milliseconds, or 250ms, 1s")
+            ->check(CLI::Range(1, 60000))
+            ->capture_default_str(),
+        DurationUnit::milliseconds, true);
+    accept_duration_units(
+        cmd->add_option("--frame-limit", options->frame_limit_ms,
+                        "time a whole frame may take from its first byte: milliseconds, or 1s; a "
+                        "client still sending it then is answered 03 and closed")
+            ->check(CLI::Range(1, 600000))
+            ->capture_default_str(),
+        DurationUnit::milliseconds, true);
     cmd->add_option("--state", options->state,
                     "keep the writable data in FILE: restored at start, saved periodically and "
                     "on exit");
-    cmd->add_option("--save-interval", options->save_interval,
-                    "seconds between saves of --state (0: only on exit)")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
+    accept_duration_units(cmd->add_option("--save-interval", options->save_interval,
+                                          "time between saves of --state: seconds, or 500ms, "
+                                          "5m (0: only on exit)")
+                              ->check(CLI::NonNegativeNumber)
+                              ->capture_default_str(),
+                          DurationUnit::seconds, false);
     cmd->add_flag("--durable", options->durable,
                   "with --state: every acknowledged write is in a journal on disk (FILE.journal, "
                   "fdatasync shared by the writes that come together) before its answer is sent, "

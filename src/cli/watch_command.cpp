@@ -179,8 +179,11 @@ void add_watch_command(CLI::App& app, CommandRunner& runner) {
         "Example: mblab watch tcp://127.0.0.1:502 holding 0 4 --interval 500",
         run_watch);
     add_query_arguments(*cmd, options->query);
-    cmd->add_option("--interval", options->interval_ms, "milliseconds between polls (default 1000)")
-        ->check(CLI::Range(1, 86400000));
+    accept_duration_units(cmd->add_option("--interval", options->interval_ms,
+                                          "time between polls: 1000 (ms), 500ms, 2s, 1m "
+                                          "(default 1000)")
+                              ->check(CLI::Range(1, 86400000)),
+                          DurationUnit::milliseconds, true);
     cmd->add_option("--count,-n", options->count, "stop after N polls (default: until Ctrl-C)")
         ->check(CLI::Range(1, 100000000));
 }

@@ -37,5 +37,46 @@ TEST_F(CliGuides, RawRefusesAnOddRunOfDigits) {
               "0A\n");
 }
 
+// Durations take a unit wherever a duration is asked for; a bare number keeps the option's unit.
+TEST_F(CliGuides, DurationsTakeUnits) {
+    for (const char* timeout : {"1s", "250ms", "1.5s", "2m", "1000"}) {
+        auto ran = mblab("read", {"holding", "0", "--timeout", timeout});
+        EXPECT_EQ(ran.status, 0) << timeout << ": " << ran.err;
+    }
+    auto watch = mblab("watch", {"holding", "0", "--count", "2", "--interval", "0.01s"});
+    EXPECT_EQ(watch.status, 0) << watch.err;
+    // The unit is converted into the option's own before its limits are checked: 11m is
+    // 660000 ms, over --timeout's 600000.
+    auto over = mblab("read", {"holding", "0", "--timeout", "11m"});
+    EXPECT_EQ(over.status, 2);
+    EXPECT_EQ(over.err,
+              "mblab read: --timeout: Value 660000 not in range 1 to 600000 (run 'mblab read "
+              "--help' for usage)\n");
+}
+
+TEST(CliGuidesUsage, AnUnknownDurationUnitIsOneLine) {
+    auto ran = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "0", "--timeout", "1x"});
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.out, "");
+    EXPECT_EQ(ran.err,
+              "mblab read: --timeout: '1x' is not a duration: give e.g. 250ms, 1s, 1.5s or 2m (a "
+              "number alone is milliseconds) (run 'mblab read --help' for usage)\n");
+    auto half = run_mblab({"watch", "tcp://127.0.0.1:1", "holding", "0", "--interval", "1.5ms"});
+    EXPECT_EQ(half.status, 2);
+    EXPECT_EQ(half.err,
+              "mblab watch: --interval: '1.5ms' is not a whole number of milliseconds (run 'mblab "
+              "watch --help' for usage)\n");
+    auto serve = run_mblab({"serve", "--idle-timeout", "5x"});
+    EXPECT_EQ(serve.status, 2);
+    EXPECT_EQ(serve.err,
+              "mblab serve: --idle-timeout: '5x' is not a duration: give e.g. 250ms, 1s, 1.5s or "
+              "2m (a number alone is seconds) (run 'mblab serve --help' for usage)\n");
+    auto conform = run_mblab({"conform", "tcp://127.0.0.1:1", "--settle", "-1s"});
+    EXPECT_EQ(conform.status, 2);
+    EXPECT_EQ(conform.err,
+              "mblab conform: --settle: '-1s' is not a duration: give e.g. 250ms, 1s, 1.5s or 2m "
+              "(a number alone is milliseconds) (run 'mblab conform --help' for usage)\n");
+}
+
 }  // namespace
 }  // namespace mblab::test
