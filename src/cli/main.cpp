@@ -1,7 +1,12 @@
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <exception>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "cli/build_info.hpp"
 #include "cli/client_options.hpp"
@@ -9,29 +14,102 @@
 
 namespace {
 
+// Edit distance with adjacent swaps counted as one edit (optimal string alignment): the typos
+// people make are a letter missed, doubled, wrong or two letters swapped (confrom).
+std::size_t edit_distance(std::string_view a, std::string_view b) {
+    std::vector<std::vector<std::size_t>> d(a.size() + 1, std::vector<std::size_t>(b.size() + 1));
+    for (std::size_t i = 0; i <= a.size(); ++i)
+        d[i][0] = i;
+    for (std::size_t j = 0; j <= b.size(); ++j)
+        d[0][j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+        for (std::size_t j = 1; j <= b.size(); ++j) {
+            const std::size_t cost = a[i - 1] == b[j - 1] ? 0 : 1;
+            d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+            if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1]) {
+                d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+            }
+        }
+    }
+    return d[a.size()][b.size()];
+}
+
+// The candidate nearest to `word`, when near enough to be what was meant: at most two edits
+// (one for short words), so an unrelated word gets no suggestion rather than a wrong one.
+std::optional<std::string> nearest(std::string_view word, const std::vector<std::string>& names) {
+    const std::size_t limit = word.size() <= 4 ? 1 : 2;
+    std::optional<std::string> best;
+    std::size_t best_distance = limit + 1;
+    for (const auto& name : names) {
+        const std::size_t distance = edit_distance(word, name);
+        if (distance < best_distance) {
+            best = name;
+            best_distance = distance;
+        }
+    }
+    return best;
+}
+
+// For an unexpected word in a command's arguments that looks like an option: the option it
+// probably was. Only long options are matched; a one-letter one is too short to guess from.
+std::optional<std::string> option_suggestion(const CLI::App& command, int first, int argc,
+                                             char** argv) {
+    std::vector<std::string> names;
+    for (const auto* option : command.get_options()) {
+        for (const auto& name : option->get_lnames())
+            names.push_back("--" + name);
+    }
+    for (int i = first; i < argc; ++i) {
+        std::string word = argv[i];
+        if (word == "--") break;
+        if (!word.starts_with("--")) continue;
+        word = word.substr(0, word.find('='));
+        if (std::find(names.begin(), names.end(), word) != names.end()) continue;
+        if (auto near = nearest(word, names))
+            return fmt::format("{}; did you mean {}?", word, *near);
+        return std::nullopt;
+    }
+    return std::nullopt;
+}
+
 // The usage error on one line, naming the subcommand the user typed (or the unknown word in its
-// place) and where help is.
+// place) and where help is; a mistyped command or option gets the nearest one suggested.
 std::string usage_line(const CLI::App& app, const CLI::ParseError& error, int argc, char** argv) {
     std::string names;
-    for (const auto* sub : app.get_subcommands({}))
+    std::vector<std::string> commands;
+    for (const auto* sub : app.get_subcommands({})) {
         names += (names.empty() ? "" : ", ") + sub->get_name();
+        commands.push_back(sub->get_name());
+    }
     std::string command;
     std::string unknown;
+    int command_index = 0;
     for (int i = 1; i < argc && command.empty() && unknown.empty(); ++i) {
         const std::string word = argv[i];
         if (word.empty() || word.front() == '-') continue;
         const auto subs =
             app.get_subcommands([&](const CLI::App* sub) { return sub->get_name() == word; });
         (subs.empty() ? unknown : command) = word;
+        command_index = i;
     }
     if (command.empty() && !unknown.empty()) {
+        if (auto near = nearest(unknown, commands)) {
+            return fmt::format("mblab: unknown command '{}'; did you mean '{}'?", unknown, *near);
+        }
         return fmt::format("mblab: unknown command '{}' (commands: {})", unknown, names);
     }
     if (command.empty()) {
         return fmt::format("mblab: a command is required: {} (run 'mblab --help' for usage)",
                            names);
     }
-    const std::string prefix = command.empty() ? "mblab" : "mblab " + command;
+    const std::string prefix = "mblab " + command;
+    if (dynamic_cast<const CLI::ExtrasError*>(&error) != nullptr) {
+        if (auto suggestion =
+                option_suggestion(*app.get_subcommand(command), command_index + 1, argc, argv)) {
+            return fmt::format("{}: unknown option {} (run '{} --help' for usage)", prefix,
+                               *suggestion, prefix);
+        }
+    }
     return fmt::format("{}: {} (run '{} --help' for usage)", prefix, error.what(), prefix);
 }
 

@@ -78,5 +78,29 @@ TEST(CliGuidesUsage, AnUnknownDurationUnitIsOneLine) {
               "(a number alone is milliseconds) (run 'mblab conform --help' for usage)\n");
 }
 
+TEST(CliGuidesUsage, AMistypedCommandGetsTheNearestOne) {
+    auto ran = run_mblab({"confrom"});
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.out, "");
+    EXPECT_EQ(ran.err, "mblab: unknown command 'confrom'; did you mean 'conform'?\n");
+    auto read = run_mblab({"raed", "tcp://127.0.0.1:1", "holding", "0"});
+    EXPECT_EQ(read.status, 2);
+    EXPECT_EQ(read.err, "mblab: unknown command 'raed'; did you mean 'read'?\n");
+}
+
+TEST(CliGuidesUsage, AMistypedOptionGetsTheNearestOfItsCommand) {
+    auto ran = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "0", "--timout", "5"});
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.out, "");
+    EXPECT_EQ(ran.err,
+              "mblab read: unknown option --timout; did you mean --timeout? (run 'mblab read "
+              "--help' for usage)\n");
+    auto serve = run_mblab({"serve", "--idle-timout=3"});
+    EXPECT_EQ(serve.status, 2);
+    EXPECT_EQ(serve.err,
+              "mblab serve: unknown option --idle-timout; did you mean --idle-timeout? (run "
+              "'mblab serve --help' for usage)\n");
+}
+
 }  // namespace
 }  // namespace mblab::test
