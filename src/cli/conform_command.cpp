@@ -1,5 +1,6 @@
 #include <fcntl.h>
 #include <fmt/core.h>
+#include <fmt/format.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -204,6 +205,28 @@ void print_catalogue(const std::vector<conf::Suite>& suites) {
     }
 }
 
+// The built-in device's profile: a file, or a shipped profile by name, as `mblab serve` takes it.
+std::optional<std::filesystem::path> find_profile(const std::string& wanted, std::string& error) {
+    namespace fs = std::filesystem;
+    if (wanted.empty()) return device::default_profile_path();
+    std::error_code ignored;
+    if (fs::is_regular_file(wanted, ignored)) return fs::path(wanted);
+    const auto dir = device::profiles_dir();
+    if (wanted.find('/') == std::string::npos &&
+        fs::is_regular_file(dir / (wanted + ".toml"), ignored)) {
+        return dir / (wanted + ".toml");
+    }
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(dir, ignored)) {
+        if (entry.path().extension() == ".toml") names.push_back(entry.path().stem().string());
+    }
+    std::sort(names.begin(), names.end());
+    error = fmt::format("--profile: no profile file or shipped profile named '{}' (shipped: {})",
+                        wanted,
+                        names.empty() ? "none found" : fmt::format("{}", fmt::join(names, ", ")));
+    return std::nullopt;
+}
+
 // Flags override the DUT file, which overrides what the built-in device's profile says.
 bool declare_dut(const ConformOptions& options, conf::Dut& dut, std::string& error) {
     if (!options.dut_file.empty()) {
@@ -347,8 +370,9 @@ int run_conform(const ConformOptions& options) {
     std::unique_ptr<server::BackgroundServer> server;
     client::Target target;
     if (options.target.empty()) {
-        const auto profile = options.profile.empty() ? device::default_profile_path()
-                                                     : std::filesystem::path(options.profile);
+        const auto found = find_profile(options.profile, error);
+        if (!found) return usage_error(error);
+        const auto& profile = *found;
         auto loaded = device::read_profile(profile);
         if (!loaded) return usage_error(loaded.error());
         dut = conf::dut_from_profile(*loaded, "profile " + profile.filename().string());
@@ -436,7 +460,8 @@ void add_conform_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_flag("--alternate-encoding", options->alternate_encoding,
                   "the DUT supports the 0x5B alternate encoding (seed 000 6.5)");
     cmd->add_option("--profile", options->profile,
-                    "profile of the built-in reference device (no target only)");
+                    "profile of the built-in reference device (no target only): a TOML file or a "
+                    "shipped profile's name (reference, instrument-seed001, ...)");
     cmd->add_option("--catalogue", options->catalogue, "directory of the shipped suites");
     cmd->add_option("--timeout", options->timeout_ms, "milliseconds to wait for each answer")
         ->check(CLI::Range(1, 60000));

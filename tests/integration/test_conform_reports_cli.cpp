@@ -149,5 +149,23 @@ TEST(ConformReportsCli, ACasePatternThatMatchesNothingIsRefusedBeforeConnecting)
     EXPECT_EQ(ran.out, "");
 }
 
+TEST(ConformReportsCli, ProfileTakesAShippedProfileByName) {
+    auto ran = mblab({"conform", "--profile", "multi-unit", "--case", "9.1.1"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("(declared by profile multi-unit.toml)\n"), std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("  PASS     9.1.1"), std::string::npos) << ran.out;
+}
+
+TEST(ConformReportsCli, AnUnknownProfileNameListsTheShippedOnes) {
+    auto ran = mblab({"conform", "--profile", "no-such-profile"});
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err,
+              "mblab conform: --profile: no profile file or shipped profile named "
+              "'no-such-profile' (shipped: access-ranges, instrument-seed001, multi-unit, "
+              "reference)\n");
+    EXPECT_EQ(ran.out, "");
+}
+
 }  // namespace
 }  // namespace mblab::conformance
