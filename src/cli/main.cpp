@@ -147,6 +147,24 @@ int main(int argc, char** argv) {
     add_raw_command(app, runner);
     add_watch_command(app, runner);
     add_load_command(app, runner);
+    app.footer(
+        "Run 'mblab help COMMAND' (or 'mblab COMMAND --help') for a command's options, an example "
+        "and its exit statuses.");
+    // `mblab help [COMMAND]` is `mblab [COMMAND] --help`, so both print the same text. An unknown
+    // COMMAND is left in place so it gets the unknown-command line, with its suggestion.
+    std::vector<char*> args(argv, argv + argc);
+    static char help_flag[] = "--help";
+    if (args.size() >= 2 && std::string_view(args[1]) == "help") {
+        args.erase(args.begin() + 1);
+        if (args.size() > 2) args.resize(2);
+        const bool known = args.size() == 1 || !app.get_subcommands([&](const CLI::App* sub) {
+                                                       return sub->get_name() == args[1];
+                                                   })
+                                                    .empty();
+        if (known) args.push_back(help_flag);
+        argc = static_cast<int>(args.size());
+        argv = args.data();
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {

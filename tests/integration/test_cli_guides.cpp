@@ -102,5 +102,23 @@ TEST(CliGuidesUsage, AMistypedOptionGetsTheNearestOfItsCommand) {
               "'mblab serve --help' for usage)\n");
 }
 
+// `mblab help CMD` prints what `mblab CMD --help` prints; `mblab help` the overview.
+TEST(CliGuidesUsage, HelpCommandPrintsTheCommandsHelp) {
+    for (const char* command : {"read", "raw", "serve", "conform", "load"}) {
+        auto help = run_mblab({"help", command});
+        auto flag = run_mblab({command, "--help"});
+        EXPECT_EQ(help.status, 0) << command;
+        EXPECT_EQ(help.out, flag.out) << command;
+        EXPECT_NE(help.out.find(std::string("Usage: mblab ") + command), std::string::npos);
+    }
+    auto overview = run_mblab({"help"});
+    EXPECT_EQ(overview.status, 0);
+    EXPECT_EQ(overview.out, run_mblab({"--help"}).out);
+    EXPECT_NE(overview.out.find("Run 'mblab help COMMAND'"), std::string::npos);
+    auto unknown = run_mblab({"help", "confrom"});
+    EXPECT_EQ(unknown.status, 2);
+    EXPECT_EQ(unknown.err, "mblab: unknown command 'confrom'; did you mean 'conform'?\n");
+}
+
 }  // namespace
 }  // namespace mblab::test
