@@ -5,8 +5,10 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -63,6 +65,26 @@ struct ConformOptions {
 int usage_error(const std::string& message) {
     fmt::print(stderr, "mblab conform: {}\n", message);
     return kExitUsage;
+}
+
+// SIGINT or SIGTERM asks the engine to stop between cases; the handler only records it.
+std::atomic<bool> g_stop{false};
+std::atomic<int> g_stop_signal{0};
+
+extern "C" void on_conform_stop_signal(int signal_number) {
+    g_stop_signal.store(signal_number);
+    g_stop.store(true);
+}
+
+void catch_stop_signals() {
+    struct sigaction action {};
+    action.sa_handler = on_conform_stop_signal;
+    // A second Ctrl-C ends the program at once, as in `mblab load`; SA_RESTART keeps the reads
+    // and writes of the case under way going.
+    action.sa_flags = SA_RESETHAND | SA_RESTART;
+    sigemptyset(&action.sa_mask);
+    ::sigaction(SIGINT, &action, nullptr);
+    ::sigaction(SIGTERM, &action, nullptr);
 }
 
 // A suite given as a file, or by the name of a shipped one ([suite] name or file stem).
@@ -408,6 +430,7 @@ int run_conform(const ConformOptions& options) {
     conf::Capture capture;
     conf::Session session(target, dut, engine_options, options.pcap.empty() ? nullptr : &capture,
                           &console);
+    catch_stop_signals();
     client::LinkError link_error;
     if (!session.connect(link_error)) {
         return usage_error(
@@ -416,9 +439,13 @@ int run_conform(const ConformOptions& options) {
 
     console.header(target.name, session.dut(), note);
     conf::Engine engine(session, &console);
+    engine.stop_when(g_stop);
     conf::RunResult result = engine.run(suites, target.name);
     console.summary(result);
     if (!write_reports(options, result, capture, files, error)) return usage_error(error);
+    // 128 + the signal, as a shell reports a program the signal ended: 130 for SIGINT, 143 for
+    // SIGTERM, so a script tells an interrupted run from a failed one.
+    if (result.interrupted) return 128 + g_stop_signal.load();
     return result.all_passed() ? kExitOk : kExitFailed;
 }
 
@@ -429,7 +456,9 @@ void add_conform_command(CLI::App& app, CommandRunner& runner) {
     CLI::App* cmd = app.add_subcommand(
         "conform",
         "Run the conformance suites against a device (tcp://, rtu+tcp://, rtu://, ascii://); "
-        "with no target, against the built-in reference device");
+        "with no target, against the built-in reference device. Exit status: 0 no case failed, 1 a "
+        "case failed, 2 usage error or unreachable target, 130/143 stopped by SIGINT/SIGTERM "
+        "(between cases; the reports hold the cases run so far)");
     options->command = cmd;
     cmd->add_option(
         "target", options->target,

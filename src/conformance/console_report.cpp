@@ -43,6 +43,17 @@ void ConsoleReport::summary(const RunResult& result) {
                "requests\n",
                counts.passed, counts.failed, counts.not_applicable, counts.not_run, counts.total(),
                format_duration(result.elapsed), result.requests);
+    if (result.interrupted) {
+        std::size_t left = 0;
+        for (const auto& suite : result.suites) {
+            for (const auto& c : suite.cases)
+                left += c.interrupted ? 1 : 0;
+        }
+        fmt::print(out_,
+                   "Interrupted: {} of {} cases run; the reports mark the other {} NOT RUN "
+                   "(interrupted)\n",
+                   counts.total() - left, counts.total(), left);
+    }
     std::fflush(out_);
 }
 

@@ -172,6 +172,7 @@ RunResult Engine::run(const std::vector<Suite>& suites, const std::string& targe
     const std::size_t requests_before = session_.requests();
     for (const auto& suite : suites)
         result.suites.push_back(run_suite(suite));
+    result.interrupted = stopped();
     session_.close();
     result.elapsed = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start);
     result.requests = session_.requests() - requests_before;
@@ -181,9 +182,16 @@ RunResult Engine::run(const std::vector<Suite>& suites, const std::string& targe
 SuiteResult Engine::run_suite(const Suite& suite) {
     SuiteResult result{suite.name, suite.title, suite.file, {}};
     std::map<std::string, Verdict> verdicts;
-    if (listener_ != nullptr) listener_->suite_started(suite);
+    if (listener_ != nullptr && !stopped()) listener_->suite_started(suite);
     for (const auto& c : suite.cases) {
-        CaseResult case_result{c.id, c.source, c.title, {}, {}, 0};
+        CaseResult case_result{c.id, c.source, c.title, {}, {}, 0, false};
+        if (stopped()) {
+            // Reports list every case, so a reader sees what an interrupted run left out.
+            case_result.outcome = verdict(Verdict::NotRun, "interrupted");
+            case_result.interrupted = true;
+            result.cases.push_back(std::move(case_result));
+            continue;
+        }
         const auto start = Clock::now();
         const std::size_t requests_before = session_.requests();
         std::string blocked;
@@ -198,6 +206,11 @@ SuiteResult Engine::run_suite(const Suite& suite) {
         case_result.elapsed =
             std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start);
         case_result.requests = session_.requests() - requests_before;
+        // The signal may have cut a wait of this case short (a poll returning EINTR), so a
+        // failure then is said to have happened under the interruption.
+        if (stopped() && case_result.outcome.verdict == Verdict::Fail) {
+            case_result.outcome.reason += " (the run was interrupted during this case)";
+        }
         verdicts[c.id] = case_result.outcome.verdict;
         if (listener_ != nullptr) listener_->case_finished(suite, case_result);
         result.cases.push_back(std::move(case_result));

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <optional>
 #include <string>
 #include <vector>
@@ -25,6 +26,10 @@ class Engine {
     explicit Engine(Session& session, RunListener* listener = nullptr)
         : session_(session), listener_(listener) {}
 
+    // Once `flag` is set (from a signal handler, say), no further case starts: the case under
+    // way ends, and every case not reached is NOT RUN, marked interrupted.
+    void stop_when(const std::atomic<bool>& flag) { stop_ = &flag; }
+
     RunResult run(const std::vector<Suite>& suites, const std::string& target);
     SuiteResult run_suite(const Suite& suite);
     Outcome run_case(const Case& c);
@@ -35,8 +40,10 @@ class Engine {
     // looked for bytes nobody asked for.
     Outcome run_steps(const Case& c, bool& fresh);
     std::optional<Outcome> check_reachable();
+    bool stopped() const { return stop_ != nullptr && stop_->load(); }
     Session& session_;
     RunListener* listener_;
+    const std::atomic<bool>* stop_ = nullptr;
 };
 
 }  // namespace mblab::conformance

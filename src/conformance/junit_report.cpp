@@ -51,6 +51,8 @@ std::string testcase(const std::string& suite, const CaseResult& c) {
     const auto& outcome = c.outcome;
     std::string out = fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{}\"",
                                   xml(suite), xml(c.id + " " + c.title), seconds(c.elapsed));
+    if (c.interrupted)
+        return out + ">\n      <skipped message=\"interrupted\"/>\n    </testcase>\n";
     switch (outcome.verdict) {
         case Verdict::Pass:
             if (outcome.reason.empty()) return out + "/>\n";

@@ -46,6 +46,7 @@ struct CaseResult {
     Outcome outcome;
     std::chrono::microseconds elapsed{0};
     std::size_t requests = 0;
+    bool interrupted = false;  // the run was stopped before this case (NOT RUN)
 };
 
 struct SuiteResult {
@@ -71,6 +72,7 @@ struct RunResult {
     std::vector<SuiteResult> suites;
     std::chrono::microseconds elapsed{0};
     std::size_t requests = 0;
+    bool interrupted = false;  // stopped early (SIGINT, SIGTERM); cases not reached are NOT RUN
 
     Counts counts() const;
     bool all_passed() const { return counts().failed == 0; }

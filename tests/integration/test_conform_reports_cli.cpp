@@ -1,7 +1,9 @@
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -165,6 +167,70 @@ TEST(ConformReportsCli, AnUnknownProfileNameListsTheShippedOnes) {
               "'no-such-profile' (shipped: access-ranges, instrument-seed001, multi-unit, "
               "reference)\n");
     EXPECT_EQ(ran.out, "");
+}
+
+// Starts a run slowed by a long --settle, waits for its first case line, sends `signal_number`
+// and collects the rest.
+Ran interrupt_run(int signal_number, const std::string& json, const std::string& junit) {
+    test::ChildProcess child(
+        {MBLAB_BINARY, "conform", "--settle", "300", "--json", json, "--junit", junit});
+    Ran ran;
+    while (auto line = child.read_stdout_line(std::chrono::seconds(60))) {
+        ran.out += *line + "\n";
+        if (line->starts_with("  PASS")) break;
+    }
+    child.signal(signal_number);
+    while (auto line = child.read_stdout_line(std::chrono::seconds(60)))
+        ran.out += *line + "\n";
+    ran.status = child.wait_exit(std::chrono::seconds(60)).value_or(-1);
+    ran.err = child.drain_stderr();
+    return ran;
+}
+
+void expect_interrupted_reports(const Ran& ran, const std::string& json, const std::string& junit) {
+    const auto report = nlohmann::json::parse(test::file_text(json));
+    EXPECT_EQ(report["interrupted"], true);
+    EXPECT_EQ(report["passed"], false);
+    std::size_t run = 0;
+    std::size_t left = 0;
+    for (const auto& suite : report["suites"]) {
+        for (const auto& c : suite["cases"]) {
+            if (c["reason"] == "interrupted") {
+                EXPECT_EQ(c["verdict"], "NOT RUN");
+                ++left;
+            } else {
+                ++run;
+            }
+        }
+    }
+    EXPECT_GE(run, 1U);
+    EXPECT_GE(left, 1U);
+    EXPECT_EQ(report["summary"]["total"], run + left);
+    const std::string xml = test::file_text(junit);
+    EXPECT_NE(xml.find("<skipped message=\"interrupted\"/>"), std::string::npos) << xml;
+    EXPECT_NE(ran.out.find(fmt::format("Interrupted: {} of {} cases run; the reports mark the "
+                                       "other {} NOT RUN (interrupted)\n",
+                                       run, run + left, left)),
+              std::string::npos)
+        << ran.out;
+}
+
+TEST(ConformReportsCli, SigintStopsBetweenCasesWritesTheReportsAndExits130) {
+    test::TempDir dir;
+    const std::string json = (dir / "int.json").string();
+    const std::string junit = (dir / "int.xml").string();
+    auto ran = interrupt_run(SIGINT, json, junit);
+    EXPECT_EQ(ran.status, 130) << ran.out << ran.err;
+    expect_interrupted_reports(ran, json, junit);
+}
+
+TEST(ConformReportsCli, SigtermStopsTheSameWayAndExits143) {
+    test::TempDir dir;
+    const std::string json = (dir / "term.json").string();
+    const std::string junit = (dir / "term.xml").string();
+    auto ran = interrupt_run(SIGTERM, json, junit);
+    EXPECT_EQ(ran.status, 143) << ran.out << ran.err;
+    expect_interrupted_reports(ran, json, junit);
 }
 
 }  // namespace
