@@ -9,6 +9,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <optional>
@@ -180,7 +181,9 @@ bool RawLink::send(std::span<const std::uint8_t> bytes, LinkError& error) {
     return true;
 }
 
-RawLink::Fill RawLink::fill(Clock::time_point deadline, std::string& detail) {
+RawLink::Fill RawLink::read_some(Clock::time_point deadline, std::string& detail,
+                                 std::span<std::uint8_t> chunk, std::size_t& got) {
+    got = 0;
     if (fd_ < 0) {
         detail = "connection closed";
         return Fill::Closed;
@@ -189,16 +192,22 @@ RawLink::Fill RawLink::fill(Clock::time_point deadline, std::string& detail) {
     int ready = ::poll(&pfd, 1, remaining_ms(deadline));
     if (ready < 0 && errno == EINTR) return Fill::Data;  // caller loops and re-checks the deadline
     if (ready <= 0) return Fill::Timeout;
-    std::uint8_t chunk[1024];
-    ssize_t n = ::recv(fd_, chunk, sizeof chunk, 0);
+    ssize_t n = ::recv(fd_, chunk.data(), chunk.size(), 0);
     if (n <= 0) {
         detail = n == 0 ? "connection closed by peer" : errno_text(errno);
         return Fill::Closed;
     }
-    auto got = std::span<const std::uint8_t>(chunk, static_cast<std::size_t>(n));
-    reader_.add(got);
-    if (observer_ != nullptr) observer_->on_received(got);
+    got = static_cast<std::size_t>(n);
+    if (observer_ != nullptr) observer_->on_received(chunk.first(got));
     return Fill::Data;
+}
+
+RawLink::Fill RawLink::fill(Clock::time_point deadline, std::string& detail) {
+    std::array<std::uint8_t, 1024> chunk;
+    std::size_t got = 0;
+    const Fill fill = read_some(deadline, detail, chunk, got);
+    reader_.add(std::span(chunk).first(got));
+    return fill;
 }
 
 std::optional<Received> RawLink::wait(Clock::time_point deadline) {
@@ -226,30 +235,29 @@ Received RawLink::receive_frame(std::chrono::milliseconds timeout) {
 
 Received RawLink::receive_any(std::chrono::milliseconds timeout) {
     const auto deadline = Clock::now() + timeout;
-    std::size_t discarded = 0;
-    std::vector<std::uint8_t> kept;
-    // Bytes are taken as they come, not as frames; whatever the reader held comes first.
-    auto keep = [&] {
-        Received held = reader_.take(ReceiveStatus::Timeout);
-        const std::size_t room = kKeptUnasked - std::min(kKeptUnasked, kept.size());
-        const std::size_t taken = std::min(room, held.bytes.size());
-        kept.insert(kept.end(), held.bytes.begin(), held.bytes.begin() + static_cast<long>(taken));
-        discarded += held.bytes.size() - taken;
-    };
+    // Bytes are taken as they come, not as frames; whatever the reader held comes first. A
+    // device that floods must not make the tester allocate as it reads: the bytes past the
+    // first kKeptUnasked are only counted.
+    Received out = reader_.take(ReceiveStatus::Timeout);
+    if (out.bytes.size() > kKeptUnasked) {
+        out.discarded = out.bytes.size() - kKeptUnasked;
+        out.bytes.resize(kKeptUnasked);
+    }
+    out.bytes.reserve(kKeptUnasked);
+    std::array<std::uint8_t, 1024> chunk;
     while (true) {
-        keep();
-        if (auto done = wait(deadline)) {
-            done->bytes.insert(done->bytes.begin(), kept.begin(), kept.end());
-            done->discarded = discarded;
-            return std::move(*done);
-        }
-        // A device that never stops sending must not keep the tester here past the deadline.
-        if (Clock::now() >= deadline) {
-            keep();
-            Received out{ReceiveStatus::Timeout, std::move(kept), {}};
-            out.discarded = discarded;
+        std::size_t got = 0;
+        const Fill fill = read_some(deadline, out.detail, chunk, got);
+        const std::size_t taken = std::min(got, kKeptUnasked - out.bytes.size());
+        out.bytes.insert(out.bytes.end(), chunk.begin(), chunk.begin() + static_cast<long>(taken));
+        out.discarded += got - taken;
+        if (fill == Fill::Closed) {
+            out.status = ReceiveStatus::Closed;
+            if (fd_ >= 0) drop(true);
             return out;
         }
+        // A device that never stops sending must not keep the tester here past the deadline.
+        if (fill == Fill::Timeout || Clock::now() >= deadline) return out;
     }
 }
 

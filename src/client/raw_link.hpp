@@ -57,6 +57,10 @@ class RawLink {
     RawLink(int fd, const LinkAddresses& addresses, LinkObserver* observer);
     // Reads once from the socket into the buffer.
     enum class Fill : std::uint8_t { Data, Timeout, Closed };
+    // Waits for bytes until the deadline and reads once into `chunk` (`got` bytes).
+    Fill read_some(std::chrono::steady_clock::time_point deadline, std::string& detail,
+                   std::span<std::uint8_t> chunk, std::size_t& got);
+    // read_some() into the frame reader.
     Fill fill(std::chrono::steady_clock::time_point deadline, std::string& detail);
     // Waits for more bytes: nothing when some came, the final outcome on timeout or close.
     std::optional<Received> wait(std::chrono::steady_clock::time_point deadline);
