@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/profile_lookup.hpp"
 #include "client/target.hpp"
 #include "conformance/capture.hpp"
 #include "conformance/catalogue.hpp"
@@ -227,26 +228,13 @@ void print_catalogue(const std::vector<conf::Suite>& suites) {
     }
 }
 
-// The built-in device's profile: a file, or a shipped profile by name, as `mblab serve` takes it.
-std::optional<std::filesystem::path> find_profile(const std::string& wanted, std::string& error) {
-    namespace fs = std::filesystem;
+// The built-in device's profile: the default one, a file, or a shipped profile by name.
+std::optional<std::filesystem::path> builtin_profile(const std::string& wanted,
+                                                     std::string& error) {
     if (wanted.empty()) return device::default_profile_path();
-    std::error_code ignored;
-    if (fs::is_regular_file(wanted, ignored)) return fs::path(wanted);
-    const auto dir = device::profiles_dir();
-    if (wanted.find('/') == std::string::npos &&
-        fs::is_regular_file(dir / (wanted + ".toml"), ignored)) {
-        return dir / (wanted + ".toml");
-    }
-    std::vector<std::string> names;
-    for (const auto& entry : fs::directory_iterator(dir, ignored)) {
-        if (entry.path().extension() == ".toml") names.push_back(entry.path().stem().string());
-    }
-    std::sort(names.begin(), names.end());
-    error = fmt::format("--profile: no profile file or shipped profile named '{}' (shipped: {})",
-                        wanted,
-                        names.empty() ? "none found" : fmt::format("{}", fmt::join(names, ", ")));
-    return std::nullopt;
+    auto found = find_profile(wanted, error);
+    if (!found) error = "--profile: " + error;
+    return found;
 }
 
 // Flags override the DUT file, which overrides what the built-in device's profile says.
@@ -392,7 +380,7 @@ int run_conform(const ConformOptions& options) {
     std::unique_ptr<server::BackgroundServer> server;
     client::Target target;
     if (options.target.empty()) {
-        const auto found = find_profile(options.profile, error);
+        const auto found = builtin_profile(options.profile, error);
         if (!found) return usage_error(error);
         const auto& profile = *found;
         auto loaded = device::read_profile(profile);

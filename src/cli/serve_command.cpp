@@ -21,6 +21,7 @@
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/profile_lookup.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
 #include "server/gateway.hpp"
@@ -65,24 +66,6 @@ struct ServeOptions {
 int usage_error(const std::string& message) {
     fmt::print(stderr, "mblab serve: {}\n", message);
     return kExitUsage;
-}
-
-// A profile given as a file, or by the name of a shipped one ("reference").
-std::optional<fs::path> find_profile(const std::string& wanted, std::string& error) {
-    std::error_code ignored;
-    if (fs::is_regular_file(wanted, ignored)) return fs::path(wanted);
-    auto shipped = device::profiles_dir() / (wanted + ".toml");
-    if (wanted.find('/') == std::string::npos && fs::is_regular_file(shipped, ignored)) {
-        return shipped;
-    }
-    std::string names;
-    for (const auto& entry : fs::directory_iterator(device::profiles_dir(), ignored)) {
-        if (entry.path().extension() != ".toml") continue;
-        names += (names.empty() ? "" : ", ") + entry.path().stem().string();
-    }
-    error = fmt::format("no profile file or shipped profile named '{}' (shipped: {})", wanted,
-                        names.empty() ? "none found" : names);
-    return std::nullopt;
 }
 
 std::string describe_units(const device::ReferenceDevice& device) {
