@@ -20,7 +20,7 @@ void check_frame(const protocol::FrameEvent& event) {
     require(mblab::fuzz::clean_or_excused(event, header.protocol_id == 0 && header.length >= 2),
             "frame with protocol id != 0 or no function code, and no violation");
     require(header.length + 6U == adu.size(), "frame size disagrees with its length");
-    require(event.unit == header.unit_id, "unit is not the header's");
+    require(event.header.unit == header.unit_id, "unit is not the header's");
     require(event.pdu.data() == adu.data() + 7 && event.pdu.size() == adu.size() - 7,
             "pdu is not the rest of the frame");
     // Round trip: writing the PDU again gives the same bytes.

@@ -30,7 +30,7 @@ void check_frame(const protocol::FrameEvent& event) {
     require(adu.size() >= 4 && adu.size() <= 256, "RTU frame size out of limits");
     const bool clean = protocol::crc16(adu) == 0;
     require(mblab::fuzz::clean_or_excused(event, clean), "frame with a bad CRC and no violation");
-    require(event.unit == adu[0], "unit is not the address");
+    require(event.header.unit == adu[0], "unit is not the address");
     require(event.pdu.data() == adu.data() + 1 && event.pdu.size() == adu.size() - 3,
             "pdu is not between address and CRC");
     std::array<std::uint8_t, 256> again{};

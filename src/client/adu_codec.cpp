@@ -55,7 +55,7 @@ protocol::Result<AduParts, std::string> unwrap_ascii(std::span<const std::uint8_
         return std::string("the bytes are not one whole ASCII frame");
     }
     AduParts parts;
-    parts.unit = event.unit;
+    parts.unit = event.header.unit;
     parts.pdu.assign(event.pdu.begin(), event.pdu.end());
     return parts;
 }

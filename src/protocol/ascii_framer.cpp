@@ -125,7 +125,6 @@ FrameEvent AsciiFramer::finish() {
             event.status = FrameStatus::Frame;
         }
         if (event.is_frame()) event.pdu = pdu;
-        event.unit = bytes_[0];
         event.header = {Framing::Ascii, bytes_[0]};
     }
     event.adu = chars;

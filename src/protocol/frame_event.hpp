@@ -23,8 +23,7 @@ struct FrameEvent {
     std::span<const std::uint8_t> pdu;
     // Framing, unit, transaction: set for frames and for errors about a whole received frame.
     AduHeader header{};
-    std::uint8_t unit = 0;  // header.unit, for the callers that predate the header
-    MbapHeader mbap{};      // MBAP only: the header as received, length field included
+    MbapHeader mbap{};  // MBAP only: the header as received, length field included
     // When status == Error: why, e.g. "MBAP length 300 exceeds 254". Owned by the framer.
     const char* error = "";
     // Lenient framers only: why a strict framer would have refused this Frame (a protocol id

@@ -35,7 +35,6 @@ std::optional<FrameEvent> MbapFramer::check_length(const MbapHeader& header) {
         return std::nullopt;
     }
     event.mbap = header;
-    event.unit = header.unit_id;
     event.header = {Framing::Mbap, header.unit_id, header.transaction_id, header.protocol_id};
     return event;
 }
@@ -45,8 +44,8 @@ FrameEvent MbapFramer::finish(std::span<const std::uint8_t> adu) {
     event.mbap = read_mbap_header(adu);
     event.adu = adu;
     event.pdu = adu.subspan(kHeader);
-    event.unit = event.mbap.unit_id;
-    event.header = {Framing::Mbap, event.unit, event.mbap.transaction_id, event.mbap.protocol_id};
+    event.header = {Framing::Mbap, event.mbap.unit_id, event.mbap.transaction_id,
+                    event.mbap.protocol_id};
     if (event.mbap.protocol_id == 0 && event.mbap.length >= kMinLength) {
         event.status = FrameStatus::Frame;
     } else if (lenient_) {

@@ -32,7 +32,6 @@ FrameEvent RtuFramer::check_crc(std::span<const std::uint8_t> adu) {
     const auto received = static_cast<std::uint16_t>(adu[body] | adu[body + 1] << 8);
     FrameEvent event;
     event.adu = adu;
-    event.unit = adu[0];
     event.header = {Framing::Rtu, adu[0]};
     event.status = FrameStatus::Frame;
     event.pdu = adu.subspan(1, body - 1);

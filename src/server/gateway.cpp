@@ -196,7 +196,7 @@ long SerialGateway::await_answer(std::uint8_t unit, std::uint8_t function,
         if (event.is_error()) ++stats_.line_errors;
         if (!event.is_frame()) return 0;
         const auto pdu = event.frame.pdu;
-        const bool ours = event.frame.unit == unit && !pdu.empty() &&
+        const bool ours = event.frame.header.unit == unit && !pdu.empty() &&
                           (pdu[0] & ~protocol::kExceptionBit) == function;
         if (!ours || pdu.size() > response.size()) {
             ++stats_.line_errors;

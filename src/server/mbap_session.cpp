@@ -129,7 +129,7 @@ void MbapSession::on_frame(const protocol::FrameEvent& frame, Clock::time_point 
     ServerStats::bump(stats_.requests);
     if (replies_.size() >= outstanding_limit(limits_)) {
         ServerStats::bump(stats_.busy);
-        host_.on_busy_reply(frame.unit);
+        host_.on_busy_reply(frame.header.unit);
         queue_exception(frame.mbap, frame.pdu.front(), protocol::ExceptionCode::ServerDeviceBusy,
                         now);
         return;
@@ -139,8 +139,8 @@ void MbapSession::on_frame(const protocol::FrameEvent& frame, Clock::time_point 
     const auto response = std::span(slot->adu).subspan(protocol::limits::kMbapHeader);
     const auto ticket = ++last_ticket_;
     SessionDeferral deferral(host_, ticket, frame.mbap);
-    const auto reply =
-        handler_.handle_or_defer({frame.unit, device::Link::Tcp}, frame.pdu, response, deferral);
+    const auto reply = handler_.handle_or_defer({frame.header.unit, device::Link::Tcp}, frame.pdu,
+                                                response, deferral);
     if (!reply) {
         slot->deferred = true;
         slot->ticket = ticket;

@@ -226,7 +226,7 @@ asio::awaitable<void> LineSession<Stream>::handle(const LineEvent& event) {
     const auto received_at = LineClock::now();
     last_activity_ = received_at;
     ServerStats::bump(core_->stats.requests);
-    const std::uint8_t unit = event.frame.unit;
+    const std::uint8_t unit = event.frame.header.unit;
     const auto reply = core_->handler.handle({unit, device::Link::Serial}, event.frame.pdu,
                                              std::span(response_).first(protocol::limits::kMaxPdu));
     switch (reply.action) {

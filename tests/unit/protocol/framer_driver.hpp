@@ -37,8 +37,8 @@ inline void PrintTo(const Seen& seen, std::ostream* os) {
 }
 
 inline Seen seen(const protocol::FrameEvent& event) {
-    return Seen{event.status, to_hex(event.adu), to_hex(event.pdu),
-                event.unit,   event.mbap,        event.error};
+    return Seen{event.status,      to_hex(event.adu), to_hex(event.pdu),
+                event.header.unit, event.mbap,        event.error};
 }
 
 inline Seen frame(std::string_view adu_hex, std::string_view pdu_hex, unsigned unit) {
