@@ -219,7 +219,9 @@ TEST(ConformFaults, BusyAnswersToPipelinedReadsAreBackPressureNotFailures) {
     expect_only_failures(run, {});
     const std::string& sweep = find(run, "7.5.2").outcome.reason;
     EXPECT_TRUE(has(sweep, "pipelined 16 deep; the device answered 06 (busy)")) << sweep;
-    EXPECT_TRUE(has(sweep, "depth lowered to 1")) << sweep;
+    // How far the depth comes down depends on how many requests the device finds queued, which
+    // is timing (ASan builds see 8 as often as 1); that it came down is the behaviour.
+    EXPECT_TRUE(has(sweep, "depth lowered to ")) << sweep;
     // mbap.6 pipelines three requests: two busy answers are back-pressure as well.
     auto mbap = device.run_suite("mbap");
     EXPECT_EQ(mbap.counts().failed, 0U);
