@@ -9,6 +9,7 @@
 #include "cli/commands.hpp"
 #include "cli/frame_log.hpp"
 #include "cli/number_text.hpp"
+#include "cli/tls_options.hpp"
 #include "client/target.hpp"
 #include "client/transactor.hpp"
 
@@ -19,7 +20,8 @@ void add_client_options(CLI::App& command, ClientOptions& options) {
         .add_option("target", options.target,
                     "the device: tcp://HOST[:PORT] (port 502 by default), "
                     "rtu:///dev/ttyUSB0?baud=19200&parity=E&stop=1, ascii:///dev/ttyS0?..., or "
-                    "rtu+tcp://HOST:PORT")
+                    "rtu+tcp://HOST:PORT, mbaps://HOST[:PORT] (Modbus/TCP Security, port 802 by "
+                    "default; needs --cert, --key, --ca)")
         ->required();
     command.add_option("--unit,-u", options.unit, "unit id (default 1)")->check(CLI::Range(0, 255));
     accept_duration_units(
@@ -40,6 +42,10 @@ void add_client_options(CLI::App& command, ClientOptions& options) {
                     "(also MBAP header), bytes (also hex)")
         ->check(CLI::IsMember({"app", "frame", "bytes"}));
     command.add_flag("--json", options.json, "print one JSON document on stdout");
+    add_tls_options(command, options.tls, "client's");
+    command.add_flag("-v,--verbose", options.verbose,
+                     "mbaps://: print the TLS version, cipher, server certificate and our role on "
+                     "stderr");
 }
 
 CLI::Option* accept_duration_units(CLI::Option* option, DurationUnit bare_unit, bool whole) {
@@ -149,6 +155,9 @@ int with_client(const ClientOptions& options, CommandOutput& output, const Clien
     auto target = client::parse_target(options.target);
     if (!target) return output.usage(target.error());
     output.document()["target"] = target->name;
+    if (auto error = client::attach_tls(*target, options.tls); !error.empty()) {
+        return output.usage(error);
+    }
 
     std::optional<FrameLog> log;
     if (auto depth = parse_decode_depth(options.decode)) log.emplace(stderr, *depth);
@@ -162,6 +171,9 @@ int with_client(const ClientOptions& options, CommandOutput& output, const Clien
         target->name, [&target, timeout] { return client::open_link(*target, timeout); },
         transaction, log ? &*log : nullptr);
     if (auto connected = transactor.connect(); !connected) return output.fail(connected.error());
+    if (options.verbose) {
+        if (const auto* peer = transactor.tls_peer()) output.warn("TLS: " + describe_tls(*peer));
+    }
     client::Client client(transactor);
     return body(client, output);
 }

@@ -11,6 +11,7 @@
 #include "cli/value_format.hpp"
 #include "client/client.hpp"
 #include "client/client_error.hpp"
+#include "security/tls_context.hpp"
 
 // What the client commands (read, write, diag, devid, raw, watch) share: TARGET and the
 // connection flags, the typed-value flags, and how a command reports its result and its errors.
@@ -24,9 +25,12 @@ struct ClientOptions {
     std::string decode;
     bool json = false;
     bool probe_units = true;  // off for watch: its polls stay the only requests on the wire
+    security::TlsFiles tls;   // mbaps://
+    bool verbose = false;
 };
 
-// TARGET (the first positional argument), --unit, --timeout, --retries, --decode, --json.
+// TARGET (the first positional argument), --unit, --timeout, --retries, --decode, --json,
+// --cert, --key, --ca, -v.
 void add_client_options(CLI::App& command, ClientOptions& options);
 
 // Registers a client command NAME with TARGET and the shared flags; `run` is called with its

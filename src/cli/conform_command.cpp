@@ -390,7 +390,7 @@ int run_conform(const ConformOptions& options) {
         server = std::make_unique<server::BackgroundServer>(*device);
         auto port = server->start();
         if (!port) return usage_error("cannot start the reference device: " + port.error());
-        target.tcp = client::Endpoint{"127.0.0.1", *port};
+        target.tcp = client::Endpoint{"127.0.0.1", *port, nullptr};
         target.name = fmt::format("tcp://127.0.0.1:{}", *port);
         note = fmt::format("built-in reference device, profile {}", profile.string());
     } else {

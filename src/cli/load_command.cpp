@@ -124,8 +124,8 @@ protocol::Result<load::LoadTarget, std::string> make_target(const std::string& t
     std::memcpy(&target.address, endpoint->data(), endpoint->size());
     target.address_size = static_cast<socklen_t>(endpoint->size());
     // Seed 000 8.3 loads devices that work; one that cannot be reached is a setup error.
-    auto link =
-        client::RawLink::connect({endpoint->address().to_string(), endpoint->port()}, timeout);
+    auto link = client::RawLink::connect(
+        {endpoint->address().to_string(), endpoint->port(), nullptr}, timeout);
     if (!link) return fmt::format("cannot connect to {}: {}", target.url, link.error().message);
     return target;
 }

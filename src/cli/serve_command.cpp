@@ -22,6 +22,7 @@
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/profile_lookup.hpp"
+#include "cli/tls_options.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
 #include "server/gateway.hpp"
@@ -61,6 +62,7 @@ struct ServeOptions {
     bool durable = false;
     int devices = 1;
     std::string gateway;
+    security::TlsFiles tls;  // mbaps://
 };
 
 int usage_error(const std::string& message) {
@@ -117,8 +119,12 @@ class StatsLine {
     void print() {
         using server::ServerStats;
         std::uint64_t open = 0, requests = 0, exceptions = 0, busy = 0, refused = 0, evicted = 0,
-                      slow = 0;
+                      slow = 0, handshakes = 0, resumed = 0, tls_refused = 0, denied = 0;
         for (const auto& s : servers_) {
+            handshakes += ServerStats::read(s->stats().tls_handshakes);
+            resumed += ServerStats::read(s->stats().tls_resumed);
+            tls_refused += ServerStats::read(s->stats().tls_refused);
+            denied += ServerStats::read(s->stats().denied);
             open += ServerStats::read(s->stats().connections_open);
             requests += ServerStats::read(s->stats().requests);
             exceptions += ServerStats::read(s->stats().exceptions);
@@ -129,12 +135,18 @@ class StatsLine {
             evicted += s->listener_counters().evicted_idle.load() +
                        s->listener_counters().evicted_stalled.load();
         }
+        const auto tls = handshakes + tls_refused == 0
+                             ? std::string()
+                             : fmt::format(
+                                   "; TLS {} handshakes ({} resumed), {} refused, {} "
+                                   "requests denied by role",
+                                   handshakes, resumed, tls_refused, denied);
         fmt::print(stderr,
                    "{}mblab serve: {} connections, {} req/s, {} exc/s; total {} requests, {} "
-                   "exceptions, {} busy, {} refused, {} evicted, {} closed for a slow frame{}",
+                   "exceptions, {} busy, {} refused, {} evicted, {} closed for a slow frame{}{}",
                    live_ ? "\r\033[K" : "", open, requests - last_requests_,
                    exceptions - last_exceptions_, requests, exceptions, busy, refused, evicted,
-                   slow, live_ ? "" : "\n");
+                   slow, tls, live_ ? "" : "\n");
         std::fflush(stderr);
         last_requests_ = requests;
         last_exceptions_ = exceptions;
@@ -311,10 +323,20 @@ int run_serve(const ServeOptions& options) {
         if (!made) return usage_error(made.error());
         gateway = std::move(made.value());
     }
+    const bool secure = transport::is_mbaps_url(options.listen);
     auto endpoint = serial
                         ? protocol::Result<asio::ip::tcp::endpoint, std::string>(serial->endpoint)
-                        : transport::parse_tcp_url(options.listen);
+                    : secure ? transport::parse_mbaps_url(options.listen)
+                             : transport::parse_tcp_url(options.listen);
     if (!endpoint) return usage_error(endpoint.error());
+    security::SharedContext tls;
+    if (secure) {
+        auto context = security::make_server_context(options.tls);
+        if (!context) return usage_error(context.error());
+        tls = std::move(context.value());
+    } else if (!options.tls.empty()) {
+        return usage_error("--cert, --key and --ca are for an mbaps:// --listen");
+    }
     auto profile_path = find_profile(options.profile, error);
     if (!profile_path) return usage_error(error);
     auto server_config = server_options(options, error);
@@ -380,6 +402,13 @@ int run_serve(const ServeOptions& options) {
         auto config = server_config;
         auto* device = devices[i].get();
         config.on_busy_reply = [device](std::uint8_t unit) { device->count_busy_reply(unit); };
+        if (secure) {
+            config.tls = tls;
+            config.roles = std::make_shared<const device::RoleRules>(device->profile().roles);
+            config.on_tls_refused = [](const std::string& reason) {
+                fmt::print(stderr, "mblab serve: refused a TLS client: {}\n", reason);
+            };
+        }
         device::RequestHandler& handler =
             gateway ? static_cast<device::RequestHandler&>(*gateway) : device_handler(i);
         servers.push_back(
@@ -393,7 +422,7 @@ int run_serve(const ServeOptions& options) {
         auto port = servers.back()->start(at);
         if (!port) return usage_error(port.error());
         at.port(*port);
-        urls.push_back((rtu_over_tcp ? "rtu+" : "") + transport::format_tcp_url(at));
+        urls.push_back((rtu_over_tcp ? "rtu+" : "") + transport::format_tcp_url(at, secure));
     }
 
     std::string where = urls.front();
@@ -474,8 +503,10 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_option("--listen", options->listen,
                     "address to listen on: tcp://HOST:PORT (port 0: any free port), "
                     "rtu:///dev/ttyUSB0?baud=19200&parity=E&stop=1&data=8, ascii:///dev/... "
-                    "or rtu+tcp://HOST:PORT")
+                    "rtu+tcp://HOST:PORT, or mbaps://HOST:PORT (Modbus/TCP Security, TLS with "
+                    "client certificates: needs --cert, --key, --ca; roles from the profile)")
         ->capture_default_str();
+    add_tls_options(*cmd, options->tls, "server's");
     cmd->add_option("--gateway", options->gateway,
                     "forward TCP requests to devices on a serial line instead of serving the "
                     "profile: rtu:///dev/ttyUSB0?baud=19200&units=1-247&timeout=1000 (ms)");

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "client/link_types.hpp"
+#include "security/tls_channel.hpp"
 
 // The seam between the client's transactions and a transport. A link moves whole ADUs: it sends
 // the bytes it is given and hands back one frame at a time, cut by its own framing rules. How a
@@ -29,6 +30,8 @@ class Link {
     // (the first kilobytes kept, the rest counted), a frame or a framing error on a line.
     virtual Received receive_any(std::chrono::milliseconds timeout) = 0;
     virtual void close() = 0;
+    // The TLS session of an mbaps:// link once it is up; nullptr for other links.
+    virtual const security::TlsPeer* tls_peer() const { return nullptr; }
 };
 
 }  // namespace mblab::client

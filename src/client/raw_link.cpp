@@ -122,8 +122,65 @@ protocol::Result<RawLink, LinkError> RawLink::connect(const Endpoint& endpoint,
         describe(local, addresses.local_ip, addresses.local_port);
         describe(peer, addresses.peer_ip, addresses.peer_port);
     }
+    RawLink link(fd, addresses, nullptr);
+    if (endpoint.tls) {
+        auto failed = link.handshake(*endpoint.tls, deadline);
+        if (!failed.empty()) return LinkError{failed};
+    }
+    // Captures show Modbus, so they begin once TLS is up and see the plaintext.
+    link.observer_ = observer;
     if (observer != nullptr) observer->on_open(addresses);
-    return RawLink(fd, addresses, observer);
+    return link;
+}
+
+std::string RawLink::handshake(const TlsSetup& setup, Clock::time_point deadline) {
+    tls_ = std::make_unique<security::TlsChannel>(setup.context, security::TlsChannel::Side::Client,
+                                                  setup.server_name);
+    tls_->start();
+    std::string error;
+    std::array<std::uint8_t, 4096> chunk;
+    while (tls_->state() == security::TlsChannel::State::Handshaking) {
+        if (!send_cipher(error)) return "TLS handshake: " + error;
+        pollfd pfd{fd_, POLLIN, 0};
+        const int ready = ::poll(&pfd, 1, remaining_ms(deadline));
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready <= 0) return "TLS handshake timed out";
+        const ssize_t n = ::recv(fd_, chunk.data(), chunk.size(), 0);
+        if (n <= 0) {
+            // A server that refuses our certificate may close before its alert is read.
+            return "TLS handshake: the server closed the connection" +
+                   std::string(n == 0 ? "" : " (" + errno_text(errno) + ")");
+        }
+        tls_->received(std::span(chunk).first(static_cast<std::size_t>(n)));
+        tls_->read({});
+    }
+    send_cipher(error);  // the client's last flight, or the alert that says why it failed
+    if (tls_->state() != security::TlsChannel::State::Open) {
+        return "TLS handshake: " + tls_->error();
+    }
+    return {};
+}
+
+bool RawLink::send_all(std::span<const std::uint8_t> bytes, std::string& error) {
+    std::size_t sent = 0;
+    while (sent < bytes.size()) {
+        ssize_t n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
+        if (n < 0) {
+            if (errno == EINTR) continue;
+            error = errno_text(errno);
+            return false;
+        }
+        sent += static_cast<std::size_t>(n);
+    }
+    return true;
+}
+
+bool RawLink::send_cipher(std::string& error) {
+    const auto out = tls_->output();
+    if (out.empty()) return true;
+    const bool sent = send_all(out, error);
+    tls_->sent(out.size());
+    return sent;
 }
 
 RawLink::RawLink(int fd, const LinkAddresses& addresses, LinkObserver* observer)
@@ -133,6 +190,7 @@ RawLink::RawLink(RawLink&& other) noexcept
     : fd_(std::exchange(other.fd_, -1)),
       addresses_(other.addresses_),
       observer_(other.observer_),
+      tls_(std::move(other.tls_)),
       reader_(std::move(other.reader_)) {}
 
 RawLink& RawLink::operator=(RawLink&& other) noexcept {
@@ -141,6 +199,7 @@ RawLink& RawLink::operator=(RawLink&& other) noexcept {
         fd_ = std::exchange(other.fd_, -1);
         addresses_ = other.addresses_;
         observer_ = other.observer_;
+        tls_ = std::move(other.tls_);
         reader_ = std::move(other.reader_);
     }
     return *this;
@@ -151,12 +210,20 @@ RawLink::~RawLink() {
 }
 
 void RawLink::close() {
-    if (fd_ >= 0) drop(false);
+    if (fd_ < 0) return;
+    if (tls_ && tls_->state() == security::TlsChannel::State::Open) {
+        // close_notify, so the server sees an orderly end rather than a truncation.
+        tls_->close();
+        std::string ignored;
+        send_cipher(ignored);
+    }
+    drop(false);
 }
 
 void RawLink::drop(bool by_peer) {
     ::close(fd_);
     fd_ = -1;
+    tls_.reset();
     reader_.reset();
     if (observer_ != nullptr) observer_->on_close(by_peer);
 }
@@ -166,16 +233,12 @@ bool RawLink::send(std::span<const std::uint8_t> bytes, LinkError& error) {
         error.message = "connection closed";
         return false;
     }
-    std::size_t sent = 0;
-    while (sent < bytes.size()) {
-        ssize_t n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            error.message = errno_text(errno);
-            drop(true);
-            return false;
-        }
-        sent += static_cast<std::size_t>(n);
+    const bool sent =
+        tls_ ? tls_->write(bytes) && send_cipher(error.message) : send_all(bytes, error.message);
+    if (!sent) {
+        if (error.message.empty()) error.message = "TLS: " + tls_->error();
+        drop(true);
+        return false;
     }
     if (observer_ != nullptr) observer_->on_sent(bytes);
     return true;
@@ -188,18 +251,53 @@ RawLink::Fill RawLink::read_some(Clock::time_point deadline, std::string& detail
         detail = "connection closed";
         return Fill::Closed;
     }
-    pollfd pfd{fd_, POLLIN, 0};
-    int ready = ::poll(&pfd, 1, remaining_ms(deadline));
-    if (ready < 0 && errno == EINTR) return Fill::Data;  // caller loops and re-checks the deadline
-    if (ready <= 0) return Fill::Timeout;
-    ssize_t n = ::recv(fd_, chunk.data(), chunk.size(), 0);
-    if (n <= 0) {
-        detail = n == 0 ? "connection closed by peer" : errno_text(errno);
-        return Fill::Closed;
+    // Records already decrypted need no wait for the socket.
+    if (!(tls_ && tls_->has_input())) {
+        pollfd pfd{fd_, POLLIN, 0};
+        int ready = ::poll(&pfd, 1, remaining_ms(deadline));
+        if (ready < 0 && errno == EINTR) return Fill::Data;  // caller loops, re-checks the deadline
+        if (ready <= 0) return Fill::Timeout;
     }
-    got = static_cast<std::size_t>(n);
-    if (observer_ != nullptr) observer_->on_received(chunk.first(got));
-    return Fill::Data;
+    const Fill fill = read_plain(detail, chunk, got);
+    if (got > 0 && observer_ != nullptr) observer_->on_received(chunk.first(got));
+    return fill;
+}
+
+RawLink::Fill RawLink::read_plain(std::string& detail, std::span<std::uint8_t> chunk,
+                                  std::size_t& got) {
+    if (!tls_) {
+        ssize_t n = ::recv(fd_, chunk.data(), chunk.size(), 0);
+        if (n <= 0) {
+            detail = n == 0 ? "connection closed by peer" : errno_text(errno);
+            return Fill::Closed;
+        }
+        got = static_cast<std::size_t>(n);
+        return Fill::Data;
+    }
+    got = tls_->read(chunk);
+    if (got > 0) return Fill::Data;
+    using State = security::TlsChannel::State;
+    if (tls_->state() == State::Open) {
+        std::array<std::uint8_t, 4096> cipher;
+        ssize_t n = ::recv(fd_, cipher.data(), cipher.size(), MSG_DONTWAIT);
+        if (n == 0) {
+            detail = "connection closed by peer (without TLS close_notify)";
+            return Fill::Closed;
+        }
+        if (n < 0) {
+            if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return Fill::Data;
+            detail = errno_text(errno);
+            return Fill::Closed;
+        }
+        tls_->received(std::span(cipher).first(static_cast<std::size_t>(n)));
+        got = tls_->read(chunk);
+        std::string ignored;
+        send_cipher(ignored);  // a key update's answer, a close_notify's
+        if (got > 0 || tls_->state() == State::Open) return Fill::Data;
+    }
+    detail = tls_->state() == State::Closed ? "the server closed the TLS session (close_notify)"
+                                            : "TLS: " + tls_->error();
+    return Fill::Closed;
 }
 
 RawLink::Fill RawLink::fill(Clock::time_point deadline, std::string& detail) {

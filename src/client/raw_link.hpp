@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -11,15 +12,24 @@
 #include "client/frame_reader.hpp"
 #include "client/link_types.hpp"
 #include "protocol/result.hpp"
+#include "security/tls_channel.hpp"
 
 // A blocking TCP link that puts any bytes on the wire and takes whole MBAP frames off it. The
 // conformance tester judges what devices send, so its framer is lenient: a wrong protocol id or
 // unit id still arrives as a frame for the tester to mark.
 namespace mblab::client {
 
+// Modbus/TCP Security (mbaps://): the TLS context a link's handshake uses, and the name the
+// server's certificate must carry.
+struct TlsSetup {
+    security::SharedContext context;
+    std::string server_name;
+};
+
 struct Endpoint {
     std::string host;
     std::uint16_t port = 502;
+    std::shared_ptr<const TlsSetup> tls;  // set: MBAP inside TLS
 };
 
 class RawLink {
@@ -35,6 +45,8 @@ class RawLink {
     ~RawLink();
 
     bool is_open() const { return fd_ >= 0; }
+    // The TLS session of an mbaps:// link (nullptr on plain TCP): version, cipher, peer.
+    const security::TlsChannel* tls() const { return tls_.get(); }
     const LinkAddresses& addresses() const { return addresses_; }
 
     // Writes every byte in one call sequence (one TCP segment for small writes, Nagle is off).
@@ -55,8 +67,16 @@ class RawLink {
 
   private:
     RawLink(int fd, const LinkAddresses& addresses, LinkObserver* observer);
+    // The TLS handshake on a connected socket, bounded by the deadline; "" when it succeeded.
+    std::string handshake(const TlsSetup& setup, std::chrono::steady_clock::time_point deadline);
+    // Sends what the TLS channel has for the network; false when the socket is gone.
+    bool send_cipher(std::string& error);
+    bool send_all(std::span<const std::uint8_t> bytes, std::string& error);
+
     // Reads once from the socket into the buffer.
     enum class Fill : std::uint8_t { Data, Timeout, Closed };
+    // One read of the socket (through TLS when there is a channel) into `chunk`.
+    Fill read_plain(std::string& detail, std::span<std::uint8_t> chunk, std::size_t& got);
     // Waits for bytes until the deadline and reads once into `chunk` (`got` bytes).
     Fill read_some(std::chrono::steady_clock::time_point deadline, std::string& detail,
                    std::span<std::uint8_t> chunk, std::size_t& got);
@@ -69,6 +89,7 @@ class RawLink {
     int fd_ = -1;
     LinkAddresses addresses_;
     LinkObserver* observer_ = nullptr;
+    std::unique_ptr<security::TlsChannel> tls_;
     FrameReader reader_{{.framing = Framing::Mbap, .lenient = true}};
 };
 

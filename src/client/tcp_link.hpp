@@ -26,6 +26,9 @@ class TcpLink final : public Link {
         return raw_.receive_any(timeout);
     }
     void close() override { raw_.close(); }
+    const security::TlsPeer* tls_peer() const override {
+        return raw_.tls() ? &raw_.tls()->peer() : nullptr;
+    }
 
   private:
     TcpLink(RawLink raw, std::string name) : raw_(std::move(raw)), name_(std::move(name)) {}

@@ -209,6 +209,12 @@ Transactor::Attempt Transactor::await_answer(std::uint16_t transaction_id, std::
                                true};
             }
             case ReceiveStatus::Closed:
+                // A TLS server that refuses our certificate after a TLS 1.3 handshake says why
+                // in an alert that only arrives now.
+                if (received.bytes.empty() && received.detail.starts_with("TLS: ")) {
+                    return lost("the device ended the TLS session without answering: " +
+                                received.detail.substr(5));
+                }
                 return lost(received.bytes.empty()
                                 ? "the device closed the connection without answering"
                                 : "the device closed the connection after " +

@@ -39,6 +39,8 @@ class Transactor {
 
     // Connects now, so that an unreachable target fails before anything else happens.
     protocol::Result<Done, ClientError> connect();
+    // The TLS session of the link now open (mbaps://), else nullptr.
+    const security::TlsPeer* tls_peer() const { return link_ ? link_->tls_peer() : nullptr; }
 
     // Sends a request PDU and returns the answer's PDU. The answer has passed the frame checks:
     // its transaction id, unit and function code (the request's, or it with 0x80) match. Late

@@ -5,18 +5,12 @@
 #include <vector>
 
 #include "device/profile.hpp"
+#include "device/request_scope.hpp"
 #include "support/prng.hpp"
 
 // The fault rules of one unit: which rule, if any, fires for a request. Counting and chance are
 // kept here so a run with the same seed and requests fires the same faults.
 namespace mblab::device {
-
-struct RequestScope {
-    std::uint8_t function = 0;
-    bool has_addresses = false;  // false when the request names no data address (or is bad)
-    std::uint32_t first = 0;
-    std::uint32_t last = 0;  // inclusive
-};
 
 class FaultRules {
   public:

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "device/role_rules.hpp"
 #include "protocol/exception_code.hpp"
 
 // A device profile after loading and validation: plain data, no TOML. docs/profiles.md is the
@@ -133,6 +134,8 @@ struct Profile {
     UnmatchedUnit unmatched_unit = UnmatchedUnit::FirstUnit;
     std::uint8_t min_address = 1;
     std::uint8_t max_address = 247;
+    // [[role]] tables: what each Modbus/TCP Security role may do (mbaps:// only).
+    std::vector<RoleRule> roles;
 };
 
 }  // namespace mblab::device

@@ -227,7 +227,7 @@ bool load_root(const toml::table& root, ProfileErrors& errors, Profile& profile)
         profile.min_address = static_cast<std::uint8_t>(first);
         profile.max_address = static_cast<std::uint8_t>(last);
     }
-    if (fields.failed()) return false;
+    if (fields.failed() || !load_roles(fields, profile.roles)) return false;
     if (!fields.require("unit", "add at least one [[unit]] table with an id")) return false;
     const bool loaded =
         each_table(fields, "unit", [&](const toml::table& t, const std::string& path) {

@@ -20,6 +20,7 @@ bool load_server_id(Fields& unit, ServerIdSpec& out);
 bool load_files(Fields& unit, std::vector<FileSpec>& out);
 bool load_objects(Fields& unit, std::vector<SemiObject>& out);
 bool load_faults(Fields& unit, std::vector<FaultSpec>& out);
+bool load_roles(Fields& root, std::vector<RoleRule>& out);
 
 // Shared value readers.
 bool integer_list(Fields& fields, std::string_view key, std::int64_t min, std::int64_t max,

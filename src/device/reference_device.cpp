@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "device/diagnostics.hpp"
+#include "device/request_scope.hpp"
 #include "protocol/function_table.hpp"
 #include "protocol/response.hpp"
 
@@ -25,57 +26,6 @@ constexpr protocol::FunctionRow kUnlisted{};
 const protocol::FunctionRow& row_of(std::uint8_t function) {
     const protocol::FunctionRow* row = protocol::find_function(function);
     return row ? *row : kUnlisted;
-}
-
-template <class Message>
-concept NamesAddress = requires(Message message) {
-    message.address;
-};
-template <class Message>
-concept NamesRange = NamesAddress<Message> && requires(Message message) {
-    message.quantity;
-};
-
-// The data addresses a request names, for fault rules with an address filter.
-RequestScope scope_of(std::uint8_t function, const protocol::FunctionRow& row,
-                      const protocol::Result<protocol::Request>& decoded) {
-    RequestScope scope;
-    scope.function = function;
-    if (!decoded) return scope;
-    const auto span = [&](std::uint32_t first, std::uint32_t count) {
-        scope.has_addresses = true;
-        scope.first = first;
-        scope.last = first + (count ? count - 1 : 0);
-    };
-    const protocol::Request& request = decoded.value();
-    switch (row.scope) {
-        case protocol::AddressScope::None:
-            break;
-        case protocol::AddressScope::Range:
-            std::visit(
-                [&](const auto& r) {
-                    if constexpr (NamesRange<decltype(r)>) span(r.address, r.quantity);
-                },
-                request);
-            break;
-        case protocol::AddressScope::Single:
-            std::visit(
-                [&](const auto& r) {
-                    if constexpr (NamesAddress<decltype(r)>) span(r.address, 1);
-                },
-                request);
-            break;
-        case protocol::AddressScope::ReadWrite:
-            if (const auto* r =
-                    std::get_if<protocol::ReadWriteMultipleRegistersRequest>(&request)) {
-                const std::uint32_t first = std::min(r->read_address, r->write_address);
-                const std::uint32_t end = std::max<std::uint32_t>(
-                    r->read_address + r->read_quantity, r->write_address + r->write_quantity);
-                span(first, end - first);
-            }
-            break;
-    }
-    return scope;
 }
 
 // FC 08 is an event unless its sub-function resets the counter it would add to.
@@ -243,7 +193,7 @@ Reply ReferenceDevice::serve(UnitModel& unit, std::span<const std::uint8_t> requ
     std::chrono::milliseconds delay{0};
     MaybeResponse outcome;
     const FaultSpec* fault =
-        broadcast ? nullptr : unit.faults().fire(scope_of(function, row, decoded), prng_);
+        broadcast ? nullptr : unit.faults().fire(scope_of(function, decoded), prng_);
     if (fault) {
         switch (fault->action) {
             case FaultAction::Delay:

@@ -134,6 +134,13 @@ void MbapSession::on_frame(const protocol::FrameEvent& frame, Clock::time_point 
                         now);
         return;
     }
+    if (rules_ && !rules_->permits(role_, frame.header.unit, frame.pdu)) {
+        // [SEC]: a request the role does not allow is refused as an illegal function.
+        ServerStats::bump(stats_.denied);
+        queue_exception(frame.mbap, frame.pdu.front(), protocol::ExceptionCode::IllegalFunction,
+                        now);
+        return;
+    }
     auto* slot = replies_.push_back();
     if (!slot) return;  // must_pause() keeps room; never reached
     const auto response = std::span(slot->adu).subspan(protocol::limits::kMbapHeader);

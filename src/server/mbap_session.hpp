@@ -6,9 +6,12 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
+#include <string>
 
 #include "device/request_handler.hpp"
+#include "device/role_rules.hpp"
 #include "protocol/exception_code.hpp"
 #include "protocol/frame_event.hpp"
 #include "protocol/framer.hpp"
@@ -92,6 +95,14 @@ class MbapSession {
                          const device::Reply& reply, std::span<const std::uint8_t> pdu,
                          Clock::time_point now);
 
+    // Modbus/TCP Security: from now on each request is checked against `rules` for `role` (none:
+    // the certificate named no role) and answered 01 when its role may not make it. `rules`
+    // must outlive the session.
+    void authorize(const device::RoleRules& rules, std::optional<std::string> role) {
+        rules_ = &rules;
+        role_ = std::move(role);
+    }
+
     // For a full listener choosing a connection to close.
     transport::Standing standing(Clock::time_point now) const;
     // The last complete request or answer sent.
@@ -138,7 +149,9 @@ class MbapSession {
     std::size_t gathered_ = 0;   // answers the last output() gave
     Clock::time_point head_delay_ = Clock::time_point::max();  // a fault holds the head back
     Clock::time_point last_activity_;
-    std::uint32_t last_ticket_ = 0;  // of the last request given to the handler
+    std::uint32_t last_ticket_ = 0;             // of the last request given to the handler
+    const device::RoleRules* rules_ = nullptr;  // set: requests are authorized by role_
+    std::optional<std::string> role_;
 
     std::array<std::uint8_t, kInputBytes> input_{};
     std::size_t input_begin_ = 0;

@@ -4,7 +4,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 
+#include "device/role_rules.hpp"
+#include "security/tls_context.hpp"
 #include "transport/allow_list.hpp"
 
 namespace mblab::server {
@@ -33,6 +36,15 @@ struct ServerOptions {
     // Told the unit of each busy answer the server gives itself, so a device can count it
     // (FC 08 sub 11). Called on the server's thread.
     std::function<void(std::uint8_t unit)> on_busy_reply;
+    // Modbus/TCP Security: set, every connection is a TLS session with this context (mbaps://)
+    // and each request is authorized by the client's role under `roles` (deny by default).
+    security::SharedContext tls;
+    std::shared_ptr<const device::RoleRules> roles;
+    // A TLS handshake not finished by then closes the connection: a client that trickles its
+    // handshake must not hold a connection as long as the idle timeout would let it.
+    std::chrono::milliseconds handshake_limit{10'000};
+    // Told each refused handshake's reason (on the server's thread), for the operator's log.
+    std::function<void(const std::string& reason)> on_tls_refused;
 };
 
 }  // namespace mblab::server

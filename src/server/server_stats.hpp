@@ -17,6 +17,11 @@ struct ServerStats {
     Counter closed_idle{0};        // idle timer
     Counter closed_bad_frame{0};   // MBAP length the stream cannot recover from
     Counter closed_slow_frame{0};  // a frame still arriving after ServerOptions::frame_limit
+    // Modbus/TCP Security (mbaps://)
+    Counter tls_handshakes{0};  // completed, resumed ones included
+    Counter tls_resumed{0};
+    Counter tls_refused{0};  // handshakes that failed: no, expired, foreign certificate, ...
+    Counter denied{0};       // requests the client's role may not make, answered 01
 
     static void bump(Counter& counter) { counter.fetch_add(1, std::memory_order_relaxed); }
     static std::uint64_t read(const Counter& counter) {

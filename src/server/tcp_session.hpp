@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "security/tls_channel.hpp"
 #include "server/mbap_session.hpp"
 #include "server/server_core.hpp"
 #include "transport/connection_table.hpp"
@@ -40,6 +41,19 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     void on_busy_reply(std::uint8_t unit) override;
 
     void read_ready(Clock::time_point now);
+    bool wants_read() const;
+
+    // Modbus/TCP Security: the socket carries a TLS session and the MBAP session sees plaintext.
+    void read_tls(Clock::time_point now);
+    // Moves the handshake on and hands decrypted bytes to the session while it takes input;
+    // returns how many plaintext bytes it handed over.
+    std::size_t pump_tls(Clock::time_point now);
+    void on_handshake();
+    void refuse_handshake(const std::string& reason);
+    // What TLS has for the network; false when the socket is full (or gone).
+    bool send_cipher();
+    void flush_tls(Clock::time_point now);
+    void end_input(Clock::time_point now);
     // Sends what the session has ready until the socket is full or nothing is ready, then
     // closes if the session is done.
     void flush(Clock::time_point now);
@@ -65,6 +79,9 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     bool closed_ = false;
     bool in_table_ = false;
     bool write_blocked_ = false;  // the socket took less than it was given
+    bool input_ended_ = false;    // the session was told the client sends nothing more
+    std::unique_ptr<security::TlsChannel> tls_;
+    Clock::time_point handshake_deadline_ = Clock::time_point::max();
 };
 
 }  // namespace mblab::server

@@ -1,0 +1,242 @@
+#include "security/tls_channel.hpp"
+
+#include <openssl/bio.h>
+#include <openssl/err.h>
+#include <openssl/ssl.h>
+#include <openssl/x509.h>
+#include <openssl/x509v3.h>
+
+#include <array>
+
+namespace mblab::security {
+
+namespace {
+
+std::string subject_of(const X509* certificate) {
+    if (!certificate) return {};
+    std::array<char, 256> text{};
+    X509_NAME_oneline(X509_get_subject_name(certificate), text.data(),
+                      static_cast<int>(text.size()));
+    return text.data();
+}
+
+// The client's role is part of authenticating it: a certificate whose role extension cannot be
+// read as one role fails the handshake, like a certificate from an unknown CA.
+int verify_client(int preverified, X509_STORE_CTX* store) {
+    if (!preverified || X509_STORE_CTX_get_error_depth(store) != 0) return preverified;
+    auto reading = read_role(X509_STORE_CTX_get_current_cert(store));
+    if (reading.kind != RoleReading::Kind::Refused) return 1;
+    const auto* ssl = static_cast<const SSL*>(
+        X509_STORE_CTX_get_ex_data(store, SSL_get_ex_data_X509_STORE_CTX_idx()));
+    if (auto* refusal = ssl ? static_cast<std::string*>(SSL_get_app_data(ssl)) : nullptr) {
+        *refusal = std::move(reading.reason);
+    }
+    X509_STORE_CTX_set_error(store, X509_V_ERR_APPLICATION_VERIFICATION);
+    return 0;
+}
+
+bool is_ip_address(std::string_view host) {
+    return host.find(':') != std::string_view::npos ||
+           host.find_first_not_of("0123456789.") == std::string_view::npos;
+}
+
+}  // namespace
+
+TlsChannel::TlsChannel(const SharedContext& context, Side side, std::string_view server_name)
+    : side_(side) {
+    ssl_ = SSL_new(context.get());
+    in_ = BIO_new(BIO_s_mem());
+    out_ = BIO_new(BIO_s_mem());
+    if (!ssl_ || !in_ || !out_) {
+        BIO_free(in_);
+        BIO_free(out_);
+        in_ = out_ = nullptr;
+        fail("out of memory for a TLS session");
+        return;
+    }
+    // An empty memory BIO means "wait for more", not end of file.
+    BIO_set_mem_eof_return(in_, -1);
+    BIO_set_mem_eof_return(out_, -1);
+    SSL_set_bio(ssl_, in_, out_);
+    if (side == Side::Server) {
+        SSL_set_accept_state(ssl_);
+        SSL_set_app_data(ssl_, &role_refusal_);
+        SSL_set_verify(ssl_, SSL_get_verify_mode(ssl_), verify_client);
+        return;
+    }
+    SSL_set_connect_state(ssl_);
+    if (server_name.empty()) return;
+    const std::string host(server_name);
+    if (is_ip_address(host)) {
+        X509_VERIFY_PARAM_set1_ip_asc(SSL_get0_param(ssl_), host.c_str());
+    } else {
+        SSL_set_tlsext_host_name(ssl_, host.c_str());
+        SSL_set1_host(ssl_, host.c_str());
+    }
+}
+
+TlsChannel::~TlsChannel() {
+    SSL_free(ssl_);  // frees both BIOs
+}
+
+void TlsChannel::start() {
+    if (state_ == State::Handshaking) handshake();
+}
+
+void TlsChannel::received(std::span<const std::uint8_t> bytes) {
+    if (!in_ || bytes.empty()) return;
+    // A memory BIO takes every byte it is given (it grows), so one call is enough.
+    BIO_write(in_, bytes.data(), static_cast<int>(bytes.size()));
+}
+
+void TlsChannel::handshake() {
+    ERR_clear_error();
+    const int result = SSL_do_handshake(ssl_);
+    if (result == 1) {
+        finish_handshake();
+        return;
+    }
+    switch (SSL_get_error(ssl_, result)) {
+        case SSL_ERROR_WANT_READ:
+        case SSL_ERROR_WANT_WRITE:
+            return;
+        default:
+            fail("the TLS handshake failed");
+    }
+}
+
+void TlsChannel::finish_handshake() {
+    state_ = State::Open;
+    peer_.version = SSL_get_version(ssl_);
+    peer_.cipher = SSL_get_cipher_name(ssl_);
+    peer_.resumed = SSL_session_reused(ssl_) == 1;
+    const X509* certificate = SSL_get0_peer_certificate(ssl_);
+    peer_.subject = subject_of(certificate);
+    if (certificate) peer_.role = read_role(certificate);
+    if (const X509* own = SSL_get_certificate(ssl_)) peer_.own_role = read_role(own);
+}
+
+std::string TlsChannel::verify_failure() const {
+    const long result = SSL_get_verify_result(ssl_);
+    if (result == X509_V_OK) return {};
+    const char* whose = side_ == Side::Server ? "the client's" : "the server's";
+    if (result == X509_V_ERR_APPLICATION_VERIFICATION && !role_refusal_.empty()) {
+        return std::string(whose) + " certificate was refused: " + role_refusal_;
+    }
+    return std::string(whose) +
+           " certificate was refused: " + X509_verify_cert_error_string(result);
+}
+
+void TlsChannel::fail(const char* fallback) {
+    state_ = State::Failed;
+    const auto verify = ssl_ ? verify_failure() : std::string();
+    const auto detail = take_openssl_error(fallback);
+    error_ = verify.empty() ? detail : verify;
+}
+
+std::size_t TlsChannel::read(std::span<std::uint8_t> out) {
+    if (state_ == State::Handshaking) handshake();
+    if (state_ != State::Open || out.empty()) return 0;
+    ERR_clear_error();
+    std::size_t got = 0;
+    const int result = SSL_read_ex(ssl_, out.data(), out.size(), &got);
+    if (result == 1) return got;
+    switch (SSL_get_error(ssl_, result)) {
+        case SSL_ERROR_WANT_READ:
+        case SSL_ERROR_WANT_WRITE:
+            break;
+        case SSL_ERROR_ZERO_RETURN:
+            // close_notify: answered with ours, as TLS asks, so the peer sees a clean end.
+            state_ = State::Closed;
+            SSL_shutdown(ssl_);
+            ERR_clear_error();
+            break;
+        default:
+            fail("a TLS record could not be read");
+    }
+    return 0;
+}
+
+bool TlsChannel::has_input() const {
+    return ssl_ && (SSL_pending(ssl_) > 0 || BIO_ctrl_pending(in_) > 0);
+}
+
+bool TlsChannel::write(std::span<const std::uint8_t> plain) {
+    if (state_ != State::Open) return false;
+    ERR_clear_error();
+    while (!plain.empty()) {
+        std::size_t written = 0;
+        if (SSL_write_ex(ssl_, plain.data(), plain.size(), &written) != 1) {
+            fail("a TLS record could not be written");
+            return false;
+        }
+        plain = plain.subspan(written);
+    }
+    return true;
+}
+
+void TlsChannel::close() {
+    if (state_ != State::Open) return;
+    ERR_clear_error();
+    SSL_shutdown(ssl_);
+    ERR_clear_error();
+}
+
+std::span<const std::uint8_t> TlsChannel::output() const {
+    if (!out_) return {};
+    char* data = nullptr;
+    const long size = BIO_get_mem_data(out_, &data);
+    if (size <= 0) return {};
+    return {reinterpret_cast<const std::uint8_t*>(data), static_cast<std::size_t>(size)};
+}
+
+void TlsChannel::sent(std::size_t count) {
+    std::array<std::uint8_t, 4096> discard;
+    while (count > 0) {
+        const int n =
+            BIO_read(out_, discard.data(), static_cast<int>(std::min(count, discard.size())));
+        if (n <= 0) return;
+        count -= static_cast<std::size_t>(n);
+    }
+}
+
+void TlsChannel::offer_session(SSL_SESSION* session) {
+    if (session) SSL_set_session(ssl_, session);
+}
+
+SSL_SESSION* TlsChannel::take_session() const {
+    return ssl_ ? SSL_get1_session(ssl_) : nullptr;
+}
+
+bool TlsChannel::request_renegotiation() {
+    if (state_ != State::Open) return false;
+    ERR_clear_error();
+    // TLS 1.3 has no renegotiation; its nearest is a key update, which a server must accept.
+    const int result = SSL_version(ssl_) >= TLS1_3_VERSION
+                           ? SSL_key_update(ssl_, SSL_KEY_UPDATE_REQUESTED)
+                           : SSL_renegotiate(ssl_);
+    if (result != 1) {
+        ERR_clear_error();
+        return false;
+    }
+    ERR_clear_error();
+    SSL_do_handshake(ssl_);
+    ERR_clear_error();
+    return true;
+}
+
+std::string_view state_name(TlsChannel::State state) {
+    switch (state) {
+        case TlsChannel::State::Handshaking:
+            return "handshaking";
+        case TlsChannel::State::Open:
+            return "open";
+        case TlsChannel::State::Closed:
+            return "closed";
+        case TlsChannel::State::Failed:
+            return "failed";
+    }
+    return "unknown";
+}
+
+}  // namespace mblab::security

@@ -1,0 +1,94 @@
+#pragma once
+
+#include <openssl/ssl.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+
+#include "security/certificate_role.hpp"
+#include "security/tls_context.hpp"
+
+// One TLS session without I/O: bytes from the network and plaintext in, bytes for the network and
+// plaintext out, over OpenSSL's memory BIOs. The owner moves cipher bytes between the socket and
+// received()/output(); the MBAP session above reads and writes plaintext and never knows TLS is
+// there. Tests drive a client and a server channel into each other with no socket at all.
+namespace mblab::security {
+
+struct TlsPeer {
+    std::string version;   // "TLSv1.3"
+    std::string cipher;    // "TLS_AES_256_GCM_SHA384"
+    std::string subject;   // of the peer's certificate, "" when it sent none
+    RoleReading role;      // read once, at the handshake (kept by a resumed session)
+    RoleReading own_role;  // of the certificate this side presented
+    bool resumed = false;
+};
+
+class TlsChannel {
+  public:
+    enum class Side : std::uint8_t { Server, Client };
+    enum class State : std::uint8_t {
+        Handshaking,
+        Open,
+        Closed,  // the peer sent close_notify, or we did and the peer answered it
+        Failed,  // the handshake or a record failed: error() says why; output() may hold an alert
+    };
+
+    // `server_name` is the host a client connects to: its certificate must name it (SAN), when
+    // the context verifies the server. A server channel ignores it.
+    TlsChannel(const SharedContext& context, Side side, std::string_view server_name = {});
+    ~TlsChannel();
+    TlsChannel(const TlsChannel&) = delete;
+    TlsChannel& operator=(const TlsChannel&) = delete;
+
+    // A client's first flight (ClientHello) into output(); a server waits for it.
+    void start();
+    // Bytes that came from the network.
+    void received(std::span<const std::uint8_t> bytes);
+    // Moves the handshake on and decrypts what has come: up to out.size() plaintext bytes, 0 when
+    // none is ready (state() says whether more can come).
+    std::size_t read(std::span<std::uint8_t> out);
+    // Whether plaintext or records are waiting that read() has not taken.
+    bool has_input() const;
+    // Encrypts every byte (an open channel only); false when the channel cannot take them.
+    bool write(std::span<const std::uint8_t> plain);
+    // Queues close_notify; the channel ends when the peer answers (or the owner stops waiting).
+    void close();
+
+    // Bytes for the network, in order; sent() drops what the socket took.
+    std::span<const std::uint8_t> output() const;
+    void sent(std::size_t count);
+
+    State state() const { return state_; }
+    const std::string& error() const { return error_; }
+    // Valid once the handshake is over.
+    const TlsPeer& peer() const { return peer_; }
+
+    // For clients that resume: the session to offer, and the one to keep for the next time.
+    void offer_session(SSL_SESSION* session);
+    SSL_SESSION* take_session() const;  // the caller frees it (SSL_SESSION_free)
+    // The security suite's renegotiation attempt; state() and error() say how it went.
+    bool request_renegotiation();
+
+  private:
+    void handshake();
+    void fail(const char* fallback);
+    void finish_handshake();
+    // Why the peer's certificate was refused, from the verification result.
+    std::string verify_failure() const;
+
+    SSL* ssl_ = nullptr;
+    BIO* in_ = nullptr;   // network -> OpenSSL (owned by ssl_)
+    BIO* out_ = nullptr;  // OpenSSL -> network (owned by ssl_)
+    Side side_;
+    State state_ = State::Handshaking;
+    std::string error_;
+    std::string role_refusal_;  // why the verification refused the client's role
+    TlsPeer peer_;
+};
+
+std::string_view state_name(TlsChannel::State state);
+
+}  // namespace mblab::security
