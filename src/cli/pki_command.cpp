@@ -107,10 +107,12 @@ void add_pki_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_option("dir", options->dir, "directory to write into")->required();
     cmd->add_option("--role", options->roles,
                     "a role to make client-ROLE.pem for: printable UTF-8, no '/'; repeatable "
-                    "(default: ReadOnly, Operator, Administrator)");
+                    "(default: ReadOnly, Operator, Administrator)")
+        ->allow_extra_args(false);
     cmd->add_option("--server-name", options->server_names,
                     "a DNS name or IP address for the server certificate's subjectAltName; "
-                    "repeatable (default: localhost, 127.0.0.1, ::1)");
+                    "repeatable (default: localhost, 127.0.0.1, ::1)")
+        ->allow_extra_args(false);
     cmd->add_option("--days", options->days, "days the certificates are valid for")
         ->check(CLI::Range(1, security::kMaxPkiDays))
         ->capture_default_str();
