@@ -4,7 +4,9 @@
 #include <openssl/objects.h>
 #include <openssl/x509.h>
 
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "security/openssl_handles.hpp"
 #include "security/role_text.hpp"
@@ -68,6 +70,17 @@ RoleReading read_extension(X509_EXTENSION* extension) {
     if (!decoded) return refused("the role extension's value is not DER");
     if (cursor != start + length) {
         return refused("the role extension has bytes after its value");
+    }
+    // OpenSSL also takes BER (long-form lengths, constructed strings); DER has one encoding per
+    // value, so a value that does not encode back to the same bytes is not DER.
+    if (i2d_ASN1_TYPE(decoded.get(), nullptr) != length) {
+        return refused("the role extension's value is not DER");
+    }
+    std::vector<unsigned char> again(static_cast<std::size_t>(length));
+    unsigned char* out = again.data();
+    if (i2d_ASN1_TYPE(decoded.get(), &out) != length ||
+        !std::equal(again.begin(), again.end(), start)) {
+        return refused("the role extension's value is not DER");
     }
     const int type = ASN1_TYPE_get(decoded.get());
     if (type != V_ASN1_UTF8STRING) {

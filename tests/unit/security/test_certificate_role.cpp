@@ -144,6 +144,19 @@ TEST(CertificateRole, TrailingBytesAfterTheUtf8StringAreRefused) {
     EXPECT_EQ(reading.reason, "the role extension has bytes after its value");
 }
 
+TEST(CertificateRole, BerThatIsNotDerIsRefused) {
+    // A long-form length where the short form fits, and a constructed UTF8String of two parts.
+    const Bytes long_length{0x0C, 0x81, 0x02, 'O', 'p'};
+    const Bytes constructed{0x2C, 0x08, 0x0C, 0x02, 'O', 'p', 0x0C, 0x02, 'e', 'r'};
+    for (const Bytes& value : {long_length, constructed}) {
+        const RoleReading reading = read({value});
+        EXPECT_EQ(reading.kind, RoleReading::Kind::Refused);
+        EXPECT_EQ(reading.role, "");
+        EXPECT_FALSE(reading.reason.empty());
+    }
+    EXPECT_EQ(read({long_length}).reason, "the role extension's value is not DER");
+}
+
 TEST(CertificateRole, EmptyUtf8StringIsRefused) {
     const RoleReading reading = read({der_string(kUtf8, "")});
     EXPECT_EQ(reading.kind, RoleReading::Kind::Refused);
