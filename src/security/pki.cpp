@@ -334,11 +334,29 @@ std::optional<std::string> request_problem(const PkiRequest& request) {
     return std::nullopt;
 }
 
+// `text` for an error line: bytes below 0x20 and DEL as \xNN, so that a refused role cannot
+// move the cursor or recolour the terminal that shows the refusal.
+std::string shown(const std::string& text) {
+    static constexpr std::string_view kHex = "0123456789ABCDEF";
+    std::string out;
+    for (const char c : text) {
+        const auto byte = static_cast<unsigned char>(c);
+        if (byte < 0x20 || byte == 0x7F) {
+            out += "\\x";
+            out += kHex[byte >> 4U];
+            out += kHex[byte & 0x0FU];
+        } else {
+            out += c;
+        }
+    }
+    return out;
+}
+
 }  // namespace
 
 std::optional<std::string> role_name_problem(const std::string& role) {
     if (const char* problem = role_text_problem(role)) {
-        return "role '" + role + "' " + problem;
+        return "role '" + shown(role) + "' " + problem;
     }
     if (role.find('/') != std::string::npos) {
         return "role '" + role + "' contains '/' (it names the file client-ROLE.pem)";

@@ -291,7 +291,7 @@ TEST(MakeLabPki, BadRequestsWriteNothing) {
     request.roles = {""};
     EXPECT_EQ(refused(request), "role '' is empty");
     request.roles = {"Op\x01"};
-    EXPECT_EQ(refused(request), "role 'Op\x01' contains a control character");
+    EXPECT_EQ(refused(request), "role 'Op\\x01' contains a control character");
     request.roles = {"expired"};
     EXPECT_NE(refused(request).find("client-expired.pem"), std::string::npos);
     request.roles = {"Operator", "Operator"};
