@@ -294,7 +294,9 @@ void write_private_file(const fs::path& path, const std::string& text, bool over
     if (::close(fd) != 0) throw PkiFailure(errno_text("cannot write", path));
 }
 
-void make_private_directory(const fs::path& dir) {
+void make_private_directory(const fs::path& given) {
+    // "lab/" names the directory lab: its parent is ".", not lab itself.
+    const fs::path dir = given.has_filename() ? given : given.parent_path();
     std::error_code error;
     if (fs::is_directory(dir, error)) return;
     if (fs::exists(fs::symlink_status(dir, error))) {

@@ -247,6 +247,16 @@ TEST(MakeLabPki, OverwriteReplacesFilesAndTightensTheirMode) {
     EXPECT_EQ(verify_client(dir.path(), "client-Operator"), X509_V_OK);
 }
 
+TEST(MakeLabPki, MakesMissingParentsAndTakesATrailingSlash) {
+    test::TempDir dir;
+    PkiRequest request;
+    request.roles = {};
+    auto made = make_lab_pki((dir / "a/b/pki/").string(), request);
+    ASSERT_TRUE(made.ok()) << made.error();
+    EXPECT_EQ(mode_of(dir / "a/b/pki"), 0700U);
+    EXPECT_TRUE(fs::exists(dir / "a/b/pki/ca.pem"));
+}
+
 TEST(MakeLabPki, RsaKeysWhenAsked) {
     test::TempDir dir;
     PkiRequest request;
