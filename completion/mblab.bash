@@ -16,7 +16,7 @@ _mblab() {
         words=("${COMP_WORDS[@]}")
         cword=$COMP_CWORD
     fi
-    local commands="conform serve read write diag devid raw watch load"
+    local commands="conform serve read write diag devid raw watch load pki"
     local command="" i
     for ((i = 1; i < cword; i++)); do
         case " $commands " in *" ${words[i]} "*) command="${words[i]}"; break ;; esac
@@ -39,9 +39,21 @@ _mblab() {
             COMPREPLY=($(compgen -d -- "$cur"))
             return
             ;;
+        --key-type)
+            COMPREPLY=($(compgen -W "ec rsa" -- "$cur"))
+            return
+            ;;
+        --role | --server-name | --days)
+            return
+            ;;
     esac
     if [[ $cur == -* ]]; then
         COMPREPLY=($(compgen -W "$(_mblab_options "${words[0]}" "$command")" -- "$cur"))
+        return
+    fi
+    # pki's one argument is the directory it writes into.
+    if [[ $command == pki ]]; then
+        COMPREPLY=($(compgen -d -- "$cur"))
         return
     fi
     COMPREPLY=($(compgen -f -- "$cur"))
