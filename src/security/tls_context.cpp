@@ -35,13 +35,16 @@ bool load_own(SSL_CTX* context, const TlsFiles& files, std::string& error) {
         error = "--cert " + files.cert + ": " + take_openssl_error("not a PEM certificate");
         return false;
     }
-    if (SSL_CTX_use_PrivateKey_file(context, files.key.c_str(), SSL_FILETYPE_PEM) != 1) {
-        error = "--key " + files.key + ": " + take_openssl_error("not a PEM private key");
-        return false;
-    }
-    if (SSL_CTX_check_private_key(context) != 1) {
+    const bool loaded =
+        SSL_CTX_use_PrivateKey_file(context, files.key.c_str(), SSL_FILETYPE_PEM) == 1;
+    const auto reason = loaded ? std::string() : take_openssl_error("not a PEM private key");
+    if (reason == "key values mismatch" || (loaded && SSL_CTX_check_private_key(context) != 1)) {
         ERR_clear_error();
         error = "--key " + files.key + " is not the key of --cert " + files.cert;
+        return false;
+    }
+    if (!loaded) {
+        error = "--key " + files.key + ": " + reason;
         return false;
     }
     return true;
@@ -132,7 +135,11 @@ protocol::Result<SharedContext, std::string> make_client_context(const TlsFiles&
     SSL_CTX* ctx = context.get();
     switch (settings.versions) {
         case ClientVersions::Modern:
+        case ClientVersions::Tls12:
             SSL_CTX_set_min_proto_version(ctx, TLS1_2_VERSION);
+            if (settings.versions == ClientVersions::Tls12) {
+                SSL_CTX_set_max_proto_version(ctx, TLS1_2_VERSION);
+            }
             SSL_CTX_set_cipher_list(ctx, kTls12Ciphers);
             SSL_CTX_set1_groups_list(ctx, kGroups);
             break;

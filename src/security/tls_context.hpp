@@ -30,6 +30,7 @@ using SharedContext = std::shared_ptr<SSL_CTX>;
 // server refuse them.
 enum class ClientVersions : unsigned char {
     Modern,  // TLS 1.2 and 1.3, as the spec requires
+    Tls12,   // TLS 1.2 only: renegotiation exists there
     Tls10,   // TLS 1.0 only
     Tls11,   // TLS 1.1 only
 };

@@ -20,7 +20,9 @@ struct ServerStats {
     // Modbus/TCP Security (mbaps://)
     Counter tls_handshakes{0};  // completed, resumed ones included
     Counter tls_resumed{0};
-    Counter tls_refused{0};  // handshakes that failed: no, expired, foreign certificate, ...
+    // Handshakes that failed (no, expired, foreign certificate, ...) and clients refused after
+    // one (a bare PDU without MBAP).
+    Counter tls_refused{0};
     Counter denied{0};       // requests the client's role may not make, answered 01
 
     static void bump(Counter& counter) { counter.fetch_add(1, std::memory_order_relaxed); }

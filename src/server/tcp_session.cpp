@@ -10,6 +10,8 @@
 #include <cstring>
 #include <vector>
 
+#include "server/bare_pdu.hpp"
+
 namespace mblab::server {
 
 namespace {
@@ -162,6 +164,15 @@ std::size_t TcpSession::pump_tls(Clock::time_point now) {
     while (tls_->state() == State::Open && session_.wants_input()) {
         const auto got = tls_->read(session_.input_space());
         if (got == 0) break;
+        if (!seen_plaintext_) {
+            seen_plaintext_ = true;
+            if (is_bare_pdu(session_.input_space().first(got))) {
+                refuse_client(
+                    "it sent a bare PDU without the MBAP header (an early draft's framing, "
+                    "pymodbus's TLS framer); Modbus/TCP Security carries MBAP inside TLS");
+                return handed;
+            }
+        }
         handed += got;
         session_.received(got, now);
     }
@@ -191,6 +202,14 @@ void TcpSession::on_handshake() {
     std::optional<std::string> role;
     if (peer.role.kind == security::RoleReading::Kind::Role) role = peer.role.role;
     session_.authorize(core_->options.roles ? *core_->options.roles : kNoRules, std::move(role));
+}
+
+void TcpSession::refuse_client(const std::string& reason) {
+    ServerStats::bump(core_->stats.tls_refused);
+    if (core_->options.on_tls_refused) core_->options.on_tls_refused(reason);
+    tls_->close();
+    send_cipher();
+    close();
 }
 
 void TcpSession::refuse_handshake(const std::string& reason) {

@@ -50,6 +50,8 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     std::size_t pump_tls(Clock::time_point now);
     void on_handshake();
     void refuse_handshake(const std::string& reason);
+    // Counts and logs a client refused after its handshake, then ends its session.
+    void refuse_client(const std::string& reason);
     // What TLS has for the network; false when the socket is full (or gone).
     bool send_cipher();
     void flush_tls(Clock::time_point now);
@@ -78,8 +80,9 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     bool timer_pending_ = false;
     bool closed_ = false;
     bool in_table_ = false;
-    bool write_blocked_ = false;  // the socket took less than it was given
-    bool input_ended_ = false;    // the session was told the client sends nothing more
+    bool write_blocked_ = false;   // the socket took less than it was given
+    bool input_ended_ = false;     // the session was told the client sends nothing more
+    bool seen_plaintext_ = false;  // the first plaintext was checked for a bare PDU
     std::unique_ptr<security::TlsChannel> tls_;
     Clock::time_point handshake_deadline_ = Clock::time_point::max();
 };

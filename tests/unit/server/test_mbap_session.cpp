@@ -363,3 +363,32 @@ TEST(MbapSessionTrace, ClientThatResetsEndsTheSession) {
 
 }  // namespace
 }  // namespace mblab::test
+
+namespace mblab::test {
+namespace {
+
+// Modbus/TCP Security: once the TLS handshake named the client's role, a request that role may
+// not make is answered 01 by the session, without reaching the device, and counted.
+TEST(MbapSessionTrace, RequestTheRoleMayNotMakeIsAnswered01) {
+    SessionTrace t;
+    const device::RoleRules rules({device::RoleRule{"ReadOnly", {3}, {}, {}, {}, {}}});
+    t.session().authorize(rules, std::string("ReadOnly"));
+    t.client_sends(
+        "00 01 00 00 00 06 01 03 00 07 00 01"
+        "00 02 00 00 00 06 01 06 00 08 12 34");
+    t.device_answers(
+        "00 01 00 00 00 05 01 03 02 00 07"
+        "00 02 00 00 00 03 01 86 01");
+    EXPECT_EQ(ServerStats::read(t.stats().denied), 1U);
+}
+
+TEST(MbapSessionTrace, ClientWithoutRoleIsRefusedEverything) {
+    SessionTrace t;
+    const device::RoleRules rules({device::RoleRule{"Administrator", {}, {}, {}, {}, {}}});
+    t.session().authorize(rules, std::nullopt);
+    t.client_sends("00 09 00 00 00 06 11 03 00 07 00 01");
+    t.device_answers("00 09 00 00 00 03 11 83 01");
+}
+
+}  // namespace
+}  // namespace mblab::test

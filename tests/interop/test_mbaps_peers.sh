@@ -1,0 +1,91 @@
+#!/bin/sh
+# Interop for Modbus/TCP Security (mbaps://) with peers nobody here wrote:
+#  - Debian's openssl s_client against `mblab serve`: MBAP bytes in, the answer's bytes out;
+#    TLS 1.1, no client certificate and a foreign CA refused.
+#  - pymodbus 3.0's TLS client (MBAP framing) against `mblab serve`: roles enforced; its default
+#    bare-PDU framing refused with the reason logged.
+#  - pymodbus 3.0's TLS server against `mblab read mbaps://`.
+# Usage: test_mbaps_peers.sh MBLAB BUILD_DIR
+set -eu
+MBLAB=$1
+HERE=$(cd "$(dirname "$0")" && pwd)
+WORK=$(mktemp -d "${TMPDIR:-/tmp}/mblab-mbaps.XXXXXX")
+. "$HERE/serve_lib.sh"
+PEER_PID=""
+trap '[ -n "$PEER_PID" ] && kill "$PEER_PID" 2>/dev/null; cleanup' EXIT
+
+PKI="$WORK/pki"
+"$MBLAB" pki "$PKI" >/dev/null || fail "mblab pki"
+
+"$MBLAB" serve --listen mbaps://127.0.0.1:0 --cert "$PKI/server.pem" --key "$PKI/server.key" \
+    --ca "$PKI/ca.pem" >"$WORK/serve.out" 2>"$WORK/serve.err" &
+SERVE_PID=$!
+for _ in $(seq 100); do
+    SERVE_PORT=$(sed -n 's/.* on mbaps:\/\/127\.0\.0\.1:\([0-9]*\).*/\1/p' "$WORK/serve.out")
+    [ -n "$SERVE_PORT" ] && break
+    sleep 0.1
+done
+[ -n "$SERVE_PORT" ] || fail "mblab serve mbaps:// did not start: $(cat "$WORK/serve.err")"
+
+# s_client -quiet prints only what the server sends; the request is FC 03, holding 0..1.
+s_client() {
+    timeout 10 openssl s_client -quiet -connect "127.0.0.1:$SERVE_PORT" -CAfile "$PKI/ca.pem" \
+        -verify_return_error "$@"
+}
+request() { printf '\000\001\000\000\000\006\001\003\000\000\000\002'; sleep 1; }
+
+answer=$(request | s_client -cert "$PKI/client-Operator.pem" -key "$PKI/client-Operator.key" \
+    2>"$WORK/s_client.err" | od -An -tx1 | tr -d ' \n')
+[ "$answer" = "00010000000701030453454d49" ] ||
+    fail "openssl s_client: expected 00010000000701030453454d49, got '$answer' ($(cat "$WORK/s_client.err"))"
+echo "ok: openssl s_client with client-Operator gets the MBAP answer"
+
+for version in -tls1 -tls1_1; do
+    if request | s_client "$version" -cipher 'DEFAULT:@SECLEVEL=0' \
+        -cert "$PKI/client-Operator.pem" -key "$PKI/client-Operator.key" \
+        >"$WORK/old.out" 2>"$WORK/old.err"; then
+        [ -s "$WORK/old.out" ] && fail "openssl s_client $version got an answer"
+    fi
+    [ -s "$WORK/old.out" ] && fail "openssl s_client $version got bytes: $(od -An -tx1 "$WORK/old.out")"
+    echo "ok: openssl s_client $version is refused"
+done
+
+for name in "" client-foreign-ca client-expired client-self-signed; do
+    set -- 
+    [ -n "$name" ] && set -- -cert "$PKI/$name.pem" -key "$PKI/$name.key"
+    request | s_client "$@" >"$WORK/neg.out" 2>"$WORK/neg.err" || true
+    [ -s "$WORK/neg.out" ] && fail "openssl s_client ${name:-without a certificate} got an answer"
+    grep -qi "alert" "$WORK/neg.err" || fail "openssl s_client ${name:-without a certificate}: no TLS alert: $(cat "$WORK/neg.err")"
+    echo "ok: openssl s_client ${name:-without a certificate} is refused with an alert"
+done
+
+/usr/bin/python3 "$HERE/pymodbus_tls_client.py" "$SERVE_PORT" "$PKI" mbap || fail "pymodbus TLS client (MBAP)"
+/usr/bin/python3 "$HERE/pymodbus_tls_client.py" "$SERVE_PORT" "$PKI" bare-pdu || fail "pymodbus TLS client (bare PDU)"
+sleep 0.2
+grep -q "refused a TLS client: it sent a bare PDU without the MBAP header" "$WORK/serve.err" ||
+    fail "serve did not log the bare-PDU refusal: $(cat "$WORK/serve.err")"
+echo "ok: serve logs why it refused the bare-PDU client"
+grep -q "refused a TLS client: the client's certificate was refused: certificate has expired" "$WORK/serve.err" ||
+    fail "serve did not log the expired certificate: $(cat "$WORK/serve.err")"
+stop_serve
+
+# pymodbus as the server, our client against it.
+PEER_PORT=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+/usr/bin/python3 "$HERE/pymodbus_tls_server.py" "$PEER_PORT" "$PKI" >"$WORK/peer.log" 2>&1 &
+PEER_PID=$!
+for _ in $(seq 100); do
+    "$MBLAB" read "mbaps://localhost:$PEER_PORT" holding 0 2 --cert "$PKI/client-Operator.pem" \
+        --key "$PKI/client-Operator.key" --ca "$PKI/ca.pem" --json >"$WORK/read.json" 2>"$WORK/read.err" && break
+    sleep 0.1
+done
+/usr/bin/python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); sys.exit([v["value"] for v in d["values"]] != [100, 101])' "$WORK/read.json" ||
+    fail "mblab read from pymodbus's TLS server: $(cat "$WORK/read.json" "$WORK/read.err")"
+echo "ok: mblab read mbaps:// reads pymodbus's TLS server"
+if "$MBLAB" read "mbaps://localhost:$PEER_PORT" holding 0 2 --cert "$PKI/client-Operator.pem" \
+    --key "$PKI/client-Operator.key" --ca "$PKI/foreign-ca.pem" 2>"$WORK/foreign.err"; then
+    fail "mblab read trusted a server signed by another CA"
+fi
+grep -q "the server.s certificate was refused: " "$WORK/foreign.err" ||
+    fail "the refusal of the server's certificate does not say why: $(cat "$WORK/foreign.err")"
+echo "ok: mblab read refuses a server its --ca did not sign: $(cat "$WORK/foreign.err")"
+echo "PASS"
