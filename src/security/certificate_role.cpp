@@ -10,6 +10,7 @@
 
 #include "security/openssl_handles.hpp"
 #include "security/role_text.hpp"
+#include "security/tls_context.hpp"
 
 namespace mblab::security {
 
@@ -102,7 +103,7 @@ RoleReading read_role(const X509* certificate) {
     static const std::string oid_text(kRoleOid);
     // no_name = 1: the text is a dotted OID, never looked up as a short or long name.
     Asn1ObjectPtr oid(OBJ_txt2obj(oid_text.c_str(), 1));
-    if (!oid) return refused(openssl_error("cannot make the role OID"));
+    if (!oid) return refused("cannot make the role OID: " + take_openssl_error("no reason"));
     const int first = X509_get_ext_by_OBJ(certificate, oid.get(), -1);
     if (first < 0) return RoleReading{};
     if (X509_get_ext_by_OBJ(certificate, oid.get(), first) >= 0) {
@@ -117,7 +118,9 @@ RoleReading read_role_der(std::span<const std::uint8_t> der) {
     if (der.size() > 1U << 20U) return refused("the certificate is larger than 1 MiB");
     const unsigned char* cursor = der.data();
     X509Ptr certificate(d2i_X509(nullptr, &cursor, static_cast<long>(der.size())));
-    if (!certificate) return refused(openssl_error("the certificate is not DER"));
+    if (!certificate) {
+        return refused("the certificate is not DER: " + take_openssl_error("no reason"));
+    }
     if (cursor != der.data() + der.size()) return refused("bytes after the certificate");
     return read_role(certificate.get());
 }

@@ -8,7 +8,6 @@
 #include <openssl/x509v3.h>
 
 #include <memory>
-#include <string>
 
 // Owning handles for the OpenSSL objects the security layer makes, so that every early return
 // frees what was made before it (a fuzzed or refused input takes those returns all the time).
@@ -34,9 +33,5 @@ using BioPtr = std::unique_ptr<BIO, OpensslFree<BIO, BIO_free_all>>;
 using X509StorePtr = std::unique_ptr<X509_STORE, OpensslFree<X509_STORE, X509_STORE_free>>;
 using X509StoreCtxPtr =
     std::unique_ptr<X509_STORE_CTX, OpensslFree<X509_STORE_CTX, X509_STORE_CTX_free>>;
-
-// The first error on this thread's OpenSSL error queue as one line, "what: reason", and the queue
-// emptied, so a later failure is not blamed on this one's leftovers.
-std::string openssl_error(const std::string& what);
 
 }  // namespace mblab::security

@@ -22,6 +22,7 @@
 #include "security/certificate_role.hpp"
 #include "security/openssl_handles.hpp"
 #include "security/role_text.hpp"
+#include "security/tls_context.hpp"
 
 namespace mblab::security {
 
@@ -36,7 +37,7 @@ class PkiFailure : public std::runtime_error {
 };
 
 void check(bool ok, const std::string& what) {
-    if (!ok) throw PkiFailure(openssl_error(what));
+    if (!ok) throw PkiFailure(what + ": " + take_openssl_error("no reason given by OpenSSL"));
 }
 
 // The client certificates every PKI has besides one per role; a role of the same name would
