@@ -31,7 +31,7 @@ _mblab() {
             COMPREPLY=($(compgen -W "${COMPREPLY[*]}" -- "$cur") $(compgen -f -- "$cur"))
             return
             ;;
-        --dut | --profile | --json | --junit | --pcap | --state | --devices)
+        --dut | --profile | --json | --junit | --pcap | --state | --devices | --cert | --key | --ca)
             COMPREPLY=($(compgen -f -- "$cur"))
             return
             ;;

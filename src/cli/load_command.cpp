@@ -16,6 +16,7 @@
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/tls_options.hpp"
 #include "client/raw_link.hpp"
 #include "client/target.hpp"
 #include "conformance/catalogue.hpp"
@@ -62,6 +63,7 @@ struct LoadOptions {
     std::uint64_t seed = 1;
     std::string json;
     std::string junit;
+    security::TlsFiles tls;  // mbaps:// nodes
     CLI::App* command = nullptr;
 };
 
@@ -105,7 +107,8 @@ protocol::Result<conf::Dut, std::string> declared_dut(const LoadOptions& options
 }
 
 protocol::Result<load::LoadTarget, std::string> make_target(const std::string& text,
-                                                            std::chrono::milliseconds timeout) {
+                                                            std::chrono::milliseconds timeout,
+                                                            const security::TlsFiles& tls) {
     if (transport::is_serial_url(text)) {
         auto parsed = client::parse_target(text);
         if (!parsed) return parsed.error();
@@ -117,15 +120,19 @@ protocol::Result<load::LoadTarget, std::string> make_target(const std::string& t
         target.line = std::move(parsed.value());
         return target;
     }
-    auto endpoint = transport::parse_tcp_url(text);
+    auto parsed = client::parse_target(text);
+    if (!parsed) return parsed.error();
+    if (auto error = client::attach_tls(*parsed, tls); !error.empty()) return error;
+    const bool secure = parsed->secure;
+    auto endpoint = secure ? transport::parse_mbaps_url(text) : transport::parse_tcp_url(text);
     if (!endpoint) return endpoint.error();
     load::LoadTarget target;
-    target.url = transport::format_tcp_url(*endpoint);
+    target.url = parsed->name;
+    target.tls = parsed->tcp->tls;
     std::memcpy(&target.address, endpoint->data(), endpoint->size());
     target.address_size = static_cast<socklen_t>(endpoint->size());
     // Seed 000 8.3 loads devices that work; one that cannot be reached is a setup error.
-    auto link = client::RawLink::connect(
-        {endpoint->address().to_string(), endpoint->port(), nullptr}, timeout);
+    auto link = client::RawLink::connect(*parsed->tcp, timeout);
     if (!link) return fmt::format("cannot connect to {}: {}", target.url, link.error().message);
     return target;
 }
@@ -156,7 +163,7 @@ protocol::Result<load::LoadPlan, std::string> make_plan(const LoadOptions& optio
 
     std::set<std::string> seen;
     for (const auto& text : options.targets) {
-        auto target = make_target(text, s.timeout);
+        auto target = make_target(text, s.timeout, options.tls);
         if (!target) return target.error();
         if (!seen.insert(target->url).second) {
             return fmt::format("{} is given twice; each node is one device", target->url);
@@ -311,6 +318,7 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
         ->capture_default_str();
     cmd->add_option("--json", options->json, "write the report as JSON to FILE");
     cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
+    add_tls_options(*cmd, options->tls, "client's");
     cmd->callback([options, &runner] { runner = [options] { return run_load(*options); }; });
 }
 

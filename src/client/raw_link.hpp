@@ -29,7 +29,7 @@ struct TlsSetup {
 struct Endpoint {
     std::string host;
     std::uint16_t port = 502;
-    std::shared_ptr<const TlsSetup> tls;  // set: MBAP inside TLS
+    std::shared_ptr<const TlsSetup> tls{};  // set: MBAP inside TLS
 };
 
 class RawLink {

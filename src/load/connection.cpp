@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cerrno>
 #include <cstring>
@@ -74,6 +75,7 @@ LoadConnection::LoadConnection(WorkerContext& context, NodeTally& tally, std::si
 
 LoadConnection::~LoadConnection() {
     if (fd_ >= 0) ::close(fd_);
+    SSL_SESSION_free(session_);
 }
 
 bool LoadConnection::settled() const {
@@ -125,13 +127,74 @@ void LoadConnection::finish_connect(LoadClock::time_point now) {
 
 void LoadConnection::opened(LoadClock::time_point now) {
     const bool registered = want_write_;
-    state_ = State::Open;
     want_write_ = false;
     if (registered) {
         context_.epoll.modify(fd_, this, interest(false));
     } else {
         context_.epoll.add(fd_, this, interest(false));
     }
+    if (target_.tls) {
+        start_tls(now);
+        return;
+    }
+    start_traffic(now);
+}
+
+void LoadConnection::start_tls(LoadClock::time_point now) {
+    state_ = State::Handshaking;
+    tls_ = std::make_unique<security::TlsChannel>(
+        target_.tls->context, security::TlsChannel::Side::Client, target_.tls->server_name);
+    tls_->offer_session(session_);
+    tls_->start();
+    send_cipher(now);
+}
+
+void LoadConnection::handshake(LoadClock::time_point now) {
+    if (!receive(now) || state_ != State::Handshaking) return;
+    using TlsState = security::TlsChannel::State;
+    switch (tls_->state()) {
+        case TlsState::Handshaking:
+            send_cipher(now);
+            return;
+        case TlsState::Open:
+            if (!send_cipher(now)) return;
+            tally_.handshakes.add();
+            if (tls_->peer().resumed) tally_.resumed.add();
+            start_traffic(now);
+            return;
+        case TlsState::Closed:
+        case TlsState::Failed: {
+            const std::string why = "TLS handshake: " + tls_->error();
+            send_cipher(now);
+            disconnect(now);
+            fail(FailureKind::Refused, nullptr, {client::ReceiveStatus::Closed, {}, why}, now,
+                 "cannot connect: ");
+            return;
+        }
+    }
+}
+
+bool LoadConnection::send_cipher(LoadClock::time_point now) {
+    for (auto out = tls_->output(); !out.empty(); out = tls_->output()) {
+        const ssize_t n = ::send(fd_, out.data(), out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n > 0) {
+            tls_->sent(static_cast<std::size_t>(n));
+            continue;
+        }
+        if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+            set_write_interest(true);
+            return true;
+        }
+        if (n < 0 && errno == EINTR) continue;
+        lost(now, socket_error_text(n < 0 ? errno : EPIPE));
+        return false;
+    }
+    set_write_interest(false);
+    return true;
+}
+
+void LoadConnection::start_traffic(LoadClock::time_point now) {
+    state_ = State::Open;
     const auto interval = context_.send_interval;
     if (interval.count() > 0) {
         // Spread the connections' sends over the interval rather than all at once.
@@ -141,6 +204,19 @@ void LoadConnection::opened(LoadClock::time_point now) {
 }
 
 void LoadConnection::disconnect(LoadClock::time_point now) {
+    if (tls_) {
+        if (tls_->state() == security::TlsChannel::State::Open && fd_ >= 0) {
+            // close_notify keeps the session resumable, and the device sees an orderly end.
+            tls_->close();
+            const auto out = tls_->output();
+            if (!out.empty()) ::send(fd_, out.data(), out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
+        }
+        if (SSL_SESSION* session = tls_->take_session()) {
+            SSL_SESSION_free(session_);
+            session_ = session;
+        }
+        tls_.reset();
+    }
     if (fd_ >= 0) {
         context_.epoll.remove(fd_);
         ::close(fd_);
@@ -167,6 +243,11 @@ void LoadConnection::on_event(std::uint32_t events, LoadClock::time_point now) {
         if ((events & (EPOLLOUT | EPOLLERR | EPOLLHUP)) != 0) finish_connect(now);
         return;
     }
+    if (state_ == State::Handshaking) {
+        if ((events & EPOLLOUT) != 0 && !send_cipher(now)) return;
+        if ((events & (EPOLLIN | EPOLLERR | EPOLLHUP)) != 0) handshake(now);
+        return;
+    }
     if (state_ != State::Open) return;
     if ((events & (EPOLLIN | EPOLLERR | EPOLLHUP)) != 0) read(now);
     if (state_ == State::Open && (events & EPOLLOUT) != 0) flush(now);
@@ -182,6 +263,7 @@ void LoadConnection::tick(LoadClock::time_point now) {
             }
             return;
         case State::Connecting:
+        case State::Handshaking:
             if (!context_.running) {
                 disconnect(now);
             } else if (now >= connect_deadline_) {
@@ -276,6 +358,16 @@ void LoadConnection::fill(LoadClock::time_point now) {
 }
 
 void LoadConnection::flush(LoadClock::time_point now) {
+    if (tls_) {
+        if (out_begin_ < out_end_ &&
+            !tls_->write({out_.data() + out_begin_, out_end_ - out_begin_})) {
+            lost(now, "the TLS session failed");
+            return;
+        }
+        out_begin_ = out_end_ = 0;
+        send_cipher(now);
+        return;
+    }
     while (out_begin_ < out_end_) {
         const ssize_t n = ::send(fd_, out_.data() + out_begin_, out_end_ - out_begin_,
                                  MSG_NOSIGNAL | MSG_DONTWAIT);
@@ -301,24 +393,49 @@ void LoadConnection::set_write_interest(bool want) {
     context_.epoll.modify(fd_, this, interest(want));
 }
 
-void LoadConnection::read(LoadClock::time_point now) {
+bool LoadConnection::receive(LoadClock::time_point now) {
     if (in_end_ == in_.size()) {  // only a partial frame at the front can be held: compact
         std::memmove(in_.data(), in_.data() + in_begin_, in_end_ - in_begin_);
         in_end_ -= in_begin_;
         in_begin_ = 0;
     }
-    const ssize_t n = ::recv(fd_, in_.data() + in_end_, in_.size() - in_end_, MSG_DONTWAIT);
+    std::array<std::uint8_t, 16 * 1024 + 512> cipher;
+    const auto into = tls_ ? std::span<std::uint8_t>(cipher)
+                           : std::span<std::uint8_t>(in_.data() + in_end_, in_.size() - in_end_);
+    const ssize_t n = ::recv(fd_, into.data(), into.size(), MSG_DONTWAIT);
     if (n == 0) {
         lost(now, "connection closed by the device");
-        return;
+        return false;
     }
     if (n < 0) {
         if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
             lost(now, socket_error_text(errno));
         }
-        return;
+        return false;
     }
-    in_end_ += static_cast<std::size_t>(n);
+    if (!tls_) {
+        in_end_ += static_cast<std::size_t>(n);
+        return true;
+    }
+    tls_->received(into.first(static_cast<std::size_t>(n)));
+    while (std::size_t got = tls_->read({in_.data() + in_end_, in_.size() - in_end_})) {
+        in_end_ += got;
+    }
+    if (state_ == State::Open && tls_->state() != security::TlsChannel::State::Open) {
+        // A device that refuses the certificate after a TLS 1.3 handshake says so only now.
+        const std::string why = tls_->state() == security::TlsChannel::State::Closed
+                                    ? "the device ended the TLS session"
+                                    : "TLS: " + tls_->error();
+        fail(FailureKind::Dropped, oldest_slot(), {client::ReceiveStatus::Closed, held(), why},
+             now);
+        disconnect(now);
+        return false;
+    }
+    return true;
+}
+
+void LoadConnection::read(LoadClock::time_point now) {
+    if (!receive(now)) return;
     while (in_begin_ < in_end_) {
         std::size_t consumed = 0;
         const protocol::FrameEvent event = framer_.feed(held(), consumed);

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
 #include <string_view>
@@ -14,6 +15,7 @@
 #include "load/plan.hpp"
 #include "load/tally.hpp"
 #include "protocol/framer.hpp"
+#include "security/tls_channel.hpp"
 #include "support/prng.hpp"
 #include "transport/epoll_set.hpp"
 
@@ -55,7 +57,7 @@ class LoadConnection {
     bool settled() const;
 
   private:
-    enum class State : std::uint8_t { Closed, Connecting, Open, Done };
+    enum class State : std::uint8_t { Closed, Connecting, Handshaking, Open, Done };
     struct Slot {
         LoadClock::time_point sent_at{};
         std::uint32_t exchange = 0;
@@ -69,6 +71,14 @@ class LoadConnection {
     void connect(LoadClock::time_point now);
     void finish_connect(LoadClock::time_point now);
     void opened(LoadClock::time_point now);
+    void start_traffic(LoadClock::time_point now);
+    // mbaps://: the TLS session between the socket and in_/out_.
+    void start_tls(LoadClock::time_point now);
+    void handshake(LoadClock::time_point now);
+    // Sends what TLS has for the network; false when the connection was lost.
+    bool send_cipher(LoadClock::time_point now);
+    // Reads the socket into in_ (through TLS on mbaps://); false when nothing more can be read.
+    bool receive(LoadClock::time_point now);
     void disconnect(LoadClock::time_point now);
     void lost(LoadClock::time_point now, const char* detail);
 
@@ -121,6 +131,10 @@ class LoadConnection {
     std::vector<std::uint8_t> out_;
     std::size_t out_begin_ = 0;
     std::size_t out_end_ = 0;
+
+    std::unique_ptr<security::TlsChannel> tls_;
+    // The last session, offered again at a reconnect so the device can resume it.
+    SSL_SESSION* session_ = nullptr;
 };
 
 }  // namespace mblab::load

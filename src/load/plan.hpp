@@ -57,6 +57,7 @@ struct LoadTarget {
     std::string url;             // "tcp://127.0.0.1:1502"
     sockaddr_storage address{};  // Modbus/TCP nodes
     socklen_t address_size = 0;
+    std::shared_ptr<const client::TlsSetup> tls;  // mbaps:// nodes
     std::optional<client::Target> line;  // RTU, ASCII and RTU over TCP nodes (LoadLineWorker)
 };
 

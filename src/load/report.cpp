@@ -124,6 +124,8 @@ json node_json(const LoadPlan& plan, const LoadResult& result, const NodeResult&
                 {"requests", node.sent},
                 {"answers", node.answered},
                 {"late_answers", node.late},
+                {"tls_handshakes", node.handshakes},
+                {"tls_resumed", node.resumed},
                 {"requests_per_s", rate(node.answered, result.elapsed)},
                 {"failures", failures},
                 {"latency_ms", latency_json(node.latency)},
@@ -220,6 +222,11 @@ std::string load_summary(const LoadPlan& plan, const LoadResult& result) {
             millis(l.percentile(0.50)), millis(l.percentile(0.90)), millis(l.percentile(0.99)),
             millis(l.percentile(0.999)), millis(l.max()),
             load_verdict_label(node.verdict(result.interrupted)));
+    }
+    for (const auto& node : result.nodes) {
+        if (node.handshakes == 0) continue;
+        out += fmt::format("{}: {} TLS handshakes, {} of them resumed\n", node.target,
+                           node.handshakes, node.resumed);
     }
     for (const auto& node : result.nodes) {
         for (const auto& na : node.not_applicable) {

@@ -56,6 +56,8 @@ void merge_tally(NodeResult& result, const NodeTally& tally, const LoadPlan& pla
     result.sent += tally.sent.get();
     result.answered += tally.answered.get();
     result.late += tally.late.get();
+    result.handshakes += tally.handshakes.get();
+    result.resumed += tally.resumed.get();
     for (std::size_t k = 0; k < kFailureKinds; ++k)
         result.failures[k] += tally.failures[k].get();
     tally.latency.snapshot_into(result.latency);

@@ -38,7 +38,9 @@ class NodeTally {
 
     Tally sent;
     Tally answered;
-    Tally late;  // answers that came after their request had timed out (not counted again)
+    Tally late;        // answers that came after their request had timed out (not counted again)
+    Tally handshakes;  // mbaps:// nodes: TLS handshakes completed, resumed ones included
+    Tally resumed;
     std::array<Tally, kFailureKinds> failures;
     LatencyHistogram latency;
 

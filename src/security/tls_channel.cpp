@@ -191,6 +191,11 @@ std::span<const std::uint8_t> TlsChannel::output() const {
 }
 
 void TlsChannel::sent(std::size_t count) {
+    // Usually the socket took everything: empty the buffer rather than read it out.
+    if (count > 0 && count == output().size()) {
+        (void)BIO_reset(out_);
+        return;
+    }
     std::array<std::uint8_t, 4096> discard;
     while (count > 0) {
         const int n =

@@ -1,0 +1,156 @@
+// Modbus/TCP Security end to end: the reference device behind TLS with its shipped role rules, and
+// the real binary's client commands, load and serve against it, with a lab PKI from mblab pki.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "device/profile_loader.hpp"
+#include "device/reference_device.hpp"
+#include "load_cli_support.hpp"
+#include "security/pki.hpp"
+#include "security/tls_context.hpp"
+#include "server/background_server.hpp"
+#include "test_client_support.hpp"
+
+namespace mblab::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+class MbapsCli : public ::testing::Test {
+  protected:
+    static void SetUpTestSuite() {
+        pki_ = new fs::path(fs::temp_directory_path() /
+                            ("mblab-mbaps-cli-" + std::to_string(::getpid())));
+        fs::remove_all(*pki_);
+        const auto made = security::make_lab_pki(*pki_, {});
+        ASSERT_TRUE(made) << made.error();
+    }
+    static void TearDownTestSuite() {
+        fs::remove_all(*pki_);
+        delete pki_;
+    }
+
+    void SetUp() override {
+        auto loaded =
+            device::load_profile(std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml");
+        ASSERT_TRUE(loaded) << loaded.error();
+        device_ = std::move(loaded.value());
+        server::ServerOptions options;
+        auto context =
+            security::make_server_context({file("server.pem"), file("server.key"), file("ca.pem")});
+        ASSERT_TRUE(context) << context.error();
+        options.tls = *context;
+        options.roles = std::make_shared<const device::RoleRules>(device_->profile().roles);
+        server_ = std::make_unique<server::BackgroundServer>(*device_, options);
+        auto port = server_->start();
+        ASSERT_TRUE(port) << port.error();
+        target_ = "mbaps://localhost:" + std::to_string(*port);
+    }
+
+    static std::string file(const std::string& name) { return (*pki_ / name).string(); }
+    // --cert/--key/--ca of a client certificate of the lab PKI.
+    static std::vector<std::string> as(const std::string& client) {
+        return {"--cert", file(client + ".pem"), "--key", file(client + ".key"),
+                "--ca",   file("ca.pem")};
+    }
+    Ran mblab(std::vector<std::string> args, const std::string& client) const {
+        args.insert(args.begin() + 1, target_);
+        for (auto& arg : as(client))
+            args.push_back(arg);
+        return run_mblab(args);
+    }
+
+    static fs::path* pki_;
+    std::unique_ptr<device::ReferenceDevice> device_;
+    std::unique_ptr<server::BackgroundServer> server_;
+    std::string target_;
+};
+
+fs::path* MbapsCli::pki_ = nullptr;
+
+TEST_F(MbapsCli, OperatorReadsAndWritesAndVerboseNamesTheSession) {
+    auto wrote = mblab({"write", "register", "30", "4660"}, "client-Operator");
+    ASSERT_EQ(wrote.status, 0) << wrote.err;
+    auto read = mblab({"read", "holding", "30", "1", "--json", "-v"}, "client-Operator");
+    ASSERT_EQ(read.status, 0) << read.err;
+    EXPECT_EQ(nlohmann::json::parse(read.out)["values"][0]["value"], 4660);
+    EXPECT_NE(read.err.find("TLS: TLSv1.3"), std::string::npos) << read.err;
+    EXPECT_NE(read.err.find("we presented role Operator"), std::string::npos) << read.err;
+    EXPECT_EQ(server::ServerStats::read(server_->stats().tls_handshakes), 2U);
+}
+
+TEST_F(MbapsCli, ReadOnlyRoleIsRefusedAWriteWithException01) {
+    auto wrote = mblab({"write", "register", "31", "1"}, "client-ReadOnly");
+    EXPECT_EQ(wrote.status, 1);
+    EXPECT_NE(wrote.err.find("exception 01"), std::string::npos) << wrote.err;
+    EXPECT_EQ(server::ServerStats::read(server_->stats().denied), 1U);
+    auto read = mblab({"read", "holding", "31", "1", "--json"}, "client-ReadOnly");
+    ASSERT_EQ(read.status, 0) << read.err;
+    EXPECT_EQ(nlohmann::json::parse(read.out)["values"][0]["value"], 0);
+    auto diag = mblab({"diag", "0", "0x1234"}, "client-ReadOnly");
+    EXPECT_EQ(diag.status, 1) << diag.out << diag.err;
+    EXPECT_NE(diag.err.find("exception 01"), std::string::npos) << diag.err;
+}
+
+TEST_F(MbapsCli, RefusedCertificatesAreOneLineNamingTheProblem) {
+    for (const char* client : {"client-expired", "client-foreign-ca", "client-ia5-role"}) {
+        auto read = mblab({"read", "holding", "0", "1"}, client);
+        EXPECT_NE(read.status, 0) << client;
+        EXPECT_EQ(std::count(read.err.begin(), read.err.end(), '\n'), 1) << read.err;
+        EXPECT_NE(read.err.find("TLS"), std::string::npos) << client << ": " << read.err;
+    }
+    EXPECT_EQ(server::ServerStats::read(server_->stats().tls_refused), 3U);
+    EXPECT_EQ(server::ServerStats::read(server_->stats().requests), 0U);
+}
+
+TEST_F(MbapsCli, MissingOrMisplacedFilesAreUsageErrors) {
+    auto none = run_mblab({"read", target_, "holding", "0", "1"});
+    EXPECT_EQ(none.status, 2);
+    EXPECT_NE(none.err.find("--cert FILE is required for mbaps://"), std::string::npos) << none.err;
+    auto missing = run_mblab({"read", target_, "holding", "0", "1", "--cert", "/nonexistent.pem",
+                              "--key", file("client-Operator.key"), "--ca", file("ca.pem")});
+    EXPECT_EQ(missing.status, 2);
+    EXPECT_EQ(missing.err, "mblab read: --cert /nonexistent.pem: No such file or directory\n");
+    auto plain = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "0", "1", "--cert", "x"});
+    EXPECT_EQ(plain.status, 2);
+    EXPECT_EQ(plain.err, "mblab read: --cert, --key and --ca are for mbaps:// targets only\n");
+}
+
+TEST_F(MbapsCli, LoadOverTlsCountsHandshakesAndPasses) {
+    std::vector<std::string> args = {target_, "--duration", "1s",    "--connections",
+                                     "4",     "--no-tests", "--mix", "fc3:10=100"};
+    for (auto& arg : as("client-Administrator"))
+        args.push_back(arg);
+    auto run = mblab_load("mbaps_load", args);
+    ASSERT_EQ(run.status, 0) << run.out << run.err;
+    const auto& node = run.report["nodes"][0];
+    expect_clean(node);
+    EXPECT_EQ(node["tls_handshakes"], 4);
+    EXPECT_GT(node["answers"].get<std::uint64_t>(), 0U);
+    EXPECT_NE(run.out.find("4 TLS handshakes"), std::string::npos) << run.out;
+}
+
+TEST_F(MbapsCli, LoadWithARoleThatMayNotReadFails) {
+    std::vector<std::string> args = {target_, "--duration", "1s",    "--connections",
+                                     "1",     "--no-tests", "--mix", "fc3:10=100"};
+    for (auto& arg : as("client-norole"))
+        args.push_back(arg);
+    auto run = mblab_load("mbaps_load_norole", args);
+    EXPECT_EQ(run.status, 1) << run.out << run.err;
+    EXPECT_GT(failures(run.report["nodes"][0], "exception"), 0U) << run.report.dump();
+}
+
+TEST(MbapsServe, ServesTlsFromTheCommandLineAndRefusesBadFiles) {
+    auto no_files = run_mblab({"serve", "--listen", "mbaps://127.0.0.1:0"});
+    EXPECT_EQ(no_files.status, 2);
+    EXPECT_EQ(no_files.err, "mblab serve: --cert FILE is required\n");
+    auto plain = run_mblab({"serve", "--listen", "tcp://127.0.0.1:0", "--ca", "x"});
+    EXPECT_EQ(plain.status, 2);
+    EXPECT_EQ(plain.err, "mblab serve: --cert, --key and --ca are for an mbaps:// --listen\n");
+}
+
+}  // namespace
+}  // namespace mblab::test
