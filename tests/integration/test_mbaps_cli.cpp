@@ -63,6 +63,16 @@ class MbapsCli : public ::testing::Test {
         return run_mblab(args);
     }
 
+    // One second of FC 03 traffic from `connections` connections as `client`.
+    LoadRun load_as(const std::string& name, const std::string& client,
+                    const std::string& connections) const {
+        std::vector<std::string> args = {target_,     "--duration", "1s",    "--connections",
+                                         connections, "--no-tests", "--mix", "fc3:10=100"};
+        for (auto& arg : as(client))
+            args.push_back(arg);
+        return mblab_load(name, args);
+    }
+
     static fs::path* pki_;
     std::unique_ptr<device::ReferenceDevice> device_;
     std::unique_ptr<server::BackgroundServer> server_;
