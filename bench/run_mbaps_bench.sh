@@ -1,0 +1,126 @@
+#!/usr/bin/env bash
+# What Modbus/TCP Security costs (docs/security.md "Benchmark"), side by side in one run:
+#   1. answers/s of FC 03 x125 reads over tcp:// and mbaps:// (mblab load --no-tests against one
+#      mblab serve of each) at 1 and 16 connections;
+#   2. full and resumed TLS handshakes per second, measured by openssl s_time against mblab serve
+#      and, for scale, against openssl s_server with the same certificates;
+#   3. the server's memory per idle connection, tcp:// and mbaps://, from its RSS before and after
+#      N idle connections (bench/idle_tls_connections.py).
+#   bench/run_mbaps_bench.sh [MBLAB] [SECONDS]     (default build/mblab, 5 s per measurement)
+# Environment: IDLE (connections for the memory figure, default 500).
+set -euo pipefail
+
+here=$(cd "$(dirname "$0")" && pwd)
+mblab=${1:-$here/../build/mblab}
+seconds=${2:-5}
+idle=${IDLE:-500}
+[[ -x $mblab ]] || { echo "run_mbaps_bench: no mblab binary at $mblab" >&2; exit 2; }
+
+work=$(mktemp -d)
+pids=()
+cleanup() {
+    for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
+    wait 2>/dev/null || true
+    rm -rf "$work"
+}
+trap cleanup EXIT
+
+"$mblab" pki "$work/pki" >/dev/null
+pki=$work/pki
+client=(--cert "$pki/client-Administrator.pem" --key "$pki/client-Administrator.key" --ca "$pki/ca.pem")
+
+# serve URL: starts mblab serve on an ephemeral port, sets $port and $pid.
+serve() {
+    local out=$work/serve.$RANDOM
+    "$mblab" serve --listen "$1" --cert "$pki/server.pem" --key "$pki/server.key" --ca "$pki/ca.pem" \
+        --max-connections 0 >"$out" 2>/dev/null &
+    pid=$!
+    pids+=("$pid")
+    for _ in $(seq 100); do
+        port=$(sed -nE 's/.* on [a-z]+:\/\/127\.0\.0\.1:([0-9]+).*/\1/p' "$out")
+        [[ -n $port ]] && return 0
+        sleep 0.1
+    done
+    echo "run_mbaps_bench: mblab serve $1 did not start" >&2
+    exit 1
+}
+serve_plain() {
+    "$mblab" serve --listen tcp://127.0.0.1:0 --max-connections 0 >"$work/plain.out" 2>/dev/null &
+    plain_pid=$!
+    pids+=("$plain_pid")
+    for _ in $(seq 100); do
+        plain_port=$(sed -nE 's/.* on tcp:\/\/127\.0\.0\.1:([0-9]+).*/\1/p' "$work/plain.out")
+        [[ -n $plain_port ]] && return 0
+        sleep 0.1
+    done
+    exit 1
+}
+serve mbaps://127.0.0.1:0
+tls_port=$port tls_pid=$pid
+serve_plain
+
+answers() {  # TARGET CONNECTIONS [ARGS...]
+    local target=$1 connections=$2
+    shift 2
+    "$mblab" load "$target" --no-tests --duration "${seconds}s" --connections "$connections" \
+        --mix fc3:125=100 --threads 1 --json "$work/load.json" "$@" >/dev/null 2>&1 || true
+    python3 -c 'import json,sys; print(round(json.load(open(sys.argv[1]))["nodes"][0]["requests_per_s"]))' "$work/load.json"
+}
+
+echo "== answers/s, FC 03 x125, ${seconds} s each"
+printf '%-12s %12s %12s %8s\n' connections tcp:// mbaps:// "TLS cost"
+for connections in 1 16; do
+    plain=$(answers "tcp://127.0.0.1:$plain_port" "$connections")
+    tls=$(answers "mbaps://localhost:$tls_port" "$connections" "${client[@]}")
+    printf '%-12s %12s %12s %7.1f%%\n' "$connections" "$plain" "$tls" \
+        "$(python3 -c "print(100 * (1 - $tls / $plain))")"
+done
+
+handshakes() {  # PORT -new|-reuse [-tls1_2]
+    openssl s_time -connect "127.0.0.1:$1" "${@:2}" -time "$seconds" \
+        -cert "$pki/client-Administrator.pem" -key "$pki/client-Administrator.key" \
+        -CAfile "$pki/ca.pem" 2>/dev/null |
+        sed -nE 's/^([0-9]+) connections in ([0-9.]+) real seconds.*/\1 \2/p' | tail -1 |
+        awk '{ printf "%.0f", $1 / $2 }'
+}
+openssl s_server -accept 127.0.0.1:0 -cert "$pki/server.pem" -key "$pki/server.key" \
+    -CAfile "$pki/ca.pem" -Verify 1 -verify_return_error -naccept 1000000 \
+    >"$work/s_server.out" 2>&1 &
+pids+=($!)
+s_server_port=
+for _ in $(seq 100); do
+    s_server_port=$(sed -nE 's/^ACCEPT .*:([0-9]+)\s*$/\1/p' "$work/s_server.out" 2>/dev/null | head -1 || true)
+    [[ -n $s_server_port ]] && break
+    sleep 0.1
+done
+echo
+# s_time ends a connection before a TLS 1.3 session ticket comes, so resumption is timed on 1.2.
+echo "== TLS handshakes per second (openssl s_time, ${seconds} s each; client certificate sent)"
+printf '%-22s %12s %12s %16s\n' server "full TLS 1.3" "full TLS 1.2" "resumed TLS 1.2"
+row() {
+    printf '%-22s %12s %12s %16s\n' "$1" "$(handshakes "$2" -new)" "$(handshakes "$2" -new -tls1_2)" \
+        "$(handshakes "$2" -reuse -tls1_2)"
+}
+row "mblab serve" "$tls_port"
+[[ -n $s_server_port ]] && row "openssl s_server" "$s_server_port"
+
+rss_kib() { sed -nE 's/^VmRSS:\s+([0-9]+) kB/\1/p' "/proc/$1/status"; }
+per_connection() {  # PID PORT [CERT KEY CA]
+    local pid=$1 port=$2
+    shift 2
+    local before after
+    before=$(rss_kib "$pid")
+    coproc HOLD { python3 "$here/idle_tls_connections.py" "$port" "$idle" "$@"; }
+    read -r _ready _count <&"${HOLD[0]}"
+    sleep 0.5
+    after=$(rss_kib "$pid")
+    exec {HOLD[1]}>&-
+    wait "$HOLD_PID" 2>/dev/null || true
+    python3 -c "print(f'{($after - $before) * 1024 / $idle:.0f}')"
+}
+echo
+echo "== server memory per idle connection ($idle connections, RSS difference)"
+printf '%-10s %10s\n' listen "bytes"
+printf '%-10s %10s\n' tcp:// "$(per_connection "$plain_pid" "$plain_port")"
+printf '%-10s %10s\n' mbaps:// "$(per_connection "$tls_pid" "$tls_port" "$pki/client-Administrator.pem" \
+    "$pki/client-Administrator.key" "$pki/ca.pem")"
