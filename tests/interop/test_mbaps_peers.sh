@@ -69,6 +69,40 @@ grep -q "refused a TLS client: the client's certificate was refused: certificate
     fail "serve did not log the expired certificate: $(cat "$WORK/serve.err")"
 stop_serve
 
+# Certificates made by the openssl CLI, not by mblab pki: an RSA CA, an RSA server certificate and
+# a client whose role extension the CLI writes as ASN1:UTF8String.
+O="$WORK/openssl-pki"
+mkdir "$O"
+(
+    cd "$O"
+    openssl req -x509 -newkey rsa:2048 -nodes -keyout ca.key -out ca.pem -days 2 -subj /CN=cli-ca \
+        -addext basicConstraints=critical,CA:TRUE -addext keyUsage=keyCertSign
+    openssl req -newkey rsa:2048 -nodes -keyout server.key -out server.csr -subj /CN=cli-server
+    printf 'subjectAltName=DNS:localhost,IP:127.0.0.1\nextendedKeyUsage=serverAuth\n' >server.ext
+    openssl x509 -req -in server.csr -CA ca.pem -CAkey ca.key -CAcreateserial -days 2 \
+        -extfile server.ext -out server.pem
+    openssl req -newkey rsa:2048 -nodes -keyout client.key -out client.csr -subj /CN=cli-client
+    printf 'extendedKeyUsage=clientAuth\n1.3.6.1.4.1.50316.802.1=ASN1:UTF8String:Operator\n' >client.ext
+    openssl x509 -req -in client.csr -CA ca.pem -CAkey ca.key -CAcreateserial -days 2 \
+        -extfile client.ext -out client.pem
+) >"$WORK/openssl-pki.log" 2>&1 || fail "openssl CLI PKI: $(cat "$WORK/openssl-pki.log")"
+"$MBLAB" serve --listen mbaps://127.0.0.1:0 --cert "$O/server.pem" --key "$O/server.key" \
+    --ca "$O/ca.pem" >"$WORK/serve2.out" 2>"$WORK/serve2.err" &
+SERVE_PID=$!
+SERVE_PORT=""
+for _ in $(seq 100); do
+    SERVE_PORT=$(sed -n 's/.* on mbaps:\/\/127\.0\.0\.1:\([0-9]*\).*/\1/p' "$WORK/serve2.out")
+    [ -n "$SERVE_PORT" ] && break
+    sleep 0.1
+done
+[ -n "$SERVE_PORT" ] || fail "mblab serve with openssl CLI certificates: $(cat "$WORK/serve2.err")"
+"$MBLAB" write "mbaps://localhost:$SERVE_PORT" register 40 7 --cert "$O/client.pem" \
+    --key "$O/client.key" --ca "$O/ca.pem" -v >"$WORK/cli.out" 2>"$WORK/cli.err" ||
+    fail "mblab write with openssl CLI certificates: $(cat "$WORK/cli.err")"
+grep -q "we presented role Operator" "$WORK/cli.err" || fail "role of the CLI certificate: $(cat "$WORK/cli.err")"
+echo "ok: certificates made by the openssl CLI serve and connect, the role read as Operator"
+stop_serve
+
 # pymodbus as the server, our client against it.
 PEER_PORT=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
 /usr/bin/python3 "$HERE/pymodbus_tls_server.py" "$PEER_PORT" "$PKI" >"$WORK/peer.log" 2>&1 &
