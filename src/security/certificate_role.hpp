@@ -21,8 +21,9 @@ struct RoleReading {
         Refused,  // more than one role, a value that is not a UTF8String, or a malformed value
     };
     Kind kind = Kind::None;
-    std::string role;    // when Role
-    std::string reason;  // when Refused: one line, e.g. "the role is an IA5String, not a UTF8String"
+    std::string role;  // when Role
+    std::string
+        reason;  // when Refused: one line, e.g. "the role is an IA5String, not a UTF8String"
 };
 
 // Reads the role extension of `certificate` (not null).

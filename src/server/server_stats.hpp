@@ -23,7 +23,7 @@ struct ServerStats {
     // Handshakes that failed (no, expired, foreign certificate, ...) and clients refused after
     // one (a bare PDU without MBAP).
     Counter tls_refused{0};
-    Counter denied{0};       // requests the client's role may not make, answered 01
+    Counter denied{0};  // requests the client's role may not make, answered 01
 
     static void bump(Counter& counter) { counter.fetch_add(1, std::memory_order_relaxed); }
     static std::uint64_t read(const Counter& counter) {
