@@ -33,6 +33,57 @@ PROCEDURES = {
                           "declared, 2 registers from FFFF answer `83 02` (with a count: the "
                           "read past it)",
                           "the deciding read answers data, another exception or nothing"),
+    # The security suite ([SEC]): each opens TLS sessions of its own to the mbaps:// port.
+    "tls_handshake": ("completes a TLS 1.2+ handshake with the tester's certificate, presents a "
+                      "certificate the CA verifies, and answers an FC 03 read inside TLS",
+                      "the handshake fails, or the read is not answered as MBAP"),
+    "tls10_refused": ("refuses a TLS 1.0-only ClientHello (an alert, a close or no handshake), "
+                      "and serves a new session afterwards",
+                      "it completes a TLS 1.0 handshake, or stops serving"),
+    "tls11_refused": ("refuses a TLS 1.1-only ClientHello, and serves a new session afterwards",
+                      "it completes a TLS 1.1 handshake, or stops serving"),
+    "no_certificate_refused": ("refuses a client that sends no certificate: in the handshake, or "
+                               "by ending the TLS 1.3 session before answering",
+                               "it answers the client's read (even with an exception), or keeps "
+                               "its session open without answering"),
+    "expired_certificate_refused": ("refuses the PKI's `client-expired` certificate",
+                                    "as for no certificate"),
+    "foreign_ca_certificate_refused": ("refuses the PKI's `client-foreign-ca` certificate",
+                                       "as for no certificate"),
+    "self_signed_certificate_refused": ("refuses the PKI's `client-self-signed` certificate",
+                                        "as for no certificate"),
+    "null_role_denied": ("accepts `client-norole` and answers each of 19 public function codes "
+                         "`80+FC 01`",
+                         "it refuses the handshake, or any answer is data, another exception, "
+                         "nothing or a close"),
+    "read_only_role": ("answers the read-only role's FC 03 of register 0x0010 with data and its FC 06 "
+                       "and FC 10 writes with `86 01` and `90 01`",
+                       "the read is refused, or a write is executed or answered with another "
+                       "exception (02, say)"),
+    "write_role": ("answers the write role's FC 03 of register 0x0010 with data and echoes its FC 06 "
+                   "write of the value read",
+                   "the read or the write is refused"),
+    "tls_renegotiation": ("sends the RFC 5746 indication in a TLS 1.2 handshake; after a "
+                          "renegotiation request (refused, accepted or ended) serves a new "
+                          "session",
+                          "the indication is missing, or the device stops serving"),
+    "tls_close_notify": ("answers a read, takes the client's close_notify, and serves a new "
+                         "session",
+                         "the read is not answered, or the device stops serving"),
+}
+
+# What else a security case needs declared (docs/security.md).
+PKI_NEEDED = "`pki` not declared or the certificate not in it"
+SECURITY_NEEDS = {
+    "tls_handshake": [], "tls10_refused": [], "tls11_refused": [], "no_certificate_refused": [],
+    "expired_certificate_refused": [PKI_NEEDED],
+    "foreign_ca_certificate_refused": [PKI_NEEDED],
+    "self_signed_certificate_refused": [PKI_NEEDED],
+    "null_role_denied": [PKI_NEEDED, "`null_role_granted` declared"],
+    "read_only_role": ["`read_only_role` not declared", PKI_NEEDED],
+    "write_role": ["`write_role` not declared", PKI_NEEDED],
+    "tls_renegotiation": ["the device makes no TLS 1.2 session"],
+    "tls_close_notify": [],
 }
 
 PLACEHOLDER = re.compile(r"\{([a-z_]+)\}")
@@ -85,6 +136,9 @@ def case_row(case: dict) -> tuple[str, str, str, str]:
         passes, fails = PROCEDURES[case["procedure"]]
         if case["procedure"] == "register_sweep":
             na.append("`registers` not declared")
+        if case["procedure"] in SECURITY_NEEDS:
+            na.append("the target is not mbaps://")
+            na.extend(SECURITY_NEEDS[case["procedure"]])
         if case["procedure"] == "semi_signature_scan":
             na.append("7.5.1 did not pass (NOT RUN)")
         return case["id"], passes, fails, "; ".join(na) or "-"

@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cerrno>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -20,6 +21,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/profile_lookup.hpp"
+#include "cli/tls_options.hpp"
 #include "client/target.hpp"
 #include "conformance/capture.hpp"
 #include "conformance/catalogue.hpp"
@@ -29,8 +31,11 @@
 #include "conformance/engine.hpp"
 #include "conformance/procedures.hpp"
 #include "conformance/reports.hpp"
+#include "conformance/security_cases.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
+#include "security/pki.hpp"
+#include "security/tls_context.hpp"
 #include "server/background_server.hpp"
 
 // `mblab conform [TARGET]`: runs conformance suites against a device, or against the built-in
@@ -60,6 +65,10 @@ struct ConformOptions {
     std::string json;
     std::string junit;
     std::string pcap;
+    security::TlsFiles tls;  // the tester's certificate on mbaps://
+    std::string pki;
+    std::string read_only_role;
+    std::string write_role;
     CLI::App* command = nullptr;
 };
 
@@ -259,6 +268,22 @@ bool declare_dut(const ConformOptions& options, conf::Dut& dut, std::string& err
     if (given("--max-read")) dut.max_read = static_cast<std::uint16_t>(options.max_read);
     if (given("--object-messaging")) dut.object_messaging = true;
     if (given("--alternate-encoding")) dut.alternate_encoding = true;
+    if (given("--pki")) dut.security.pki = options.pki;
+    if (given("--read-only-role")) dut.security.read_only_role = options.read_only_role;
+    if (given("--write-role")) dut.security.write_role = options.write_role;
+    if (given("--cert")) dut.security.client.cert = options.tls.cert;
+    if (given("--key")) dut.security.client.key = options.tls.key;
+    if (given("--ca")) dut.security.client.ca = options.tls.ca;
+    // A lab PKI made by `mblab pki` holds the tester's own certificate too.
+    security::TlsFiles& client = dut.security.client;
+    if (!dut.security.pki.empty() && client.cert.empty() && client.key.empty()) {
+        const std::filesystem::path dir = dut.security.pki;
+        client.cert = (dir / "client-Administrator.pem").string();
+        client.key = (dir / "client-Administrator.key").string();
+    }
+    if (!dut.security.pki.empty() && client.ca.empty()) {
+        client.ca = (std::filesystem::path(dut.security.pki) / "ca.pem").string();
+    }
     if (flags)
         dut.declared_by = dut.declared_by == "defaults" ? "flags" : dut.declared_by + " and flags";
     return true;
@@ -339,6 +364,72 @@ class ReportFiles {
     std::vector<std::pair<std::string, std::string>> checked_;  // option, absolute path
 };
 
+bool uses_mbaps(const std::vector<conf::Suite>& suites) {
+    for (const auto& suite : suites) {
+        for (const auto& c : suite.cases) {
+            if (conf::is_security_procedure(c.procedure)) return true;
+        }
+    }
+    return false;
+}
+
+// The built-in device's Modbus/TCP Security side, for the security suite: a lab PKI made for the
+// run in a directory of its own (removed afterwards), and the reference device a second time
+// behind TLS, with the profile's [[role]] rules. A second device rather than a second listener
+// on the first, because each BackgroundServer calls its device from its own thread.
+class BuiltinMbaps {
+  public:
+    BuiltinMbaps() = default;
+    BuiltinMbaps(const BuiltinMbaps&) = delete;
+    BuiltinMbaps& operator=(const BuiltinMbaps&) = delete;
+    ~BuiltinMbaps() {
+        server_.reset();
+        if (!dir_.empty()) {
+            std::error_code ignored;
+            std::filesystem::remove_all(dir_, ignored);
+        }
+    }
+
+    // Starts it; "" when it runs, else why not. `dut` gets the PKI and the tester's certificate.
+    std::string start(const std::filesystem::path& profile, conf::Dut& dut,
+                      client::Target& secure) {
+        std::string pattern =
+            (std::filesystem::temp_directory_path() / "mblab-conform-pki-XXXXXX").string();
+        if (::mkdtemp(pattern.data()) == nullptr) {
+            return fmt::format("cannot make a directory for the lab PKI: {}", std::strerror(errno));
+        }
+        dir_ = pattern;
+        security::PkiRequest request;
+        request.overwrite = true;  // the directory is new, and mkdtemp made it
+        if (auto made = security::make_lab_pki(dir_, request); !made) return made.error();
+        const auto file = [&](const char* name) { return (dir_ / name).string(); };
+        auto context =
+            security::make_server_context({file("server.pem"), file("server.key"), file("ca.pem")});
+        if (!context) return context.error();
+        auto loaded = device::read_profile(profile);
+        if (!loaded) return loaded.error();
+        server::ServerOptions options;
+        options.tls = std::move(context.value());
+        options.roles = std::make_shared<const device::RoleRules>(loaded->roles);
+        device_ = std::make_unique<device::ReferenceDevice>(std::move(loaded.value()));
+        server_ = std::make_unique<server::BackgroundServer>(*device_, options);
+        auto port = server_->start();
+        if (!port) return "cannot start the reference device over mbaps: " + port.error();
+        dut.security.pki = dir_.string();
+        dut.security.client = {file("client-Administrator.pem"), file("client-Administrator.key"),
+                               file("ca.pem")};
+        auto parsed = client::parse_target(fmt::format("mbaps://127.0.0.1:{}", *port));
+        if (!parsed) return parsed.error();
+        secure = std::move(parsed.value());
+        return client::attach_tls(secure, dut.security.client);
+    }
+
+  private:
+    std::filesystem::path dir_;
+    std::unique_ptr<device::ReferenceDevice> device_;
+    std::unique_ptr<server::BackgroundServer> server_;
+};
+
 bool check_report_files(const ConformOptions& options, ReportFiles& files, std::string& error) {
     return files.check("--json", options.json, error) &&
            files.check("--junit", options.junit, error) &&
@@ -379,7 +470,16 @@ int run_conform(const ConformOptions& options) {
     std::unique_ptr<device::ReferenceDevice> device;
     std::unique_ptr<server::BackgroundServer> server;
     client::Target target;
+    std::optional<client::Target> secure;
+    BuiltinMbaps builtin_mbaps;
     if (options.target.empty()) {
+        for (const char* option : {"--cert", "--key", "--ca", "--pki"}) {
+            if (options.command->count(option) > 0) {
+                return usage_error(fmt::format(
+                    "{} is for mbaps:// targets; the built-in device makes its own lab PKI",
+                    option));
+            }
+        }
         const auto found = builtin_profile(options.profile, error);
         if (!found) return usage_error(error);
         const auto& profile = *found;
@@ -393,12 +493,30 @@ int run_conform(const ConformOptions& options) {
         target.tcp = client::Endpoint{"127.0.0.1", *port, nullptr};
         target.name = fmt::format("tcp://127.0.0.1:{}", *port);
         note = fmt::format("built-in reference device, profile {}", profile.string());
+        if (uses_mbaps(suites)) {
+            client::Target secure_target;
+            if (auto failed = builtin_mbaps.start(profile, dut, secure_target); !failed.empty()) {
+                return usage_error(failed);
+            }
+            note += fmt::format("; over mbaps at {}", secure_target.name);
+            secure = std::move(secure_target);
+        }
     } else {
         auto parsed = client::parse_target(options.target);
         if (!parsed) return usage_error(parsed.error());
         target = std::move(parsed.value());
     }
     if (!declare_dut(options, dut, error)) return usage_error(error);
+    if (!options.target.empty()) {
+        if (auto failed =
+                client::attach_tls(target, target.secure ? dut.security.client : options.tls);
+            !failed.empty()) {
+            return usage_error(failed);
+        }
+        if (!target.secure && !dut.security.pki.empty() && options.command->count("--pki") > 0) {
+            return usage_error("--pki is for mbaps:// targets only");
+        }
+    }
     if (!target.tcp) {
         if (!options.pcap.empty()) {
             return usage_error("--pcap records Modbus/TCP only; " + target.name +
@@ -418,6 +536,7 @@ int run_conform(const ConformOptions& options) {
     conf::Capture capture;
     conf::Session session(target, dut, engine_options, options.pcap.empty() ? nullptr : &capture,
                           &console);
+    if (secure) session.set_secure_target(std::move(*secure));
     catch_stop_signals();
     client::LinkError link_error;
     if (!session.connect(link_error)) {
@@ -443,14 +562,16 @@ void add_conform_command(CLI::App& app, CommandRunner& runner) {
     auto options = std::make_shared<ConformOptions>();
     CLI::App* cmd = app.add_subcommand(
         "conform",
-        "Run the conformance suites against a device (tcp://, rtu+tcp://, rtu://, ascii://); "
+        "Run the conformance suites against a device (tcp://, mbaps://, rtu+tcp://, rtu://, "
+        "ascii://); "
         "with no target, against the built-in reference device. Exit status: 0 no case failed, 1 a "
         "case failed, 2 usage error or unreachable target, 130/143 stopped by SIGINT/SIGTERM "
         "(between cases; the reports hold the cases run so far)");
     options->command = cmd;
     cmd->add_option(
         "target", options->target,
-        "the device under test: tcp://HOST[:PORT] (port 502 by default), rtu+tcp://HOST:PORT, "
+        "the device under test: tcp://HOST[:PORT] (port 502 by default), mbaps://HOST[:PORT] "
+        "(Modbus/TCP Security, port 802 by default), rtu+tcp://HOST:PORT, "
         "rtu:///dev/ttyX?baud=19200&parity=E&stop=1 or ascii:///dev/ttyX?...");
     cmd->add_option("--suite", options->suites,
                     "suite to run, by name or TOML file; repeatable (default: every shipped "
@@ -491,6 +612,17 @@ void add_conform_command(CLI::App& app, CommandRunner& runner) {
                     "milliseconds to watch for bytes nobody asked for after each case (a "
                     "duplicate answer, noise between cases; default 10)")
         ->check(CLI::Range(0, 10000));
+    add_tls_options(*cmd, options->tls, "tester's (client)");
+    cmd->add_option("--pki", options->pki,
+                    "mbaps://: a lab PKI directory as mblab pki writes it, for the security "
+                    "suite's certificates (client-norole, client-expired, ...); its "
+                    "client-Administrator and ca.pem stand in for --cert/--key/--ca");
+    cmd->add_option("--read-only-role", options->read_only_role,
+                    "mbaps://: a role the device lets read holding register 0x0010 and not write it "
+                    "(its certificate is client-ROLE.pem in --pki)");
+    cmd->add_option("--write-role", options->write_role,
+                    "mbaps://: a role the device lets write holding register 0x0010 (client-ROLE.pem "
+                    "in --pki)");
     cmd->add_option("--json", options->json,
                     "write the report as JSON to FILE (checked before any traffic)");
     cmd->add_option("--junit", options->junit,

@@ -17,6 +17,10 @@ using Framing = protocol::Framing;
 
 struct LinkError {
     std::string message;  // "connection refused", "timeout after 2000 ms", ...
+    // The TLS handshake failed after the server took part in it: it sent an alert, closed the
+    // connection, or sent what this side refused. Unset when the connection failed, the server
+    // said nothing before the deadline, or this side gave up before hearing from it.
+    bool tls_refused = false;
 };
 
 // Both ends of a connection; IPv4 addresses in host order, 0 for IPv6.

@@ -2,6 +2,7 @@
 
 #include <arpa/inet.h>
 #include <fcntl.h>
+#include <fmt/core.h>
 #include <netdb.h>
 #include <netinet/in.h>
 #include <netinet/tcp.h>
@@ -125,7 +126,9 @@ protocol::Result<RawLink, LinkError> RawLink::connect(const Endpoint& endpoint,
     RawLink link(fd, addresses, nullptr);
     if (endpoint.tls) {
         auto failed = link.handshake(*endpoint.tls, deadline);
-        if (!failed.empty()) return LinkError{failed};
+        if (!failed.empty()) {
+            return LinkError{failed, link.handshake_heard_};
+        }
     }
     // Captures show Modbus, so they begin once TLS is up and see the plaintext.
     link.observer_ = observer;
@@ -146,6 +149,7 @@ std::string RawLink::handshake(const TlsSetup& setup, Clock::time_point deadline
         if (ready < 0 && errno == EINTR) continue;
         if (ready <= 0) return "TLS handshake timed out";
         const ssize_t n = ::recv(fd_, chunk.data(), chunk.size(), 0);
+        handshake_heard_ = true;
         if (n <= 0) {
             // A server that refuses our certificate may close before its alert is read.
             return "TLS handshake: the server closed the connection" +
@@ -191,6 +195,7 @@ RawLink::RawLink(RawLink&& other) noexcept
       addresses_(other.addresses_),
       observer_(other.observer_),
       tls_(std::move(other.tls_)),
+      alert_(std::move(other.alert_)),
       reader_(std::move(other.reader_)) {}
 
 RawLink& RawLink::operator=(RawLink&& other) noexcept {
@@ -200,6 +205,7 @@ RawLink& RawLink::operator=(RawLink&& other) noexcept {
         addresses_ = other.addresses_;
         observer_ = other.observer_;
         tls_ = std::move(other.tls_);
+        alert_ = std::move(other.alert_);
         reader_ = std::move(other.reader_);
     }
     return *this;
@@ -221,11 +227,63 @@ void RawLink::close() {
 }
 
 void RawLink::drop(bool by_peer) {
+    if (tls_) alert_ = tls_->alert_received();
     ::close(fd_);
     fd_ = -1;
     tls_.reset();
     reader_.reset();
     if (observer_ != nullptr) observer_->on_close(by_peer);
+}
+
+bool RawLink::renegotiate(LinkError& error) {
+    if (!tls_ || tls_->state() != security::TlsChannel::State::Open) {
+        error.message = "no open TLS session";
+        return false;
+    }
+    if (!tls_->request_renegotiation()) {
+        error.message = "TLS: this side could not start a renegotiation";
+        return false;
+    }
+    if (!send_cipher(error.message)) {
+        drop(true);
+        return false;
+    }
+    return true;
+}
+
+bool RawLink::close_notify(std::chrono::milliseconds timeout, std::string& how) {
+    if (!tls_ || tls_->state() != security::TlsChannel::State::Open) {
+        how = "no open TLS session";
+        return false;
+    }
+    tls_->close();
+    std::string error;
+    if (!send_cipher(error)) {
+        how = "the connection was gone before close_notify could be sent: " + error;
+        drop(true);
+        return true;
+    }
+    const auto deadline = Clock::now() + timeout;
+    std::array<std::uint8_t, 256> chunk;
+    while (fd_ >= 0) {
+        std::string detail;
+        std::size_t got = 0;
+        const Fill fill = read_some(deadline, detail, chunk, got);
+        if (fill == Fill::Timeout) {
+            how = fmt::format("the server kept the connection open {} ms after close_notify",
+                              timeout.count());
+            return false;
+        }
+        if (fill == Fill::Closed) {
+            how = tls_ && tls_->state() == security::TlsChannel::State::Closed
+                      ? "the server answered with its close_notify"
+                      : "the server closed the connection";
+            drop(true);
+            return true;
+        }
+    }
+    how = "connection closed";
+    return true;
 }
 
 bool RawLink::send(std::span<const std::uint8_t> bytes, LinkError& error) {

@@ -47,6 +47,14 @@ class RawLink {
     bool is_open() const { return fd_ >= 0; }
     // The TLS session of an mbaps:// link (nullptr on plain TCP): version, cipher, peer.
     const security::TlsChannel* tls() const { return tls_.get(); }
+    // The last alert the server sent, kept after the link closed on it.
+    const security::TlsAlert& tls_alert() const { return alert_; }
+    // Asks for a TLS renegotiation (a key update on TLS 1.3) and sends the request; false when
+    // the session could not ask. How the server took it shows in the next receive.
+    bool renegotiate(LinkError& error);
+    // Sends close_notify and waits up to `timeout` for the server to end the session: true when it
+    // answered with its close_notify or closed the connection, false when it kept it open.
+    bool close_notify(std::chrono::milliseconds timeout, std::string& how);
     const LinkAddresses& addresses() const { return addresses_; }
 
     // Writes every byte in one call sequence (one TCP segment for small writes, Nagle is off).
@@ -90,6 +98,8 @@ class RawLink {
     LinkAddresses addresses_;
     LinkObserver* observer_ = nullptr;
     std::unique_ptr<security::TlsChannel> tls_;
+    security::TlsAlert alert_;
+    bool handshake_heard_ = false;  // the server sent bytes or closed during the handshake
     FrameReader reader_{{.framing = Framing::Mbap, .lenient = true}};
 };
 

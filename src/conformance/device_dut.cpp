@@ -1,5 +1,9 @@
 #include "conformance/device_dut.hpp"
 
+#include <array>
+#include <optional>
+#include <string>
+
 #include "protocol/function_code.hpp"
 
 namespace mblab::conformance {
@@ -35,6 +39,21 @@ std::optional<std::uint16_t> refused_read_only(const device::UnitSpec& spec,
     return std::nullopt;
 }
 
+// The first role of the profile's [[role]] rules that may read holding register 0x0010 and, as
+// `writes` asks, may or may not write it: what the security suite's role cases need declared.
+std::string role_that(const device::Profile& profile, std::uint8_t unit, bool writes) {
+    constexpr std::array<std::uint8_t, 5> kRead = {0x03, 0x00, 0x10, 0x00, 0x01};
+    constexpr std::array<std::uint8_t, 5> kWrite = {0x06, 0x00, 0x10, 0x00, 0x00};
+    const device::RoleRules rules(profile.roles);
+    for (const auto& rule : profile.roles) {
+        const std::optional<std::string> role = rule.role;
+        if (rules.permits(role, unit, kRead) && rules.permits(role, unit, kWrite) == writes) {
+            return rule.role;
+        }
+    }
+    return {};
+}
+
 }  // namespace
 
 Dut dut_from_profile(const device::Profile& profile, std::string declared_by) {
@@ -55,6 +74,8 @@ Dut dut_from_profile(const device::Profile& profile, std::string declared_by) {
     if (!spec.fifos.empty()) dut.fifo_address = spec.fifos.front();
     if (!spec.files.empty()) dut.file_number = spec.files.front().number;
     dut.echo_max_words = spec.diagnostics.echo_max_words;
+    dut.security.read_only_role = role_that(profile, spec.id, false);
+    dut.security.write_role = role_that(profile, spec.id, true);
     return dut;
 }
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
+#include <filesystem>
 
 #include "conformance/toml_reader.hpp"
 
@@ -42,6 +43,12 @@ std::optional<std::int64_t> number_of(const Dut& dut, std::string_view name) {
     if (name == "fifo_address") return widen(dut.fifo_address);
     if (name == "file_number") return widen(dut.file_number);
     if (name == "echo_max_words") return widen(dut.echo_max_words);
+    // Security declarations are names and paths: `requires` asks only whether they were given.
+    auto given = [](bool yes) { return yes ? std::optional<std::int64_t>(1) : std::nullopt; };
+    if (name == "pki") return given(!dut.security.pki.empty());
+    if (name == "read_only_role") return given(!dut.security.read_only_role.empty());
+    if (name == "write_role") return given(!dut.security.write_role.empty());
+    if (name == "null_role_granted") return given(dut.security.null_role_granted);
     return std::nullopt;
 }
 
@@ -95,7 +102,14 @@ const std::vector<std::string_view>& dut_keys() {
                                                        "read_only_coil",
                                                        "fifo_address",
                                                        "file_number",
-                                                       "echo_max_words"};
+                                                       "echo_max_words",
+                                                       "pki",
+                                                       "client_cert",
+                                                       "client_key",
+                                                       "ca",
+                                                       "read_only_role",
+                                                       "write_role",
+                                                       "null_role_granted"};
     return keys;
 }
 
@@ -138,7 +152,23 @@ protocol::Result<Dut, std::string> load_dut_file(const std::string& path) {
               reader.get_number(*table, "fifo_address", dut.fifo_address, 0, 65535) &&
               reader.get_number(*table, "file_number", dut.file_number, 1, 65535) &&
               reader.get_number(*table, "echo_max_words", dut.echo_max_words, 1, 124);
+    SecurityDut& security = dut.security;
+    ok = ok && reader.get(*table, "pki", security.pki) &&
+         reader.get(*table, "client_cert", security.client.cert) &&
+         reader.get(*table, "client_key", security.client.key) &&
+         reader.get(*table, "ca", security.client.ca) &&
+         reader.get(*table, "read_only_role", security.read_only_role) &&
+         reader.get(*table, "write_role", security.write_role) &&
+         reader.get(*table, "null_role_granted", security.null_role_granted);
     if (!ok) return reader.error();
+    // Paths in the file are relative to the file, so it can travel with its certificates.
+    const auto base = std::filesystem::path(path).parent_path();
+    for (std::string* file :
+         {&security.pki, &security.client.cert, &security.client.key, &security.client.ca}) {
+        if (!file->empty() && std::filesystem::path(*file).is_relative()) {
+            *file = (base / *file).lexically_normal().string();
+        }
+    }
     dut.unit = static_cast<std::uint8_t>(unit);
     dut.max_read = static_cast<std::uint16_t>(max_read);
     return dut;

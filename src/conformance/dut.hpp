@@ -8,10 +8,27 @@
 
 #include "conformance/pattern.hpp"
 #include "protocol/result.hpp"
+#include "security/tls_context.hpp"
 
 // What is declared about the device under test (seed 000 section 6, plus the facts extended
 // suites need). Anything not declared stays empty, and cases that need it are N/A.
 namespace mblab::conformance {
+
+// Modbus/TCP Security, for the security suite (docs/security.md): the client certificates the
+// tester presents, and what the device's rights database gives which role.
+struct SecurityDut {
+    // The tester's own certificate, one the device accepts; its role should be allowed reads of
+    // holding register 0, as every suite run over mbaps:// asks for them.
+    security::TlsFiles client;
+    // A directory in `mblab pki`'s layout (client-norole.pem, client-expired.pem, ...): the
+    // certificates the device must refuse or treat as the NULL role, and client-ROLE.pem.
+    std::string pki;
+    std::string read_only_role;  // may read holding register 0x0010 (FC 03) and may not write it
+    std::string write_role;      // may write holding register 0x0010 (FC 06)
+    // The device's rights database gives the NULL role (a certificate without a role) some
+    // rights ([SEC] ), so its requests are not all answered 01.
+    bool null_role_granted = false;
+};
 
 struct Dut {
     // 6.4 asks the vendor for a unit id other than 0. mblab's one default for every command and
@@ -35,6 +52,8 @@ struct Dut {
     // Empty over Modbus/TCP; "RTU", "ASCII" or "RTU over TCP" when the tester reaches the device
     // over a serial framing, where cases that require "mbap" are N/A.
     std::string serial_framing;
+
+    SecurityDut security;
 
     std::string declared_by = "defaults";  // "flags", "dut.toml", "profile reference.toml"
 };

@@ -30,6 +30,8 @@ struct ProcedureInfo {
     Outcome (*run)(Session& session, const Case& c);
     // The procedure as independent exchanges for `mblab load`; none leaves it out of the loop.
     std::vector<ProcedureStep> (*load_steps)(const Dut& dut) = nullptr;
+    // Opens TLS sessions of its own to the device's mbaps:// port (the security suite).
+    bool needs_mbaps = false;
 };
 
 const std::vector<ProcedureInfo>& procedures();

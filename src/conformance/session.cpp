@@ -53,6 +53,7 @@ Session::Session(client::Target target, Dut dut, EngineOptions options,
     // A serial line carries one request at a time.
     if (!target_.tcp) options_.pipeline_depth = 1;
     if (options_.pipeline_depth == 0) options_.pipeline_depth = 1;
+    if (target_.secure) secure_target_ = target_;
 }
 
 Session::Session(const client::Endpoint& endpoint, Dut dut, EngineOptions options,

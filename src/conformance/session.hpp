@@ -52,6 +52,10 @@ class Session {
 
     // The IP host of the device: nullopt on a serial line.
     std::optional<std::string> host() const;
+    // Where the security suite reaches the device over Modbus/TCP Security: the target when it is
+    // mbaps://, or the port set here (the built-in device serves both); nullopt when nowhere.
+    const std::optional<client::Target>& secure_target() const { return secure_target_; }
+    void set_secure_target(client::Target target) { secure_target_ = std::move(target); }
     client::Framing framing() const;
     const Dut& dut() const { return dut_; }
     const DutFacts& facts() const { return facts_; }
@@ -94,6 +98,7 @@ class Session {
     client::Received in_case_notation(client::Received received) const;
 
     client::Target target_;
+    std::optional<client::Target> secure_target_;
     Dut dut_;
     DutFacts facts_;
     EngineOptions options_;

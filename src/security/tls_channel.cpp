@@ -40,7 +40,25 @@ bool is_ip_address(std::string_view host) {
            host.find_first_not_of("0123456789.") == std::string_view::npos;
 }
 
+// Where each SSL keeps its channel, for the alert callback.
+int channel_index() {
+    static const int index = SSL_get_ex_new_index(0, nullptr, nullptr, nullptr, nullptr);
+    return index;
+}
+
 }  // namespace
+
+void note_alert(const SSL* ssl, int where, int value) {
+    if ((where & SSL_CB_READ_ALERT) == 0) return;
+    auto* channel = static_cast<TlsChannel*>(SSL_get_ex_data(ssl, channel_index()));
+    if (channel == nullptr) return;
+    TlsAlert& alert = channel->alert_;
+    alert.received = true;
+    alert.fatal = (value >> 8) == SSL3_AL_FATAL;
+    alert.description = value & 0xFF;
+    alert.text =
+        std::string(SSL_alert_type_string_long(value)) + " " + SSL_alert_desc_string_long(value);
+}
 
 TlsChannel::TlsChannel(const SharedContext& context, Side side, std::string_view server_name)
     : side_(side) {
@@ -58,6 +76,8 @@ TlsChannel::TlsChannel(const SharedContext& context, Side side, std::string_view
     BIO_set_mem_eof_return(in_, -1);
     BIO_set_mem_eof_return(out_, -1);
     SSL_set_bio(ssl_, in_, out_);
+    SSL_set_ex_data(ssl_, channel_index(), this);
+    SSL_set_info_callback(ssl_, note_alert);
     if (side == Side::Server) {
         SSL_set_accept_state(ssl_);
         SSL_set_app_data(ssl_, &role_refusal_);
@@ -228,6 +248,11 @@ bool TlsChannel::request_renegotiation() {
     SSL_do_handshake(ssl_);
     ERR_clear_error();
     return true;
+}
+
+bool TlsChannel::secure_renegotiation() const {
+    if (!ssl_ || state_ == State::Handshaking) return false;
+    return SSL_version(ssl_) >= TLS1_3_VERSION || SSL_get_secure_renegotiation_support(ssl_) == 1;
 }
 
 std::string_view state_name(TlsChannel::State state) {

@@ -17,6 +17,18 @@
 // there. Tests drive a client and a server channel into each other with no socket at all.
 namespace mblab::security {
 
+// The last TLS alert the peer sent: how a server says why it ended a handshake or refused a
+// renegotiation.
+struct TlsAlert {
+    bool received = false;
+    bool fatal = false;
+    int description = 0;  // RFC 8446 6: 100 no_renegotiation, 70 protocol_version, ...
+    std::string text;     // "fatal protocol version"
+
+    static constexpr int kCloseNotify = 0;
+    static constexpr int kNoRenegotiation = 100;
+};
+
 struct TlsPeer {
     std::string version;   // "TLSv1.3"
     std::string cipher;    // "TLS_AES_256_GCM_SHA384"
@@ -71,6 +83,10 @@ class TlsChannel {
     SSL_SESSION* take_session() const;  // the caller frees it (SSL_SESSION_free)
     // The security suite's renegotiation attempt; state() and error() say how it went.
     bool request_renegotiation();
+    // Whether the peer's hello carried the RFC 5746 renegotiation indication (TLS 1.2; a TLS 1.3
+    // session has no renegotiation, and says true).
+    bool secure_renegotiation() const;
+    const TlsAlert& alert_received() const { return alert_; }
 
   private:
     void handshake();
@@ -87,6 +103,9 @@ class TlsChannel {
     std::string error_;
     std::string role_refusal_;  // why the verification refused the client's role
     TlsPeer peer_;
+    TlsAlert alert_;
+
+    friend void note_alert(const SSL* ssl, int where, int value);
 };
 
 std::string_view state_name(TlsChannel::State state);

@@ -116,6 +116,49 @@ TEST_F(MbapsCli, RefusedCertificatesAreOneLineNamingTheProblem) {
     EXPECT_EQ(server::ServerStats::read(server_->stats().requests), 0U);
 }
 
+// The tester over mbaps://: the security suite with the lab PKI, and policy cases inside TLS.
+TEST_F(MbapsCli, ConformRunsTheSecuritySuiteAndThePolicyInsideTls) {
+    auto ran = run_mblab({"conform", target_, "--pki", pki_->string(), "--read-only-role",
+                          "ReadOnly", "--write-role", "Operator", "--suite", "security", "--suite",
+                          "policy-2.1", "--case", "sec.*", "--case", "7.*", "--case", "9.*"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    for (const char* line :
+         {"PASS     sec.1 ", "PASS     sec.4 ", "PASS     sec.8 ", "PASS     sec.9 ",
+          "PASS     sec.12 ", "PASS     7.8.1 ", "PASS     9.1.1 "}) {
+        EXPECT_NE(ran.out.find(line), std::string::npos) << line << "\n" << ran.out;
+    }
+    EXPECT_EQ(ran.out.find("FAIL"), std::string::npos) << ran.out;
+    // Every policy request went over TLS, as client-Administrator, the PKI's default.
+    EXPECT_GT(server::ServerStats::read(server_->stats().tls_handshakes), 10U);
+    EXPECT_EQ(server::ServerStats::read(server_->stats().denied), 19U + 2U);
+}
+
+TEST_F(MbapsCli, ConformWithoutTheRolesOrThePkiSaysWhatIsMissing) {
+    auto ran = run_mblab({"conform", target_, "--suite", "security", "--cert",
+                          file("client-Administrator.pem"), "--key",
+                          file("client-Administrator.key"), "--ca", file("ca.pem")});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("N/A      sec.5   "), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("the DUT does not declare pki (--pki DIR"), std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("PASS     sec.4 "), std::string::npos) << ran.out;
+    auto plain = run_mblab({"conform", "tcp://127.0.0.1:1", "--pki", pki_->string()});
+    EXPECT_EQ(plain.status, 2);
+    EXPECT_EQ(plain.err, "mblab conform: --pki is for mbaps:// targets only\n");
+    auto builtin = run_mblab({"conform", "--cert", "x.pem"});
+    EXPECT_EQ(builtin.status, 2);
+    EXPECT_EQ(builtin.err,
+              "mblab conform: --cert is for mbaps:// targets; the built-in device makes its own "
+              "lab PKI\n");
+}
+
+TEST(ConformBuiltin, SecuritySuiteRunsAgainstTheBuiltInDeviceOverMbaps) {
+    auto ran = run_mblab({"conform", "--suite", "security"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("; over mbaps at mbaps://127.0.0.1:"), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("12 passed, 0 failed"), std::string::npos) << ran.out;
+}
+
 TEST_F(MbapsCli, MissingOrMisplacedFilesAreUsageErrors) {
     auto none = run_mblab({"read", target_, "holding", "0", "1"});
     EXPECT_EQ(none.status, 2);

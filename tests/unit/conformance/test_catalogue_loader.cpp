@@ -101,7 +101,10 @@ TEST(CatalogueLoader, RefusesMalformedSuitesWithFileLineAndReason) {
          "bad.toml:3: case x: a step gives either 'expect' or 'silence_ms'"},
         {case_head + "procedure = \"sweep\"\n",
          "bad.toml:7: unknown procedure 'sweep' (known: ping, register_sweep, "
-         "semi_signature_scan, out_of_range_read)"},
+         "semi_signature_scan, out_of_range_read, tls_handshake, tls10_refused, tls11_refused, "
+         "no_certificate_refused, expired_certificate_refused, foreign_ca_certificate_refused, "
+         "self_signed_certificate_refused, null_role_denied, read_only_role, write_role, "
+         "tls_renegotiation, tls_close_notify)"},
         {case_head + "procedure = \"ping\"\nparams = { cnt = 1 }\n",
          "bad.toml:8: unknown key 'cnt' (known keys: count, payload, timeout_ms)"},
         {case_head + "procedure = \"ping\"\nrequest = \"00\"\n",
