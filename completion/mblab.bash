@@ -35,7 +35,7 @@ _mblab() {
             COMPREPLY=($(compgen -f -- "$cur"))
             return
             ;;
-        --catalogue)
+        --catalogue | --pki)
             COMPREPLY=($(compgen -d -- "$cur"))
             return
             ;;
@@ -43,7 +43,7 @@ _mblab() {
             COMPREPLY=($(compgen -W "ec rsa" -- "$cur"))
             return
             ;;
-        --role | --server-name | --days)
+        --role | --server-name | --days | --read-only-role | --write-role)
             return
             ;;
     esac

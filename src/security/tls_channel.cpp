@@ -49,15 +49,21 @@ int channel_index() {
 }  // namespace
 
 void note_alert(const SSL* ssl, int where, int value) {
-    if ((where & SSL_CB_READ_ALERT) == 0) return;
+    // SSL_CB_READ_ALERT is two bits (alert, read): an alert this side writes has one of them.
+    if ((where & SSL_CB_READ_ALERT) != SSL_CB_READ_ALERT) return;
     auto* channel = static_cast<TlsChannel*>(SSL_get_ex_data(ssl, channel_index()));
     if (channel == nullptr) return;
     TlsAlert& alert = channel->alert_;
     alert.received = true;
     alert.fatal = (value >> 8) == SSL3_AL_FATAL;
     alert.description = value & 0xFF;
-    alert.text =
-        std::string(SSL_alert_type_string_long(value)) + " " + SSL_alert_desc_string_long(value);
+    std::string description = SSL_alert_desc_string_long(value);
+    // OpenSSL 3.0 names no alert that TLS 1.3 added; the one a device sends most is 116.
+    if (description == "unknown") {
+        description = alert.description == 116 ? "certificate required"
+                                               : "alert " + std::to_string(alert.description);
+    }
+    alert.text = std::string(SSL_alert_type_string_long(value)) + " " + description;
 }
 
 TlsChannel::TlsChannel(const SharedContext& context, Side side, std::string_view server_name)

@@ -175,7 +175,21 @@ TEST(TlsChannel, OldVersionsAreRefused) {
         EXPECT_EQ(p.server.state(), State::Failed);
         EXPECT_NE(p.server.error().find("unsupported protocol"), std::string::npos)
             << p.server.error();
+        // The client keeps the alert the server sent, which is how the tester tells a refusal
+        // by the device from a failure of its own; the server read none.
+        EXPECT_TRUE(p.client.alert_received().fatal);
+        EXPECT_EQ(p.client.alert_received().description, 70);  // protocol_version
+        EXPECT_EQ(p.client.alert_received().text, "fatal protocol version");
+        EXPECT_FALSE(p.server.alert_received().received);
     }
+}
+
+TEST(TlsChannel, Tls12SessionsCarryTheRenegotiationIndication) {
+    Pair p("client-Operator", {ClientVersions::Tls12, true});
+    ASSERT_EQ(p.client.state(), State::Open);
+    EXPECT_EQ(p.client.peer().version, "TLSv1.2");
+    EXPECT_TRUE(p.client.secure_renegotiation());
+    EXPECT_TRUE(p.server.secure_renegotiation());
 }
 
 TEST(TlsChannel, ServerNameMustBeInTheServersCertificate) {
