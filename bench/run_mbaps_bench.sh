@@ -83,8 +83,10 @@ handshakes() {  # PORT -new|-reuse [-tls1_2]
         sed -nE 's/^([0-9]+) connections in ([0-9.]+) real seconds.*/\1 \2/p' | tail -1 |
         awk '{ printf "%.0f", $1 / $2 }'
 }
+# -www: s_server answers each connection by itself; without it, it reads its stdin, which a
+# background job does not have, and ends after the first connection.
 openssl s_server -accept 127.0.0.1:0 -cert "$pki/server.pem" -key "$pki/server.key" \
-    -CAfile "$pki/ca.pem" -Verify 1 -verify_return_error -naccept 1000000 \
+    -CAfile "$pki/ca.pem" -Verify 1 -verify_return_error -naccept 1000000 -www \
     >"$work/s_server.out" 2>&1 &
 pids+=($!)
 s_server_port=
