@@ -302,6 +302,19 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
     return status;
 }
 
+// --cert/--key/--ca, each taken from the profile's [tls] table when the command line does not
+// give it; the profile's paths are relative to its file.
+security::TlsFiles server_tls_files(const security::TlsFiles& given, const device::Profile& profile,
+                                    const std::filesystem::path& profile_path) {
+    const auto from_profile = [&](const std::string& file) {
+        if (file.empty() || std::filesystem::path(file).is_absolute()) return file;
+        return (profile_path.parent_path() / file).lexically_normal().string();
+    };
+    return {given.cert.empty() ? from_profile(profile.tls.cert) : given.cert,
+            given.key.empty() ? from_profile(profile.tls.key) : given.key,
+            given.ca.empty() ? from_profile(profile.tls.ca) : given.ca};
+}
+
 int run_serve(const ServeOptions& options) {
     std::string error;
     // rtu+tcp:// is a TCP listener whose sessions frame RTU; rtu:// and ascii:// are lines.
@@ -329,12 +342,7 @@ int run_serve(const ServeOptions& options) {
                     : secure ? transport::parse_mbaps_url(options.listen)
                              : transport::parse_tcp_url(options.listen);
     if (!endpoint) return usage_error(endpoint.error());
-    security::SharedContext tls;
-    if (secure) {
-        auto context = security::make_server_context(options.tls);
-        if (!context) return usage_error(context.error());
-        tls = std::move(context.value());
-    } else if (!options.tls.empty()) {
+    if (!secure && !options.tls.empty()) {
         return usage_error("--cert, --key and --ca are for an mbaps:// --listen");
     }
     auto profile_path = find_profile(options.profile, error);
@@ -362,6 +370,13 @@ int run_serve(const ServeOptions& options) {
         devices.push_back(std::move(loaded.value()));
     }
     auto& first_device = *devices.front();
+    security::SharedContext tls;
+    if (secure) {
+        auto context = security::make_server_context(
+            server_tls_files(options.tls, first_device.profile(), *profile_path));
+        if (!context) return usage_error(context.error());
+        tls = std::move(context.value());
+    }
     for (std::size_t i = 0; i < devices.size() && !options.state.empty(); ++i) {
         const auto path = device_state_path(options.state, i, devices.size()).string();
         auto text = server::read_state_file(path, error);

@@ -136,6 +136,14 @@ struct Profile {
     std::uint8_t max_address = 247;
     // [[role]] tables: what each Modbus/TCP Security role may do (mbaps:// only).
     std::vector<RoleRule> roles;
+    // [tls]: the server's certificate, its key and the CA of client certificates, for
+    // `serve --listen mbaps://` when --cert/--key/--ca do not name them; relative paths are
+    // relative to the profile's file. Empty when not given.
+    struct TlsFiles {
+        std::string cert;
+        std::string key;
+        std::string ca;
+    } tls;
 };
 
 }  // namespace mblab::device

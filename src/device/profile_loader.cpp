@@ -228,6 +228,15 @@ bool load_root(const toml::table& root, ProfileErrors& errors, Profile& profile)
         profile.max_address = static_cast<std::uint8_t>(last);
     }
     if (fields.failed() || !load_roles(fields, profile.roles)) return false;
+    const toml::table* tls = nullptr;
+    if (fields.has("tls") && fields.table("tls", tls)) {
+        Fields files(*tls, "tls", errors);
+        files.string("cert", profile.tls.cert);
+        files.string("key", profile.tls.key);
+        files.string("ca", profile.tls.ca);
+        files.finish();
+    }
+    if (fields.failed()) return false;
     if (!fields.require("unit", "add at least one [[unit]] table with an id")) return false;
     const bool loaded =
         each_table(fields, "unit", [&](const toml::table& t, const std::string& path) {

@@ -13,10 +13,12 @@
 #include "blocking_client.hpp"
 #include "child_process.hpp"
 #include "scripted_handler.hpp"
+#include "security/pki.hpp"
 #include "server/background_server.hpp"
 #include "server_fixture.hpp"
 #include "support/hex.hpp"
 #include "support/temp_dir.hpp"
+#include "test_client_support.hpp"
 
 namespace mblab::test {
 namespace {
@@ -208,6 +210,37 @@ Failure run_failing(std::vector<std::string> extra) {
     out.status = child.wait_exit(10s);
     out.stderr_text = child.drain_stderr();
     return out;
+}
+
+// [tls] in a profile names the files of `serve --listen mbaps://`, relative to the profile; an
+// option on the command line wins over the profile's file.
+TEST(ServeCommand, MbapsTakesItsFilesFromTheProfilesTlsTable) {
+    TempDir dir;
+    const auto made = security::make_lab_pki(dir / "pki", {});
+    ASSERT_TRUE(made) << made.error();
+    {
+        std::ofstream profile(dir / "lab.toml");
+        profile << file_text(std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml")
+                << "\n[tls]\ncert = \"pki/server.pem\"\nkey = \"pki/server.key\"\n"
+                   "ca = \"pki/ca.pem\"\n";
+    }
+    Serve serve({"--listen", "mbaps://127.0.0.1:0", (dir / "lab.toml").string()});
+    std::smatch port;
+    ASSERT_TRUE(
+        std::regex_search(serve.line(), port, std::regex("mbaps://127\\.0\\.0\\.1:([0-9]+)")))
+        << serve.line();
+    const auto pki = (dir / "pki").string();
+    auto read = run_mblab({"read", "mbaps://127.0.0.1:" + port[1].str(), "holding", "16", "1",
+                           "--cert", pki + "/client-Operator.pem", "--key",
+                           pki + "/client-Operator.key", "--ca", pki + "/ca.pem"});
+    EXPECT_EQ(read.status, 0) << read.err;
+    EXPECT_EQ(serve.terminate(), 0);
+
+    auto missing = run_mblab({"serve", "--listen", "mbaps://127.0.0.1:0", "--key",
+                              pki + "/nothing.key", (dir / "lab.toml").string()});
+    EXPECT_EQ(missing.status, 2);
+    EXPECT_EQ(missing.err,
+              "mblab serve: --key " + pki + "/nothing.key: No such file or directory\n");
 }
 
 TEST(ServeCommand, BadUrlIsOneLineAndExitTwo) {
