@@ -86,6 +86,11 @@ SECURITY_NEEDS = {
     "tls_close_notify": [],
 }
 
+def steps_of(case: dict) -> list:
+    """A case's steps: its [[case.step]] tables, or the case itself when it has one request."""
+    return case.get("step", [case])
+
+
 PLACEHOLDER = re.compile(r"\{([a-z_]+)\}")
 
 
@@ -131,7 +136,10 @@ def case_row(case: dict) -> tuple[str, str, str, str]:
     for need in case.get("requires", []):
         na.append("over a serial line" if need == "mbap" else f"`{need}` not declared")
     if case.get("unsupported_is_na"):
-        na.append("the function answers 01 in any step")
+        na.append("the function is not served: 01 to a step and to the function's plain "
+                  "request")
+        if " 2B 0E 04 " in " ".join(step.get("request", "") for step in steps_of(case)):
+            na.append("03 with a conformity level that declares stream access only")
     if "procedure" in case:
         passes, fails = PROCEDURES[case["procedure"]]
         if case["procedure"] == "register_sweep":

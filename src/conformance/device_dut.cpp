@@ -26,6 +26,16 @@ std::optional<std::uint32_t> readable_from_zero(const device::UnitSpec& spec,
     return end;
 }
 
+// Whether FC 05/06 may write `address`: it lies in a range that takes writes.
+bool writable(const device::UnitSpec& spec, device::BankKind kind, std::uint32_t address) {
+    for (const auto& range : bank(spec, kind)) {
+        if (address >= range.start && address < range.start + range.count) {
+            return range.access != device::Access::ReadOnly;
+        }
+    }
+    return false;
+}
+
 // A read-only address whose writes the unit refuses with an exception (seed 002); lenient units
 // accept and ignore such writes, so they declare none.
 std::optional<std::uint16_t> refused_read_only(const device::UnitSpec& spec,
@@ -71,7 +81,11 @@ Dut dut_from_profile(const device::Profile& profile, std::string declared_by) {
     dut.input_registers = readable_from_zero(spec, device::BankKind::InputRegisters);
     dut.read_only_register = refused_read_only(spec, device::BankKind::HoldingRegisters);
     dut.read_only_coil = refused_read_only(spec, device::BankKind::Coils);
-    if (!spec.fifos.empty()) dut.fifo_address = spec.fifos.front();
+    if (!spec.fifos.empty()) {
+        dut.fifo_address = spec.fifos.front();
+        dut.fifo_count_writable = writable(spec, device::BankKind::HoldingRegisters,
+                                           spec.fifos.front());
+    }
     if (!spec.files.empty()) dut.file_number = spec.files.front().number;
     dut.echo_max_words = spec.diagnostics.echo_max_words;
     dut.security.read_only_role = role_that(profile, spec.id, false);

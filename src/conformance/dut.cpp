@@ -41,6 +41,8 @@ std::optional<std::int64_t> number_of(const Dut& dut, std::string_view name) {
     if (name == "read_only_register") return widen(dut.read_only_register);
     if (name == "read_only_coil") return widen(dut.read_only_coil);
     if (name == "fifo_address") return widen(dut.fifo_address);
+    if (name == "fifo_count_writable")
+        return dut.fifo_count_writable ? std::optional<std::int64_t>(1) : std::nullopt;
     if (name == "file_number") return widen(dut.file_number);
     if (name == "echo_max_words") return widen(dut.echo_max_words);
     // Security declarations are names and paths: `requires` asks only whether they were given.
@@ -101,6 +103,7 @@ const std::vector<std::string_view>& dut_keys() {
                                                        "read_only_register",
                                                        "read_only_coil",
                                                        "fifo_address",
+                                                       "fifo_count_writable",
                                                        "file_number",
                                                        "echo_max_words",
                                                        "pki",
@@ -150,6 +153,7 @@ protocol::Result<Dut, std::string> load_dut_file(const std::string& path) {
               reader.get_number(*table, "read_only_register", dut.read_only_register, 0, 65535) &&
               reader.get_number(*table, "read_only_coil", dut.read_only_coil, 0, 65535) &&
               reader.get_number(*table, "fifo_address", dut.fifo_address, 0, 65535) &&
+              reader.get(*table, "fifo_count_writable", dut.fifo_count_writable) &&
               reader.get_number(*table, "file_number", dut.file_number, 1, 65535) &&
               reader.get_number(*table, "echo_max_words", dut.echo_max_words, 1, 124);
     SecurityDut& security = dut.security;

@@ -46,6 +46,7 @@ struct Dut {
     std::optional<std::uint16_t> read_only_register;
     std::optional<std::uint16_t> read_only_coil;
     std::optional<std::uint16_t> fifo_address;
+    bool fifo_count_writable = false;  // FC 06 may set the FIFO's count register (fc18.2)
     std::optional<std::uint16_t> file_number;
     std::optional<std::uint16_t> echo_max_words;  // FC 08/00 data limit (seed 001: 100)
 

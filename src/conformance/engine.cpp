@@ -7,9 +7,12 @@
 
 #include "conformance/answer_rules.hpp"
 #include "conformance/judge.hpp"
+#include "conformance/plain_requests.hpp"
 #include "conformance/procedures.hpp"
+#include "protocol/adu.hpp"
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
+#include "protocol/mbap_header.hpp"
 #include "protocol/response.hpp"
 
 namespace mblab::conformance {
@@ -35,15 +38,16 @@ std::optional<Outcome> check_requirements(const Case& c, const Dut& dut) {
     return std::nullopt;
 }
 
-constexpr std::size_t kPduAt = 7;  // the PDU's place in an MBAP frame
-
 bool is_exception(const Exchange& exchange, protocol::ExceptionCode code) {
     return exchange.status == client::ReceiveStatus::Frame &&
            is_exception_answer(exchange.sent, exchange.received, code);
 }
 
+// The PDU of a request or answer in the catalogue's notation (an MBAP frame); empty when there is
+// none.
 std::span<const std::uint8_t> pdu_of(std::span<const std::uint8_t> adu) {
-    return adu.size() > kPduAt ? adu.subspan(kPduAt) : std::span<const std::uint8_t>{};
+    const auto frame = protocol::read_mbap_frame(adu);
+    return frame ? frame->pdu : std::span<const std::uint8_t>{};
 }
 
 // Checks every field the spec fixes in an answer the pattern accepted; the step's failure when
@@ -56,7 +60,9 @@ std::optional<std::string> spec_failure(const Exchange& exchange) {
 constexpr std::uint8_t kEncapsulated = 0x2B;
 constexpr std::uint8_t kMeiReadDeviceId = 0x0E;
 constexpr std::uint8_t kMoreFollows = 0xFF;
-constexpr std::size_t kObjectIdAt = 10;  // in a 2B / 0E request ADU
+// In a 2B / 0E request PDU: function, MEI type, read device id code, object id.
+constexpr std::size_t kReadCodeAt = 2;
+constexpr std::size_t kObjectIdAt = 3;
 
 // The objects of a basic stream from object 00 that [APP] 6.21 makes mandatory.
 std::optional<Outcome> missing_basic_objects(const Exchange& first, const std::vector<bool>& seen) {
@@ -79,15 +85,21 @@ std::optional<Outcome> missing_basic_objects(const Exchange& first, const std::v
 std::optional<Outcome> follow_device_id_stream(Session& session, const Exchange& first,
                                                std::chrono::milliseconds timeout) {
     const auto& request = first.sent;
-    if (request.size() != 11 || request[kPduAt] != kEncapsulated ||
-        request[kPduAt + 1] != kMeiReadDeviceId || request[9] < 1 || request[9] > 3) {
+    const auto request_frame = protocol::read_mbap_frame(request);
+    if (!request_frame) return std::nullopt;
+    const auto asked_pdu = request_frame->pdu;
+    if (asked_pdu.size() != 4 || asked_pdu[0] != kEncapsulated ||
+        asked_pdu[1] != kMeiReadDeviceId || asked_pdu[kReadCodeAt] < 1 ||
+        asked_pdu[kReadCodeAt] > 3) {
         return std::nullopt;
     }
-    const bool basic_from_start = request[9] == 1 && request[kObjectIdAt] == 0;
+    const bool basic_from_start = asked_pdu[kReadCodeAt] == 1 && asked_pdu[kObjectIdAt] == 0;
+    // Where the object id sits in the request as the catalogue writes it.
+    const std::size_t object_id_at = request.size() - asked_pdu.size() + kObjectIdAt;
     std::vector<std::uint8_t> answer = first.received;
     std::vector<bool> asked(256, false);
     std::vector<bool> seen(256, false);
-    asked[request[kObjectIdAt]] = true;
+    asked[asked_pdu[kObjectIdAt]] = true;
     for (std::size_t round = 2;; ++round) {
         auto decoded = protocol::decode_response(pdu_of(answer));
         if (!decoded) return std::nullopt;  // judged by the spec check already
@@ -102,7 +114,7 @@ std::optional<Outcome> follow_device_id_stream(Session& session, const Exchange&
         }
         const std::uint8_t next = id->next_object_id;
         std::vector<std::uint8_t> again = request;
-        again[kObjectIdAt] = next;
+        again[object_id_at] = next;
         if (asked[next]) {
             return Outcome{Verdict::Fail,
                            fmt::format("more follows never ends: answer {} says more follows "
@@ -119,11 +131,15 @@ std::optional<Outcome> follow_device_id_stream(Session& session, const Exchange&
         Exchange& exchange = judgement.exchange;
         exchange.on_connection = session.connection_requests();
         const auto& got = exchange.received;
+        const auto got_frame = protocol::read_mbap_frame(got);
+        const auto& asked_header = request_frame->header;
         std::optional<std::string> broken;
         if (exchange.status != client::ReceiveStatus::Frame) {
             broken = describe_failure(exchange);
-        } else if (got.size() < 9 || !std::equal(got.begin(), got.begin() + 4, again.begin()) ||
-                   got[6] != again[6]) {
+        } else if (!got_frame || got_frame->pdu.size() < 2 ||
+                   got_frame->header.transaction_id != asked_header.transaction_id ||
+                   got_frame->header.protocol_id != asked_header.protocol_id ||
+                   got_frame->header.unit_id != asked_header.unit_id) {
             broken = "wrong transaction id, protocol id or unit id";
         } else {
             broken = spec_failure(exchange);
@@ -261,8 +277,117 @@ Outcome Engine::run_case(const Case& c) {
 std::optional<Outcome> Engine::check_reachable() {
     client::LinkError error;
     if (session_.connect(error)) return std::nullopt;
-    // The device went away (perhaps an earlier case brought it down): nothing can be judged.
+    // A device that took connections earlier in the run and refuses them now has stopped serving
+    // (an earlier case may have brought it down): that is a failure, not a case left unjudged,
+    // or a run against a dead device would end with nothing failed.
+    if (session_.ever_connected()) {
+        return verdict(Verdict::Fail,
+                       "the device no longer accepts connections (it did earlier in the run): " +
+                           error.message);
+    }
     return verdict(Verdict::NotRun, "cannot connect to the device: " + error.message);
+}
+
+Exchange Engine::ask(std::vector<std::uint8_t> pdu) {
+    constexpr std::uint16_t kProbeTransaction = 0x7E57;
+    std::vector<std::uint8_t> request(protocol::adu_size(protocol::Framing::Mbap, pdu.size()));
+    protocol::write_adu({protocol::Framing::Mbap, session_.dut().unit, kProbeTransaction, 0}, pdu,
+                        request);
+    client::LinkError error;
+    if (!session_.send(request, 1, error)) {
+        client::Received none{client::ReceiveStatus::Closed, {}, error.message};
+        return judge(request, std::move(none), {}, {}).exchange;
+    }
+    const auto waited = session_.options().timeout;
+    Exchange exchange = judge(request, session_.receive_frame(waited), waited, {}).exchange;
+    exchange.on_connection = session_.connection_requests();
+    return exchange;
+}
+
+std::optional<std::string> Engine::no_longer_serves() {
+    session_.close();
+    client::LinkError error;
+    if (!session_.connect(error)) {
+        return "afterwards the device refused a new connection: " + error.message;
+    }
+    // Any whole answer shows the device alive, an exception as well as data: the read of 7.5.1.
+    Exchange e = ask({0x03, 0x00, 0x00, 0x00, 0x01});
+    session_.close();
+    if (e.status == client::ReceiveStatus::Frame) return std::nullopt;
+    return "afterwards a plain read (FC 03, 1 register at 0) on a new connection got " +
+           describe_failure(e);
+}
+
+namespace {
+
+// What exception 01 says is not served, for a request PDU: the function code, and for FC 08 its
+// sub-function, for FC 2B its MEI type, which [APP] also refuses with 01 when they are not
+// served (an unknown diagnostic sub-function is 01 from a device that serves FC 08).
+std::optional<std::uint32_t> service_key(std::span<const std::uint8_t> pdu) {
+    constexpr std::uint8_t kDiagnostics = 0x08;
+    if (pdu.empty()) return std::nullopt;
+    const std::uint32_t function = std::uint32_t{pdu[0]} << 16;
+    if (pdu[0] == kDiagnostics) {
+        if (pdu.size() < 3) return std::nullopt;
+        return function | (std::uint32_t{pdu[1]} << 8) | pdu[2];
+    }
+    if (pdu[0] == kEncapsulated) {
+        if (pdu.size() < 2) return std::nullopt;
+        return function | pdu[1];
+    }
+    return function;
+}
+
+// "function 03", "function 08 sub-function 0002", "function 2B MEI type 0E".
+std::string service_name(std::span<const std::uint8_t> pdu) {
+    if (pdu[0] == 0x08 && pdu.size() >= 3) {
+        return fmt::format("function 08 sub-function {:02X}{:02X}", pdu[1], pdu[2]);
+    }
+    if (pdu[0] == kEncapsulated && pdu.size() >= 2) {
+        return fmt::format("function 2B MEI type {:02X}", pdu[1]);
+    }
+    return fmt::format("function {:02X}", pdu[0]);
+}
+
+}  // namespace
+
+void Engine::note_served(const Exchange& exchange) {
+    if (exchange.status != client::ReceiveStatus::Frame) return;
+    const auto asked = pdu_of(exchange.sent);
+    const auto got = pdu_of(exchange.received);
+    if (asked.empty() || got.empty() || (got[0] & 0x7F) != asked[0]) return;
+    if (exception_answer(exchange.sent, exchange.received) ==
+        protocol::ExceptionCode::IllegalFunction) {
+        return;
+    }
+    if (auto key = service_key(asked)) served_.insert(*key);
+}
+
+std::optional<Exchange> Engine::served_anyway(std::span<const std::uint8_t> request_pdu) {
+    const auto key = service_key(request_pdu);
+    if (!key) return std::nullopt;
+    if (served_.contains(*key)) return Exchange{};
+    // The plain request asks the same service only for some requests (not another diagnostic
+    // sub-function, say); only then does its answer say anything.
+    auto plain = plain_request_pdu(request_pdu[0]);
+    if (!plain || service_key(*plain) != key) return std::nullopt;
+    // On a connection of its own: answers of the case may still be on their way on this one.
+    session_.close();
+    Exchange e = ask(*plain);
+    note_served(e);
+    if (!served_.contains(*key)) return std::nullopt;
+    return e;
+}
+
+std::optional<std::uint8_t> Engine::stream_access_only() {
+    constexpr std::uint8_t kIndividualAccess = 0x80;
+    session_.close();
+    Exchange e = ask({kEncapsulated, kMeiReadDeviceId, 0x01, 0x00});
+    auto decoded = protocol::decode_response(pdu_of(e.received));
+    if (e.status != client::ReceiveStatus::Frame || !decoded) return std::nullopt;
+    const auto* id = std::get_if<protocol::ReadDeviceIdResponse>(&*decoded);
+    if (id == nullptr || (id->conformity_level & kIndividualAccess) != 0) return std::nullopt;
+    return id->conformity_level;
 }
 
 Outcome Engine::run_steps(const Case& c, bool& fresh) {
@@ -343,6 +468,7 @@ Outcome Engine::run_steps(const Case& c, bool& fresh) {
         judgement.exchange.silence_expected = step.silence.has_value();
         judgement.exchange.on_connection = session_.connection_requests();
         const Exchange& exchange = judgement.exchange;
+        note_served(exchange);
         bool passed = false;
         const bool silent =
             exchange.status == client::ReceiveStatus::Timeout && exchange.received.empty();
@@ -361,8 +487,7 @@ Outcome Engine::run_steps(const Case& c, bool& fresh) {
             if (!remark.empty()) remarks.push_back(remark);
         } else if (c.pipeline &&
                    is_exception(exchange, protocol::ExceptionCode::ServerDeviceBusy) &&
-                   std::equal(exchange.received.begin(), exchange.received.begin() + 2,
-                              exchange.sent.begin())) {
+                   transaction_of(exchange.received) == transaction_of(exchange.sent)) {
             // [TCPG]: a server may take fewer outstanding requests than were sent and answer
             // the rest "busy"; that is back-pressure, not a fault.
             passed = true;
@@ -371,17 +496,50 @@ Outcome Engine::run_steps(const Case& c, bool& fresh) {
         if (!passed) {
             // An optional function the device does not serve makes the case N/A, whichever
             // step asked for it: 01 is then the right answer.
+            // Exception 01 is only right when the function is not served at all: a device that
+            // serves it and answers 01 to a request it should refuse otherwise (a quantity of 0,
+            // say: [APP] asks 03) fails.
+            const std::uint8_t function = pdu_of(resolved.request).front();
+            const std::string at_step = steps.size() > 1
+                                            ? fmt::format(" (step {} of {})", i + 1, steps.size())
+                                            : std::string();
             if (c.unsupported_is_na &&
                 is_exception(exchange, protocol::ExceptionCode::IllegalFunction)) {
-                fresh = true;
-                return verdict(
-                    Verdict::NotApplicable,
-                    fmt::format("the device answered exception 01: function {:02X} is not "
-                                "supported{}",
-                                resolved.request[kPduAt],
-                                steps.size() > 1
-                                    ? fmt::format(" (step {} of {})", i + 1, steps.size())
-                                    : std::string()));
+                Exchange failed = judgement.exchange;
+                const auto key = service_key(pdu_of(resolved.request));
+                const bool seen = key && served_.contains(*key);
+                auto served = served_anyway(pdu_of(resolved.request));
+                if (!served) {
+                    fresh = true;
+                    return verdict(Verdict::NotApplicable,
+                                   fmt::format("the device answered exception 01: function {:02X} "
+                                               "is not supported{}",
+                                               function, at_step));
+                }
+                fail_step(i,
+                          fmt::format("exception 01 (illegal function), yet the device serves "
+                                      "{} ({}): 01 says a function is not served",
+                                      service_name(pdu_of(resolved.request)),
+                                      seen ? "it answered it otherwise earlier in this run"
+                                           : "its plain request was answered " +
+                                                 hex_text(served->received)),
+                          std::move(failed));
+                break;
+            }
+            // Individual access to device identification (read code 04) is optional: a device
+            // whose conformity level says stream access only answers it 03 ([APP] 6.21).
+            const auto asked = pdu_of(resolved.request);
+            if (c.unsupported_is_na && asked.size() == 4 && asked[0] == kEncapsulated &&
+                asked[1] == kMeiReadDeviceId && asked[kReadCodeAt] == 0x04 &&
+                is_exception(exchange, protocol::ExceptionCode::IllegalDataValue)) {
+                if (auto level = stream_access_only()) {
+                    fresh = true;
+                    return verdict(Verdict::NotApplicable,
+                                   fmt::format("the device answered exception 03 to individual "
+                                               "access, and its conformity level {:02X} declares "
+                                               "stream access only{}",
+                                               *level, at_step));
+                }
             }
             std::string reason;
             if (exchange.status == client::ReceiveStatus::Frame && !previous_frame.empty() &&
@@ -394,9 +552,18 @@ Outcome Engine::run_steps(const Case& c, bool& fresh) {
             fail_step(i, std::move(reason), judgement.exchange);
             break;
         }
-        // A tolerated close or silence leaves the connection closed or out of step.
+        // A tolerated close or silence leaves the connection closed or out of step; the device
+        // must still serve others, or a close that was a crash would pass.
         if (tolerated && !step.silence) {
             out_of_step = true;
+            if (auto dead = no_longer_serves()) {
+                const std::string allowed = tolerated->empty()
+                                                ? std::string(
+                                                      "the device closed or fell silent, as the "
+                                                      "case allows")
+                                                : *tolerated;
+                fail_step(i, allowed + ", but " + *dead, judgement.exchange);
+            }
             break;
         }
         if (step.silence) continue;

@@ -1,7 +1,10 @@
 #pragma once
 
 #include <atomic>
+#include <cstdint>
 #include <optional>
+#include <set>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -41,9 +44,25 @@ class Engine {
     Outcome run_steps(const Case& c, bool& fresh);
     std::optional<Outcome> check_reachable();
     bool stopped() const { return stop_ != nullptr && stop_->load(); }
+    // Asks `pdu` of the device on the session as a request of its own; what came back.
+    Exchange ask(std::vector<std::uint8_t> pdu);
+    // After a case the device ended by closing the connection or falling silent, which the case
+    // allows: why the device no longer serves (a new connection refused, a plain read unanswered),
+    // or nothing when it does.
+    std::optional<std::string> no_longer_serves();
+    // Exception 01 to `function` makes a case N/A only when the function is not served: the
+    // evidence that it is (an earlier answer in the run, or its plain request answered otherwise).
+    std::optional<Exchange> served_anyway(std::span<const std::uint8_t> request_pdu);
+    // Exception 03 to an individual device identification request (read code 04) is right when
+    // the device's conformity level declares stream access only: the level, when it does.
+    std::optional<std::uint8_t> stream_access_only();
+    void note_served(const Exchange& exchange);
+
     Session& session_;
     RunListener* listener_;
     const std::atomic<bool>* stop_ = nullptr;
+    // Services answered otherwise than with exception 01 (service_key in engine.cpp).
+    std::set<std::uint32_t> served_;
 };
 
 }  // namespace mblab::conformance

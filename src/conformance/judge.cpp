@@ -7,6 +7,7 @@
 
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
+#include "protocol/mbap_header.hpp"
 
 namespace mblab::conformance {
 
@@ -54,15 +55,24 @@ std::string_view field_at(std::size_t position, int function) {
 }  // namespace
 
 std::uint16_t transaction_of(std::span<const std::uint8_t> adu) {
-    return adu.size() >= 2 ? static_cast<std::uint16_t>(adu[0] << 8 | adu[1]) : 0;
+    const auto frame = protocol::read_mbap_frame(adu);
+    return frame ? frame->header.transaction_id : 0;
+}
+
+std::optional<protocol::ExceptionCode> exception_answer(std::span<const std::uint8_t> request,
+                                                        std::span<const std::uint8_t> answer) {
+    const auto asked = protocol::read_mbap_frame(request);
+    const auto got = protocol::read_mbap_frame(answer);
+    if (!asked || !got || asked->pdu.empty() || got->pdu.size() != 2 ||
+        got->pdu[0] != (asked->pdu[0] | protocol::kExceptionBit)) {
+        return std::nullopt;
+    }
+    return static_cast<protocol::ExceptionCode>(got->pdu[1]);
 }
 
 bool is_exception_answer(std::span<const std::uint8_t> request, std::span<const std::uint8_t> frame,
                          protocol::ExceptionCode code) {
-    constexpr std::size_t kFunctionAt = 7;
-    return request.size() > kFunctionAt && frame.size() == kFunctionAt + 2 &&
-           frame[kFunctionAt] == (request[kFunctionAt] | protocol::kExceptionBit) &&
-           frame[kFunctionAt + 1] == static_cast<std::uint8_t>(code);
+    return exception_answer(request, frame) == code;
 }
 
 std::string describe_unasked(const client::Received& got, std::string_view when,
@@ -136,8 +146,9 @@ namespace {
 
 // " from unit 1", when the request names one.
 std::string from_unit(const Exchange& exchange) {
-    if (exchange.sent.size() <= 6) return {};
-    return fmt::format(" from unit {}", exchange.sent[6]);
+    const auto sent = protocol::read_mbap_frame(exchange.sent);
+    if (!sent) return {};
+    return fmt::format(" from unit {}", sent->header.unit_id);
 }
 
 // " (request 57 on this connection)": a device that stops after N requests shows here.
@@ -175,20 +186,31 @@ std::string describe_failure(const Exchange& exchange) {
                                          got.size() + exchange.discarded);
     }
     // An exception answer to a request that expected data is the most common failure: name it.
+    // The expected pattern is in the catalogue's notation, an MBAP frame: its PDU starts after the
+    // 7 cells of the header.
+    const auto answer = protocol::read_mbap_frame(got);
+    const std::span<const std::uint8_t> pdu =
+        answer ? answer->pdu : std::span<const std::uint8_t>{};
+    constexpr std::size_t kHeaderCells = 7;
     const auto& cells = exchange.match.expected_cells;
-    const bool expected_exception = cells.size() > 7 && cells[7] != "XX" && cells[7][0] >= '8';
-    if (got.size() == 9 && (got[7] & protocol::kExceptionBit) != 0) {
-        auto code = static_cast<protocol::ExceptionCode>(got[8]);
+    const std::span<const std::string> expected_pdu = cells.size() > kHeaderCells
+                                                          ? std::span(cells).subspan(kHeaderCells)
+                                                          : std::span<const std::string>{};
+    const bool expected_exception =
+        !expected_pdu.empty() && expected_pdu[0] != "XX" && expected_pdu[0][0] >= '8';
+    if (pdu.size() == 2 && (pdu[0] & protocol::kExceptionBit) != 0) {
+        auto code = static_cast<protocol::ExceptionCode>(pdu[1]);
         std::string text =
-            fmt::format("exception {:02X} ({})", got[8], protocol::exception_name(code));
+            fmt::format("exception {:02X} ({})", pdu[1], protocol::exception_name(code));
         if (!expected_exception) return text;
-        if (cells.size() > 8 && cells[8] != "XX" && exchange.match.differs.size() == 1 &&
-            exchange.match.differs.front() == 8) {
-            return text + " instead of " + cells[8];
+        if (expected_pdu.size() > 1 && expected_pdu[1] != "XX" &&
+            exchange.match.differs.size() == 1 &&
+            exchange.match.differs.front() == kHeaderCells + 1) {
+            return text + " instead of " + expected_pdu[1];
         }
     }
     std::vector<std::string_view> fields;
-    const int function = got.size() > 7 ? got[7] : -1;
+    const int function = pdu.empty() ? -1 : pdu[0];
     for (std::size_t position : exchange.match.differs) {
         auto name = position < got.size() ? field_at(position, function)
                                           : std::string_view("missing bytes");

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <chrono>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -24,6 +25,11 @@ Judgement judge(std::span<const std::uint8_t> sent, client::Received received,
 
 // The transaction id of an MBAP request or answer (0 when too short to hold one).
 std::uint16_t transaction_of(std::span<const std::uint8_t> adu);
+
+// The exception code of an answer that is the request's function code with the exception bit
+// and one code; nullopt for any other answer.
+std::optional<protocol::ExceptionCode> exception_answer(std::span<const std::uint8_t> request,
+                                                        std::span<const std::uint8_t> answer);
 
 // The device answered the request's function code with exception `code`.
 bool is_exception_answer(std::span<const std::uint8_t> request, std::span<const std::uint8_t> frame,

@@ -15,8 +15,11 @@
 #include "conformance/answer_rules.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/pattern.hpp"
+#include "conformance/plain_requests.hpp"
 #include "conformance/procedures.hpp"
 #include "conformance/session.hpp"
+#include "protocol/adu.hpp"
+#include "protocol/mbap_header.hpp"
 #include "security/tls_channel.hpp"
 #include "security/tls_context.hpp"
 
@@ -27,7 +30,6 @@ namespace {
 using Bytes = std::vector<std::uint8_t>;
 using security::ClientVersions;
 
-constexpr std::size_t kPduAt = 7;  // in an MBAP frame
 constexpr std::uint8_t kIllegalFunction = 0x01;
 
 Outcome verdict(Verdict v, std::string reason, std::vector<Exchange> evidence = {}) {
@@ -117,14 +119,8 @@ std::optional<Outcome> not_judged(const Attempt& attempt) {
 }
 
 Bytes mbap(std::uint16_t transaction, std::uint8_t unit, const Bytes& pdu) {
-    const auto length = static_cast<std::uint16_t>(pdu.size() + 1);
-    Bytes out(kPduAt + pdu.size());
-    out[0] = static_cast<std::uint8_t>(transaction >> 8);
-    out[1] = static_cast<std::uint8_t>(transaction & 0xFF);
-    out[4] = static_cast<std::uint8_t>(length >> 8);
-    out[5] = static_cast<std::uint8_t>(length & 0xFF);
-    out[6] = unit;
-    std::copy(pdu.begin(), pdu.end(), out.begin() + kPduAt);
+    Bytes out(protocol::adu_size(protocol::Framing::Mbap, pdu.size()));
+    protocol::write_adu({protocol::Framing::Mbap, unit, transaction, 0}, pdu, out);
     return out;
 }
 
@@ -158,27 +154,47 @@ Exchange ask(client::RawLink& link, const Bytes& request, std::chrono::milliseco
     return exchange;
 }
 
-// A whole answer to the request: its transaction id, protocol id 0, unit and function code
-// (plain or exception).
+// The PDU of a request the tester wrote.
+std::span<const std::uint8_t> request_pdu(const Bytes& request) {
+    return protocol::read_mbap_frame(request)->pdu;
+}
+
+// The PDU of a whole answer to the request: its transaction id, protocol id 0, unit and function
+// code (plain or exception); empty when what came is not one.
+std::span<const std::uint8_t> answer_pdu(const Exchange& e) {
+    if (e.status != client::ReceiveStatus::Frame) return {};
+    const auto asked = protocol::read_mbap_frame(e.sent);
+    const auto got = protocol::read_mbap_frame(e.received);
+    if (!asked || !got || got->pdu.empty() ||
+        got->header.transaction_id != asked->header.transaction_id ||
+        got->header.protocol_id != 0 || got->header.unit_id != asked->header.unit_id ||
+        (got->pdu[0] & 0x7F) != asked->pdu[0]) {
+        return {};
+    }
+    return got->pdu;
+}
+
 bool answered(const Exchange& e) {
-    const auto& got = e.received;
-    return e.status == client::ReceiveStatus::Frame && got.size() > kPduAt && got[0] == e.sent[0] &&
-           got[1] == e.sent[1] && got[2] == 0 && got[3] == 0 && got[6] == e.sent[6] &&
-           (got[kPduAt] & 0x7F) == e.sent[kPduAt];
+    return !answer_pdu(e).empty();
 }
 
 std::optional<std::uint8_t> exception_code(const Exchange& e) {
-    if (!answered(e) || (e.received[kPduAt] & 0x80) == 0 || e.received.size() != kPduAt + 2) {
-        return std::nullopt;
-    }
-    return e.received[kPduAt + 1];
+    const auto pdu = answer_pdu(e);
+    if (pdu.size() != 2 || (pdu[0] & 0x80) == 0) return std::nullopt;
+    return pdu[1];
 }
 
 // A normal answer whose fields are as [APP] fixes them.
 bool data_answer(const Exchange& e) {
-    if (!answered(e) || (e.received[kPduAt] & 0x80) != 0) return false;
-    return !answer_rule_broken(std::span(e.sent).subspan(kPduAt),
-                               std::span(e.received).subspan(kPduAt));
+    const auto pdu = answer_pdu(e);
+    if (pdu.empty() || (pdu[0] & 0x80) != 0) return false;
+    return !answer_rule_broken(request_pdu(e.sent), pdu);
+}
+
+// The register an FC 03 read of one register answered (its data answer checked first).
+std::pair<std::uint8_t, std::uint8_t> register_read(const Exchange& read) {
+    const auto pdu = answer_pdu(read);  // function, byte count 2, the value
+    return {pdu[2], pdu[3]};
 }
 
 // What the device did with a request, in a few words.
@@ -276,34 +292,14 @@ Outcome refuse_certificate(Session& session, const security::TlsFiles& files,
     return verdict(Verdict::Fail, std::move(reason), {e});
 }
 
-// One well-formed request for each public function code, addressed to 0 where there is an
-// address: a client without rights must get exception 01 for every one.
+// The plain request of each public function code: a client without rights must get exception 01
+// for every one.
 std::vector<Bytes> every_function(std::uint8_t unit) {
-    const std::vector<Bytes> pdus = {
-        {0x01, 0x00, 0x00, 0x00, 0x01},
-        {0x02, 0x00, 0x00, 0x00, 0x01},
-        {0x03, 0x00, 0x00, 0x00, 0x01},
-        {0x04, 0x00, 0x00, 0x00, 0x01},
-        {0x05, 0x00, 0x00, 0xFF, 0x00},
-        {0x06, 0x00, 0x00, 0x00, 0x00},
-        {0x07},
-        {0x08, 0x00, 0x00, 0x12, 0x34},
-        {0x0B},
-        {0x0C},
-        {0x0F, 0x00, 0x00, 0x00, 0x01, 0x01, 0x00},
-        {0x10, 0x00, 0x00, 0x00, 0x01, 0x02, 0x00, 0x00},
-        {0x11},
-        {0x14, 0x07, 0x06, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01},
-        {0x15, 0x09, 0x06, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00},
-        {0x16, 0x00, 0x00, 0xFF, 0xFF, 0x00, 0x00},
-        {0x17, 0x00, 0x00, 0x00, 0x01, 0x00, 0x00, 0x00, 0x01, 0x02, 0x00, 0x00},
-        {0x18, 0x00, 0x00},
-        {0x2B, 0x0E, 0x01, 0x00},
-    };
     std::vector<Bytes> out;
     std::uint16_t transaction = 0x5E10;
-    for (const auto& pdu : pdus)
-        out.push_back(mbap(transaction++, unit, pdu));
+    for (std::uint8_t function : functions_with_plain_requests()) {
+        out.push_back(mbap(transaction++, unit, *plain_request_pdu(function)));
+    }
     return out;
 }
 
@@ -344,8 +340,7 @@ Outcome run_tls_handshake(Session& session, const Case&) {
                                    peer.version, peer.cipher, what_came(e)),
                        {e});
     }
-    if (auto broken = answer_rule_broken(std::span(e.sent).subspan(kPduAt),
-                                         std::span(e.received).subspan(kPduAt))) {
+    if (auto broken = answer_rule_broken(request_pdu(e.sent), answer_pdu(e))) {
         return verdict(Verdict::Fail, *broken, {e});
     }
     const auto& role = peer.own_role;
@@ -408,7 +403,7 @@ Outcome run_null_role_denied(Session& session, const Case&) {
                        fmt::format("function {:02X} from a client without a role got {}; R-23, "
                                    "R-31: the NULL role's refused request is answered exception "
                                    "01",
-                                   request[kPduAt], what_came(e)),
+                                   request_pdu(request)[0], what_came(e)),
                        {e});
     }
     return verdict(Verdict::Pass,
@@ -435,8 +430,7 @@ Outcome run_read_only_role(Session& session, const Case&) {
             {read});
     }
     // The writes put back what was read, so a device that wrongly obeys loses nothing.
-    const std::uint8_t hi = read.received[kPduAt + 2];
-    const std::uint8_t lo = read.received[kPduAt + 3];
+    const auto [hi, lo] = register_read(read);
     const std::array<Bytes, 2> writes = {
         mbap(0x5E31, unit, {0x06, 0x00, kRoleRegister, hi, lo}),
         mbap(0x5E32, unit, {0x10, 0x00, kRoleRegister, 0x00, 0x01, 0x02, hi, lo}),
@@ -447,7 +441,7 @@ Outcome run_read_only_role(Session& session, const Case&) {
         return verdict(Verdict::Fail,
                        fmt::format("role {} may not write, and its function {:02X} write got {}; "
                                    "R-31: a request its role may not make is answered exception 01",
-                                   role, write[kPduAt], what_came(e)),
+                                   role, request_pdu(write)[0], what_came(e)),
                        {e});
     }
     return verdict(Verdict::Pass,
@@ -475,12 +469,14 @@ Outcome run_write_role(Session& session, const Case&) {
                         role, what_came(read)),
             {read});
     }
-    auto write =
-        ask(*attempt.link,
-            mbap(0x5E41, unit,
-                 {0x06, 0x00, kRoleRegister, read.received[kPduAt + 2], read.received[kPduAt + 3]}),
-            session.options().timeout);
-    if (!data_answer(write) || write.received != write.sent) {
+    const auto [hi, lo] = register_read(read);
+    auto write = ask(*attempt.link, mbap(0x5E41, unit, {0x06, 0x00, kRoleRegister, hi, lo}),
+                     session.options().timeout);
+    // FC 06 answers with an echo of the request's PDU.
+    const auto echoed = answer_pdu(write);
+    const auto asked = request_pdu(write.sent);
+    if (!data_answer(write) ||
+        !std::equal(echoed.begin(), echoed.end(), asked.begin(), asked.end())) {
         return verdict(Verdict::Fail,
                        fmt::format("role {} may write holding register 0x0010 as declared, and its "
                                    "function 06 write got {}",

@@ -81,6 +81,7 @@ bool Session::connect(client::LinkError& error) {
         return false;
     }
     link_ = std::move(opened.value());
+    ever_connected_ = true;
     connection_requests_ = 0;
     last_frame_.clear();
     return true;

@@ -65,6 +65,9 @@ class Session {
     // Opens the connection or port when it is not open; false with `error` set when the device
     // cannot be reached.
     bool connect(client::LinkError& error);
+    // Whether a connection was ever made in this session: a device that accepted one and refuses
+    // the next has stopped serving.
+    bool ever_connected() const { return ever_connected_; }
     // Closes the connection so the next case starts on a fresh one.
     void close();
 
@@ -110,6 +113,7 @@ class Session {
     std::size_t connection_requests_ = 0;
     std::vector<std::uint8_t> last_frame_;
     bool probed_ = false;
+    bool ever_connected_ = false;
 };
 
 // Why a case cannot run over the session's framing (pipelined or split requests are TCP stream

@@ -14,6 +14,7 @@
 #include <cstring>
 
 #include "protocol/limits.hpp"
+#include "protocol/mbap_header.hpp"
 
 namespace mblab::load {
 
@@ -471,7 +472,7 @@ void LoadConnection::read(LoadClock::time_point now) {
 }
 
 void LoadConnection::answer(std::span<const std::uint8_t> frame, LoadClock::time_point now) {
-    const auto tid = static_cast<std::uint16_t>((frame[0] << 8) | frame[1]);
+    const std::uint16_t tid = protocol::read_mbap_header(frame).transaction_id;
     Slot* slot = find_slot(tid);
     bool tid_matches = slot != nullptr;
     if (slot == nullptr) {

@@ -68,7 +68,7 @@ std::optional<FailureKind> judge_load_answer(const LoadPlan& plan, NodeTally& ta
         conformance::is_exception_answer(sent.request, frame,
                                          protocol::ExceptionCode::IllegalFunction)) {
         tally.not_applicable[sent.test_case] = fmt::format(
-            "N/A: the device answered exception 01 to function {:02X}", sent.request[7]);
+            "N/A: the device answered exception 01 to function {:02X}", sent.function());
         failure.reset();
     }
     return failure;

@@ -28,8 +28,9 @@ std::optional<std::string> loop_obstacle(const conformance::Step& step) {
 // request must be one whole frame that says so.
 bool is_whole_mbap_request(const std::vector<std::uint8_t>& bytes) {
     if (bytes.size() <= limits::kMbapHeader || bytes.size() > limits::kMaxTcpAdu) return false;
-    const std::size_t length = (std::size_t{bytes[4]} << 8) | bytes[5];
-    return bytes[2] == 0 && bytes[3] == 0 && length + 6 == bytes.size();
+    const auto frame = protocol::read_mbap_frame(bytes);
+    // The length field counts the unit id and the PDU.
+    return frame->header.protocol_id == 0 && frame->header.length == frame->pdu.size() + 1;
 }
 
 LoadExchange make_exchange(std::string name, std::string source, std::vector<std::uint8_t> request,
@@ -153,12 +154,13 @@ bool is_write(std::uint8_t function) {
 void unpin_read_backs(LoadPlan& plan) {
     for (std::size_t i = 0; i < plan.test_exchanges; ++i) {
         LoadExchange& exchange = plan.exchanges[i];
-        const auto& request = exchange.request;
-        if (request.size() < 12 || is_write(request[7]) || table_of(request[7]) == 0) continue;
-        const std::uint32_t first = (std::uint32_t{request[8]} << 8) | request[9];
-        const std::uint32_t count = (std::uint32_t{request[10]} << 8) | request[11];
+        // A read's PDU: function, starting address, quantity.
+        const auto pdu = protocol::read_mbap_frame(exchange.request)->pdu;
+        if (pdu.size() < 5 || is_write(pdu[0]) || table_of(pdu[0]) == 0) continue;
+        const std::uint32_t first = (std::uint32_t{pdu[1]} << 8) | pdu[2];
+        const std::uint32_t count = (std::uint32_t{pdu[3]} << 8) | pdu[4];
         const bool overlapped = std::any_of(plan.mix.begin(), plan.mix.end(), [&](const auto& e) {
-            return is_write(e.function) && table_of(e.function) == table_of(request[7]) &&
+            return is_write(e.function) && table_of(e.function) == table_of(pdu[0]) &&
                    e.address < first + count && first < std::uint32_t{e.address} + e.quantity;
         });
         if (!overlapped) continue;

@@ -16,6 +16,7 @@
 #include "conformance/dut.hpp"
 #include "load/answer.hpp"
 #include "load/mix.hpp"
+#include "protocol/mbap_header.hpp"
 #include "protocol/result.hpp"
 
 // What a load run (`mblab load`, seed 000 section 8) repeats, against which nodes, how hard.
@@ -34,6 +35,9 @@ struct LoadExchange {
     std::vector<AnswerPattern> answers;  // the same, compiled for the hot path
     std::size_t test_case = kNoCase;     // index into LoadPlan::cases for protocol tests
     bool first_step = false;
+
+    // The request's function code (a plan holds whole MBAP requests only).
+    std::uint8_t function() const { return protocol::read_mbap_frame(request)->pdu[0]; }
 };
 
 // A protocol test case in the loop: its steps are exchanges [first, first + steps).

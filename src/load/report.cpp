@@ -112,7 +112,7 @@ json node_json(const LoadPlan& plan, const LoadResult& result, const NodeResult&
         const auto& exchange = plan.exchanges[i];
         exchanges.push_back({{"name", exchange.name},
                              {"source", exchange.source},
-                             {"function", exchange.request[7]},
+                             {"function", exchange.function()},
                              {"sent", node.exchange_sent[i]},
                              {"failed", node.exchange_failed[i]}});
     }

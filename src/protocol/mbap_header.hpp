@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 
 namespace mblab::protocol {
@@ -19,5 +20,16 @@ struct MbapHeader {
 
 // Parses the first 7 bytes of `bytes`; the caller has checked there are at least 7.
 MbapHeader read_mbap_header(std::span<const std::uint8_t> bytes);
+
+// A Modbus/TCP frame as its header fields and its PDU (function code first): how the tester reads
+// the requests and answers of its catalogue, which are written as MBAP frames, instead of by byte
+// position. The length field is read, not checked: judging it is the tester's business.
+struct MbapFrame {
+    MbapHeader header;
+    std::span<const std::uint8_t> pdu;  // empty in a frame of a header alone (length field 1)
+};
+
+// The header and PDU of `bytes`; nullopt when they are too few for a header.
+std::optional<MbapFrame> read_mbap_frame(std::span<const std::uint8_t> bytes);
 
 }  // namespace mblab::protocol

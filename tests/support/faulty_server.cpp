@@ -82,12 +82,17 @@ void FaultyServer::serve() {
         if (fd < 0) continue;
         int one = 1;
         ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
-        serve_connection(fd);
+        const bool died = serve_connection(fd);
         ::close(fd);
+        if (died) {
+            ::close(listener_);
+            listener_ = -1;
+            return;
+        }
     }
 }
 
-void FaultyServer::serve_connection(int fd) {
+bool FaultyServer::serve_connection(int fd) {
     std::vector<std::uint8_t> buffer;
     std::uint32_t requests = 0;  // on this connection
     // When the unfinished frame in the buffer began; the epoch while there is none.
@@ -97,7 +102,7 @@ void FaultyServer::serve_connection(int fd) {
         std::vector<std::vector<std::uint8_t>> frames;
         while (buffer.size() >= 6) {
             const std::size_t length = static_cast<std::size_t>(buffer[4] << 8 | buffer[5]);
-            if (length < 2) return;  // not even a unit id and function code: hang up
+            if (length < 2) return false;  // not even a unit id and function code: hang up
             if (buffer.size() < 6 + length) break;
             const auto end = buffer.begin() + static_cast<long>(6 + length);
             frames.emplace_back(buffer.begin(), end);
@@ -111,9 +116,9 @@ void FaultyServer::serve_connection(int fd) {
             if (rule_.fault == Fault::SilentAfter && requests > rule_.after) continue;
             if (rule_.fault == Fault::OnlyUnit255 && frame[6] != 0xFF) continue;
             if (modbus) answer(fd, frame.data(), frame.size(), i > 0);
-            if (rule_.fault == Fault::CloseConnection && modbus &&
+            if ((rule_.fault == Fault::CloseConnection || rule_.fault == Fault::Dies) && modbus &&
                 (rule_.function == 0 || rule_.function == frame[7])) {
-                return;
+                return rule_.fault == Fault::Dies;
             }
         }
         if (buffer.empty()) {
@@ -129,7 +134,7 @@ void FaultyServer::serve_connection(int fd) {
         }
         std::array<pollfd, 2> fds{pollfd{fd, POLLIN, 0}, pollfd{wake_[0], POLLIN, 0}};
         int ready = ::poll(fds.data(), fds.size(), wait);
-        if (ready < 0 || (fds[1].revents & POLLIN) != 0) return;
+        if (ready < 0 || (fds[1].revents & POLLIN) != 0) return false;
         if (ready == 0) {
             // 9.1.3: a frame whose length promised more than came is answered with 03.
             if (buffer.size() >= 8) {
@@ -144,7 +149,7 @@ void FaultyServer::serve_connection(int fd) {
         }
         std::uint8_t chunk[1024];
         ssize_t n = ::recv(fd, chunk, sizeof chunk, 0);
-        if (n <= 0) return;
+        if (n <= 0) return false;
         buffer.insert(buffer.end(), chunk, chunk + n);
     }
 }
@@ -201,6 +206,7 @@ void FaultyServer::answer(int fd, const std::uint8_t* frame, std::size_t size, b
             break;
         case Fault::NoAnswer:
         case Fault::CloseConnection:
+        case Fault::Dies:
             return;
         case Fault::LateAnswer:
             std::this_thread::sleep_for(std::chrono::milliseconds(150));

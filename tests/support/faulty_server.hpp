@@ -21,6 +21,7 @@ enum class Fault : std::uint8_t {
     WrongExceptionCode,  // exception code 04 (or 01 where 04 was right)
     NoAnswer,            // nothing is sent
     CloseConnection,     // the connection is closed instead of answering
+    Dies,                // as CloseConnection, and then no connection is accepted (a crash)
     WrongEcho,           // the last byte of an echoed answer changed
     SplitAnswer,         // right, but written in three pieces 30 ms apart
     LateAnswer,          // right, but 150 ms late
@@ -61,7 +62,8 @@ class FaultyServer {
 
   private:
     void serve();
-    void serve_connection(int fd);
+    // Serves one connection until it ends; true when the device died with it.
+    bool serve_connection(int fd);
     void answer(int fd, const std::uint8_t* frame, std::size_t size, bool queued);
 
     device::RequestHandler& handler_;

@@ -1,0 +1,230 @@
+// Verdicts a device cannot game: a close the case allows does not pass when the close was a
+// crash; exception 01 makes a case N/A only when the function is truly not served; an optional
+// access refused as the spec allows is N/A, not FAIL.
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "conformance/catalogue.hpp"
+#include "conformance/device_dut.hpp"
+#include "conformance/engine.hpp"
+#include "device/reference_device.hpp"
+#include "server/background_server.hpp"
+#include "support/faulty_server.hpp"
+
+namespace mblab::conformance {
+namespace {
+
+const std::string kProfile = std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml";
+
+std::unique_ptr<device::ReferenceDevice> reference_device() {
+    auto loaded = device::load_profile(kProfile);
+    EXPECT_TRUE(loaded.ok());
+    return std::move(loaded.value());
+}
+
+Suite suite_of(const std::string& text) {
+    auto suite = load_suite_text("[suite]\nname = \"t\"\n" + text, "t.toml");
+    EXPECT_TRUE(suite.ok()) << suite.error();
+    return suite.value();
+}
+
+RunResult run(std::uint16_t port, const Suite& suite) {
+    EngineOptions options;
+    options.timeout = std::chrono::milliseconds(400);
+    Dut dut;
+    Session session({"127.0.0.1", port}, dut, options);
+    client::LinkError error;
+    EXPECT_TRUE(session.connect(error)) << error.message;
+    Engine engine(session);
+    return engine.run({suite}, "test");
+}
+
+const CaseResult& at(const RunResult& result, std::size_t i) {
+    return result.suites.at(0).cases.at(i);
+}
+
+// A handler that answers some requests itself and passes the rest to the reference device.
+class Rewriting : public device::RequestHandler {
+  public:
+    using Rule = std::function<std::optional<std::vector<std::uint8_t>>(
+        std::span<const std::uint8_t> request)>;
+    Rewriting(device::RequestHandler& inner, Rule rule) : inner_(inner), rule_(std::move(rule)) {}
+    device::Reply handle(const device::RequestContext& context,
+                         std::span<const std::uint8_t> request,
+                         std::span<std::uint8_t> response) override {
+        if (auto answer = rule_(request)) {
+            std::copy(answer->begin(), answer->end(), response.begin());
+            return {device::ReplyAction::Answer, answer->size(), {}};
+        }
+        return inner_.handle(context, request, response);
+    }
+
+  private:
+    device::RequestHandler& inner_;
+    Rule rule_;
+};
+
+const std::string kCloseAllowed = R"(
+[[case]]
+source = "test"
+id = "close"
+title = "a request the device may refuse by closing"
+request = "00 01 00 00 00 06 01 04 00 00 00 01"
+expect = "00 01 00 00 00 03 01 84 03"
+accept_close = "closed the connection"
+
+[[case]]
+source = "test"
+id = "after"
+title = "a read after it"
+request = "00 02 00 00 00 06 01 03 00 00 00 01"
+expect = "00 02 00 00 00 05 01 03 02 XX XX"
+)";
+
+TEST(ConformVerdicts, AnAllowedCloseFromADeviceThatStillServesPasses) {
+    auto device = reference_device();
+    test::FaultyServer server(*device, {test::Fault::CloseConnection, 0x04, 0});
+    const auto port = server.start();
+    auto result = run(port, suite_of(kCloseAllowed));
+    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Pass) << at(result, 0).outcome.reason;
+    EXPECT_EQ(at(result, 0).outcome.reason, "closed the connection");
+    EXPECT_EQ(at(result, 1).outcome.verdict, Verdict::Pass) << at(result, 1).outcome.reason;
+}
+
+TEST(ConformVerdicts, AnAllowedCloseThatWasACrashFailsAndSoDoesEveryCaseAfterIt) {
+    auto device = reference_device();
+    test::FaultyServer server(*device, {test::Fault::Dies, 0x04, 0});
+    const auto port = server.start();
+    auto result = run(port, suite_of(kCloseAllowed));
+    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Fail);
+    EXPECT_EQ(at(result, 0).outcome.reason.rfind("closed the connection, but afterwards the device "
+                                                 "refused a new connection: ",
+                                                 0),
+              0U)
+        << at(result, 0).outcome.reason;
+    EXPECT_EQ(at(result, 1).outcome.verdict, Verdict::Fail);
+    EXPECT_EQ(at(result, 1).outcome.reason.rfind(
+                  "the device no longer accepts connections (it did earlier in the run): ", 0),
+              0U)
+        << at(result, 1).outcome.reason;
+    EXPECT_FALSE(result.all_passed());
+}
+
+// FC 03 with a quantity of 0 must be answered 03 ([APP] 6.3); this device answers 01.
+const Rewriting::Rule kQuantity0Answered01 =
+    [](std::span<const std::uint8_t> request) -> std::optional<std::vector<std::uint8_t>> {
+    if (request.size() == 5 && request[0] == 0x03 && request[3] == 0 && request[4] == 0) {
+        return std::vector<std::uint8_t>{0x83, 0x01};
+    }
+    return std::nullopt;
+};
+
+const std::string kQuantity0 = R"(
+[[case]]
+source = "test"
+id = "q0"
+title = "FC 03 of 0 registers answers 03"
+unsupported_is_na = true
+request = "00 03 00 00 00 06 01 03 00 00 00 00"
+expect = "00 03 00 00 00 03 01 83 03"
+)";
+
+TEST(ConformVerdicts, Exception01FromAFunctionServedEarlierInTheRunFails) {
+    auto device = reference_device();
+    Rewriting handler(*device, kQuantity0Answered01);
+    server::BackgroundServer server(handler);
+    const auto port = server.start();
+    ASSERT_TRUE(port.ok());
+    auto result = run(*port, suite_of(R"(
+[[case]]
+source = "test"
+id = "read"
+title = "FC 03 reads"
+request = "00 01 00 00 00 06 01 03 00 00 00 01"
+expect = "00 01 00 00 00 05 01 03 02 XX XX"
+)" + kQuantity0));
+    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Pass);
+    EXPECT_EQ(at(result, 1).outcome.verdict, Verdict::Fail);
+    EXPECT_EQ(at(result, 1).outcome.reason,
+              "exception 01 (illegal function), yet the device serves function 03 (it answered "
+              "it otherwise earlier in this run): 01 says a function is not served");
+}
+
+TEST(ConformVerdicts, Exception01FromAFunctionWhosePlainRequestIsAnsweredFails) {
+    auto device = reference_device();
+    Rewriting handler(*device, kQuantity0Answered01);
+    server::BackgroundServer server(handler);
+    const auto port = server.start();
+    ASSERT_TRUE(port.ok());
+    auto result = run(*port, suite_of(kQuantity0));
+    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Fail);
+    EXPECT_NE(at(result, 0).outcome.reason.find("yet the device serves function 03 (its plain "
+                                                "request was answered 7E 57 00 00 00 05 01 03 02"),
+              std::string::npos)
+        << at(result, 0).outcome.reason;
+}
+
+TEST(ConformVerdicts, Exception01FromAFunctionNotServedIsNotApplicable) {
+    auto device = reference_device();
+    test::FaultyServer server(*device, {test::Fault::IllegalFunction, 0x03, 0});
+    const auto port = server.start();
+    auto result = run(port, suite_of(kQuantity0));
+    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::NotApplicable);
+    EXPECT_EQ(at(result, 0).outcome.reason,
+              "the device answered exception 01: function 03 is not supported");
+}
+
+// Individual access (read code 04) answered 03, from a device whose conformity level declares
+// stream access only (01) or individual access as well (81).
+Rewriting::Rule individual_access_refused(std::uint8_t level) {
+    return
+        [level](std::span<const std::uint8_t> request) -> std::optional<std::vector<std::uint8_t>> {
+            if (request.size() == 4 && request[0] == 0x2B && request[1] == 0x0E) {
+                if (request[2] == 0x04) return std::vector<std::uint8_t>{0xAB, 0x03};
+                if (request[2] == 0x01 && request[3] == 0x00) {
+                    // Basic stream: one object (vendor name "V"), nothing more follows.
+                    return std::vector<std::uint8_t>{0x2B, 0x0E, 0x01, level, 0x00,
+                                                     0x00, 0x01, 0x00, 0x01,  'V'};
+                }
+            }
+            return std::nullopt;
+        };
+}
+
+TEST(ConformVerdicts, IndividualAccessRefusedByAStreamOnlyDeviceIsNotApplicable) {
+    auto device = reference_device();
+    Rewriting handler(*device, individual_access_refused(0x01));
+    server::BackgroundServer server(handler);
+    const auto port = server.start();
+    ASSERT_TRUE(port.ok());
+    auto suite = load_suite_file(std::string(MBLAB_SOURCE_DIR) + "/catalogue/device-id.toml");
+    ASSERT_TRUE(suite.ok());
+    auto result = run(*port, suite.value());
+    for (const auto& c : result.suites.at(0).cases) {
+        if (c.id != "devid.2" && c.id != "devid.5") continue;
+        EXPECT_EQ(c.outcome.verdict, Verdict::NotApplicable) << c.id << ": " << c.outcome.reason;
+        EXPECT_EQ(c.outcome.reason,
+                  "the device answered exception 03 to individual access, and its conformity "
+                  "level 01 declares stream access only");
+    }
+}
+
+TEST(ConformVerdicts, IndividualAccessRefusedByADeviceThatDeclaresItFails) {
+    auto device = reference_device();
+    Rewriting handler(*device, individual_access_refused(0x81));
+    server::BackgroundServer server(handler);
+    const auto port = server.start();
+    ASSERT_TRUE(port.ok());
+    auto suite = load_suite_file(std::string(MBLAB_SOURCE_DIR) + "/catalogue/device-id.toml");
+    ASSERT_TRUE(suite.ok());
+    auto result = run(*port, suite.value());
+    for (const auto& c : result.suites.at(0).cases) {
+        if (c.id != "devid.2") continue;
+        EXPECT_EQ(c.outcome.verdict, Verdict::Fail) << c.outcome.reason;
+        EXPECT_EQ(c.outcome.reason, "exception 03 (illegal data value)");
+    }
+}
+
+}  // namespace
+}  // namespace mblab::conformance
