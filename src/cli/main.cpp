@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <exception>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -11,6 +12,7 @@
 #include "cli/build_info.hpp"
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/number_text.hpp"
 
 namespace {
 
@@ -72,6 +74,46 @@ std::optional<std::string> option_suggestion(const CLI::App& command, int first,
     return std::nullopt;
 }
 
+// A word CLI11 took for an option that is a negative number (-inf, -.5, -1e3 is taken as a value
+// already): it needed -- before it.
+std::optional<std::string> negative_value(int first, int argc, char** argv) {
+    for (int i = first; i < argc; ++i) {
+        const std::string_view word = argv[i];
+        if (word == "--") break;
+        if (word.size() > 1 && word[0] == '-' && word[1] != '-' && mblab::cli::parse_real(word)) {
+            return std::string(word);
+        }
+    }
+    return std::nullopt;
+}
+
+// The subcommand named on the command line (the first word that is not an option), and where.
+std::pair<std::string, int> command_word(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string word = argv[i];
+        if (word.empty() || word.front() == '-') continue;
+        return {word, i};
+    }
+    return {"", 0};
+}
+
+// The client commands promise one JSON document on stdout with --json, a usage error included;
+// CLI11 refuses a command line before the command runs, so main keeps that promise for them.
+bool wants_json(const std::string& command, int first, int argc, char** argv) {
+    static const std::vector<std::string> client_commands = {"read",  "write", "diag",
+                                                             "devid", "raw",   "watch"};
+    if (std::find(client_commands.begin(), client_commands.end(), command) ==
+        client_commands.end()) {
+        return false;
+    }
+    for (int i = first; i < argc; ++i) {
+        const std::string_view word = argv[i];
+        if (word == "--") break;
+        if (word == "--json") return true;
+    }
+    return false;
+}
+
 // The usage error on one line, naming the subcommand the user typed (or the unknown word in its
 // place) and where help is; a mistyped command or option gets the nearest one suggested.
 std::string usage_line(const CLI::App& app, const CLI::ParseError& error, int argc, char** argv) {
@@ -108,6 +150,12 @@ std::string usage_line(const CLI::App& app, const CLI::ParseError& error, int ar
                 option_suggestion(*app.get_subcommand(command), command_index + 1, argc, argv)) {
             return fmt::format("{}: unknown option {} (run '{} --help' for usage)", prefix,
                                *suggestion, prefix);
+        }
+        if (auto negative = negative_value(command_index + 1, argc, argv)) {
+            return fmt::format(
+                "{}: {} was taken for an option: put -- before negative values, after the "
+                "options (... -- {}) (run '{} --help' for usage)",
+                prefix, *negative, *negative, prefix);
         }
     }
     return fmt::format("{}: {} (run '{} --help' for usage)", prefix, error.what(), prefix);
@@ -175,7 +223,19 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        fmt::print(stderr, "{}\n", usage_line(app, e, argc, argv));
+        const std::string line = usage_line(app, e, argc, argv);
+        fmt::print(stderr, "{}\n", line);
+        const auto [command, index] = command_word(argc, argv);
+        if (wants_json(command, index + 1, argc, argv)) {
+            // The document a usage error of the running command prints, less what the command
+            // line did not get as far as giving (target, unit).
+            const std::string message = line.substr(line.find(": ") + 2);
+            const nlohmann::json document = {{"command", command},
+                                             {"ok", false},
+                                             {"status", kExitUsage},
+                                             {"error", {{"kind", "usage"}, {"message", message}}}};
+            fmt::print("{}\n", document.dump(2));
+        }
         return kExitUsage;
     }
     try {
