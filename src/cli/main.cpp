@@ -114,6 +114,46 @@ bool wants_json(const std::string& command, int first, int argc, char** argv) {
     return false;
 }
 
+// CLI11 2.1 honours -- in a subcommand only while one of its positionals still lacks a value
+// (App::_has_remaining_positionals), so `write T register 7 -- -.5` had -.5 refused as an
+// unknown option. The words after -- are kept from CLI11 and given to the command's last
+// positional (ARGS, HEX, DATA) once the rest is parsed; when the rest does not parse alone (a
+// required positional comes after --), CLI11 gets the whole line, and handles -- itself.
+void parse_command_line(CLI::App& app, int argc, char** argv) {
+    const auto [command, index] = command_word(argc, argv);
+    int end = argc;
+    for (int i = index + 1; index > 0 && i < argc; ++i) {
+        if (std::string_view(argv[i]) == "--") {
+            end = i;
+            break;
+        }
+    }
+    if (end == argc) {
+        app.parse(argc, argv);
+        return;
+    }
+    try {
+        app.parse(end, argv);
+    } catch (const CLI::ParseError&) {
+        app.parse(argc, argv);
+        return;
+    }
+    const auto parsed = app.get_subcommands();
+    const auto positionals =
+        parsed.empty()
+            ? std::vector<CLI::Option*>{}
+            : parsed.front()->get_options([](CLI::Option* o) { return o->get_positional(); });
+    if (positionals.empty()) {
+        // Nothing takes them: CLI11's own refusal of the whole line.
+        app.parse(argc, argv);
+        return;
+    }
+    CLI::Option* last = positionals.back();
+    for (int i = end + 1; i < argc; ++i)
+        last->add_result(argv[i]);
+    last->run_callback();
+}
+
 // The usage error on one line, naming the subcommand the user typed (or the unknown word in its
 // place) and where help is; a mistyped command or option gets the nearest one suggested.
 std::string usage_line(const CLI::App& app, const CLI::ParseError& error, int argc, char** argv) {
@@ -167,6 +207,9 @@ std::string usage_line(const CLI::App& app, const CLI::ParseError& error, int ar
 void accept_conform_duration_units(CLI::App& app) {
     for (auto* command :
          app.get_subcommands([](const CLI::App* sub) { return sub->get_name() == "conform"; })) {
+        // Every command's help ends with an example; conform's description has its exit statuses.
+        if (command->get_footer().empty())
+            command->footer("Example: mblab conform tcp://192.168.1.10:502 --json report.json");
         for (const char* name : {"--timeout", "--settle"}) {
             if (auto* option = command->get_option_no_throw(name)) {
                 mblab::cli::accept_duration_units(option, mblab::cli::DurationUnit::milliseconds,
@@ -215,7 +258,7 @@ int main(int argc, char** argv) {
         argv = args.data();
     }
     try {
-        app.parse(argc, argv);
+        parse_command_line(app, argc, argv);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
