@@ -31,7 +31,14 @@ _mblab() {
             COMPREPLY=($(compgen -W "${COMPREPLY[*]}" -- "$cur") $(compgen -f -- "$cur"))
             return
             ;;
-        --dut | --profile | --json | --junit | --pcap | --state | --devices | --cert | --key | --ca)
+        --json)
+            # conform and load write a report there; for the client commands it is a flag.
+            if [[ $command == conform || $command == load ]]; then
+                COMPREPLY=($(compgen -f -- "$cur"))
+                return
+            fi
+            ;;
+        --dut | --profile | --junit | --pcap | --state | --devices | --cert | --key | --ca)
             COMPREPLY=($(compgen -f -- "$cur"))
             return
             ;;
@@ -41,6 +48,14 @@ _mblab() {
             ;;
         --key-type)
             COMPREPLY=($(compgen -W "ec rsa" -- "$cur"))
+            return
+            ;;
+        --base)
+            COMPREPLY=($(compgen -W "0 1" -- "$cur"))
+            return
+            ;;
+        --format)
+            COMPREPLY=($(compgen -W "text ndjson csv" -- "$cur"))
             return
             ;;
         --role | --server-name | --days | --read-only-role | --write-role)

@@ -121,6 +121,7 @@ void CommandOutput::warn(const std::string& message) const {
 int CommandOutput::finish(int status) {
     if (json_) {
         document_["ok"] = status == kExitOk;
+        document_["status"] = status;
         fmt::print("{}\n", document_.dump(2));
     }
     std::fflush(stdout);

@@ -112,6 +112,8 @@ void add_devid_command(CLI::App& app, CommandRunner& runner) {
         "by id (0x80) or name: vendor-name, product-code, revision, vendor-url, product-name,\n"
         "model-name, user-application-name. Stream reads follow \"more follows\" across as many\n"
         "transactions as the device needs.\n"
+        "Exit status: 0 read, 1 the device answered an exception or no proper answer, 2 usage\n"
+        "error or unreachable target.\n"
         "Example: mblab devid tcp://127.0.0.1:502 extended",
         run_devid);
     cmd->add_option("what", options->what, "basic, regular, extended, or an object id or name");

@@ -194,6 +194,8 @@ void add_diag_command(CLI::App& app, CommandRunner& runner) {
             "DATA is 16-bit words (default 0x0000); query-data echoes any number of them,\n"
             "restart-communications takes 0xFF00 to clear the event log, change-ascii-delimiter\n"
             "takes the character in the high byte (0x0A00). force-listen-only is never answered.\n"
+            "Exit status: 0 answered, 1 the device answered an exception or no proper answer, 2\n"
+            "usage error or unreachable target.\n"
             "Example: mblab diag tcp://127.0.0.1:502 bus-message-count",
         run_diag);
     cmd->add_option("sub-function", options->sub_function, "sub-function name or number")

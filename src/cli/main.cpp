@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <exception>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -11,6 +12,7 @@
 #include "cli/build_info.hpp"
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/number_text.hpp"
 
 namespace {
 
@@ -72,6 +74,86 @@ std::optional<std::string> option_suggestion(const CLI::App& command, int first,
     return std::nullopt;
 }
 
+// A word CLI11 took for an option that is a negative number (-inf, -.5, -1e3 is taken as a value
+// already): it needed -- before it.
+std::optional<std::string> negative_value(int first, int argc, char** argv) {
+    for (int i = first; i < argc; ++i) {
+        const std::string_view word = argv[i];
+        if (word == "--") break;
+        if (word.size() > 1 && word[0] == '-' && word[1] != '-' && mblab::cli::parse_real(word)) {
+            return std::string(word);
+        }
+    }
+    return std::nullopt;
+}
+
+// The subcommand named on the command line (the first word that is not an option), and where.
+std::pair<std::string, int> command_word(int argc, char** argv) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string word = argv[i];
+        if (word.empty() || word.front() == '-') continue;
+        return {word, i};
+    }
+    return {"", 0};
+}
+
+// The client commands promise one JSON document on stdout with --json, a usage error included;
+// CLI11 refuses a command line before the command runs, so main keeps that promise for them.
+bool wants_json(const std::string& command, int first, int argc, char** argv) {
+    static const std::vector<std::string> client_commands = {"read",  "write", "diag",
+                                                             "devid", "raw",   "watch"};
+    if (std::find(client_commands.begin(), client_commands.end(), command) ==
+        client_commands.end()) {
+        return false;
+    }
+    for (int i = first; i < argc; ++i) {
+        const std::string_view word = argv[i];
+        if (word == "--") break;
+        if (word == "--json") return true;
+    }
+    return false;
+}
+
+// CLI11 2.1 honours -- in a subcommand only while one of its positionals still lacks a value
+// (App::_has_remaining_positionals), so `write T register 7 -- -.5` had -.5 refused as an
+// unknown option. The words after -- are kept from CLI11 and given to the command's last
+// positional (ARGS, HEX, DATA) once the rest is parsed; when the rest does not parse alone (a
+// required positional comes after --), CLI11 gets the whole line, and handles -- itself.
+void parse_command_line(CLI::App& app, int argc, char** argv) {
+    const auto [command, index] = command_word(argc, argv);
+    int end = argc;
+    for (int i = index + 1; index > 0 && i < argc; ++i) {
+        if (std::string_view(argv[i]) == "--") {
+            end = i;
+            break;
+        }
+    }
+    if (end == argc) {
+        app.parse(argc, argv);
+        return;
+    }
+    try {
+        app.parse(end, argv);
+    } catch (const CLI::ParseError&) {
+        app.parse(argc, argv);
+        return;
+    }
+    const auto parsed = app.get_subcommands();
+    const auto positionals =
+        parsed.empty()
+            ? std::vector<CLI::Option*>{}
+            : parsed.front()->get_options([](CLI::Option* o) { return o->get_positional(); });
+    if (positionals.empty()) {
+        // Nothing takes them: CLI11's own refusal of the whole line.
+        app.parse(argc, argv);
+        return;
+    }
+    CLI::Option* last = positionals.back();
+    for (int i = end + 1; i < argc; ++i)
+        last->add_result(argv[i]);
+    last->run_callback();
+}
+
 // The usage error on one line, naming the subcommand the user typed (or the unknown word in its
 // place) and where help is; a mistyped command or option gets the nearest one suggested.
 std::string usage_line(const CLI::App& app, const CLI::ParseError& error, int argc, char** argv) {
@@ -109,6 +191,12 @@ std::string usage_line(const CLI::App& app, const CLI::ParseError& error, int ar
             return fmt::format("{}: unknown option {} (run '{} --help' for usage)", prefix,
                                *suggestion, prefix);
         }
+        if (auto negative = negative_value(command_index + 1, argc, argv)) {
+            return fmt::format(
+                "{}: {} was taken for an option: put -- before negative values, after the "
+                "options (... -- {}) (run '{} --help' for usage)",
+                prefix, *negative, *negative, prefix);
+        }
     }
     return fmt::format("{}: {} (run '{} --help' for usage)", prefix, error.what(), prefix);
 }
@@ -119,6 +207,9 @@ std::string usage_line(const CLI::App& app, const CLI::ParseError& error, int ar
 void accept_conform_duration_units(CLI::App& app) {
     for (auto* command :
          app.get_subcommands([](const CLI::App* sub) { return sub->get_name() == "conform"; })) {
+        // Every command's help ends with an example; conform's description has its exit statuses.
+        if (command->get_footer().empty())
+            command->footer("Example: mblab conform tcp://192.168.1.10:502 --json report.json");
         for (const char* name : {"--timeout", "--settle"}) {
             if (auto* option = command->get_option_no_throw(name)) {
                 mblab::cli::accept_duration_units(option, mblab::cli::DurationUnit::milliseconds,
@@ -167,7 +258,7 @@ int main(int argc, char** argv) {
         argv = args.data();
     }
     try {
-        app.parse(argc, argv);
+        parse_command_line(app, argc, argv);
     } catch (const CLI::CallForHelp& e) {
         return app.exit(e);
     } catch (const CLI::CallForAllHelp& e) {
@@ -175,7 +266,19 @@ int main(int argc, char** argv) {
     } catch (const CLI::CallForVersion& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        fmt::print(stderr, "{}\n", usage_line(app, e, argc, argv));
+        const std::string line = usage_line(app, e, argc, argv);
+        fmt::print(stderr, "{}\n", line);
+        const auto [command, index] = command_word(argc, argv);
+        if (wants_json(command, index + 1, argc, argv)) {
+            // The document a usage error of the running command prints, less what the command
+            // line did not get as far as giving (target, unit).
+            const std::string message = line.substr(line.find(": ") + 2);
+            const nlohmann::json document = {{"command", command},
+                                             {"ok", false},
+                                             {"status", kExitUsage},
+                                             {"error", {{"kind", "usage"}, {"message", message}}}};
+            fmt::print("{}\n", document.dump(2));
+        }
         return kExitUsage;
     }
     try {

@@ -26,7 +26,7 @@ int run_read(const ReadOptions& options) {
     if (!query) return output.usage(query.error());
     return with_client(options.client, output, [&](client::Client& client, CommandOutput& out) {
         auto reading = perform_read(client, *query);
-        if (!reading) return out.fail(reading.error());
+        if (!reading) return out.fail(explain_address_error(client, *query, reading.error(), true));
         auto& document = out.document();
         document["read"] = describe_query(*query);
         document.update(reading->json);
@@ -53,8 +53,12 @@ void add_read_command(CLI::App& app, CommandRunner& runner) {
         "  server-id                   FC 11\n"
         "  fifo ADDR                   FC 18, the queue whose count register is at ADDR\n"
         "  file FILE RECORD [COUNT]    FC 14, COUNT values of --type from RECORD\n"
-        "Numbers are decimal or hex (0x2A). Exit status: 0 read, 1 the device answered an\n"
-        "exception or no proper answer, 2 usage error or unreachable target.\n"
+        "ADDR is a 0-based PDU offset (holding 0 is the register manuals call 40001 or 1).\n"
+        "With --base 1 it is 1-based (1 is offset 0); a Modicon reference is 1-based too:\n"
+        "4x00001 or 400001 (holding), 3x/300001 (input), 1x/100001 (discretes), 000001\n"
+        "(coils; 0x is hex). Numbers are decimal or hex (0x2A).\n"
+        "Exit status: 0 read, 1 the device answered an exception or no proper answer, 2 usage\n"
+        "error or unreachable target.\n"
         "Example: mblab read tcp://127.0.0.1:502 holding 0x10 2 --type f32",
         run_read);
     add_query_arguments(*cmd, options->query);

@@ -3,7 +3,9 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <optional>
 
+#include "cli/modbus_address.hpp"
 #include "cli/number_text.hpp"
 #include "cli/pdu_text.hpp"
 #include "protocol/limits.hpp"
@@ -52,6 +54,23 @@ Parsed number(const std::string& text, const char* name, std::uint64_t min, std:
                            min, max, text);
     }
     return static_cast<std::uint16_t>(*value);
+}
+
+// The table ADDR of `kind` addresses; FILE's numbers are not addresses of a table.
+std::optional<DataTable> address_table(ReadKind kind) {
+    switch (kind) {
+        case ReadKind::Coils:
+            return DataTable::Coils;
+        case ReadKind::Discretes:
+            return DataTable::Discretes;
+        case ReadKind::Holding:
+        case ReadKind::Fifo:
+            return DataTable::Holding;
+        case ReadKind::Input:
+            return DataTable::Input;
+        default:
+            return std::nullopt;
+    }
 }
 
 std::string on_off(bool on) {
@@ -222,7 +241,7 @@ Reading register_reading(std::span<const std::uint16_t> registers, const ValueFo
 protocol::Result<ReadQuery, std::string> parse_read_query(const std::string& kind,
                                                           const std::vector<std::string>& args,
                                                           const ValueFormat& format,
-                                                          bool type_given) {
+                                                          bool type_given, int base) {
     auto found = std::find_if(kKinds.begin(), kKinds.end(),
                               [&](const KindInfo& k) { return kind == k.name; });
     if (found == kKinds.end()) {
@@ -231,6 +250,7 @@ protocol::Result<ReadQuery, std::string> parse_read_query(const std::string& kin
     ReadQuery query;
     query.kind = found->kind;
     query.format = format;
+    query.base = base;
     if (args.size() < found->min_args || args.size() > found->max_args) {
         return fmt::format("'{}' takes {} argument{}: {}", kind,
                            found->min_args == found->max_args
@@ -251,7 +271,8 @@ protocol::Result<ReadQuery, std::string> parse_read_query(const std::string& kin
         query.address = *file;
         query.record = *record;
     } else if (found->min_args > 0) {
-        auto address = number(args[next++], "ADDR", 0, 0xFFFF);
+        query.address_given = args[next++];
+        auto address = parse_address(query.address_given, "ADDR", *address_table(query.kind), base);
         if (!address) return address.error();
         query.address = *address;
     }
@@ -321,18 +342,57 @@ client::CallResult<Reading> perform_read(client::Client& client, const ReadQuery
     return client::ClientError{client::ErrorKind::Invalid, "unknown read kind", std::nullopt};
 }
 
+client::ClientError explain_address_error(client::Client& client, const ReadQuery& query,
+                                          client::ClientError error, bool probe) {
+    const auto table = address_table(query.kind);
+    if (error.exception != protocol::ExceptionCode::IllegalDataAddress || !table ||
+        query.address_given.empty()) {
+        return error;
+    }
+    if (auto hint = reference_hint(query.address_given, *table, query.base)) {
+        error.message += "; " + *hint;
+        return error;
+    }
+    // Only a plain 0-based number can be the off-by-one: a reference and --base 1 already say
+    // how they count.
+    if (!probe || query.kind == ReadKind::Fifo || query.base != 0 || query.address == 0 ||
+        !parse_unsigned(query.address_given, 0xFFFF)) {
+        return error;
+    }
+    ReadQuery before = query;
+    before.address = static_cast<std::uint16_t>(query.address - 1);
+    if (perform_read(client, before)) {
+        error.message += fmt::format(
+            "; {} answers: addresses are 0-based PDU offsets, so if {} is 1-based try {} or "
+            "--base 1 with {}",
+            address_text(before.address), query.address_given, before.address, query.address_given);
+    }
+    return error;
+}
+
+void add_base_option(CLI::App& command, int& base) {
+    command
+        .add_option("--base", base,
+                    "0: addresses are 0-based PDU offsets (default); 1: they are 1-based, as "
+                    "many manuals number them (1 is offset 0)")
+        ->check(CLI::IsMember({0, 1}));
+}
+
 void add_query_arguments(CLI::App& command, QueryOptions& options) {
     options.command = &command;
     command.add_option("kind", options.kind, kReadKindsHelp)->required();
-    command.add_option("args", options.args, "ADDR [COUNT], or what KIND takes");
+    command.add_option("args", options.args,
+                       "ADDR [COUNT], or what KIND takes; ADDR is a 0-based PDU offset (see "
+                       "--base), or a Modicon reference such as 4x00001 or 400001");
     add_format_options(command, options.format);
+    add_base_option(command, options.base);
 }
 
 protocol::Result<ReadQuery, std::string> parse_query(const QueryOptions& options) {
     auto format = parse_format(options.format);
     if (!format) return format.error();
     return parse_read_query(options.kind, options.args, *format,
-                            options.command->count("--type") > 0);
+                            options.command->count("--type") > 0, options.base);
 }
 
 void print_reading(const Reading& reading) {
@@ -341,6 +401,11 @@ void print_reading(const Reading& reading) {
 }
 
 std::vector<std::string> table_lines(const Reading& reading) {
+    return table_lines(reading, {}, "", "");
+}
+
+std::vector<std::string> table_lines(const Reading& reading, const std::vector<bool>& marked,
+                                     const std::string& mark_on, const std::string& mark_off) {
     std::array<std::size_t, 3> width{};
     for (std::size_t c = 0; c < 3; ++c)
         width[c] = reading.header[c].size();
@@ -349,16 +414,18 @@ std::vector<std::string> table_lines(const Reading& reading) {
             width[c] = std::max(width[c], row[c].size());
     }
     std::vector<std::string> lines;
-    auto line = [&](const std::array<std::string, 3>& cells) {
+    auto line = [&](const std::array<std::string, 3>& cells, bool mark) {
         std::string text =
             fmt::format("{:<{}}  {:<{}}  {}", cells[0], width[0], cells[1], width[1], cells[2]);
         while (!text.empty() && text.back() == ' ')
             text.pop_back();
+        if (mark && !cells[2].empty())
+            text = text.substr(0, text.size() - cells[2].size()) + mark_on + cells[2] + mark_off;
         lines.push_back(std::move(text));
     };
-    line(reading.header);
-    for (const auto& row : reading.rows)
-        line(row);
+    line(reading.header, false);
+    for (std::size_t i = 0; i < reading.rows.size(); ++i)
+        line(reading.rows[i], i < marked.size() && marked[i]);
     for (const auto& note : reading.notes)
         lines.push_back(note);
     return lines;

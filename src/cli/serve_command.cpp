@@ -512,6 +512,11 @@ int run_serve(const ServeOptions& options) {
 void add_serve_command(CLI::App& app, CommandRunner& runner) {
     auto options = std::make_shared<ServeOptions>();
     auto* cmd = app.add_subcommand("serve", "run the reference device as a Modbus/TCP server");
+    cmd->footer(
+        "Serves until SIGINT or SIGTERM.\n"
+        "Exit status: 0 stopped by SIGINT or SIGTERM, 1 --state could not be saved, 2 usage\n"
+        "error, or a profile, file or address that cannot be used.\n"
+        "Example: mblab serve --listen tcp://0.0.0.0:1502 reference");
     cmd->add_option("profile", options->profile,
                     "device profile: a TOML file or a shipped profile's name")
         ->capture_default_str();

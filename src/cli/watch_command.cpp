@@ -4,6 +4,8 @@
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
+#include <ctime>
 #include <memory>
 #include <string>
 #include <thread>
@@ -14,7 +16,9 @@
 #include "cli/read_query.hpp"
 
 // `mblab watch TARGET KIND ARGS...`: the read of `mblab read`, repeated every --interval, drawn in
-// place on a terminal and as plain lines otherwise, counting what went wrong.
+// place on a terminal and as plain lines otherwise, counting what went wrong; or streamed one
+// line per poll as NDJSON or CSV for logging. A watch may run for days: nothing but the last
+// poll's values is kept from one poll to the next.
 namespace mblab::cli {
 
 namespace {
@@ -32,7 +36,61 @@ struct WatchOptions {
     QueryOptions query;
     int interval_ms = 1000;
     int count = 0;
+    std::string format = "text";
 };
+
+// "2024-05-01T12:00:00.123Z": UTC, so lines from machines in different zones sort together.
+std::string iso_time(std::chrono::system_clock::time_point when) {
+    const auto since = when.time_since_epoch();
+    const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(since);
+    const auto millis = std::chrono::duration_cast<std::chrono::milliseconds>(since - seconds);
+    const std::time_t t = static_cast<std::time_t>(seconds.count());
+    std::tm utc{};
+    ::gmtime_r(&t, &utc);
+    char text[32];
+    std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%S", &utc);
+    return fmt::format("{}.{:03}Z", text, millis.count());
+}
+
+// RFC 4180: a field with a separator, a quote or a line break is quoted, quotes doubled.
+std::string csv_field(const std::string& text) {
+    if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+    std::string quoted = "\"";
+    for (char c : text) {
+        quoted += c;
+        if (c == '"') quoted += '"';
+    }
+    return quoted + "\"";
+}
+
+bool is_bit_kind(ReadKind kind) {
+    return kind == ReadKind::Coils || kind == ReadKind::Discretes;
+}
+
+// CSV needs its columns before the first poll answers, so only the kinds whose answer has a shape
+// known from the request qualify; the others (a FIFO, the event log) vary from poll to poll.
+bool has_fixed_columns(ReadKind kind) {
+    return is_bit_kind(kind) || kind == ReadKind::Holding || kind == ReadKind::Input;
+}
+
+std::string csv_header(const ReadQuery& query) {
+    std::string line = "time,poll,error";
+    const auto step = is_bit_kind(query.kind)
+                          ? 1U
+                          : static_cast<unsigned>(registers_per_value(query.format.type));
+    for (unsigned i = 0; i < query.count; ++i)
+        line += fmt::format(",{}", query.address + i * step);
+    return line;
+}
+
+// What a terminal shows for a value that changed since the last poll. NO_COLOR (no-color.org):
+// set and not empty, no escapes.
+bool highlight_wanted(bool terminal) {
+    const char* no_color = std::getenv("NO_COLOR");
+    return terminal && (no_color == nullptr || *no_color == '\0');
+}
+constexpr const char* kMarkOn = "\x1b[7m";
+constexpr const char* kMarkOff = "\x1b[27m";
 
 struct Tally {
     unsigned polls = 0;
@@ -100,14 +158,48 @@ void wait_until(Clock::time_point until) {
     }
 }
 
+// One poll's output line in the streaming formats.
+std::string stream_line(const std::string& format, const ReadQuery& query, unsigned poll,
+                        const client::CallResult<Reading>& reading) {
+    const std::string time = iso_time(std::chrono::system_clock::now());
+    if (format == "ndjson") {
+        nlohmann::json line = {{"time", time}, {"poll", poll}, {"ok", reading.ok()}};
+        if (reading) {
+            line.update(reading->json);
+        } else {
+            line["error"] = {{"kind", client::error_kind_name(reading.error().kind)},
+                             {"message", reading.error().message}};
+        }
+        return line.dump();
+    }
+    std::string line = fmt::format("{},{},", time, poll);
+    if (!reading) {
+        line += csv_field(reading.error().message);
+        for (unsigned i = 0; i < query.count; ++i)
+            line += ',';
+        return line;
+    }
+    for (const auto& row : reading->rows)
+        line += "," + csv_field(is_bit_kind(query.kind) ? row[1] : row[2]);
+    return line;
+}
+
 int watch(client::Client& client, CommandOutput& out, const WatchOptions& options,
           const ReadQuery& query) {
     Tally tally;
-    Screen screen(
-        ::isatty(STDOUT_FILENO) != 0,
-        fmt::format("{} unit {}: {} every {} ms (Ctrl-C stops)", client.transactor().target(),
-                    options.client.unit, describe_query(query), options.interval_ms));
+    const bool terminal = ::isatty(STDOUT_FILENO) != 0;
+    const bool streaming = options.format != "text";
+    const bool highlight = !streaming && highlight_wanted(terminal);
+    Screen screen(terminal, fmt::format("{} unit {}: {} every {} ms (Ctrl-C stops)",
+                                        client.transactor().target(), options.client.unit,
+                                        describe_query(query), options.interval_ms));
+    if (options.format == "csv") {
+        fmt::print("{}\n", csv_header(query));
+        std::fflush(stdout);
+    }
     auto& polls = out.document()["polls"] = nlohmann::json::array();
+    // The value cells of the last poll that answered, to mark what changed.
+    std::vector<std::string> previous;
     const auto interval = std::chrono::milliseconds(options.interval_ms);
     auto next = Clock::now();
     while (g_stop == 0 &&
@@ -117,26 +209,45 @@ int watch(client::Client& client, CommandOutput& out, const WatchOptions& option
         next += interval;
         ++tally.polls;
         auto reading = perform_read(client, query);
-        nlohmann::json poll = {{"poll", tally.polls}, {"ok", reading.ok()}};
-        std::vector<std::string> body;
+        if (!reading && reading.error().kind == client::ErrorKind::Invalid) {
+            // A request the client refuses will be refused on every poll: stop now.
+            return out.fail(reading.error());
+        }
         if (reading) {
             ++tally.answered;
-            poll.update(reading->json);
-            body = table_lines(*reading);
         } else {
-            // A request the client refuses will be refused on every poll: stop now.
-            if (reading.error().kind == client::ErrorKind::Invalid)
-                return out.fail(reading.error());
             tally.count(reading.error());
-            poll["error"] = {{"kind", client::error_kind_name(reading.error().kind)},
-                             {"message", reading.error().message}};
-            body.push_back(reading.error().message);
+        }
+        if (streaming) {
+            fmt::print("{}\n", stream_line(options.format, query, tally.polls, reading));
+            std::fflush(stdout);
+            continue;
         }
         if (out.json()) {
+            nlohmann::json poll = {{"poll", tally.polls}, {"ok", reading.ok()}};
+            if (reading) {
+                poll.update(reading->json);
+            } else {
+                poll["error"] = {{"kind", client::error_kind_name(reading.error().kind)},
+                                 {"message", reading.error().message}};
+            }
             polls.push_back(std::move(poll));
-        } else {
-            screen.draw(tally, body);
+            continue;
         }
+        std::vector<std::string> body;
+        if (reading) {
+            std::vector<bool> changed(reading->rows.size(), false);
+            std::vector<std::string> values;
+            for (std::size_t i = 0; i < reading->rows.size(); ++i) {
+                values.push_back(reading->rows[i][2]);
+                changed[i] = highlight && i < previous.size() && previous[i] != values.back();
+            }
+            body = table_lines(*reading, changed, kMarkOn, kMarkOff);
+            previous = std::move(values);
+        } else {
+            body.push_back(reading.error().message);
+        }
+        screen.draw(tally, body);
     }
     auto& document = out.document();
     document["read"] = describe_query(query);
@@ -145,7 +256,12 @@ int watch(client::Client& client, CommandOutput& out, const WatchOptions& option
                            {"timeouts", tally.timeouts},
                            {"exceptions", tally.exceptions},
                            {"errors", tally.errors}};
-    if (!out.json()) fmt::print("{}\n", tally.text());
+    // The streaming formats keep stdout to their lines; the tally is for whoever watches stderr.
+    if (streaming) {
+        out.warn(tally.text());
+    } else if (!out.json()) {
+        fmt::print("{}\n", tally.text());
+    }
     if (tally.answered == tally.polls) return out.done();
     return out.fail(
         {client::ErrorKind::BadAnswer,
@@ -157,6 +273,16 @@ int run_watch(const WatchOptions& options) {
     CommandOutput output("watch", options.client);
     auto query = parse_query(options.query);
     if (!query) return output.usage(query.error());
+    if (options.format != "text" && options.client.json) {
+        return output.usage(fmt::format(
+            "--json prints one document at the end, --format {} a line per poll: give one",
+            options.format));
+    }
+    if (options.format == "csv" && !has_fixed_columns(query->kind)) {
+        return output.usage(
+            "--format csv takes coils, discretes, holding or input, whose columns are known "
+            "before the first answer: use --format ndjson");
+    }
     g_stop = 0;
     std::signal(SIGINT, request_stop);
     std::signal(SIGTERM, request_stop);
@@ -175,7 +301,13 @@ void add_watch_command(CLI::App& app, CommandRunner& runner) {
         "KIND and its arguments are those of `mblab read`. On a terminal the table is redrawn in\n"
         "place under a line counting polls, timeouts and exceptions; otherwise each poll is\n"
         "printed as \"poll N\" and its table. A poll that fails is counted and polling goes on.\n"
-        "Stops after --count polls, or on Ctrl-C; exit status 1 when any poll failed.\n"
+        "With --format ndjson or csv each poll is one line on stdout, written as it comes: a\n"
+        "JSON object, or a CSV row under a header of addresses, each starting with the time\n"
+        "(ISO 8601, UTC); the tally goes to stderr. On a terminal a value that changed since\n"
+        "the last poll is shown in reverse video (not when NO_COLOR is set).\n"
+        "ADDR is a 0-based PDU offset, as for `mblab read` (--base 1, 4x00001).\n"
+        "Stops after --count polls, or on Ctrl-C. Exit status: 0 every poll answered, 1 a poll\n"
+        "failed, 2 usage error or unreachable target.\n"
         "Example: mblab watch tcp://127.0.0.1:502 holding 0 4 --interval 500",
         run_watch);
     add_query_arguments(*cmd, options->query);
@@ -186,6 +318,10 @@ void add_watch_command(CLI::App& app, CommandRunner& runner) {
                           DurationUnit::milliseconds, true);
     cmd->add_option("--count,-n", options->count, "stop after N polls (default: until Ctrl-C)")
         ->check(CLI::Range(1, 100000000));
+    cmd->add_option("--format", options->format,
+                    "text: a table per poll (default); ndjson or csv: one line per poll, with "
+                    "its time, for logs and scripts")
+        ->check(CLI::IsMember({"text", "ndjson", "csv"}));
 }
 
 }  // namespace mblab::cli

@@ -8,6 +8,7 @@
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/modbus_address.hpp"
 #include "cli/number_text.hpp"
 #include "cli/read_query.hpp"
 #include "protocol/limits.hpp"
@@ -23,6 +24,7 @@ struct WriteOptions {
     FormatOptions format;
     std::string kind;
     std::vector<std::string> args;
+    int base = 0;
     CLI::App* command = nullptr;
 };
 
@@ -35,6 +37,9 @@ struct Plan {
     std::function<client::CallResult<Reading>(client::Client&)> run;
     std::string summary;  // "wrote 2 registers at 0 (0x0000)"
     nlohmann::json json;
+    // ADDR as typed and its table, for the hint after an exception 02.
+    std::string address_given;
+    DataTable table = DataTable::Holding;
 };
 
 using Planned = protocol::Result<Plan, std::string>;
@@ -70,8 +75,8 @@ std::function<client::CallResult<Reading>(client::Client&)> no_reading(Call call
     };
 }
 
-Planned plan_coils(const std::vector<std::string>& args, bool single) {
-    auto address = number(args[0], "ADDR");
+Planned plan_coils(const std::vector<std::string>& args, bool single, int base) {
+    auto address = parse_address(args[0], "ADDR", DataTable::Coils, base);
     if (!address) return address.error();
     std::vector<bool> values;
     for (std::size_t i = 1; i < args.size(); ++i) {
@@ -80,6 +85,8 @@ Planned plan_coils(const std::vector<std::string>& args, bool single) {
         values.push_back(*value);
     }
     Plan plan;
+    plan.address_given = args[0];
+    plan.table = DataTable::Coils;
     plan.json = {{"address", *address}, {"values", values}};
     if (single) {
         const bool on = values.front();
@@ -96,13 +103,14 @@ Planned plan_coils(const std::vector<std::string>& args, bool single) {
     return plan;
 }
 
-Planned plan_registers(const std::vector<std::string>& args, const ValueFormat& format,
-                       bool single) {
-    auto address = number(args[0], "ADDR");
+Planned plan_registers(const std::vector<std::string>& args, const ValueFormat& format, bool single,
+                       int base) {
+    auto address = parse_address(args[0], "ADDR", DataTable::Holding, base);
     if (!address) return address.error();
     auto values = encode_values({args.begin() + 1, args.end()}, format);
     if (!values) return values.error();
     Plan plan;
+    plan.address_given = args[0];
     plan.json = {{"address", *address}, {"registers", *values}};
     if (single) {
         if (values->size() != 1) {
@@ -125,14 +133,15 @@ Planned plan_registers(const std::vector<std::string>& args, const ValueFormat& 
     return plan;
 }
 
-Planned plan_mask(const std::vector<std::string>& args) {
-    auto address = number(args[0], "ADDR");
+Planned plan_mask(const std::vector<std::string>& args, int base) {
+    auto address = parse_address(args[0], "ADDR", DataTable::Holding, base);
     auto and_mask = number(args[1], "AND");
     auto or_mask = number(args[2], "OR");
     for (const auto* part : {&address, &and_mask, &or_mask}) {
         if (!*part) return part->error();
     }
     Plan plan;
+    plan.address_given = args[0];
     plan.json = {{"address", *address}, {"and_mask", *and_mask}, {"or_mask", *or_mask}};
     plan.run = no_reading([a = *address, m = *and_mask, o = *or_mask](client::Client& c) {
         return c.mask_write_register(a, m, o);
@@ -142,12 +151,12 @@ Planned plan_mask(const std::vector<std::string>& args) {
     return plan;
 }
 
-Planned plan_read_write(const std::vector<std::string>& args, const ValueFormat& format) {
-    auto read_address = number(args[0], "READ_ADDR");
+Planned plan_read_write(const std::vector<std::string>& args, const ValueFormat& format, int base) {
+    auto read_address = parse_address(args[0], "READ_ADDR", DataTable::Holding, base);
     if (!read_address) return read_address.error();
     auto read_count = number(args[1], "READ_COUNT");
     if (!read_count) return read_count.error();
-    auto write_address = number(args[2], "WRITE_ADDR");
+    auto write_address = parse_address(args[2], "WRITE_ADDR", DataTable::Holding, base);
     if (!write_address) return write_address.error();
     auto values = encode_values({args.begin() + 3, args.end()}, format);
     if (!values) return values.error();
@@ -218,12 +227,13 @@ Planned plan_write(const WriteOptions& options, const ValueFormat& format) {
         return fmt::format("--type applies to register values, not {}", options.kind);
     }
     const std::string kind = options.kind;
-    if (kind == "coil" || kind == "coils") return plan_coils(args, kind == "coil");
+    const int base = options.base;
+    if (kind == "coil" || kind == "coils") return plan_coils(args, kind == "coil", base);
     if (kind == "register" || kind == "registers") {
-        return plan_registers(args, format, kind == "register");
+        return plan_registers(args, format, kind == "register", base);
     }
-    if (kind == "mask") return plan_mask(args);
-    if (kind == "readwrite") return plan_read_write(args, format);
+    if (kind == "mask") return plan_mask(args, base);
+    if (kind == "readwrite") return plan_read_write(args, format, base);
     return plan_file(args, format);
 }
 
@@ -235,7 +245,15 @@ int run_write(const WriteOptions& options) {
     if (!plan) return output.usage(plan.error());
     return with_client(options.client, output, [&](client::Client& client, CommandOutput& out) {
         auto reading = plan->run(client);
-        if (!reading) return out.fail(reading.error());
+        if (!reading) {
+            auto error = reading.error();
+            // No probe as `read` makes: a write at another address would change the device.
+            if (error.exception == protocol::ExceptionCode::IllegalDataAddress) {
+                if (auto hint = reference_hint(plan->address_given, plan->table, options.base))
+                    error.message += "; " + *hint;
+            }
+            return out.fail(error);
+        }
         auto& document = out.document();
         document["write"] = options.kind;
         document.update(plan->json);
@@ -266,14 +284,23 @@ void add_write_command(CLI::App& app, CommandRunner& runner) {
         "  file FILE RECORD VALUE...       FC 15; registers from RECORD of FILE\n"
         "Values are encoded the way `mblab read` decodes them with the same --type, --word-order\n"
         "and --byte-order. Numbers are decimal or hex (0x2A).\n"
+        "ADDR is a 0-based PDU offset (register 0 is the one manuals call 40001 or 1). With\n"
+        "--base 1 it is 1-based; a Modicon reference is 1-based too: 4x00001 or 400001 for\n"
+        "holding registers, 000001 for coils (0x is hex). A negative VALUE follows --, which\n"
+        "ends the options: mblab write TARGET register 7 --type i16 -- -5.\n"
+        "Exit status: 0 written, 1 the device answered an exception or no proper answer, 2\n"
+        "usage error or unreachable target.\n"
         "Example: mblab write tcp://127.0.0.1:502 registers 100 3.5 -1e3 --type f32",
         run_write);
     options->command = cmd;
     cmd->add_option("kind", options->kind,
                     "coil, coils, register, registers, mask, readwrite, file")
         ->required();
-    cmd->add_option("args", options->args, "ADDR VALUE..., or what KIND takes");
+    cmd->add_option("args", options->args,
+                    "ADDR VALUE..., or what KIND takes; ADDR is a 0-based PDU offset (see --base), "
+                    "or a Modicon reference such as 4x00001 or 400001");
     add_format_options(*cmd, options->format);
+    add_base_option(*cmd, options->base);
 }
 
 }  // namespace mblab::cli

@@ -1,6 +1,13 @@
 // What issue #14's "A CLI that guides" promises, checked as a user sees it: exit status and the
 // exact lines printed.
+#include <fmt/core.h>
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <sstream>
 
 #include "test_client_support.hpp"
 
@@ -118,6 +125,306 @@ TEST(CliGuidesUsage, HelpCommandPrintsTheCommandsHelp) {
     auto unknown = run_mblab({"help", "confrom"});
     EXPECT_EQ(unknown.status, 2);
     EXPECT_EQ(unknown.err, "mblab: unknown command 'confrom'; did you mean 'conform'?\n");
+}
+
+// run_mblab for another program (script(1) running mblab on a terminal).
+Ran run_mblab_via(const std::vector<std::string>& argv) {
+    ChildProcess child(argv);
+    Ran ran;
+    while (auto line = child.read_stdout_line(std::chrono::seconds(30)))
+        ran.out += *line + "\n";
+    ran.status = child.wait_exit(std::chrono::seconds(30)).value_or(-1);
+    ran.err = child.drain_stderr();
+    return ran;
+}
+
+const std::regex kIsoTime(R"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\.\d{3}Z)");
+
+std::vector<std::string> lines_of(const std::string& text) {
+    std::vector<std::string> lines;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);)
+        lines.push_back(line);
+    return lines;
+}
+
+// The table line of one value: what `read` prints after its header.
+std::string first_row(const Ran& ran) {
+    const auto lines = lines_of(ran.out);
+    return lines.size() > 1 ? lines[1] : "";
+}
+
+// Manuals number from 1 and in Modicon references; each way names the same register.
+TEST_F(CliGuides, AddressesTakeModiconReferencesAndBaseOne) {
+    ASSERT_EQ(mblab("write", {"registers", "10", "7", "8"}).status, 0);
+    const std::string expected = "10 (0x000A)  0x0007  7";
+    for (std::vector<std::string> args : {std::vector<std::string>{"holding", "10"},
+                                          {"holding", "4x00011"},
+                                          {"holding", "4x0011"},
+                                          {"holding", "400011"},
+                                          {"holding", "11", "--base", "1"},
+                                          {"holding", "4x00011", "--base", "1"}}) {
+        auto ran = mblab("read", args);
+        EXPECT_EQ(ran.status, 0) << args[1] << ": " << ran.err;
+        EXPECT_EQ(first_row(ran), expected) << args[1];
+    }
+    // The other tables: coils in the 6-digit form, since 0x is hex.
+    ASSERT_EQ(mblab("write", {"coil", "000003", "on"}).status, 0);
+    EXPECT_EQ(first_row(mblab("read", {"coils", "2"})), "2 (0x0002)  1    on");
+    EXPECT_EQ(first_row(mblab("read", {"coils", "3", "--base", "1"})), "2 (0x0002)  1    on");
+    EXPECT_EQ(first_row(mblab("read", {"input", "3x00001"})),
+              first_row(mblab("read", {"input", "0"})));
+    EXPECT_EQ(first_row(mblab("read", {"discretes", "1x00001"})),
+              first_row(mblab("read", {"discretes", "0"})));
+    auto masked = mblab("write", {"mask", "12", "0", "0x00FF", "--base", "1"});
+    EXPECT_EQ(masked.out, "masked register 11 (0x000B): and 0x0000, or 0x00FF\n");
+}
+
+TEST(CliGuidesUsage, AddressUsageErrorsAreOneLine) {
+    auto zero = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "0", "--base", "1"});
+    EXPECT_EQ(zero.status, 2);
+    EXPECT_EQ(zero.out, "");
+    EXPECT_EQ(zero.err, "mblab read: ADDR 0 with --base 1: 1-based addresses start at 1\n");
+    auto other = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "300001"});
+    EXPECT_EQ(other.status, 2);
+    EXPECT_EQ(other.err,
+              "mblab read: ADDR 300001 is a reference to input registers (3x), not to holding "
+              "registers (4x)\n");
+    auto coil = run_mblab({"write", "tcp://127.0.0.1:1", "coil", "4x00001", "1"});
+    EXPECT_EQ(coil.status, 2);
+    EXPECT_EQ(coil.err,
+              "mblab write: ADDR 4x00001 is a reference to holding registers (4x), not to coils "
+              "(0x)\n");
+    auto rw = run_mblab({"write", "tcp://127.0.0.1:1", "readwrite", "400001", "1", "300001", "5"});
+    EXPECT_EQ(rw.err,
+              "mblab write: WRITE_ADDR 300001 is a reference to input registers (3x), not to "
+              "holding registers (4x)\n");
+    auto base = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "0", "--base", "2"});
+    EXPECT_EQ(base.status, 2);
+    auto over = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "4x65537"});
+    EXPECT_EQ(over.err, "mblab read: ADDR 4x65537: a 4x reference is from 4x00001 to 4x65536\n");
+}
+
+TEST(CliGuidesUsage, ClientHelpSaysAddressesAreZeroBased) {
+    for (const char* command : {"read", "write", "watch"}) {
+        auto help = run_mblab({command, "--help"});
+        EXPECT_NE(help.out.find("0-based PDU offset"), std::string::npos) << command;
+        EXPECT_NE(help.out.find("--base"), std::string::npos) << command;
+        EXPECT_NE(help.out.find("4x00001"), std::string::npos) << command;
+    }
+}
+
+// A device with holes (profiles/access-ranges.toml): 8 discrete inputs, holding 0..29, 100..109.
+class CliGuidesSmallDevice : public ClientCliTest {
+  protected:
+    void SetUp() override {
+        auto loaded =
+            device::load_profile(std::string(MBLAB_SOURCE_DIR) + "/profiles/access-ranges.toml");
+        ASSERT_TRUE(loaded) << loaded.error();
+        device_ = std::move(loaded.value());
+        start_server(*device_);
+    }
+};
+
+TEST_F(CliGuidesSmallDevice, ExceptionTwoAtAOneBasedLookingAddressGetsAHint) {
+    auto modicon = mblab("read", {"holding", "40001"});
+    EXPECT_EQ(modicon.status, 1);
+    EXPECT_EQ(modicon.out, "");
+    EXPECT_EQ(modicon.err,
+              "mblab read: exception 02 illegal data address: 0x9C41 is not on this device; 40001 "
+              "looks like a Modicon reference: try 4x00001 or --base 1 with 1\n");
+    // One past the last that answers: the device answers the same read one lower.
+    auto past = mblab("read", {"discretes", "8"});
+    EXPECT_EQ(past.status, 1);
+    EXPECT_EQ(past.err,
+              "mblab read: exception 02 illegal data address: 0x0008 is not on this device; 7 "
+              "(0x0007) answers: addresses are 0-based PDU offsets, so if 8 is 1-based try 7 or "
+              "--base 1 with 8\n");
+    // A hole with nothing readable below it gets no guess.
+    auto hole = mblab("read", {"holding", "50"});
+    EXPECT_EQ(hole.err,
+              "mblab read: exception 02 illegal data address: 0x0032 is not on this device\n");
+    auto write = mblab("write", {"register", "40001", "1"});
+    EXPECT_EQ(write.status, 1);
+    EXPECT_NE(write.err.find("; 40001 looks like a Modicon reference: try 4x00001 or --base 1 "
+                             "with 1\n"),
+              std::string::npos)
+        << write.err;
+    auto json = mblab("read", {"holding", "40001", "--json"});
+    auto document = nlohmann::json::parse(json.out);
+    EXPECT_EQ(document["status"], 1);
+    EXPECT_NE(document["error"]["message"].get<std::string>().find("try 4x00001"),
+              std::string::npos);
+}
+
+// A failed poll is a line of its own in either format.
+TEST_F(CliGuidesSmallDevice, WatchStreamsFailedPolls) {
+    auto ndjson = mblab("watch", {"holding", "50", "--count", "1", "--format", "ndjson"});
+    EXPECT_EQ(ndjson.status, 1);
+    auto line = nlohmann::json::parse(ndjson.out);
+    EXPECT_EQ(line["ok"], false);
+    EXPECT_EQ(line["error"]["kind"], "exception");
+    auto csv = mblab("watch", {"holding", "50", "2", "--count", "1", "--format", "csv"});
+    EXPECT_EQ(csv.status, 1);
+    const auto lines = lines_of(csv.out);
+    ASSERT_EQ(lines.size(), 2U);
+    EXPECT_EQ(lines[1].substr(lines[1].find(',')),
+              ",1,exception 02 illegal data address: 0x0032..0x0033 are not all on this device,,");
+}
+
+TEST_F(CliGuides, WatchStreamsCsv) {
+    ASSERT_EQ(mblab("write", {"registers", "20", "1", "2", "3"}).status, 0);
+    auto ran = mblab(
+        "watch", {"holding", "20", "3", "--count", "3", "--interval", "10ms", "--format", "csv"});
+    EXPECT_EQ(ran.status, 0) << ran.err;
+    const auto lines = lines_of(ran.out);
+    ASSERT_EQ(lines.size(), 4U) << ran.out;
+    EXPECT_EQ(lines[0], "time,poll,error,20,21,22");
+    for (std::size_t i = 1; i < lines.size(); ++i) {
+        const auto comma = lines[i].find(',');
+        EXPECT_TRUE(std::regex_match(lines[i].substr(0, comma), kIsoTime)) << lines[i];
+        EXPECT_EQ(lines[i].substr(comma), fmt::format(",{},,1,2,3", i));
+    }
+    // The tally goes to stderr, so stdout is only CSV.
+    EXPECT_EQ(ran.err,
+              "mblab watch: 3 polls: 3 answered, 0 timeouts, 0 exceptions, 0 other errors\n");
+    auto f32 =
+        mblab("watch", {"holding", "20", "2", "--type", "f32", "--count", "1", "--format", "csv"});
+    EXPECT_EQ(lines_of(f32.out).at(0), "time,poll,error,20,22");
+}
+
+TEST_F(CliGuides, WatchStreamsNdjson) {
+    auto ran = mblab(
+        "watch", {"coils", "0", "2", "--count", "2", "--interval", "10ms", "--format", "ndjson"});
+    EXPECT_EQ(ran.status, 0) << ran.err;
+    const auto lines = lines_of(ran.out);
+    ASSERT_EQ(lines.size(), 2U) << ran.out;
+    for (std::size_t i = 0; i < lines.size(); ++i) {
+        auto line = nlohmann::json::parse(lines[i]);
+        EXPECT_TRUE(std::regex_match(line["time"].get<std::string>(), kIsoTime));
+        EXPECT_EQ(line["poll"], i + 1);
+        EXPECT_EQ(line["ok"], true);
+        EXPECT_EQ(line["values"].size(), 2U);
+    }
+}
+
+// Each poll's line is written when it is read, not when the watch ends.
+TEST_F(CliGuides, WatchFlushesEveryPoll) {
+    ChildProcess child({MBLAB_BINARY, "watch", target(), "holding", "0", "--interval", "100ms",
+                        "--format", "ndjson"});
+    auto first = child.read_stdout_line(std::chrono::seconds(10));
+    ASSERT_TRUE(first);
+    EXPECT_EQ(nlohmann::json::parse(*first)["poll"], 1);
+    auto second = child.read_stdout_line(std::chrono::seconds(10));
+    ASSERT_TRUE(second);
+    EXPECT_EQ(nlohmann::json::parse(*second)["poll"], 2);
+    child.signal(SIGINT);
+    EXPECT_EQ(child.wait_exit(std::chrono::seconds(10)), 0);
+}
+
+TEST(CliGuidesUsage, WatchFormatUsageErrors) {
+    auto fifo = run_mblab({"watch", "tcp://127.0.0.1:1", "fifo", "0x04DE", "--format", "csv"});
+    EXPECT_EQ(fifo.status, 2);
+    EXPECT_EQ(fifo.err,
+              "mblab watch: --format csv takes coils, discretes, holding or input, whose columns "
+              "are known before the first answer: use --format ndjson\n");
+    auto both =
+        run_mblab({"watch", "tcp://127.0.0.1:1", "holding", "0", "--format", "ndjson", "--json"});
+    EXPECT_EQ(both.status, 2);
+}
+
+// On a terminal (script(1) gives it one) a value that changed is in reverse video; NO_COLOR
+// and a pipe get none.
+TEST_F(CliGuides, WatchHighlightsChangesOnATerminal) {
+    // event-log's message count goes up with every request, so it changes on every poll.
+    const std::string watch =
+        fmt::format("{} watch {} event-log --count 3 --interval 10ms", MBLAB_BINARY, target());
+    if (::access("/usr/bin/script", X_OK) != 0) GTEST_SKIP() << "no script(1)";
+    auto colour =
+        run_mblab_via({"/usr/bin/script", "-qec", "env -u NO_COLOR " + watch, "/dev/null"});
+    EXPECT_EQ(colour.status, 0) << colour.err;
+    EXPECT_NE(colour.out.find("\x1b[7m"), std::string::npos) << colour.out;
+    auto plain = run_mblab_via({"/usr/bin/script", "-qec", "env NO_COLOR=1 " + watch, "/dev/null"});
+    EXPECT_EQ(plain.status, 0) << plain.err;
+    EXPECT_EQ(plain.out.find("\x1b[7m"), std::string::npos) << plain.out;
+    auto piped = mblab("watch", {"event-log", "--count", "3", "--interval", "10ms"});
+    EXPECT_EQ(piped.out.find('\x1b'), std::string::npos);
+}
+
+// With --json a usage error is a document on stdout too; the stderr line stays.
+TEST(CliGuidesUsage, JsonUsageErrorsAreDocuments) {
+    const std::vector<std::string> args = {"read", "tcp://127.0.0.1:1", "holding",
+                                           "0",    "--timout",          "5"};
+    auto text = run_mblab(args);
+    auto with_json = args;
+    with_json.push_back("--json");
+    auto json = run_mblab(with_json);
+    EXPECT_EQ(text.status, 2);
+    EXPECT_EQ(text.out, "");
+    EXPECT_EQ(json.status, 2);
+    EXPECT_EQ(json.err, text.err);
+    auto document = nlohmann::json::parse(json.out);
+    EXPECT_EQ(document["command"], "read");
+    EXPECT_EQ(document["ok"], false);
+    EXPECT_EQ(document["status"], 2);
+    EXPECT_EQ(document["error"]["kind"], "usage");
+    EXPECT_EQ(document["error"]["message"],
+              "unknown option --timout; did you mean --timeout? (run 'mblab read --help' for "
+              "usage)");
+    // Every client command, and errors found after parsing too.
+    for (std::vector<std::string> command :
+         {std::vector<std::string>{"write", "tcp://127.0.0.1:1", "--unit", "300"},
+          {"diag", "--json"},
+          {"devid", "tcp://127.0.0.1:1", "--decode", "all"},
+          {"raw", "tcp://127.0.0.1:1", "--retries", "x"},
+          {"watch", "tcp://127.0.0.1:1", "holding", "0", "--interval", "1x"},
+          {"read", "tcp://127.0.0.1:1", "holding", "0", "--base", "1"}}) {
+        command.push_back("--json");
+        auto ran = run_mblab(command);
+        EXPECT_EQ(ran.status, 2) << command[0];
+        auto doc = nlohmann::json::parse(ran.out);
+        EXPECT_EQ(doc["command"], command[0]);
+        EXPECT_EQ(doc["status"], 2) << command[0];
+        EXPECT_EQ(doc["error"]["kind"], "usage") << command[0];
+    }
+    // After --, --json is a value, not the flag.
+    auto late = run_mblab({"write", "tcp://127.0.0.1:1", "register", "--", "1", "--json", "x"});
+    EXPECT_EQ(late.status, 2);
+    EXPECT_EQ(late.out, "");
+}
+
+// -- ends the options, so a value that starts with - is a value.
+TEST_F(CliGuides, DoubleDashLetsValuesBeNegative) {
+    auto five = mblab("write", {"register", "7", "--type", "i16", "--", "-5"});
+    EXPECT_EQ(five.status, 0) << five.err;
+    EXPECT_EQ(first_row(mblab("read", {"holding", "7", "--type", "i16"})),
+              "7 (0x0007)  0xFFFB  -5");
+    // CLI11 already takes -DIGIT... as a value (no option is a digit); -.5 and -inf need --.
+    auto bare = mblab("write", {"register", "7", "--type", "i16", "-6"});
+    EXPECT_EQ(bare.status, 0) << bare.err;
+    auto floats = mblab("write", {"registers", "8", "--type", "f32", "--", "-.5", "-inf"});
+    EXPECT_EQ(floats.status, 0) << floats.err;
+    auto read = mblab("read", {"holding", "8", "2", "--type", "f32"});
+    EXPECT_NE(read.out.find("-0.5"), std::string::npos) << read.out;
+    EXPECT_NE(read.out.find("-inf"), std::string::npos) << read.out;
+    auto without = mblab("write", {"registers", "8", "--type", "f32", "-.5"});
+    EXPECT_EQ(without.status, 2);
+    EXPECT_EQ(without.out, "");
+    EXPECT_EQ(without.err,
+              "mblab write: -.5 was taken for an option: put -- before negative values, after "
+              "the options (... -- -.5) (run 'mblab write --help' for usage)\n");
+}
+
+// Every command's help has its summary, an example and its exit statuses.
+TEST(CliGuidesUsage, EveryHelpHasAnExampleAndExitStatuses) {
+    for (const char* command :
+         {"conform", "serve", "read", "write", "diag", "devid", "raw", "watch", "load", "pki"}) {
+        auto help = run_mblab({command, "--help"});
+        EXPECT_EQ(help.status, 0) << command;
+        EXPECT_NE(help.out.find("Exit status"), std::string::npos) << command;
+        EXPECT_NE(help.out.find(std::string("Example: mblab ") + command), std::string::npos)
+            << command;
+    }
 }
 
 }  // namespace
