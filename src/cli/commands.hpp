@@ -2,6 +2,8 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
+#include <vector>
 
 // Each subcommand lives in its own file and registers itself on the top-level app. The returned
 // callback runs the command and yields the process exit status.
@@ -14,8 +16,18 @@ inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailed = 1;  // a check failed / the device answered an exception
 inline constexpr int kExitUsage = 2;   // bad arguments, bad files, unreachable target
 
+// How this process was started and what it is, for reports that must say so later. Filled in by
+// main, which alone sees argv whole and includes the generated build_info.hpp (so a new commit
+// rebuilds main.cpp only).
+struct Invocation {
+    std::string version;
+    std::string commit;
+    std::vector<std::string> argv;
+};
+
 void add_serve_command(CLI::App& app, CommandRunner& runner);
-void add_conform_command(CLI::App& app, CommandRunner& runner);
+// `invocation` must outlive the runner.
+void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation);
 void add_read_command(CLI::App& app, CommandRunner& runner);
 void add_write_command(CLI::App& app, CommandRunner& runner);
 void add_diag_command(CLI::App& app, CommandRunner& runner);

@@ -8,10 +8,12 @@
 #include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -30,6 +32,7 @@
 #include "conformance/device_dut.hpp"
 #include "conformance/engine.hpp"
 #include "conformance/procedures.hpp"
+#include "conformance/provenance.hpp"
 #include "conformance/reports.hpp"
 #include "conformance/security_cases.hpp"
 #include "device/profile_paths.hpp"
@@ -70,6 +73,7 @@ struct ConformOptions {
     std::string read_only_role;
     std::string write_role;
     CLI::App* command = nullptr;
+    const Invocation* invocation = nullptr;
 };
 
 int usage_error(const std::string& message) {
@@ -246,8 +250,31 @@ std::optional<std::filesystem::path> builtin_profile(const std::string& wanted,
     return found;
 }
 
+// Where each DUT key's value came from, for the reports' provenance: a key nobody set since the
+// last reset comes from `base` (the built-in device's profile, or the defaults).
+class DeclarationSources {
+  public:
+    explicit DeclarationSources(std::string base) : base_(std::move(base)) {}
+    void reset(std::string base) {
+        base_ = std::move(base);
+        sources_.clear();
+    }
+    void set(std::string_view key, std::string source) {
+        sources_[std::string(key)] = std::move(source);
+    }
+    std::string operator()(std::string_view key) const {
+        const auto found = sources_.find(std::string(key));
+        return found == sources_.end() ? base_ : found->second;
+    }
+
+  private:
+    std::string base_;
+    std::map<std::string, std::string> sources_;
+};
+
 // Flags override the DUT file, which overrides what the built-in device's profile says.
-bool declare_dut(const ConformOptions& options, conf::Dut& dut, std::string& error) {
+bool declare_dut(const ConformOptions& options, conf::Dut& dut, DeclarationSources& sources,
+                 std::string& error) {
     if (!options.dut_file.empty()) {
         auto loaded = conf::load_dut_file(options.dut_file);
         if (!loaded) {
@@ -255,34 +282,45 @@ bool declare_dut(const ConformOptions& options, conf::Dut& dut, std::string& err
             return false;
         }
         dut = std::move(loaded.value());
+        // The file replaces the whole declaration: what it leaves out is a default again.
+        sources.reset("defaults");
+        for (const auto& key : conf::dut_file_keys(options.dut_file))
+            sources.set(key, options.dut_file);
     }
     const CLI::App& app = *options.command;
     bool flags = false;
-    auto given = [&](const char* name) {
+    auto given = [&](const char* name, std::string_view key) {
         const bool present = app.count(name) > 0;
         flags = flags || present;
+        if (present) sources.set(key, fmt::format("flag {}", name));
         return present;
     };
-    if (given("--unit")) dut.unit = static_cast<std::uint8_t>(options.unit);
-    if (given("--registers")) dut.registers = options.registers;
-    if (given("--max-read")) dut.max_read = static_cast<std::uint16_t>(options.max_read);
-    if (given("--object-messaging")) dut.object_messaging = true;
-    if (given("--alternate-encoding")) dut.alternate_encoding = true;
-    if (given("--pki")) dut.security.pki = options.pki;
-    if (given("--read-only-role")) dut.security.read_only_role = options.read_only_role;
-    if (given("--write-role")) dut.security.write_role = options.write_role;
-    if (given("--cert")) dut.security.client.cert = options.tls.cert;
-    if (given("--key")) dut.security.client.key = options.tls.key;
-    if (given("--ca")) dut.security.client.ca = options.tls.ca;
+    if (given("--unit", "unit")) dut.unit = static_cast<std::uint8_t>(options.unit);
+    if (given("--registers", "registers")) dut.registers = options.registers;
+    if (given("--max-read", "max_read"))
+        dut.max_read = static_cast<std::uint16_t>(options.max_read);
+    if (given("--object-messaging", "object_messaging")) dut.object_messaging = true;
+    if (given("--alternate-encoding", "alternate_encoding")) dut.alternate_encoding = true;
+    if (given("--pki", "pki")) dut.security.pki = options.pki;
+    if (given("--read-only-role", "read_only_role"))
+        dut.security.read_only_role = options.read_only_role;
+    if (given("--write-role", "write_role")) dut.security.write_role = options.write_role;
+    if (given("--cert", "client_cert")) dut.security.client.cert = options.tls.cert;
+    if (given("--key", "client_key")) dut.security.client.key = options.tls.key;
+    if (given("--ca", "ca")) dut.security.client.ca = options.tls.ca;
     // A lab PKI made by `mblab pki` holds the tester's own certificate too.
     security::TlsFiles& client = dut.security.client;
+    const std::string from_pki = fmt::format("the PKI directory ({})", sources("pki"));
     if (!dut.security.pki.empty() && client.cert.empty() && client.key.empty()) {
         const std::filesystem::path dir = dut.security.pki;
         client.cert = (dir / "client-Administrator.pem").string();
         client.key = (dir / "client-Administrator.key").string();
+        sources.set("client_cert", from_pki);
+        sources.set("client_key", from_pki);
     }
     if (!dut.security.pki.empty() && client.ca.empty()) {
         client.ca = (std::filesystem::path(dut.security.pki) / "ca.pem").string();
+        sources.set("ca", from_pki);
     }
     if (flags)
         dut.declared_by = dut.declared_by == "defaults" ? "flags" : dut.declared_by + " and flags";
@@ -436,18 +474,48 @@ bool check_report_files(const ConformOptions& options, ReportFiles& files, std::
            files.check("--pcap", options.pcap, error);
 }
 
+bool wants_reports(const ConformOptions& options) {
+    return !options.json.empty() || !options.junit.empty() || !options.pcap.empty();
+}
+
+// What the reports say about where they came from. The device is asked who it is after the run,
+// so the question cannot change any verdict; an interrupted run is not kept waiting for it.
+conf::Provenance make_provenance(const ConformOptions& options, conf::Session& session,
+                                 const DeclarationSources& sources,
+                                 std::chrono::system_clock::time_point started, bool interrupted) {
+    conf::Provenance provenance;
+    if (options.invocation != nullptr) {
+        provenance.version = options.invocation->version;
+        provenance.commit = options.invocation->commit;
+        provenance.command_line = options.invocation->argv;
+    }
+    provenance.started = conf::iso8601_utc(started);
+    provenance.declared_by = session.dut().declared_by;
+    provenance.declarations = conf::declarations_of(session.dut(), std::cref(sources));
+    if (interrupted) {
+        provenance.device.reason = "not asked: the run was interrupted";
+    } else {
+        provenance.device = conf::ask_device_identity(session);
+    }
+    provenance.finished = conf::iso8601_utc(std::chrono::system_clock::now());
+    return provenance;
+}
+
 bool write_reports(const ConformOptions& options, const conf::RunResult& result,
-                   const conf::Capture& capture, ReportFiles& files, std::string& error) {
+                   const conf::Provenance& provenance, const conf::Capture& capture,
+                   ReportFiles& files, std::string& error) {
     if (!options.json.empty()) {
-        if (!conf::write_text_file(options.json, conf::json_report(result), error)) return false;
+        if (!conf::write_text_file(options.json, conf::json_report(result, provenance), error))
+            return false;
         files.written(options.json);
     }
     if (!options.junit.empty()) {
-        if (!conf::write_text_file(options.junit, conf::junit_report(result), error)) return false;
+        if (!conf::write_text_file(options.junit, conf::junit_report(result, provenance), error))
+            return false;
         files.written(options.junit);
     }
     if (!options.pcap.empty()) {
-        if (!conf::write_pcap(options.pcap, capture.events(), error)) return false;
+        if (!conf::write_pcap(options.pcap, capture.events(), provenance, error)) return false;
         files.written(options.pcap);
     }
     return true;
@@ -466,6 +534,7 @@ int run_conform(const ConformOptions& options) {
     if (!check_report_files(options, files, error)) return usage_error(error);
 
     conf::Dut dut;
+    DeclarationSources sources("defaults");
     std::string note;
     std::unique_ptr<device::ReferenceDevice> device;
     std::unique_ptr<server::BackgroundServer> server;
@@ -486,6 +555,7 @@ int run_conform(const ConformOptions& options) {
         auto loaded = device::read_profile(profile);
         if (!loaded) return usage_error(loaded.error());
         dut = conf::dut_from_profile(*loaded, "profile " + profile.filename().string());
+        sources.reset(dut.declared_by);
         device = std::make_unique<device::ReferenceDevice>(std::move(loaded.value()));
         server = std::make_unique<server::BackgroundServer>(*device);
         auto port = server->start();
@@ -499,6 +569,8 @@ int run_conform(const ConformOptions& options) {
                 return usage_error(failed);
             }
             note += fmt::format("; over mbaps at {}", secure_target.name);
+            for (const char* key : {"pki", "client_cert", "client_key", "ca"})
+                sources.set(key, "the lab PKI made for the run");
             secure = std::move(secure_target);
         }
     } else {
@@ -506,7 +578,7 @@ int run_conform(const ConformOptions& options) {
         if (!parsed) return usage_error(parsed.error());
         target = std::move(parsed.value());
     }
-    if (!declare_dut(options, dut, error)) return usage_error(error);
+    if (!declare_dut(options, dut, sources, error)) return usage_error(error);
     if (!options.target.empty()) {
         if (auto failed =
                 client::attach_tls(target, target.secure ? dut.security.client : options.tls);
@@ -538,6 +610,7 @@ int run_conform(const ConformOptions& options) {
                           &console);
     if (secure) session.set_secure_target(std::move(*secure));
     catch_stop_signals();
+    const auto started = std::chrono::system_clock::now();
     client::LinkError link_error;
     if (!session.connect(link_error)) {
         return usage_error(
@@ -549,7 +622,12 @@ int run_conform(const ConformOptions& options) {
     engine.stop_when(g_stop);
     conf::RunResult result = engine.run(suites, target.name);
     console.summary(result);
-    if (!write_reports(options, result, capture, files, error)) return usage_error(error);
+    if (wants_reports(options)) {
+        const conf::Provenance provenance =
+            make_provenance(options, session, sources, started, result.interrupted);
+        if (!write_reports(options, result, provenance, capture, files, error))
+            return usage_error(error);
+    }
     // 128 + the signal, as a shell reports a program the signal ended: 130 for SIGINT, 143 for
     // SIGTERM, so a script tells an interrupted run from a failed one.
     if (result.interrupted) return 128 + g_stop_signal.load();
@@ -558,8 +636,9 @@ int run_conform(const ConformOptions& options) {
 
 }  // namespace
 
-void add_conform_command(CLI::App& app, CommandRunner& runner) {
+void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation) {
     auto options = std::make_shared<ConformOptions>();
+    options->invocation = &invocation;
     CLI::App* cmd = app.add_subcommand(
         "conform",
         "Run the conformance suites against a device (tcp://, mbaps://, rtu+tcp://, rtu://, "
@@ -617,18 +696,24 @@ void add_conform_command(CLI::App& app, CommandRunner& runner) {
                     "mbaps://: a lab PKI directory as mblab pki writes it, for the security "
                     "suite's certificates (client-norole, client-expired, ...); its "
                     "client-Administrator and ca.pem stand in for --cert/--key/--ca");
-    cmd->add_option("--read-only-role", options->read_only_role,
-                    "mbaps://: a role the device lets read holding register 0x0010 and not write it "
-                    "(its certificate is client-ROLE.pem in --pki)");
-    cmd->add_option("--write-role", options->write_role,
-                    "mbaps://: a role the device lets write holding register 0x0010 (client-ROLE.pem "
-                    "in --pki)");
-    cmd->add_option("--json", options->json,
-                    "write the report as JSON to FILE (checked before any traffic)");
+    cmd->add_option(
+        "--read-only-role", options->read_only_role,
+        "mbaps://: a role the device lets read holding register 0x0010 and not write it "
+        "(its certificate is client-ROLE.pem in --pki)");
+    cmd->add_option(
+        "--write-role", options->write_role,
+        "mbaps://: a role the device lets write holding register 0x0010 (client-ROLE.pem "
+        "in --pki)");
+    cmd->add_option(
+        "--json", options->json,
+        "write the report as JSON to FILE, with the run's provenance (checked before any "
+        "traffic)");
     cmd->add_option("--junit", options->junit,
-                    "write the report as JUnit XML to FILE (checked before any traffic)");
+                    "write the report as JUnit XML to FILE, the run's provenance as each suite's "
+                    "<properties> (checked before any traffic)");
     cmd->add_option("--pcap", options->pcap,
-                    "write every exchange as a pcap capture to FILE (checked before any traffic)");
+                    "write every exchange as a pcapng capture to FILE, the run's provenance in its "
+                    "section header (checked before any traffic)");
     cmd->callback([options, &runner] { runner = [options] { return run_conform(*options); }; });
 }
 

@@ -228,7 +228,8 @@ int main(int argc, char** argv) {
     app.set_version_flag("-V,--version", fmt::format("mblab {} (commit {})", kVersion, kCommit));
     app.require_subcommand(1);
     CommandRunner runner;
-    add_conform_command(app, runner);
+    const Invocation invocation{kVersion, kCommit, std::vector<std::string>(argv, argv + argc)};
+    add_conform_command(app, runner, invocation);
     accept_conform_duration_units(app);
     add_serve_command(app, runner);
     add_read_command(app, runner);

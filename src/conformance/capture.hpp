@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "client/link_types.hpp"
+#include "conformance/provenance.hpp"
 
 namespace mblab::conformance {
 
@@ -32,12 +33,15 @@ class Capture : public client::LinkObserver {
     std::vector<CaptureEvent> events_;
 };
 
-// Writes the capture with libpcap as raw IPv4 (LINKTYPE_RAW) packets: each connection opens with
-// a three-way handshake and ends with FINs, segments hold whole MBAP frames (a partial frame is
-// written when the other side speaks or the connection closes), sequence and acknowledgement
-// numbers follow the bytes, and the device's side is port 502 whatever port it really used, so
-// Wireshark decodes Modbus/TCP. False with `error` set when the file cannot be written.
+// Writes the capture as pcapng: a section header whose shb_userappl names mblab and its commit,
+// shb_hardware and shb_os the tester's machine, and whose comment holds the provenance lines
+// (classic pcap has no place for them); then raw IPv4 (LINKTYPE_RAW) packets: each connection
+// opens with a three-way handshake and ends with FINs, segments hold whole MBAP frames (a partial
+// frame is written when the other side speaks or the connection closes), sequence and
+// acknowledgement numbers follow the bytes, and the device's side is port 502 whatever port it
+// really used, so Wireshark decodes Modbus/TCP. False with `error` set when the file cannot be
+// written.
 bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events,
-                std::string& error);
+                const Provenance& provenance, std::string& error);
 
 }  // namespace mblab::conformance

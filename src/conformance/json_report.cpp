@@ -1,4 +1,5 @@
 #include <nlohmann/json.hpp>
+#include <variant>
 
 #include "conformance/reports.hpp"
 
@@ -70,9 +71,34 @@ json counts_json(const Counts& counts) {
             {"total", counts.total()}};
 }
 
-}  // namespace
+json provenance_json(const Provenance& provenance) {
+    json declarations = json::array();
+    for (const auto& declaration : provenance.declarations) {
+        json value;
+        std::visit([&](const auto& held) { value = held; }, declaration.value);
+        declarations.push_back(
+            {{"key", declaration.key}, {"value", value}, {"source", declaration.source}});
+    }
+    const DeviceIdentity& device = provenance.device;
+    json identity = {{"status", device.answered ? "answered" : "not answered"}};
+    if (device.answered) {
+        identity["vendor_name"] = device.vendor_name;
+        identity["product_code"] = device.product_code;
+        identity["revision"] = device.revision;
+    } else {
+        identity["reason"] = device.reason;
+    }
+    return {{"mblab_version", provenance.version},
+            {"git_commit", provenance.commit},
+            {"started", provenance.started},
+            {"finished", provenance.finished},
+            {"command_line", provenance.command_line},
+            {"declared_by", provenance.declared_by},
+            {"declarations", declarations},
+            {"device_identity", identity}};
+}
 
-std::string json_report(const RunResult& result) {
+json run_json(const RunResult& result) {
     json suites = json::array();
     for (const auto& suite : result.suites) {
         json cases = json::array();
@@ -95,16 +121,27 @@ std::string json_report(const RunResult& result) {
                           {"summary", counts_json(count(suite))},
                           {"cases", cases}});
     }
-    json report = {{"tool", "mblab conform"},
-                   {"target", result.target},
-                   {"dut", dut_json(result.dut)},
-                   {"passed", result.all_passed() && !result.interrupted},
-                   {"interrupted", result.interrupted},
-                   {"summary", counts_json(result.counts())},
-                   {"elapsed_ms", millis(result.elapsed)},
-                   {"requests", result.requests},
-                   {"suites", suites}};
+    return {{"tool", "mblab conform"},
+            {"target", result.target},
+            {"dut", dut_json(result.dut)},
+            {"passed", result.all_passed() && !result.interrupted},
+            {"interrupted", result.interrupted},
+            {"summary", counts_json(result.counts())},
+            {"elapsed_ms", millis(result.elapsed)},
+            {"requests", result.requests},
+            {"suites", suites}};
+}
+
+}  // namespace
+
+std::string json_report(const RunResult& result, const Provenance& provenance) {
+    json report = run_json(result);
+    report["provenance"] = provenance_json(provenance);
     return report.dump(2) + "\n";
+}
+
+std::string json_report(const RunResult& result) {
+    return run_json(result).dump(2) + "\n";
 }
 
 }  // namespace mblab::conformance

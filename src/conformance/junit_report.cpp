@@ -77,32 +77,81 @@ std::string testcase(const std::string& suite, const CaseResult& c) {
     return out + "/>\n";
 }
 
-}  // namespace
+void property(std::string& out, std::string_view name, std::string_view value) {
+    out += fmt::format("      <property name=\"{}\" value=\"{}\"/>\n", xml(name), xml(value));
+}
 
-std::string junit_report(const RunResult& result) {
+// junit-10 has <properties> in a <testsuite> only, not in <testsuites>, so each suite carries
+// the run's provenance: a tool that reads one suite still sees where it came from.
+std::string properties(const Provenance& provenance) {
+    std::string out = "    <properties>\n";
+    property(out, "mblab.version", provenance.version);
+    property(out, "mblab.commit", provenance.commit);
+    property(out, "run.started", provenance.started);
+    property(out, "run.finished", provenance.finished);
+    property(out, "run.command_line", shell_words(provenance.command_line));
+    property(out, "dut.declared_by", provenance.declared_by);
+    for (const auto& declaration : provenance.declarations) {
+        property(out, "dut." + declaration.key, value_text(declaration));
+        property(out, "dut." + declaration.key + ".source", declaration.source);
+    }
+    const DeviceIdentity& device = provenance.device;
+    property(out, "device.identity", device.answered ? "answered" : "not answered");
+    if (device.answered) {
+        property(out, "device.vendor_name", device.vendor_name);
+        property(out, "device.product_code", device.product_code);
+        property(out, "device.revision", device.revision);
+    } else {
+        property(out, "device.identity.reason", device.reason);
+    }
+    return out + "    </properties>\n";
+}
+
+std::chrono::microseconds suite_time(const SuiteResult& suite) {
+    std::chrono::microseconds elapsed{0};
+    for (const auto& c : suite.cases)
+        elapsed += c.elapsed;
+    return elapsed;
+}
+
+std::string junit_document(const RunResult& result, const std::string& suite_properties) {
     const Counts total = result.counts();
+    // The total is the sum of the suites' times, so the figures agree when a reader adds them
+    // up; the run's wall time (which also holds connecting and settling between cases) is the
+    // JSON report's. Whole microseconds, so the printed figures add up exactly.
+    std::chrono::microseconds total_time{0};
+    for (const auto& suite : result.suites)
+        total_time += suite_time(suite);
     std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+    // junit-10 gives <testsuites> no `skipped`; each <testsuite> has it.
     out += fmt::format(
         "<testsuites name=\"mblab conform {}\" tests=\"{}\" failures=\"{}\" errors=\"0\" "
-        "skipped=\"{}\" time=\"{}\">\n",
-        xml(result.target), total.total(), total.failed, total.not_applicable + total.not_run,
-        seconds(result.elapsed));
+        "time=\"{}\">\n",
+        xml(result.target), total.total(), total.failed, seconds(total_time));
     for (const auto& suite : result.suites) {
         const Counts counts = count(suite);
-        std::chrono::microseconds elapsed{0};
-        for (const auto& c : suite.cases)
-            elapsed += c.elapsed;
         out += fmt::format(
             "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"0\" skipped=\"{}\" "
             "time=\"{}\">\n",
             xml(suite.name), counts.total(), counts.failed, counts.not_applicable + counts.not_run,
-            seconds(elapsed));
+            seconds(suite_time(suite)));
+        out += suite_properties;
         for (const auto& c : suite.cases)
             out += testcase(suite.name, c);
         out += "  </testsuite>\n";
     }
     out += "</testsuites>\n";
     return out;
+}
+
+}  // namespace
+
+std::string junit_report(const RunResult& result, const Provenance& provenance) {
+    return junit_document(result, properties(provenance));
+}
+
+std::string junit_report(const RunResult& result) {
+    return junit_document(result, "");
 }
 
 bool write_text_file(const std::string& path, const std::string& text, std::string& error) {

@@ -1,11 +1,11 @@
 #include <fmt/core.h>
-#include <pcap/pcap.h>
+#include <sys/utsname.h>
 
 #include <array>
-#include <memory>
 #include <optional>
 
 #include "conformance/capture.hpp"
+#include "conformance/reports.hpp"
 #include "protocol/framer.hpp"
 
 namespace mblab::conformance {
@@ -128,21 +128,123 @@ class Stream {
     std::uint16_t ip_id_ = 1;
 };
 
+// pcapng blocks (draft-ietf-opsawg-pcapng), written little-endian: the byte-order magic of the
+// section header tells readers which order the file uses.
+class PcapngFile {
+  public:
+    void section_header(const Provenance& provenance) {
+        Block block(out_, kSectionHeader);
+        put32(kByteOrderMagic);
+        put16(1);  // version 1.0
+        put16(0);
+        put32(0xFFFFFFFFU);  // section length not given: the file may be cut short
+        put32(0xFFFFFFFFU);
+        std::string comment;
+        for (const auto& line : provenance_lines(provenance))
+            comment += line + "\n";
+        option(kComment, comment);
+        utsname host{};
+        if (::uname(&host) == 0) {
+            option(kShbHardware, host.machine);
+            option(kShbOs, fmt::format("{} {}", host.sysname, host.release));
+        }
+        option(kShbUserAppl,
+               fmt::format("mblab {} (commit {})", provenance.version, provenance.commit));
+        end_options();
+        block.close();
+    }
+
+    void interface(std::uint16_t link_type, std::uint32_t snap_length) {
+        Block block(out_, kInterfaceDescription);
+        put16(link_type);
+        put16(0);
+        put32(snap_length);
+        // No if_tsresol: the default, microseconds, is what the timestamps are in.
+        block.close();
+    }
+
+    void packet(std::chrono::microseconds since_epoch, std::span<const std::uint8_t> bytes) {
+        Block block(out_, kEnhancedPacket);
+        const auto stamp = static_cast<std::uint64_t>(since_epoch.count());
+        put32(0);  // interface 0
+        put32(static_cast<std::uint32_t>(stamp >> 32));
+        put32(static_cast<std::uint32_t>(stamp));
+        put32(static_cast<std::uint32_t>(bytes.size()));
+        put32(static_cast<std::uint32_t>(bytes.size()));
+        out_.insert(out_.end(), bytes.begin(), bytes.end());
+        pad();
+        block.close();
+    }
+
+    const std::string& bytes() const { return out_; }
+
+  private:
+    static constexpr std::uint32_t kSectionHeader = 0x0A0D0D0A;
+    static constexpr std::uint32_t kInterfaceDescription = 1;
+    static constexpr std::uint32_t kEnhancedPacket = 6;
+    static constexpr std::uint32_t kByteOrderMagic = 0x1A2B3C4D;
+    static constexpr std::uint16_t kComment = 1;
+    static constexpr std::uint16_t kShbHardware = 2;
+    static constexpr std::uint16_t kShbOs = 3;
+    static constexpr std::uint16_t kShbUserAppl = 4;
+
+    // Writes the type and a length to be filled in; close() writes the length at both ends, as
+    // pcapng has it so a reader can walk the blocks backwards too.
+    class Block {
+      public:
+        Block(std::string& out, std::uint32_t type) : out_(out), start_(out.size()) {
+            append32(out_, type);
+            append32(out_, 0);
+        }
+        void close() {
+            const auto length = static_cast<std::uint32_t>(out_.size() - start_ + 4);
+            append32(out_, length);
+            for (std::size_t i = 0; i < 4; ++i)
+                out_[start_ + 4 + i] = static_cast<char>(length >> (8 * i));
+        }
+
+      private:
+        std::string& out_;
+        std::size_t start_;
+    };
+
+    static void append32(std::string& out, std::uint32_t value) {
+        for (int i = 0; i < 4; ++i)
+            out += static_cast<char>(value >> (8 * i));
+    }
+    void put16(std::uint16_t value) {
+        out_ += static_cast<char>(value);
+        out_ += static_cast<char>(value >> 8);
+    }
+    void put32(std::uint32_t value) { append32(out_, value); }
+    void pad() {
+        while (out_.size() % 4 != 0)
+            out_ += '\0';
+    }
+    // An option's value is at most 65535 bytes; provenance text is far shorter, and a longer one
+    // is cut rather than making the file unreadable.
+    void option(std::uint16_t code, std::string_view value) {
+        value = value.substr(0, 0xFFFF);
+        put16(code);
+        put16(static_cast<std::uint16_t>(value.size()));
+        out_ += value;
+        pad();
+    }
+    void end_options() { put32(0); }  // opt_endofopt: code 0, length 0
+
+    std::string out_;
+};
+
+constexpr std::uint16_t kLinktypeRaw = 101;  // raw IPv4 or IPv6, no link-layer header
+constexpr std::uint32_t kSnapLength = 65535;
+
 }  // namespace
 
 bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events,
-                std::string& error) {
-    std::unique_ptr<pcap_t, void (*)(pcap_t*)> handle(pcap_open_dead(DLT_RAW, 65535), &pcap_close);
-    if (!handle) {
-        error = "libpcap cannot open a capture";
-        return false;
-    }
-    std::unique_ptr<pcap_dumper_t, void (*)(pcap_dumper_t*)> dumper(
-        pcap_dump_open(handle.get(), path.c_str()), &pcap_dump_close);
-    if (!dumper) {
-        error = fmt::format("cannot write {}: {}", path, pcap_geterr(handle.get()));
-        return false;
-    }
+                const Provenance& provenance, std::string& error) {
+    PcapngFile file;
+    file.section_header(provenance);
+    file.interface(kLinktypeRaw, kSnapLength);
     std::optional<Stream> stream;
     std::uint32_t streams = 0;
     // Bytes not yet written as segments, per direction (0: tester, 1: device).
@@ -151,12 +253,7 @@ bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events
         const auto since_epoch =
             std::chrono::duration_cast<std::chrono::microseconds>(e.time.time_since_epoch());
         auto emit = [&](const std::vector<std::uint8_t>& packet) {
-            pcap_pkthdr header{};
-            header.ts.tv_sec = static_cast<time_t>(since_epoch.count() / 1'000'000);
-            header.ts.tv_usec = static_cast<suseconds_t>(since_epoch.count() % 1'000'000);
-            header.caplen = static_cast<bpf_u_int32>(packet.size());
-            header.len = header.caplen;
-            pcap_dump(reinterpret_cast<u_char*>(dumper.get()), &header, packet.data());
+            file.packet(since_epoch, packet);
         };
         auto flush = [&](std::size_t side, bool whole_frames_only) {
             auto& bytes = pending[side];
@@ -203,11 +300,7 @@ bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events
                 break;
         }
     }
-    if (pcap_dump_flush(dumper.get()) != 0) {
-        error = fmt::format("cannot write {}", path);
-        return false;
-    }
-    return true;
+    return write_text_file(path, file.bytes(), error);
 }
 
 }  // namespace mblab::conformance

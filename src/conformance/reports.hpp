@@ -2,16 +2,23 @@
 
 #include <string>
 
+#include "conformance/provenance.hpp"
 #include "conformance/verdict.hpp"
 
 // Machine-readable reports of a run.
 namespace mblab::conformance {
 
-// The whole run as JSON (docs/catalogue.md "Reports" describes the fields).
+// The whole run as JSON, with where it came from (docs/catalogue.md "Reports" describes the
+// fields).
+std::string json_report(const RunResult& result, const Provenance& provenance);
+// Without the provenance, for `mblab load`, which borrows the report's shape for its evidence.
 std::string json_report(const RunResult& result);
 
-// JUnit XML as Jenkins and GitLab read it: a <testsuite> per suite, a <testcase> per case,
-// <failure> for FAIL, <skipped> for N/A and NOT RUN.
+// JUnit XML as Jenkins and GitLab read it, valid against Jenkins' junit-10 schema
+// (tests/junit-10.xsd): a <testsuite> per suite with the provenance as its <properties>, a
+// <testcase> per case, <failure> for FAIL, <skipped> for N/A and NOT RUN.
+std::string junit_report(const RunResult& result, const Provenance& provenance);
+// Without <properties>, for `mblab load`'s report, which has no provenance yet.
 std::string junit_report(const RunResult& result);
 
 // Writes `text` to `path`; false with `error` set when the file cannot be written.

@@ -206,6 +206,9 @@ void expect_interrupted_reports(const Ran& ran, const std::string& json, const s
     EXPECT_GE(run, 1U);
     EXPECT_GE(left, 1U);
     EXPECT_EQ(report["summary"]["total"], run + left);
+    // An interrupted run is not kept waiting for the device to identify itself.
+    EXPECT_EQ(report["provenance"]["device_identity"]["reason"],
+              "not asked: the run was interrupted");
     const std::string xml = test::file_text(junit);
     EXPECT_NE(xml.find("<skipped message=\"interrupted\"/>"), std::string::npos) << xml;
     EXPECT_NE(ran.out.find(fmt::format("Interrupted: {} of {} cases run; the reports mark the "
