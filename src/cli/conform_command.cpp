@@ -563,22 +563,25 @@ int run_conform(const ConformOptions& options) {
         target.tcp = client::Endpoint{"127.0.0.1", *port, nullptr};
         target.name = fmt::format("tcp://127.0.0.1:{}", *port);
         note = fmt::format("built-in reference device, profile {}", profile.string());
-        if (uses_mbaps(suites)) {
-            client::Target secure_target;
-            if (auto failed = builtin_mbaps.start(profile, dut, secure_target); !failed.empty()) {
-                return usage_error(failed);
-            }
-            note += fmt::format("; over mbaps at {}", secure_target.name);
-            for (const char* key : {"pki", "client_cert", "client_key", "ca"})
-                sources.set(key, "the lab PKI made for the run");
-            secure = std::move(secure_target);
-        }
     } else {
         auto parsed = client::parse_target(options.target);
         if (!parsed) return usage_error(parsed.error());
         target = std::move(parsed.value());
     }
     if (!declare_dut(options, dut, sources, error)) return usage_error(error);
+    // After the declarations, which a --dut file replaces whole: the run's own PKI is not one of
+    // them to lose.
+    if (options.target.empty() && uses_mbaps(suites)) {
+        client::Target secure_target;
+        const auto profile = builtin_profile(options.profile, error);
+        if (auto failed = builtin_mbaps.start(*profile, dut, secure_target); !failed.empty()) {
+            return usage_error(failed);
+        }
+        note += fmt::format("; over mbaps at {}", secure_target.name);
+        for (const char* key : {"pki", "client_cert", "client_key", "ca"})
+            sources.set(key, "the lab PKI made for the run");
+        secure = std::move(secure_target);
+    }
     if (!options.target.empty()) {
         if (auto failed =
                 client::attach_tls(target, target.secure ? dut.security.client : options.tls);

@@ -83,8 +83,8 @@ Dut dut_from_profile(const device::Profile& profile, std::string declared_by) {
     dut.read_only_coil = refused_read_only(spec, device::BankKind::Coils);
     if (!spec.fifos.empty()) {
         dut.fifo_address = spec.fifos.front();
-        dut.fifo_count_writable = writable(spec, device::BankKind::HoldingRegisters,
-                                           spec.fifos.front());
+        dut.fifo_count_writable =
+            writable(spec, device::BankKind::HoldingRegisters, spec.fifos.front());
     }
     if (!spec.files.empty()) dut.file_number = spec.files.front().number;
     dut.echo_max_words = spec.diagnostics.echo_max_words;

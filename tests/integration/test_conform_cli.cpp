@@ -72,9 +72,9 @@ TEST(ConformCli, TheReferenceDevicePassesEveryApplicableCase) {
             }
         }
     }
-    EXPECT_EQ(suites, (std::vector<std::string>{"policy-2.1", "device-id", "diagnostics",
-                                                "exceptions", "function-codes", "mbap",
-                                                "security"}));
+    EXPECT_EQ(suites,
+              (std::vector<std::string>{"policy-2.1", "device-id", "diagnostics", "exceptions",
+                                        "function-codes", "mbap", "security"}));
     EXPECT_NE(
         ran.out.find("  PASS     7.5.2   Multiple register test: the register sweep  (775 "
                      "reads of up to 125 registers over 65536 registers, one request at a time)\n"),

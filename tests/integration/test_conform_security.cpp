@@ -19,11 +19,13 @@
 #include "security/pki.hpp"
 #include "security/tls_context.hpp"
 #include "server/background_server.hpp"
+#include "support/lab_pki.hpp"
 
 namespace mblab::conformance {
 namespace {
 
 namespace fs = std::filesystem;
+using test::LabPki;
 
 const std::string kProfile = std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml";
 
@@ -61,17 +63,11 @@ class WritesAnswered02 : public device::RequestHandler {
 class ConformSecurity : public ::testing::Test {
   protected:
     static void SetUpTestSuite() {
-        pki_ = new fs::path(fs::temp_directory_path() /
-                            ("mblab-conform-security-" + std::to_string(::getpid())));
-        fs::remove_all(*pki_);
-        const auto made = security::make_lab_pki(*pki_, {});
-        ASSERT_TRUE(made) << made.error();
+        pki_ = new LabPki("conform-security");
+        ASSERT_TRUE(pki_->made()) << pki_->error();
     }
-    static void TearDownTestSuite() {
-        fs::remove_all(*pki_);
-        delete pki_;
-    }
-    static std::string file(const std::string& name) { return (*pki_ / name).string(); }
+    static void TearDownTestSuite() { delete pki_; }
+    static std::string file(const std::string& name) { return pki_->file(name); }
 
     // Starts the device made wrong as `wrong` says and runs the security suite against it.
     RunResult run(Wrong wrong) {
@@ -121,7 +117,7 @@ class ConformSecurity : public ::testing::Test {
         auto port = server_->start();
         EXPECT_TRUE(port.ok());
 
-        dut.security.pki = pki_->string();
+        dut.security.pki = pki_->dir().string();
         dut.security.client = {file("client-Administrator.pem"), file("client-Administrator.key"),
                                file("ca.pem")};
         auto target = client::parse_target("mbaps://127.0.0.1:" + std::to_string(*port));
@@ -153,13 +149,13 @@ class ConformSecurity : public ::testing::Test {
         }
     }
 
-    static fs::path* pki_;
+    static LabPki* pki_;
     std::unique_ptr<device::ReferenceDevice> device_;
     std::unique_ptr<WritesAnswered02> wrapper_;
     std::unique_ptr<server::BackgroundServer> server_;
 };
 
-fs::path* ConformSecurity::pki_ = nullptr;
+LabPki* ConformSecurity::pki_ = nullptr;
 
 TEST_F(ConformSecurity, ReferenceDevicePassesEveryCase) {
     auto result = run(Wrong::Nothing);

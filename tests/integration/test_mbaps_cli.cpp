@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "device/profile_loader.hpp"
@@ -12,6 +13,7 @@
 #include "security/pki.hpp"
 #include "security/tls_context.hpp"
 #include "server/background_server.hpp"
+#include "support/lab_pki.hpp"
 #include "test_client_support.hpp"
 
 namespace mblab::test {
@@ -22,16 +24,10 @@ namespace fs = std::filesystem;
 class MbapsCli : public ::testing::Test {
   protected:
     static void SetUpTestSuite() {
-        pki_ = new fs::path(fs::temp_directory_path() /
-                            ("mblab-mbaps-cli-" + std::to_string(::getpid())));
-        fs::remove_all(*pki_);
-        const auto made = security::make_lab_pki(*pki_, {});
-        ASSERT_TRUE(made) << made.error();
+        pki_ = new LabPki("mbaps-cli");
+        ASSERT_TRUE(pki_->made()) << pki_->error();
     }
-    static void TearDownTestSuite() {
-        fs::remove_all(*pki_);
-        delete pki_;
-    }
+    static void TearDownTestSuite() { delete pki_; }
 
     void SetUp() override {
         auto loaded =
@@ -50,7 +46,7 @@ class MbapsCli : public ::testing::Test {
         target_ = "mbaps://localhost:" + std::to_string(*port);
     }
 
-    static std::string file(const std::string& name) { return (*pki_ / name).string(); }
+    static std::string file(const std::string& name) { return pki_->file(name); }
     // --cert/--key/--ca of a client certificate of the lab PKI.
     static std::vector<std::string> as(const std::string& client) {
         return {"--cert", file(client + ".pem"), "--key", file(client + ".key"),
@@ -73,13 +69,13 @@ class MbapsCli : public ::testing::Test {
         return mblab_load(name, args);
     }
 
-    static fs::path* pki_;
+    static LabPki* pki_;
     std::unique_ptr<device::ReferenceDevice> device_;
     std::unique_ptr<server::BackgroundServer> server_;
     std::string target_;
 };
 
-fs::path* MbapsCli::pki_ = nullptr;
+LabPki* MbapsCli::pki_ = nullptr;
 
 TEST_F(MbapsCli, OperatorReadsAndWritesAndVerboseNamesTheSession) {
     auto wrote = mblab({"write", "register", "30", "4660"}, "client-Operator");
@@ -118,7 +114,7 @@ TEST_F(MbapsCli, RefusedCertificatesAreOneLineNamingTheProblem) {
 
 // The tester over mbaps://: the security suite with the lab PKI, and policy cases inside TLS.
 TEST_F(MbapsCli, ConformRunsTheSecuritySuiteAndThePolicyInsideTls) {
-    auto ran = run_mblab({"conform", target_, "--pki", pki_->string(), "--read-only-role",
+    auto ran = run_mblab({"conform", target_, "--pki", pki_->dir().string(), "--read-only-role",
                           "ReadOnly", "--write-role", "Operator", "--suite", "security", "--suite",
                           "policy-2.1", "--case", "sec.*", "--case", "7.*", "--case", "9.*"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
@@ -142,7 +138,7 @@ TEST_F(MbapsCli, ConformWithoutTheRolesOrThePkiSaysWhatIsMissing) {
     EXPECT_NE(ran.out.find("the DUT does not declare pki (--pki DIR"), std::string::npos)
         << ran.out;
     EXPECT_NE(ran.out.find("PASS     sec.4 "), std::string::npos) << ran.out;
-    auto plain = run_mblab({"conform", "tcp://127.0.0.1:1", "--pki", pki_->string()});
+    auto plain = run_mblab({"conform", "tcp://127.0.0.1:1", "--pki", pki_->dir().string()});
     EXPECT_EQ(plain.status, 2);
     EXPECT_EQ(plain.err, "mblab conform: --pki is for mbaps:// targets only\n");
     auto builtin = run_mblab({"conform", "--cert", "x.pem"});
@@ -157,6 +153,18 @@ TEST(ConformBuiltin, SecuritySuiteRunsAgainstTheBuiltInDeviceOverMbaps) {
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
     EXPECT_NE(ran.out.find("; over mbaps at mbaps://127.0.0.1:"), std::string::npos) << ran.out;
     EXPECT_NE(ran.out.find("12 passed, 0 failed"), std::string::npos) << ran.out;
+}
+
+TEST(ConformBuiltin, ADutFileKeepsTheRunsOwnLabPki) {
+    const auto dut = fs::temp_directory_path() / ("mblab-dut-" + std::to_string(::getpid()));
+    { std::ofstream(dut) << "unit = 1\nread_only_role = \"ReadOnly\"\n"; }
+    auto ran = run_mblab({"conform", "--suite", "security", "--dut", dut.string()});
+    fs::remove(dut);
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("PASS     sec.5 "), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("PASS     sec.9 "), std::string::npos) << ran.out;
+    // The file declares no write role, and replaces what the profile said.
+    EXPECT_NE(ran.out.find("N/A      sec.10 "), std::string::npos) << ran.out;
 }
 
 TEST_F(MbapsCli, MissingOrMisplacedFilesAreUsageErrors) {
