@@ -23,6 +23,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/profile_lookup.hpp"
+#include "cli/terminal_style.hpp"
 #include "cli/tls_options.hpp"
 #include "client/target.hpp"
 #include "conformance/capture.hpp"
@@ -607,7 +608,8 @@ int run_conform(const ConformOptions& options) {
     engine_options.timeout = std::chrono::milliseconds(options.timeout_ms);
     engine_options.pipeline_depth = static_cast<std::size_t>(options.pipeline);
     engine_options.settle = std::chrono::milliseconds(options.settle_ms);
-    conf::ConsoleReport console(stdout, stderr, ::isatty(STDERR_FILENO) != 0);
+    conf::ConsoleReport console(stdout, stderr, ::isatty(STDERR_FILENO) != 0,
+                                styles_wanted(STDOUT_FILENO));
     conf::Capture capture;
     conf::Session session(target, dut, engine_options, options.pcap.empty() ? nullptr : &capture,
                           &console);

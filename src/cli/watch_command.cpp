@@ -14,6 +14,7 @@
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/read_query.hpp"
+#include "cli/terminal_style.hpp"
 
 // `mblab watch TARGET KIND ARGS...`: the read of `mblab read`, repeated every --interval, drawn in
 // place on a terminal and as plain lines otherwise, counting what went wrong; or streamed one
@@ -83,12 +84,7 @@ std::string csv_header(const ReadQuery& query) {
     return line;
 }
 
-// What a terminal shows for a value that changed since the last poll. NO_COLOR (no-color.org):
-// set and not empty, no escapes.
-bool highlight_wanted(bool terminal) {
-    const char* no_color = std::getenv("NO_COLOR");
-    return terminal && (no_color == nullptr || *no_color == '\0');
-}
+// What a terminal shows for a value that changed since the last poll.
 constexpr const char* kMarkOn = "\x1b[7m";
 constexpr const char* kMarkOff = "\x1b[27m";
 
@@ -189,7 +185,7 @@ int watch(client::Client& client, CommandOutput& out, const WatchOptions& option
     Tally tally;
     const bool terminal = ::isatty(STDOUT_FILENO) != 0;
     const bool streaming = options.format != "text";
-    const bool highlight = !streaming && highlight_wanted(terminal);
+    const bool highlight = !streaming && styles_wanted(STDOUT_FILENO);
     Screen screen(terminal, fmt::format("{} unit {}: {} every {} ms (Ctrl-C stops)",
                                         client.transactor().target(), options.client.unit,
                                         describe_query(query), options.interval_ms));

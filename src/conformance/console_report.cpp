@@ -24,8 +24,16 @@ void ConsoleReport::suite_started(const Suite& suite) {
 void ConsoleReport::case_finished(const Suite&, const CaseResult& result) {
     clear();
     const auto& outcome = result.outcome;
-    std::string line = fmt::format("  {:<8} {:<{}}  {}", verdict_label(outcome.verdict), result.id,
-                                   id_width_, result.title);
+    const auto label = verdict_label(outcome.verdict);
+    std::string shown = fmt::format("{:<8}", label);
+    if (colour_) {
+        const char* colour = outcome.verdict == Verdict::Pass   ? "\x1b[32m"
+                             : outcome.verdict == Verdict::Fail ? "\x1b[31m"
+                                                                : "\x1b[33m";
+        // Only the word is coloured, so the columns stay where they are.
+        shown = fmt::format("{}{}\x1b[0m{}", colour, label, shown.substr(label.size()));
+    }
+    std::string line = fmt::format("  {} {:<{}}  {}", shown, result.id, id_width_, result.title);
     if (!outcome.reason.empty()) line += fmt::format("  ({})", outcome.reason);
     fmt::print(out_, "{}\n", line);
     const std::string indent(11, ' ');

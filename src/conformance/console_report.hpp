@@ -13,8 +13,9 @@ namespace mblab::conformance {
 // only when that is a terminal.
 class ConsoleReport : public RunListener, public Progress {
   public:
-    ConsoleReport(std::FILE* out, std::FILE* progress, bool show_progress)
-        : out_(out), progress_(progress), show_progress_(show_progress) {}
+    // `colour`: verdicts in colour (PASS green, FAIL red, N/A and NOT RUN yellow), for a terminal.
+    ConsoleReport(std::FILE* out, std::FILE* progress, bool show_progress, bool colour = false)
+        : out_(out), progress_(progress), show_progress_(show_progress), colour_(colour) {}
 
     void header(const std::string& target, const Dut& dut, const std::string& note);
     void suite_started(const Suite& suite) override;
@@ -28,6 +29,7 @@ class ConsoleReport : public RunListener, public Progress {
     std::FILE* out_;
     std::FILE* progress_;
     bool show_progress_;
+    bool colour_;
     bool progress_shown_ = false;
     std::size_t id_width_ = 8;
 };

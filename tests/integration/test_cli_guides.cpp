@@ -351,6 +351,25 @@ TEST_F(CliGuides, WatchHighlightsChangesOnATerminal) {
     EXPECT_EQ(piped.out.find('\x1b'), std::string::npos);
 }
 
+// conform shows verdicts in colour on a terminal only, and never with NO_COLOR.
+TEST(CliGuidesColour, ConformColoursVerdictsOnATerminalOnly) {
+    if (::access("/usr/bin/script", X_OK) != 0) GTEST_SKIP() << "no script(1)";
+    const std::string conform =
+        fmt::format("{} conform --suite mbap --case mbap.1 --case mbap.9", MBLAB_BINARY);
+    auto colour =
+        run_mblab_via({"/usr/bin/script", "-qec", "env -u NO_COLOR " + conform, "/dev/null"});
+    EXPECT_EQ(colour.status, 0) << colour.out;
+    EXPECT_NE(colour.out.find("  \x1b[32mPASS\x1b[0m     mbap.1 "), std::string::npos)
+        << colour.out;
+    auto plain =
+        run_mblab_via({"/usr/bin/script", "-qec", "env NO_COLOR=1 " + conform, "/dev/null"});
+    EXPECT_EQ(plain.status, 0) << plain.out;
+    EXPECT_EQ(plain.out.find("\x1b[3"), std::string::npos) << plain.out;
+    auto piped = run_mblab({"conform", "--suite", "mbap", "--case", "mbap.1"});
+    EXPECT_EQ(piped.out.find('\x1b'), std::string::npos) << piped.out;
+    EXPECT_NE(piped.out.find("  PASS     mbap.1 "), std::string::npos) << piped.out;
+}
+
 // With --json a usage error is a document on stdout too; the stderr line stays.
 TEST(CliGuidesUsage, JsonUsageErrorsAreDocuments) {
     const std::vector<std::string> args = {"read", "tcp://127.0.0.1:1", "holding",
