@@ -23,6 +23,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/profile_lookup.hpp"
+#include "cli/suggestion.hpp"
 #include "cli/terminal_style.hpp"
 #include "cli/tls_options.hpp"
 #include "client/target.hpp"
@@ -116,13 +117,18 @@ std::optional<std::string> find_suite(const std::string& wanted,
         return wanted;
     }
     std::string names;
+    std::vector<std::string> candidates;
     for (const auto& file : shipped) {
         if (fs::path(file).stem() == wanted) return file;
         auto suite = conf::load_suite_file(file);
         if (suite && suite->name == wanted) return file;
         names += (names.empty() ? "" : ", ") + fs::path(file).stem().string();
+        candidates.push_back(fs::path(file).stem().string());
+        if (suite) candidates.push_back(suite->name);
     }
-    error = fmt::format("no suite named '{}' (shipped suites: {})", wanted, names);
+    const auto near = nearest(wanted, candidates);
+    error = fmt::format("no suite named '{}'{} (shipped suites: {})", wanted,
+                        near ? fmt::format("; did you mean '{}'?", *near) : std::string(), names);
     return std::nullopt;
 }
 
@@ -563,7 +569,11 @@ int run_conform(const ConformOptions& options) {
         if (!port) return usage_error("cannot start the reference device: " + port.error());
         target.tcp = client::Endpoint{"127.0.0.1", *port, nullptr};
         target.name = fmt::format("tcp://127.0.0.1:{}", *port);
-        note = fmt::format("built-in reference device, profile {}", profile.string());
+        // As the user named it: a path of the machine it was built on says nothing to a reader
+        // of the report elsewhere.
+        note = fmt::format(
+            "built-in reference device, profile {}",
+            options.profile.empty() ? std::string("reference (shipped)") : options.profile);
     } else {
         auto parsed = client::parse_target(options.target);
         if (!parsed) return usage_error(parsed.error());

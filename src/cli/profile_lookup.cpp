@@ -6,6 +6,7 @@
 #include <system_error>
 #include <vector>
 
+#include "cli/suggestion.hpp"
 #include "device/profile_paths.hpp"
 
 namespace mblab::cli {
@@ -24,7 +25,9 @@ std::optional<std::filesystem::path> find_profile(const std::string& wanted, std
         if (entry.path().extension() == ".toml") names.push_back(entry.path().stem().string());
     }
     std::sort(names.begin(), names.end());
-    error = fmt::format("no profile file or shipped profile named '{}' (shipped: {})", wanted,
+    const auto near = nearest(wanted, names);
+    error = fmt::format("no profile file or shipped profile named '{}'{} (shipped: {})", wanted,
+                        near ? fmt::format("; did you mean '{}'?", *near) : std::string(),
                         names.empty() ? "none found" : fmt::format("{}", fmt::join(names, ", ")));
     return std::nullopt;
 }

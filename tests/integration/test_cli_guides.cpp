@@ -351,6 +351,24 @@ TEST_F(CliGuides, WatchHighlightsChangesOnATerminal) {
     EXPECT_EQ(piped.out.find('\x1b'), std::string::npos);
 }
 
+// A mistyped suite or profile name gets the nearest shipped one suggested.
+TEST(CliGuidesUsage, AMistypedSuiteOrProfileGetsTheNearestOne) {
+    auto suite = run_mblab({"conform", "--suite", "polcy-2.1"});
+    EXPECT_EQ(suite.status, 2);
+    EXPECT_NE(suite.err.find("mblab conform: no suite named 'polcy-2.1'; did you mean "
+                             "'policy-2.1'? (shipped suites: "),
+              std::string::npos)
+        << suite.err;
+    auto profile = run_mblab({"serve", "refrence"});
+    EXPECT_EQ(profile.status, 2);
+    EXPECT_NE(profile.err.find("mblab serve: no profile file or shipped profile named 'refrence'; "
+                               "did you mean 'reference'? (shipped: "),
+              std::string::npos)
+        << profile.err;
+    auto unrelated = run_mblab({"conform", "--suite", "zzzz"});
+    EXPECT_EQ(unrelated.err.find("did you mean"), std::string::npos) << unrelated.err;
+}
+
 // conform shows verdicts in colour on a terminal only, and never with NO_COLOR.
 TEST(CliGuidesColour, ConformColoursVerdictsOnATerminalOnly) {
     if (::access("/usr/bin/script", X_OK) != 0) GTEST_SKIP() << "no script(1)";
