@@ -8,7 +8,9 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "client/raw_link.hpp"
@@ -319,6 +321,38 @@ std::optional<Outcome> open_role(Session& session, const security::TlsFiles& fil
     return std::nullopt;
 }
 
+// A session as a declared role (client-ROLE in the PKI) whose read of the role register the
+// declaration allows: the session and the value read, or the outcome when there is none (N/A,
+// NOT RUN, or FAIL when the device refuses the handshake or the read).
+struct RoleSession {
+    Attempt attempt;
+    std::uint8_t hi = 0;
+    std::uint8_t lo = 0;
+};
+
+std::variant<Outcome, RoleSession> read_as_role(Session& session, const std::string& role,
+                                                std::string_view declaration,
+                                                std::uint16_t transaction) {
+    if (auto na = not_secure(session)) return *na;
+    if (auto na = undeclared(role, declaration)) return *na;
+    RoleSession out;
+    if (auto done = open_role(session, pki_files(session.dut(), "client-" + role), "role " + role,
+                              out.attempt)) {
+        return *done;
+    }
+    auto read = ask(*out.attempt.link, read_role_register(transaction, session.dut().unit),
+                    session.options().timeout);
+    if (!data_answer(read)) {
+        return verdict(Verdict::Fail,
+                       fmt::format("role {} may read holding register 0x0010 as declared, and its "
+                                   "read got {}",
+                                   role, what_came(read)),
+                       {read});
+    }
+    std::tie(out.hi, out.lo) = register_read(read);
+    return out;
+}
+
 }  // namespace
 
 Outcome run_tls_handshake(Session& session, const Case&) {
@@ -411,26 +445,12 @@ Outcome run_null_role_denied(Session& session, const Case&) {
 }
 
 Outcome run_read_only_role(Session& session, const Case&) {
-    if (auto na = not_secure(session)) return *na;
     const std::string& role = session.dut().security.read_only_role;
-    if (auto na = undeclared(role, "read_only_role (--read-only-role NAME)")) return *na;
-    Attempt attempt;
-    if (auto done = open_role(session, pki_files(session.dut(), "client-" + role), "role " + role,
-                              attempt)) {
-        return *done;
-    }
-    const std::uint8_t unit = session.dut().unit;
-    auto read = ask(*attempt.link, read_role_register(0x5E30, unit), session.options().timeout);
-    if (!data_answer(read)) {
-        return verdict(
-            Verdict::Fail,
-            fmt::format("role {} may read holding register 0x0010 as declared, and its read "
-                        "got {}",
-                        role, what_came(read)),
-            {read});
-    }
+    auto opened = read_as_role(session, role, "read_only_role (--read-only-role NAME)", 0x5E30);
+    if (auto* done = std::get_if<Outcome>(&opened)) return std::move(*done);
+    auto& [attempt, hi, lo] = std::get<RoleSession>(opened);
     // The writes put back what was read, so a device that wrongly obeys loses nothing.
-    const auto [hi, lo] = register_read(read);
+    const std::uint8_t unit = session.dut().unit;
     const std::array<Bytes, 2> writes = {
         mbap(0x5E31, unit, {0x06, 0x00, kRoleRegister, hi, lo}),
         mbap(0x5E32, unit, {0x10, 0x00, kRoleRegister, 0x00, 0x01, 0x02, hi, lo}),
@@ -451,27 +471,13 @@ Outcome run_read_only_role(Session& session, const Case&) {
 }
 
 Outcome run_write_role(Session& session, const Case&) {
-    if (auto na = not_secure(session)) return *na;
     const std::string& role = session.dut().security.write_role;
-    if (auto na = undeclared(role, "write_role (--write-role NAME)")) return *na;
-    Attempt attempt;
-    if (auto done = open_role(session, pki_files(session.dut(), "client-" + role), "role " + role,
-                              attempt)) {
-        return *done;
-    }
-    const std::uint8_t unit = session.dut().unit;
-    auto read = ask(*attempt.link, read_role_register(0x5E40, unit), session.options().timeout);
-    if (!data_answer(read)) {
-        return verdict(
-            Verdict::Fail,
-            fmt::format("role {} may read and write holding register 0x0010 as declared, and "
-                        "its read got {}",
-                        role, what_came(read)),
-            {read});
-    }
-    const auto [hi, lo] = register_read(read);
-    auto write = ask(*attempt.link, mbap(0x5E41, unit, {0x06, 0x00, kRoleRegister, hi, lo}),
-                     session.options().timeout);
+    auto opened = read_as_role(session, role, "write_role (--write-role NAME)", 0x5E40);
+    if (auto* done = std::get_if<Outcome>(&opened)) return std::move(*done);
+    auto& [attempt, hi, lo] = std::get<RoleSession>(opened);
+    auto write =
+        ask(*attempt.link, mbap(0x5E41, session.dut().unit, {0x06, 0x00, kRoleRegister, hi, lo}),
+            session.options().timeout);
     // FC 06 answers with an echo of the request's PDU.
     const auto echoed = answer_pdu(write);
     const auto asked = request_pdu(write.sent);

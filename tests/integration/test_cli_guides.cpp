@@ -127,17 +127,6 @@ TEST(CliGuidesUsage, HelpCommandPrintsTheCommandsHelp) {
     EXPECT_EQ(unknown.err, "mblab: unknown command 'confrom'; did you mean 'conform'?\n");
 }
 
-// run_mblab for another program (script(1) running mblab on a terminal).
-Ran run_mblab_via(const std::vector<std::string>& argv) {
-    ChildProcess child(argv);
-    Ran ran;
-    while (auto line = child.read_stdout_line(std::chrono::seconds(30)))
-        ran.out += *line + "\n";
-    ran.status = child.wait_exit(std::chrono::seconds(30)).value_or(-1);
-    ran.err = child.drain_stderr();
-    return ran;
-}
-
 const std::regex kIsoTime(R"(\d{4}-\d\d-\d\dT\d\d:\d\d:\d\d\.\d{3}Z)");
 
 std::vector<std::string> lines_of(const std::string& text) {
@@ -340,11 +329,10 @@ TEST_F(CliGuides, WatchHighlightsChangesOnATerminal) {
     const std::string watch =
         fmt::format("{} watch {} event-log --count 3 --interval 10ms", MBLAB_BINARY, target());
     if (::access("/usr/bin/script", X_OK) != 0) GTEST_SKIP() << "no script(1)";
-    auto colour =
-        run_mblab_via({"/usr/bin/script", "-qec", "env -u NO_COLOR " + watch, "/dev/null"});
+    auto colour = run_program({"/usr/bin/script", "-qec", "env -u NO_COLOR " + watch, "/dev/null"});
     EXPECT_EQ(colour.status, 0) << colour.err;
     EXPECT_NE(colour.out.find("\x1b[7m"), std::string::npos) << colour.out;
-    auto plain = run_mblab_via({"/usr/bin/script", "-qec", "env NO_COLOR=1 " + watch, "/dev/null"});
+    auto plain = run_program({"/usr/bin/script", "-qec", "env NO_COLOR=1 " + watch, "/dev/null"});
     EXPECT_EQ(plain.status, 0) << plain.err;
     EXPECT_EQ(plain.out.find("\x1b[7m"), std::string::npos) << plain.out;
     auto piped = mblab("watch", {"event-log", "--count", "3", "--interval", "10ms"});
@@ -375,12 +363,11 @@ TEST(CliGuidesColour, ConformColoursVerdictsOnATerminalOnly) {
     const std::string conform =
         fmt::format("{} conform --suite mbap --case mbap.1 --case mbap.9", MBLAB_BINARY);
     auto colour =
-        run_mblab_via({"/usr/bin/script", "-qec", "env -u NO_COLOR " + conform, "/dev/null"});
+        run_program({"/usr/bin/script", "-qec", "env -u NO_COLOR " + conform, "/dev/null"});
     EXPECT_EQ(colour.status, 0) << colour.out;
     EXPECT_NE(colour.out.find("  \x1b[32mPASS\x1b[0m     mbap.1 "), std::string::npos)
         << colour.out;
-    auto plain =
-        run_mblab_via({"/usr/bin/script", "-qec", "env NO_COLOR=1 " + conform, "/dev/null"});
+    auto plain = run_program({"/usr/bin/script", "-qec", "env NO_COLOR=1 " + conform, "/dev/null"});
     EXPECT_EQ(plain.status, 0) << plain.out;
     EXPECT_EQ(plain.out.find("\x1b[3"), std::string::npos) << plain.out;
     auto piped = run_mblab({"conform", "--suite", "mbap", "--case", "mbap.1"});

@@ -19,10 +19,8 @@ struct Ran {
     std::string err;
 };
 
-// Runs `mblab ARGS...` to its end (at most 30 s) and collects its output.
-inline Ran run_mblab(const std::vector<std::string>& args) {
-    std::vector<std::string> argv = {MBLAB_BINARY};
-    argv.insert(argv.end(), args.begin(), args.end());
+// Runs `argv` to its end (at most 30 s) and collects its output.
+inline Ran run_program(const std::vector<std::string>& argv) {
     ChildProcess child(argv);
     Ran ran;
     while (auto line = child.read_stdout_line(std::chrono::seconds(30)))
@@ -30,6 +28,13 @@ inline Ran run_mblab(const std::vector<std::string>& args) {
     ran.status = child.wait_exit(std::chrono::seconds(30)).value_or(-1);
     ran.err = child.drain_stderr();
     return ran;
+}
+
+// Runs `mblab ARGS...` to its end (at most 30 s) and collects its output.
+inline Ran run_mblab(const std::vector<std::string>& args) {
+    std::vector<std::string> argv = {MBLAB_BINARY};
+    argv.insert(argv.end(), args.begin(), args.end());
+    return run_program(argv);
 }
 
 inline std::string tcp_target(std::uint16_t port) {
