@@ -277,6 +277,7 @@ Outcome Engine::run_case(const Case& c) {
 std::optional<Outcome> Engine::check_reachable() {
     client::LinkError error;
     if (session_.connect(error)) return std::nullopt;
+    if (session_.ever_connected() && session_.reconnect(error)) return std::nullopt;
     // A device that took connections earlier in the run and refuses them now has stopped serving
     // (an earlier case may have brought it down): that is a failure, not a case left unjudged,
     // or a run against a dead device would end with nothing failed.
@@ -307,7 +308,7 @@ Exchange Engine::ask(std::vector<std::uint8_t> pdu) {
 std::optional<std::string> Engine::no_longer_serves() {
     session_.close();
     client::LinkError error;
-    if (!session_.connect(error)) {
+    if (!session_.reconnect(error)) {
         return "afterwards the device refused a new connection: " + error.message;
     }
     // Any whole answer shows the device alive, an exception as well as data: the read of 7.5.1.

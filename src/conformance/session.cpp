@@ -87,6 +87,18 @@ bool Session::connect(client::LinkError& error) {
     return true;
 }
 
+bool Session::reconnect(client::LinkError& error) {
+    constexpr std::array<std::chrono::milliseconds, 3> kPauses{std::chrono::milliseconds(250),
+                                                               std::chrono::milliseconds(500),
+                                                               std::chrono::milliseconds(750)};
+    if (connect(error)) return true;
+    for (auto pause : kPauses) {
+        std::this_thread::sleep_for(pause);
+        if (connect(error)) return true;
+    }
+    return false;
+}
+
 void Session::close() {
     link_.reset();
 }

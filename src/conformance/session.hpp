@@ -65,6 +65,10 @@ class Session {
     // Opens the connection or port when it is not open; false with `error` set when the device
     // cannot be reached.
     bool connect(client::LinkError& error);
+    // connect() for a device that has just closed a connection or been sent something hard: a
+    // refusal is tried again a few times over about a second and a half before it counts, since
+    // a conformant device with one connection slot may still be freeing it.
+    bool reconnect(client::LinkError& error);
     // Whether a connection was ever made in this session: a device that accepted one and refuses
     // the next has stopped serving.
     bool ever_connected() const { return ever_connected_; }

@@ -92,6 +92,17 @@ TEST(ConformVerdicts, AnAllowedCloseFromADeviceThatStillServesPasses) {
     EXPECT_EQ(at(result, 1).outcome.verdict, Verdict::Pass) << at(result, 1).outcome.reason;
 }
 
+// A device with one connection slot that takes a moment to free it refuses the tester's next
+// connection at first; it is still serving, so neither the close nor the next case fails.
+TEST(ConformVerdicts, ADeviceSlowToTakeANewConnectionAfterAnAllowedCloseStillPasses) {
+    auto device = reference_device();
+    test::FaultyServer server(*device, {test::Fault::SlowToReopen, 0x04, 0});
+    const auto port = server.start();
+    auto result = run(port, suite_of(kCloseAllowed));
+    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Pass) << at(result, 0).outcome.reason;
+    EXPECT_EQ(at(result, 1).outcome.verdict, Verdict::Pass) << at(result, 1).outcome.reason;
+}
+
 TEST(ConformVerdicts, AnAllowedCloseThatWasACrashFailsAndSoDoesEveryCaseAfterIt) {
     auto device = reference_device();
     test::FaultyServer server(*device, {test::Fault::Dies, 0x04, 0});

@@ -44,22 +44,28 @@ FaultyServer::~FaultyServer() {
     stop();
 }
 
-std::uint16_t FaultyServer::start() {
+bool FaultyServer::listen_on(std::uint16_t port) {
     listener_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
     int one = 1;
     ::setsockopt(listener_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one);
     sockaddr_in address{};
     address.sin_family = AF_INET;
     address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    address.sin_port = htons(port);
     socklen_t length = sizeof address;
     if (::bind(listener_, reinterpret_cast<sockaddr*>(&address), sizeof address) != 0 ||
         ::listen(listener_, 8) != 0 ||
-        ::getsockname(listener_, reinterpret_cast<sockaddr*>(&address), &length) != 0 ||
-        ::pipe(wake_) != 0) {
-        return 0;
+        ::getsockname(listener_, reinterpret_cast<sockaddr*>(&address), &length) != 0) {
+        return false;
     }
+    port_ = ntohs(address.sin_port);
+    return true;
+}
+
+std::uint16_t FaultyServer::start() {
+    if (!listen_on(0) || ::pipe(wake_) != 0) return 0;
     thread_ = std::thread([this] { serve(); });
-    return ntohs(address.sin_port);
+    return port_;
 }
 
 void FaultyServer::stop() {
@@ -84,10 +90,14 @@ void FaultyServer::serve() {
         ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
         const bool died = serve_connection(fd);
         ::close(fd);
-        if (died) {
+        if (died || rule_.fault == Fault::SlowToReopen) {
             ::close(listener_);
             listener_ = -1;
-            return;
+        }
+        if (died) return;
+        if (listener_ < 0) {
+            pollfd wake{wake_[0], POLLIN, 0};
+            if (::poll(&wake, 1, 600) != 0 || !listen_on(port_)) return;
         }
     }
 }
@@ -116,8 +126,9 @@ bool FaultyServer::serve_connection(int fd) {
             if (rule_.fault == Fault::SilentAfter && requests > rule_.after) continue;
             if (rule_.fault == Fault::OnlyUnit255 && frame[6] != 0xFF) continue;
             if (modbus) answer(fd, frame.data(), frame.size(), i > 0);
-            if ((rule_.fault == Fault::CloseConnection || rule_.fault == Fault::Dies) && modbus &&
-                (rule_.function == 0 || rule_.function == frame[7])) {
+            const bool closes = rule_.fault == Fault::CloseConnection ||
+                                rule_.fault == Fault::Dies || rule_.fault == Fault::SlowToReopen;
+            if (closes && modbus && (rule_.function == 0 || rule_.function == frame[7])) {
                 return rule_.fault == Fault::Dies;
             }
         }
@@ -207,6 +218,7 @@ void FaultyServer::answer(int fd, const std::uint8_t* frame, std::size_t size, b
         case Fault::NoAnswer:
         case Fault::CloseConnection:
         case Fault::Dies:
+        case Fault::SlowToReopen:
             return;
         case Fault::LateAnswer:
             std::this_thread::sleep_for(std::chrono::milliseconds(150));

@@ -22,6 +22,8 @@ enum class Fault : std::uint8_t {
     NoAnswer,            // nothing is sent
     CloseConnection,     // the connection is closed instead of answering
     Dies,                // as CloseConnection, and then no connection is accepted (a crash)
+    SlowToReopen,        // as CloseConnection, and new connections are refused for 600 ms (one
+                         // connection slot, freed late): conformant
     WrongEcho,           // the last byte of an echoed answer changed
     SplitAnswer,         // right, but written in three pieces 30 ms apart
     LateAnswer,          // right, but 150 ms late
@@ -64,11 +66,14 @@ class FaultyServer {
     void serve();
     // Serves one connection until it ends; true when the device died with it.
     bool serve_connection(int fd);
+    // Listens on 127.0.0.1:`port` (0: an ephemeral port); false when it cannot.
+    bool listen_on(std::uint16_t port);
     void answer(int fd, const std::uint8_t* frame, std::size_t size, bool queued);
 
     device::RequestHandler& handler_;
     FaultRule rule_;
     int listener_ = -1;
+    std::uint16_t port_ = 0;
     int wake_[2] = {-1, -1};
     std::thread thread_;
 };
