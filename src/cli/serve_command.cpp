@@ -511,7 +511,9 @@ int run_serve(const ServeOptions& options) {
 
 void add_serve_command(CLI::App& app, CommandRunner& runner) {
     auto options = std::make_shared<ServeOptions>();
-    auto* cmd = app.add_subcommand("serve", "run the reference device as a Modbus/TCP server");
+    auto* cmd = app.add_subcommand("serve",
+                                   "run the reference device over Modbus/TCP, TLS (mbaps), RTU, "
+                                   "ASCII or RTU over TCP, or a TCP-to-serial gateway");
     cmd->footer(
         "Serves until SIGINT or SIGTERM.\n"
         "Exit status: 0 stopped by SIGINT or SIGTERM, 1 --state could not be saved, 2 usage\n"

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -23,11 +24,13 @@ struct LinkError {
     bool tls_refused = false;
 };
 
-// Both ends of a connection; IPv4 addresses in host order, 0 for IPv6.
+// Both ends of a connection. Addresses are in network order: the first 4 bytes of an IPv4
+// address, all 16 of an IPv6 one; all zero when unknown.
 struct LinkAddresses {
-    std::uint32_t local_ip = 0;
+    bool ipv6 = false;
+    std::array<std::uint8_t, 16> local_ip{};
     std::uint16_t local_port = 0;
-    std::uint32_t peer_ip = 0;
+    std::array<std::uint8_t, 16> peer_ip{};
     std::uint16_t peer_port = 0;
 };
 

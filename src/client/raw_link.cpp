@@ -77,13 +77,16 @@ int connect_one(const addrinfo& info, Clock::time_point deadline, std::string& e
     return -1;
 }
 
-void describe(const sockaddr_storage& address, std::uint32_t& ip, std::uint16_t& port) {
+void describe(const sockaddr_storage& address, std::array<std::uint8_t, 16>& ip,
+              std::uint16_t& port) {
     if (address.ss_family == AF_INET) {
         const auto* v4 = reinterpret_cast<const sockaddr_in*>(&address);
-        ip = ntohl(v4->sin_addr.s_addr);
+        std::memcpy(ip.data(), &v4->sin_addr, 4);
         port = ntohs(v4->sin_port);
     } else if (address.ss_family == AF_INET6) {
-        port = ntohs(reinterpret_cast<const sockaddr_in6*>(&address)->sin6_port);
+        const auto* v6 = reinterpret_cast<const sockaddr_in6*>(&address);
+        std::memcpy(ip.data(), &v6->sin6_addr, 16);
+        port = ntohs(v6->sin6_port);
     }
 }
 
@@ -120,6 +123,7 @@ protocol::Result<RawLink, LinkError> RawLink::connect(const Endpoint& endpoint,
     socklen_t peer_len = sizeof peer;
     if (::getsockname(fd, reinterpret_cast<sockaddr*>(&local), &local_len) == 0 &&
         ::getpeername(fd, reinterpret_cast<sockaddr*>(&peer), &peer_len) == 0) {
+        addresses.ipv6 = peer.ss_family == AF_INET6;
         describe(local, addresses.local_ip, addresses.local_port);
         describe(peer, addresses.peer_ip, addresses.peer_port);
     }

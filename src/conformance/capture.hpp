@@ -35,7 +35,8 @@ class Capture : public client::LinkObserver {
 
 // Writes the capture as pcapng: a section header whose shb_userappl names mblab and its commit,
 // shb_hardware and shb_os the tester's machine, and whose comment holds the provenance lines
-// (classic pcap has no place for them); then raw IPv4 (LINKTYPE_RAW) packets: each connection
+// (classic pcap has no place for them); then raw IPv4 or IPv6 (LINKTYPE_RAW) packets, as the
+// connection was: each connection
 // opens with a three-way handshake and ends with FINs, segments hold whole MBAP frames (a partial
 // frame is written when the other side speaks or the connection closes), sequence and
 // acknowledgement numbers follow the bytes, and the device's side is port 502 whatever port it

@@ -13,12 +13,15 @@ namespace mblab::conformance {
 namespace {
 
 constexpr std::uint16_t kModbusPort = 502;
-constexpr std::uint32_t kLoopback = 0x7F000001;
+constexpr std::array<std::uint8_t, 16> kLoopback4{127, 0, 0, 1};
+constexpr std::array<std::uint8_t, 16> kLoopback6{0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
 constexpr std::uint8_t kFin = 0x01;
 constexpr std::uint8_t kSyn = 0x02;
 constexpr std::uint8_t kPsh = 0x08;
 constexpr std::uint8_t kAck = 0x10;
-constexpr std::size_t kIpHeader = 20;
+constexpr std::size_t kIp4Header = 20;
+constexpr std::size_t kIp6Header = 40;
+constexpr std::uint8_t kTcp = 6;
 constexpr std::size_t kTcpHeader = 20;
 
 void put16(std::vector<std::uint8_t>& out, std::size_t at, std::uint32_t value) {
@@ -45,7 +48,7 @@ std::uint16_t fold(std::uint32_t sum) {
 }
 
 struct Peer {
-    std::uint32_t ip = 0;
+    std::array<std::uint8_t, 16> ip{};  // the first 4 bytes for IPv4
     std::uint16_t port = 0;
     std::uint32_t next_seq = 0;  // sequence number of the next byte this side sends
 };
@@ -53,11 +56,13 @@ struct Peer {
 // One TCP connection's packets: the client is the tester, the server the device.
 class Stream {
   public:
-    Stream(const client::LinkAddresses& addresses, std::uint32_t index) {
-        client_.ip = addresses.local_ip != 0 ? addresses.local_ip : kLoopback;
+    Stream(const client::LinkAddresses& addresses, std::uint32_t index) : ipv6_(addresses.ipv6) {
+        const auto& loopback = ipv6_ ? kLoopback6 : kLoopback4;
+        constexpr std::array<std::uint8_t, 16> kUnknown{};
+        client_.ip = addresses.local_ip != kUnknown ? addresses.local_ip : loopback;
         client_.port = addresses.local_port != 0 ? addresses.local_port
                                                  : static_cast<std::uint16_t>(40000 + index);
-        server_.ip = addresses.peer_ip != 0 ? addresses.peer_ip : kLoopback;
+        server_.ip = addresses.peer_ip != kUnknown ? addresses.peer_ip : loopback;
         server_.port = kModbusPort;
         // Distinct, recognisable initial sequence numbers per connection.
         client_.next_seq = 0x10000000U * (index % 8 + 1);
@@ -96,18 +101,31 @@ class Stream {
     std::vector<std::uint8_t> packet(const Peer& from, const Peer& to, std::uint8_t flags,
                                      std::span<const std::uint8_t> payload, bool ack) {
         const std::size_t tcp_size = kTcpHeader + payload.size();
-        std::vector<std::uint8_t> out(kIpHeader + tcp_size, 0);
-        out[0] = 0x45;  // IPv4, 20-byte header
-        put16(out, 2, static_cast<std::uint32_t>(out.size()));
-        put16(out, 4, ip_id_++);
-        put16(out, 6, 0x4000);  // don't fragment
-        out[8] = 64;            // TTL
-        out[9] = 6;             // TCP
-        put32(out, 12, from.ip);
-        put32(out, 16, to.ip);
-        put16(out, 10, fold(sum16(out.data(), kIpHeader)));
+        const std::size_t t = ipv6_ ? kIp6Header : kIp4Header;
+        std::vector<std::uint8_t> out(t + tcp_size, 0);
+        // The TCP checksum's pseudo-header: both addresses, the protocol and the segment's length.
+        std::uint32_t pseudo = kTcp + static_cast<std::uint32_t>(tcp_size);
+        if (ipv6_) {
+            out[0] = 0x60;  // IPv6, traffic class and flow label 0
+            put16(out, 4, static_cast<std::uint32_t>(tcp_size));
+            out[6] = kTcp;
+            out[7] = 64;  // hop limit
+            std::copy(from.ip.begin(), from.ip.end(), out.begin() + 8);
+            std::copy(to.ip.begin(), to.ip.end(), out.begin() + 24);
+            pseudo = sum16(out.data() + 8, 32, pseudo);
+        } else {
+            out[0] = 0x45;  // IPv4, 20-byte header
+            put16(out, 2, static_cast<std::uint32_t>(out.size()));
+            put16(out, 4, ip_id_++);
+            put16(out, 6, 0x4000);  // don't fragment
+            out[8] = 64;            // TTL
+            out[9] = kTcp;
+            std::copy_n(from.ip.begin(), 4, out.begin() + 12);
+            std::copy_n(to.ip.begin(), 4, out.begin() + 16);
+            put16(out, 10, fold(sum16(out.data(), kIp4Header)));
+            pseudo = sum16(out.data() + 12, 8, pseudo);
+        }
 
-        const std::size_t t = kIpHeader;
         put16(out, t, from.port);
         put16(out, t + 2, to.port);
         put32(out, t + 4, from.next_seq);
@@ -116,13 +134,11 @@ class Stream {
         out[t + 13] = flags;
         put16(out, t + 14, 65535);  // window
         std::copy(payload.begin(), payload.end(), out.begin() + static_cast<long>(t + kTcpHeader));
-        // Checksum over the pseudo-header (addresses, protocol, length) and the segment.
-        std::uint32_t sum = sum16(out.data() + 12, 8);
-        sum += 6 + static_cast<std::uint32_t>(tcp_size);
-        put16(out, t + 16, fold(sum16(out.data() + t, tcp_size, sum)));
+        put16(out, t + 16, fold(sum16(out.data() + t, tcp_size, pseudo)));
         return out;
     }
 
+    bool ipv6_;
     Peer client_;
     Peer server_;
     std::uint16_t ip_id_ = 1;

@@ -1,4 +1,5 @@
 #include <gtest/gtest.h>
+#include <signal.h>
 #include <toml++/toml.h>
 
 #include <chrono>
@@ -7,6 +8,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <regex>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -225,6 +227,45 @@ TEST(ConformProvenanceCli, ThePcapngCarriesTheProvenanceAndTsharkReadsIt) {
     EXPECT_NE(info.out.find("device identity: vendor name \"" + reference_identity().vendor),
               std::string::npos)
         << info.out;
+}
+
+// A device reached over IPv6 is captured as IPv6 and pinged over ICMPv6.
+TEST(ConformProvenanceCli, AnIpv6RunIsCapturedAsIpv6AndPingedOverIcmpv6) {
+    if (!fs::exists("/usr/bin/tshark")) GTEST_SKIP() << "tshark is not installed";
+    test::ChildProcess serve({MBLAB_BINARY, "serve", "--listen", "tcp://[::1]:0"});
+    const auto line = serve.read_stdout_line(std::chrono::seconds(10)).value_or("");
+    std::smatch port;
+    ASSERT_TRUE(std::regex_search(line, port, std::regex(R"(tcp://\[::1\]:([0-9]+))"))) << line;
+    test::TempDir dir;
+    const std::string pcap = (dir / "run6.pcapng").string();
+    const std::string json = (dir / "run6.json").string();
+    auto ran =
+        test::run_mblab({"conform", "tcp://[::1]:" + port[1].str(), "--suite", "policy-2.1",
+                         "--case", "7.2", "--case", "7.3.1", "--pcap", pcap, "--json", json});
+    EXPECT_NE(ran.status, 2) << ran.out << ran.err;
+
+    const Ran read = run({"/usr/bin/tshark", "-r", pcap, "-Y", "mbtcp", "-T", "fields", "-e",
+                          "ipv6.src", "-e", "ipv6.dst", "-e", "ip.src"});
+    EXPECT_EQ(read.status, 0) << read.err;
+    ASSERT_FALSE(read.out.empty());
+    EXPECT_EQ(read.out.find("127.0.0.1"), std::string::npos) << read.out;
+    std::istringstream rows(read.out);
+    for (std::string row; std::getline(rows, row);)
+        EXPECT_EQ(row, "::1\t::1\t") << read.out;
+
+    // Ping's verdict depends on the machine's ICMP permissions, so only its method is checked.
+    const auto report = nlohmann::json::parse(test::file_text(json));
+    bool ping = false;
+    for (const auto& suite : report["suites"]) {
+        for (const auto& c : suite["cases"]) {
+            if (c["id"] != "7.2") continue;
+            ping = true;
+            EXPECT_NE(c["reason"].get<std::string>().find("ICMPv6"), std::string::npos) << c;
+        }
+    }
+    EXPECT_TRUE(ping) << report.dump();
+    serve.signal(SIGTERM);
+    EXPECT_EQ(serve.wait_exit(std::chrono::seconds(10)), 0);
 }
 
 }  // namespace

@@ -155,6 +155,43 @@ TEST(ServeCommand, KeepsAcknowledgedWritesAcrossASigtermRestart) {
     EXPECT_EQ(again.terminate(), 0);
 }
 
+// The ```LANG block that follows `after` in `text`; empty when there is none.
+std::string fenced_block(const std::string& text, const std::string& after,
+                         const std::string& lang) {
+    auto at = text.find(after);
+    if (at == std::string::npos) return {};
+    auto open = text.find("```" + lang + "\n", at);
+    if (open == std::string::npos) return {};
+    open += 4 + lang.size();
+    auto close = text.find("```", open);
+    return close == std::string::npos ? std::string() : text.substr(open, close - open);
+}
+
+// docs/profiles.md's state file example is what `--state` writes for the profile and the writes
+// the text gives, byte for byte.
+TEST(ServeCommand, StateFileExampleOfTheProfileDocIsWhatServeWrites) {
+    const std::string doc = file_text(fs::path(MBLAB_SOURCE_DIR) / "docs" / "profiles.md");
+    const std::string profile = fenced_block(doc, "## State files", "toml");
+    const std::string expected = fenced_block(doc, "## State files", "json");
+    ASSERT_FALSE(profile.empty());
+    ASSERT_FALSE(expected.empty());
+    TempDir dir;
+    std::ofstream(dir / "tiny.toml") << profile;
+    auto state = (dir / "state.json").string();
+    {
+        Serve serve({(dir / "tiny.toml").string(), "--listen", "tcp://127.0.0.1:0", "--state",
+                     state, "--save-interval", "0"});
+        ASSERT_EQ(serve.ports().size(), 1U) << serve.line();
+        const std::string port = std::to_string(serve.ports()[0]);
+        const std::string target = "tcp://127.0.0.1:" + port;
+        EXPECT_EQ(run_mblab({"write", target, "--unit", "3", "registers", "10", "1", "2"}).status,
+                  0);
+        EXPECT_EQ(run_mblab({"write", target, "--unit", "3", "coil", "1", "1"}).status, 0);
+        EXPECT_EQ(serve.terminate(), 0);
+    }
+    EXPECT_EQ(file_text(state), expected);
+}
+
 // The periodic save alone (the process is killed, so there is no save on exit).
 TEST(ServeCommand, SavesStatePeriodically) {
     TempDir dir;

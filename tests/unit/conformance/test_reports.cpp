@@ -287,7 +287,7 @@ std::vector<Packet> read_pcap(const std::string& path, int& link_type) {
 
 std::vector<CaptureEvent> sample_capture() {
     Capture capture;
-    capture.on_open({0x7F000001, 40001, 0x7F000001, 1502});
+    capture.on_open({false, {127, 0, 0, 1}, 40001, {127, 0, 0, 1}, 1502});
     capture.on_sent(hex("00 00 00 00 00 06 01 03 00 00 00 01"));
     capture.on_received(hex("00 00 00 00 00 05 01"));
     capture.on_received(hex("03 02 12 34"));
@@ -322,6 +322,45 @@ TEST(PcapWriter, WritesRawIpv4WithConsistentSequenceNumbers) {
     EXPECT_EQ(packets[5].seq(), answer.seq() + 11);
     EXPECT_EQ(packets[6].ack(), packets[5].seq() + 1);
     EXPECT_EQ(packets[7].flags(), 0x10);
+}
+
+// A connection over IPv6 is written as IPv6, with a TCP checksum over IPv6's pseudo-header.
+TEST(PcapWriter, WritesAnIpv6ConnectionAsIpv6) {
+    Capture capture;
+    client::LinkAddresses addresses;
+    addresses.ipv6 = true;
+    addresses.local_ip[15] = 1;  // ::1
+    addresses.local_port = 40002;
+    addresses.peer_ip = {0xFD, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 7};  // fd00::7
+    addresses.peer_port = 1502;
+    capture.on_open(addresses);
+    capture.on_sent(hex("00 00 00 00 00 06 01 03 00 00 00 01"));
+    capture.on_close(false);
+    const std::string path = test::temp_path("conform6.pcap");
+    std::string error;
+    ASSERT_TRUE(write_pcap(path, capture.events(), sample_provenance(), error)) << error;
+    int link_type = 0;
+    auto packets = read_pcap(path, link_type);
+    ASSERT_EQ(packets.size(), 7U);
+    const auto& request = packets[3].bytes;
+    ASSERT_EQ(request.size(), 40U + 20U + 12U);
+    EXPECT_EQ(request[0] >> 4, 6);
+    EXPECT_EQ(request[4] << 8 | request[5], 32);  // payload length: TCP header and the request
+    EXPECT_EQ(request[6], 6);                     // next header: TCP
+    EXPECT_EQ(std::vector<std::uint8_t>(request.begin() + 8, request.begin() + 24),
+              std::vector<std::uint8_t>(addresses.local_ip.begin(), addresses.local_ip.end()));
+    EXPECT_EQ(std::vector<std::uint8_t>(request.begin() + 24, request.begin() + 40),
+              std::vector<std::uint8_t>(addresses.peer_ip.begin(), addresses.peer_ip.end()));
+    EXPECT_EQ(request[42] << 8 | request[43], 502);
+    EXPECT_EQ(std::vector<std::uint8_t>(request.begin() + 60, request.end()),
+              hex("00 00 00 00 00 06 01 03 00 00 00 01"));
+    // Summed with its pseudo-header (addresses, length, next header), a right segment gives FFFF.
+    std::uint32_t sum = 32 + 6;
+    for (std::size_t i = 8; i < request.size(); i += 2)
+        sum += static_cast<std::uint32_t>(request[i] << 8 | request[i + 1]);
+    while (sum >> 16)
+        sum = (sum & 0xFFFF) + (sum >> 16);
+    EXPECT_EQ(sum, 0xFFFFU);
 }
 
 TEST(PcapWriter, TsharkDissectsModbusWithoutMalformedPackets) {
