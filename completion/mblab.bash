@@ -38,7 +38,7 @@ _mblab() {
                 return
             fi
             ;;
-        --dut | --profile | --junit | --pcap | --state | --devices | --cert | --key | --ca)
+        --dut | --profile | --junit | --pcap | --html | --state | --devices | --cert | --key | --ca)
             COMPREPLY=($(compgen -f -- "$cur"))
             return
             ;;

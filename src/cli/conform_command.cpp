@@ -23,6 +23,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/profile_lookup.hpp"
+#include "cli/report_files.hpp"
 #include "cli/suggestion.hpp"
 #include "cli/terminal_style.hpp"
 #include "cli/tls_options.hpp"
@@ -42,6 +43,7 @@
 #include "security/pki.hpp"
 #include "security/tls_context.hpp"
 #include "server/background_server.hpp"
+#include "web/html_report.hpp"
 
 // `mblab conform [TARGET]`: runs conformance suites against a device, or against the built-in
 // reference device when no target is given.
@@ -70,6 +72,7 @@ struct ConformOptions {
     std::string json;
     std::string junit;
     std::string pcap;
+    std::string html;
     security::TlsFiles tls;  // the tester's certificate on mbaps://
     std::string pki;
     std::string read_only_role;
@@ -334,81 +337,6 @@ bool declare_dut(const ConformOptions& options, conf::Dut& dut, DeclarationSourc
     return true;
 }
 
-// The report files of a run, checked before any traffic: a run of an hour must not end with
-// "cannot write". Each is opened for writing, created when missing but never truncated, so a
-// report from an earlier run stays whole until the new one replaces it. A file the check created
-// is removed again unless the run writes it, so a refused or failed run leaves no empty report.
-class ReportFiles {
-  public:
-    ReportFiles() = default;
-    ReportFiles(const ReportFiles&) = delete;
-    ReportFiles& operator=(const ReportFiles&) = delete;
-    ~ReportFiles() {
-        for (const auto& path : created_)
-            ::unlink(path.c_str());
-    }
-
-    // False with `error` naming the option and the path when `path` cannot be written.
-    bool check(std::string_view option, const std::string& path, std::string& error) {
-        if (path.empty()) return true;
-        const auto same = std::find_if(checked_.begin(), checked_.end(), [&](const auto& seen) {
-            return seen.second == identity(path);
-        });
-        if (same != checked_.end()) {
-            error = fmt::format("{} {}: the same file as {}; each report needs its own file",
-                                option, path, same->first);
-            return false;
-        }
-        int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-        const bool created = fd >= 0;
-        if (fd < 0 && errno == EEXIST) fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
-        if (fd < 0) {
-            error = fmt::format("{} {}: cannot write the report: {}", option, path,
-                                why_not(path, errno));
-            return false;
-        }
-        ::close(fd);
-        if (created) created_.push_back(path);
-        checked_.emplace_back(std::string(option), identity(path));
-        return true;
-    }
-
-    // The run wrote `path`: it stays.
-    void written(const std::string& path) { std::erase(created_, path); }
-
-  private:
-    static std::string identity(const std::string& path) {
-        std::error_code ignored;
-        return std::filesystem::absolute(path, ignored).lexically_normal().string();
-    }
-
-    static std::string why_not(const std::string& path, int error) {
-        std::string parent = std::filesystem::path(path).parent_path().string();
-        if (parent.empty()) parent = ".";
-        switch (error) {
-            case ENOENT:
-                return fmt::format("directory {} does not exist", parent);
-            case ENOTDIR:
-                return fmt::format("{} is not a directory", parent);
-            case EISDIR:
-                return "it is a directory";
-            case EACCES:
-            case EPERM:
-                return "permission denied";
-            case EROFS:
-                return "read-only file system";
-            default: {
-                std::string text = std::strerror(error);
-                if (!text.empty()) text[0] = static_cast<char>(std::tolower(text[0]));
-                return text;
-            }
-        }
-    }
-
-    std::vector<std::string> created_;
-    std::vector<std::pair<std::string, std::string>> checked_;  // option, absolute path
-};
-
 bool uses_mbaps(const std::vector<conf::Suite>& suites) {
     for (const auto& suite : suites) {
         for (const auto& c : suite.cases) {
@@ -478,11 +406,12 @@ class BuiltinMbaps {
 bool check_report_files(const ConformOptions& options, ReportFiles& files, std::string& error) {
     return files.check("--json", options.json, error) &&
            files.check("--junit", options.junit, error) &&
-           files.check("--pcap", options.pcap, error);
+           files.check("--pcap", options.pcap, error) && files.check("--html", options.html, error);
 }
 
 bool wants_reports(const ConformOptions& options) {
-    return !options.json.empty() || !options.junit.empty() || !options.pcap.empty();
+    return !options.json.empty() || !options.junit.empty() || !options.pcap.empty() ||
+           !options.html.empty();
 }
 
 // What the reports say about where they came from. The device is asked who it is after the run,
@@ -520,6 +449,12 @@ bool write_reports(const ConformOptions& options, const conf::RunResult& result,
         if (!conf::write_text_file(options.junit, conf::junit_report(result, provenance), error))
             return false;
         files.written(options.junit);
+    }
+    if (!options.html.empty()) {
+        if (!conf::write_text_file(options.html, web::conform_html_report(result, provenance),
+                                   error))
+            return false;
+        files.written(options.html);
     }
     if (!options.pcap.empty()) {
         if (!conf::write_pcap(options.pcap, capture.events(), provenance, error)) return false;
@@ -729,6 +664,10 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
     cmd->add_option("--pcap", options->pcap,
                     "write every exchange as a pcapng capture to FILE, the run's provenance in its "
                     "section header (checked before any traffic)");
+    cmd->add_option("--html", options->html,
+                    "write the report as one self-contained HTML page to FILE: summary, "
+                    "provenance, every case, the differing bytes of failures marked, filters by "
+                    "verdict and a search by case id (checked before any traffic)");
     cmd->callback([options, &runner] { runner = [options] { return run_conform(*options); }; });
 }
 

@@ -16,6 +16,7 @@
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/report_files.hpp"
 #include "cli/tls_options.hpp"
 #include "client/raw_link.hpp"
 #include "client/target.hpp"
@@ -28,6 +29,7 @@
 #include "load/runner.hpp"
 #include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
+#include "web/load_html.hpp"
 
 // `mblab load TARGET...`: the interoperability test of seed 000 section 8. The protocol tests
 // run in a loop on every node at once while a traffic generator loads them; any failure
@@ -63,6 +65,7 @@ struct LoadOptions {
     std::uint64_t seed = 1;
     std::string json;
     std::string junit;
+    std::string html;
     security::TlsFiles tls;  // mbaps:// nodes
     CLI::App* command = nullptr;
 };
@@ -223,6 +226,14 @@ void catch_stop_signals() {
 }
 
 int run_load(const LoadOptions& options) {
+    // Before the plan, which connects to every node: a run must not end with "cannot write".
+    ReportFiles files;
+    std::string error;
+    if (!files.check("--json", options.json, error) ||
+        !files.check("--junit", options.junit, error) ||
+        !files.check("--html", options.html, error)) {
+        return usage_error(error);
+    }
     auto plan = make_plan(options);
     if (!plan) return usage_error(plan.error());
     fmt::print("{}", load::load_header(*plan));
@@ -242,14 +253,15 @@ int run_load(const LoadOptions& options) {
     fmt::print("{}", load::load_summary(*plan, result));
     std::fflush(stdout);
 
-    std::string error;
-    if (!options.json.empty() &&
-        !conf::write_text_file(options.json, load::load_json_report(*plan, result), error)) {
-        return usage_error(error);
-    }
-    if (!options.junit.empty() &&
-        !conf::write_text_file(options.junit, load::load_junit_report(*plan, result), error)) {
-        return usage_error(error);
+    const std::pair<const std::string&,
+                    std::string (*)(const load::LoadPlan&, const load::LoadResult&)>
+        reports[] = {{options.json, &load::load_json_report},
+                     {options.junit, &load::load_junit_report},
+                     {options.html, &web::load_html_report}};
+    for (const auto& [path, write] : reports) {
+        if (path.empty()) continue;
+        if (!conf::write_text_file(path, write(*plan, result), error)) return usage_error(error);
+        files.written(path);
     }
     return result.verdict() == load::LoadVerdict::Pass ? kExitOk : kExitFailed;
 }
@@ -322,6 +334,9 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
         ->capture_default_str();
     cmd->add_option("--json", options->json, "write the report as JSON to FILE");
     cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
+    cmd->add_option("--html", options->html,
+                    "write the report as one self-contained HTML page to FILE: per-node tables "
+                    "and latency histograms (every report file is checked before any traffic)");
     add_tls_options(*cmd, options->tls, "client's");
     cmd->callback([options, &runner] { runner = [options] { return run_load(*options); }; });
 }

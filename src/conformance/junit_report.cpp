@@ -10,54 +10,22 @@ namespace mblab::conformance {
 
 namespace {
 
-// Escapes for XML attributes and text alike; control characters other than tab and newline are
-// not allowed in XML 1.0 and become spaces.
-std::string xml(std::string_view text) {
-    std::string out;
-    out.reserve(text.size());
-    for (char c : text) {
-        switch (c) {
-            case '&':
-                out += "&amp;";
-                break;
-            case '<':
-                out += "&lt;";
-                break;
-            case '>':
-                out += "&gt;";
-                break;
-            case '"':
-                out += "&quot;";
-                break;
-            case '\'':
-                out += "&apos;";
-                break;
-            default:
-                if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') {
-                    out += ' ';
-                } else {
-                    out += c;
-                }
-        }
-    }
-    return out;
-}
-
 std::string seconds(std::chrono::microseconds elapsed) {
     return fmt::format("{:.6f}", static_cast<double>(elapsed.count()) / 1e6);
 }
 
 std::string testcase(const std::string& suite, const CaseResult& c) {
     const auto& outcome = c.outcome;
-    std::string out = fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{}\"",
-                                  xml(suite), xml(c.id + " " + c.title), seconds(c.elapsed));
+    std::string out =
+        fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{}\"", xml_escape(suite),
+                    xml_escape(c.id + " " + c.title), seconds(c.elapsed));
     if (c.interrupted)
         return out + ">\n      <skipped message=\"interrupted\"/>\n    </testcase>\n";
     switch (outcome.verdict) {
         case Verdict::Pass:
             if (outcome.reason.empty()) return out + "/>\n";
             return out + fmt::format(">\n      <system-out>{}</system-out>\n    </testcase>\n",
-                                     xml(outcome.reason));
+                                     xml_escape(outcome.reason));
         case Verdict::Fail: {
             std::string body = fmt::format("{} ({})\n", c.source, outcome.reason);
             for (const auto& exchange : outcome.evidence) {
@@ -67,18 +35,19 @@ std::string testcase(const std::string& suite, const CaseResult& c) {
             return out + fmt::format(
                              ">\n      <failure message=\"{}\" type=\"FAIL\">{}</failure>\n"
                              "    </testcase>\n",
-                             xml(outcome.reason), xml(body));
+                             xml_escape(outcome.reason), xml_escape(body));
         }
         case Verdict::NotApplicable:
         case Verdict::NotRun:
             return out + fmt::format(">\n      <skipped message=\"{}: {}\"/>\n    </testcase>\n",
-                                     verdict_label(outcome.verdict), xml(outcome.reason));
+                                     verdict_label(outcome.verdict), xml_escape(outcome.reason));
     }
     return out + "/>\n";
 }
 
 void property(std::string& out, std::string_view name, std::string_view value) {
-    out += fmt::format("      <property name=\"{}\" value=\"{}\"/>\n", xml(name), xml(value));
+    out += fmt::format("      <property name=\"{}\" value=\"{}\"/>\n", xml_escape(name),
+                       xml_escape(value));
 }
 
 // junit-10 has <properties> in a <testsuite> only, not in <testsuites>, so each suite carries
@@ -127,14 +96,14 @@ std::string junit_document(const RunResult& result, const std::string& suite_pro
     out += fmt::format(
         "<testsuites name=\"mblab conform {}\" tests=\"{}\" failures=\"{}\" errors=\"0\" "
         "time=\"{}\">\n",
-        xml(result.target), total.total(), total.failed, seconds(total_time));
+        xml_escape(result.target), total.total(), total.failed, seconds(total_time));
     for (const auto& suite : result.suites) {
         const Counts counts = count(suite);
         out += fmt::format(
             "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"0\" skipped=\"{}\" "
             "time=\"{}\">\n",
-            xml(suite.name), counts.total(), counts.failed, counts.not_applicable + counts.not_run,
-            seconds(suite_time(suite)));
+            xml_escape(suite.name), counts.total(), counts.failed,
+            counts.not_applicable + counts.not_run, seconds(suite_time(suite)));
         out += suite_properties;
         for (const auto& c : suite.cases)
             out += testcase(suite.name, c);
@@ -152,6 +121,37 @@ std::string junit_report(const RunResult& result, const Provenance& provenance) 
 
 std::string junit_report(const RunResult& result) {
     return junit_document(result, "");
+}
+
+std::string xml_escape(std::string_view text) {
+    std::string out;
+    out.reserve(text.size());
+    for (char c : text) {
+        switch (c) {
+            case '&':
+                out += "&amp;";
+                break;
+            case '<':
+                out += "&lt;";
+                break;
+            case '>':
+                out += "&gt;";
+                break;
+            case '"':
+                out += "&quot;";
+                break;
+            case '\'':
+                out += "&apos;";
+                break;
+            default:
+                if (static_cast<unsigned char>(c) < 0x20 && c != '\n' && c != '\t') {
+                    out += ' ';
+                } else {
+                    out += c;
+                }
+        }
+    }
+    return out;
 }
 
 bool write_text_file(const std::string& path, const std::string& text, std::string& error) {

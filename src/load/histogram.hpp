@@ -55,6 +55,8 @@ class LatencySnapshot {
     // The value at quantile q (0 < q <= 1): the upper end of the bucket that holds it, never
     // above the largest value seen. 0 when empty.
     std::uint64_t percentile(double q) const;
+    // Answers in bucket `index` (LatencyBuckets), for drawing the distribution.
+    std::uint64_t in_bucket(std::size_t index) const { return counts_[index]; }
 
     void add(const LatencySnapshot& other);
     // What `earlier` (an older snapshot of the same histogram) did not have yet. The maximum

@@ -171,9 +171,10 @@ TEST(ConformReportsCli, AnUnknownProfileNameListsTheShippedOnes) {
 
 // Starts a run slowed by a long --settle, waits for its first case line, sends `signal_number`
 // and collects the rest.
-Ran interrupt_run(int signal_number, const std::string& json, const std::string& junit) {
-    test::ChildProcess child(
-        {MBLAB_BINARY, "conform", "--settle", "300", "--json", json, "--junit", junit});
+Ran interrupt_run(int signal_number, const std::string& json, const std::string& junit,
+                  const std::string& html) {
+    test::ChildProcess child({MBLAB_BINARY, "conform", "--settle", "300", "--json", json, "--junit",
+                              junit, "--html", html});
     Ran ran;
     while (auto line = child.read_stdout_line(std::chrono::seconds(60))) {
         ran.out += *line + "\n";
@@ -187,7 +188,8 @@ Ran interrupt_run(int signal_number, const std::string& json, const std::string&
     return ran;
 }
 
-void expect_interrupted_reports(const Ran& ran, const std::string& json, const std::string& junit) {
+void expect_interrupted_reports(const Ran& ran, const std::string& json, const std::string& junit,
+                                const std::string& html) {
     const auto report = nlohmann::json::parse(test::file_text(json));
     EXPECT_EQ(report["interrupted"], true);
     EXPECT_EQ(report["passed"], false);
@@ -211,6 +213,9 @@ void expect_interrupted_reports(const Ran& ran, const std::string& json, const s
               "not asked: the run was interrupted");
     const std::string xml = test::file_text(junit);
     EXPECT_NE(xml.find("<skipped message=\"interrupted\"/>"), std::string::npos) << xml;
+    EXPECT_NE(test::file_text(html).find(fmt::format(
+                  "INTERRUPTED: the run was interrupted after {} of {} cases", run, run + left)),
+              std::string::npos);
     EXPECT_NE(ran.out.find(fmt::format("Interrupted: {} of {} cases run; the reports mark the "
                                        "other {} NOT RUN (interrupted)\n",
                                        run, run + left, left)),
@@ -222,18 +227,20 @@ TEST(ConformReportsCli, SigintStopsBetweenCasesWritesTheReportsAndExits130) {
     test::TempDir dir;
     const std::string json = (dir / "int.json").string();
     const std::string junit = (dir / "int.xml").string();
-    auto ran = interrupt_run(SIGINT, json, junit);
+    const std::string html = (dir / "int.html").string();
+    auto ran = interrupt_run(SIGINT, json, junit, html);
     EXPECT_EQ(ran.status, 130) << ran.out << ran.err;
-    expect_interrupted_reports(ran, json, junit);
+    expect_interrupted_reports(ran, json, junit, html);
 }
 
 TEST(ConformReportsCli, SigtermStopsTheSameWayAndExits143) {
     test::TempDir dir;
     const std::string json = (dir / "term.json").string();
     const std::string junit = (dir / "term.xml").string();
-    auto ran = interrupt_run(SIGTERM, json, junit);
+    const std::string html = (dir / "term.html").string();
+    auto ran = interrupt_run(SIGTERM, json, junit, html);
     EXPECT_EQ(ran.status, 143) << ran.out << ran.err;
-    expect_interrupted_reports(ran, json, junit);
+    expect_interrupted_reports(ran, json, junit, html);
 }
 
 }  // namespace

@@ -284,8 +284,10 @@ TEST(LoadCli, AnswersOutOfOrderAreMatchedByTransactionId) {
 
 TEST(LoadCli, CtrlCEndsTheRunWithASummary) {
     Device device;
-    ChildProcess child(load_argv("interrupt", {device.url(), "--duration", "1h", "--connections",
-                                               "2", "--rate", "1000", "--registers", "65536"}));
+    const std::string html = temp("interrupt.html");
+    ChildProcess child(
+        load_argv("interrupt", {device.url(), "--duration", "1h", "--connections", "2", "--rate",
+                                "1000", "--registers", "65536", "--html", html}));
     std::string out = read_header(child, device.url());
     std::this_thread::sleep_for(milliseconds(500));
     child.signal(SIGINT);
@@ -303,6 +305,7 @@ TEST(LoadCli, CtrlCEndsTheRunWithASummary) {
     EXPECT_NE(run.junit.find("<skipped message=\"NOT RUN: stopped before the duration ended"),
               std::string::npos)
         << run.junit;
+    EXPECT_NE(slurp(html).find("INCOMPLETE: interrupted after"), std::string::npos);
 }
 
 TEST(LoadCli, GeneratorAloneWithPipelinedRequests) {

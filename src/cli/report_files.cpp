@@ -1,0 +1,75 @@
+#include "cli/report_files.hpp"
+
+#include <fcntl.h>
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+namespace mblab::cli {
+
+namespace {
+
+std::string identity(const std::string& path) {
+    std::error_code ignored;
+    return std::filesystem::absolute(path, ignored).lexically_normal().string();
+}
+
+std::string why_not(const std::string& path, int error) {
+    const std::string directory = std::filesystem::path(path).parent_path().string();
+    const std::string parent = directory.empty() ? std::string(".") : directory;
+    switch (error) {
+        case ENOENT:
+            return fmt::format("directory {} does not exist", parent);
+        case ENOTDIR:
+            return fmt::format("{} is not a directory", parent);
+        case EISDIR:
+            return "it is a directory";
+        case EACCES:
+        case EPERM:
+            return "permission denied";
+        case EROFS:
+            return "read-only file system";
+        default: {
+            std::string text = std::strerror(error);
+            if (!text.empty()) text[0] = static_cast<char>(std::tolower(text[0]));
+            return text;
+        }
+    }
+}
+
+}  // namespace
+
+ReportFiles::~ReportFiles() {
+    for (const auto& path : created_)
+        ::unlink(path.c_str());
+}
+
+bool ReportFiles::check(std::string_view option, const std::string& path, std::string& error) {
+    if (path.empty()) return true;
+    const auto same = std::find_if(checked_.begin(), checked_.end(),
+                                   [&](const auto& seen) { return seen.second == identity(path); });
+    if (same != checked_.end()) {
+        error = fmt::format("{} {}: the same file as {}; each report needs its own file", option,
+                            path, same->first);
+        return false;
+    }
+    int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    const bool created = fd >= 0;
+    if (fd < 0 && errno == EEXIST) fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0) {
+        error =
+            fmt::format("{} {}: cannot write the report: {}", option, path, why_not(path, errno));
+        return false;
+    }
+    ::close(fd);
+    if (created) created_.push_back(path);
+    checked_.emplace_back(std::string(option), identity(path));
+    return true;
+}
+
+}  // namespace mblab::cli
