@@ -8,10 +8,6 @@
 
 namespace mblab::conformance {
 
-namespace {
-
-// Escapes for XML attributes and text alike; control characters other than tab and newline are
-// not allowed in XML 1.0 and become spaces.
 std::string xml(std::string_view text) {
     std::string out;
     out.reserve(text.size());
@@ -42,6 +38,8 @@ std::string xml(std::string_view text) {
     }
     return out;
 }
+
+namespace {
 
 std::string seconds(std::chrono::microseconds elapsed) {
     return fmt::format("{:.6f}", static_cast<double>(elapsed.count()) / 1e6);

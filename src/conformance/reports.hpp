@@ -1,6 +1,7 @@
 #pragma once
 
 #include <string>
+#include <string_view>
 
 #include "conformance/provenance.hpp"
 #include "conformance/verdict.hpp"
@@ -20,6 +21,10 @@ std::string json_report(const RunResult& result);
 std::string junit_report(const RunResult& result, const Provenance& provenance);
 // Without <properties>, for `mblab load`'s report, which has no provenance yet.
 std::string junit_report(const RunResult& result);
+
+// Escapes for XML attributes and text alike; control characters other than tab and newline are
+// not allowed in XML 1.0 and become spaces.
+std::string xml(std::string_view text);
 
 // Writes `text` to `path`; false with `error` set when the file cannot be written.
 bool write_text_file(const std::string& path, const std::string& text, std::string& error);

@@ -1,0 +1,71 @@
+#include "robustness/reproducer.hpp"
+
+#include <fmt/core.h>
+
+#include <cctype>
+#include <sstream>
+
+namespace mblab::robustness {
+
+std::string reproducer_text(const std::vector<Step>& steps, const std::string& comment) {
+    std::string out;
+    std::istringstream lines(comment);
+    for (std::string line; std::getline(lines, line);)
+        out += "# " + line + "\n";
+    for (const auto& step : steps) {
+        std::string line = step.connection == 0 ? "" : fmt::format("@{} ", step.connection);
+        for (std::size_t i = 0; i < step.bytes.size(); ++i)
+            line += fmt::format("{}{:02X}", i == 0 ? "" : " ", step.bytes[i]);
+        if (step.pause.count() > 0) line += fmt::format(" +{}ms", step.pause.count());
+        out += line + "\n";
+    }
+    return out;
+}
+
+protocol::Result<std::vector<Step>, std::string> parse_reproducer(const std::string& text) {
+    std::vector<Step> steps;
+    std::istringstream lines(text);
+    std::size_t number = 0;
+    for (std::string line; std::getline(lines, line);) {
+        ++number;
+        line = line.substr(0, line.find('#'));
+        std::istringstream words(line);
+        Step step;
+        bool any = false;
+        for (std::string word; words >> word;) {
+            auto bad = [&](std::string_view why) {
+                return fmt::format("line {}: '{}' {}", number, word, why);
+            };
+            if (word.front() == '@' && !any && step.bytes.empty()) {
+                const auto digits = word.substr(1);
+                if (digits.empty() || digits.size() > 4 ||
+                    digits.find_first_not_of("0123456789") != std::string::npos)
+                    return bad("is not a connection number (@1, @2, ...)");
+                step.connection = std::stoul(digits);
+                any = true;
+                continue;
+            }
+            if (word.front() == '+' && word.ends_with("ms")) {
+                const auto digits = word.substr(1, word.size() - 3);
+                if (digits.empty() || digits.size() > 6 ||
+                    digits.find_first_not_of("0123456789") != std::string::npos)
+                    return bad("is not a pause (+20ms)");
+                step.pause = std::chrono::milliseconds(std::stoul(digits));
+                continue;
+            }
+            if (word.size() != 2 || !std::isxdigit(static_cast<unsigned char>(word[0])) ||
+                !std::isxdigit(static_cast<unsigned char>(word[1])))
+                return bad("is not a byte: give two hex digits a byte (00 01 FF)");
+            step.bytes.push_back(static_cast<std::uint8_t>(std::stoul(word, nullptr, 16)));
+            any = true;
+        }
+        if (!any && step.pause.count() == 0) continue;
+        if (step.bytes.empty())
+            return fmt::format("line {}: no bytes: a step is hex bytes on the wire", number);
+        steps.push_back(std::move(step));
+    }
+    if (steps.empty()) return std::string("no steps: a reproducer has a line of hex bytes");
+    return steps;
+}
+
+}  // namespace mblab::robustness
