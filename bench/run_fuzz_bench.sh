@@ -29,7 +29,7 @@ for every in 1 100; do
         "$MBLAB" fuzz "$TARGET" --cases "$CASES" --rate 0 --check-every "$every" \
             --json "$WORK/run.json" >"$WORK/run.out" 2>&1 ||
             { echo "mblab fuzz failed:"; cat "$WORK/run.out"; exit 1; }
-        rates+=("$(python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(f"{d[\"cases\"] * 1000 / d[\"elapsed_ms\"]:.0f}")' "$WORK/run.json")")
+        rates+=("$(python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(round(d["cases"] * 1000 / d["elapsed_ms"]))' "$WORK/run.json")")
         : "$round"
     done
     median=$(printf '%s\n' "${rates[@]}" | sort -n | sed -n "$(((ROUNDS + 1) / 2))p")

@@ -119,6 +119,8 @@ int run_fuzz(const FuzzCommandOptions& options) {
     if (!target) return usage_error(target.error());
     if (!target->tcp || target->secure)
         return usage_error(fmt::format("{}: only tcp:// targets are fuzzed so far", target->name));
+    if (options.cases == 0 && options.duration <= 0 && options.replay.empty())
+        return usage_error("no budget: give --cases N or --duration D (it is pointed at devices)");
     rb::ReconOptions recon_options;
     recon_options.unit = static_cast<std::uint8_t>(options.unit);
     recon_options.allow_writes = options.allow_writes;
@@ -231,7 +233,13 @@ int run_fuzz(const FuzzCommandOptions& options) {
         if (!conf::write_text_file(options.reproducer, rb::reproducer_text(f.reproducer, comment),
                                    failed))
             return usage_error(failed);
-        fmt::print("reproducer written to {}\n", options.reproducer);
+        const auto capture_path = options.reproducer + ".pcapng";
+        if (!conf::write_pcap(
+                capture_path,
+                rb::reproducer_capture(f.reproducer, target->tcp->host, target->tcp->port),
+                provenance, failed))
+            return usage_error(failed);
+        fmt::print("reproducer written to {} (and {})\n", options.reproducer, capture_path);
     }
     if (!options.json.empty() &&
         !conf::write_text_file(options.json, rb::json_report(result, provenance), failed))
@@ -296,7 +304,7 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     cmd->add_option("--replay", options->replay,
                     "send a reproducer's frames instead of fuzzing, then check liveness");
     cmd->add_option("--reproducer", options->reproducer,
-                    "where a finding's reproducer (hex lines) is written")
+                    "where a finding's reproducer (hex lines) is written; FILE.pcapng too")
         ->capture_default_str();
     cmd->add_option("--json", options->json, "write the report as JSON to FILE");
     cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");

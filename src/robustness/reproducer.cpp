@@ -1,7 +1,9 @@
 #include "robustness/reproducer.hpp"
 
+#include <arpa/inet.h>
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <cctype>
 #include <sstream>
 
@@ -66,6 +68,34 @@ protocol::Result<std::vector<Step>, std::string> parse_reproducer(const std::str
     }
     if (steps.empty()) return std::string("no steps: a reproducer has a line of hex bytes");
     return steps;
+}
+
+std::vector<conformance::CaptureEvent> reproducer_capture(const std::vector<Step>& steps,
+                                                          const std::string& host,
+                                                          std::uint16_t port) {
+    using Kind = conformance::CaptureEvent::Kind;
+    in_addr peer{};
+    ::inet_pton(AF_INET, host.c_str(), &peer);
+    auto time = std::chrono::system_clock::now();
+    std::vector<conformance::CaptureEvent> events;
+    std::vector<std::size_t> opened;
+    // One connection's events in a row; a pcap of segments interleaved between connections
+    // needs the connection's addresses on every packet, which the capture gives at Open only.
+    for (const auto& step : steps) {
+        if (std::find(opened.begin(), opened.end(), step.connection) != opened.end()) continue;
+        opened.push_back(step.connection);
+        conformance::CaptureEvent open{Kind::Open, time, {}, {}, false};
+        open.addresses = {0x7F000001, static_cast<std::uint16_t>(40000 + opened.size()),
+                          ntohl(peer.s_addr), port};
+        events.push_back(open);
+        for (const auto& other : steps) {
+            if (other.connection != step.connection) continue;
+            events.push_back({Kind::Sent, time, other.bytes, {}, false});
+            time += other.pause + std::chrono::milliseconds(1);
+        }
+        events.push_back({Kind::Close, time, {}, {}, false});
+    }
+    return events;
 }
 
 }  // namespace mblab::robustness

@@ -3,6 +3,7 @@
 #include <string>
 #include <vector>
 
+#include "conformance/capture.hpp"
 #include "protocol/result.hpp"
 #include "robustness/fuzz_case.hpp"
 
@@ -17,5 +18,12 @@ std::string reproducer_text(const std::vector<Step>& steps, const std::string& c
 
 // The steps of a reproducer; the error names the line.
 protocol::Result<std::vector<Step>, std::string> parse_reproducer(const std::string& text);
+
+// The reproducer as a capture of one replay, for a pcap: each connection opened from 127.0.0.1
+// on its first step, the steps sent with their pauses, every connection closed at the end.
+// `host` is the device's IPv4 address (a name gives 0.0.0.0).
+std::vector<conformance::CaptureEvent> reproducer_capture(const std::vector<Step>& steps,
+                                                          const std::string& host,
+                                                          std::uint16_t port);
 
 }  // namespace mblab::robustness

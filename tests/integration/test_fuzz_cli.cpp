@@ -106,6 +106,12 @@ TEST_F(FuzzFragile, ACrashOnProtocolIdIsMinimisedToTheOneFrame) {
         EXPECT_EQ(lint.status, 0) << lint.err;
     }
 
+    // The reproducer as a capture too: its frame in a segment of its own.
+    std::string frame;
+    for (std::size_t at = 0; at < steps[0].size(); at += 3)
+        frame.push_back(static_cast<char>(std::stoi(steps[0].substr(at, 2), nullptr, 16)));
+    EXPECT_NE(file_text(dir_ / "finding.hex.pcapng").find(frame), std::string::npos);
+
     // The reproducer replays: against a restarted device it kills it again.
     restart();
     auto replayed =
@@ -153,6 +159,15 @@ TEST_F(FuzzFragile, NoWriteLeavesWithoutPermission) {
     EXPECT_NE(ran.out.find("withheld (writes not allowed)"), std::string::npos) << ran.out;
 }
 
+// Inside a declared writable range the writes go out, and the byte-count mismatch is found.
+TEST_F(FuzzFragile, WritesGoOutInsideTheWritableRange) {
+    start("byte-count");
+    auto ran = fuzz({"--cases", "150", "--timeout", "300ms", "--writable", "0:10"});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("byte-count: FC 0x10 byte count 0 for 1 registers"), std::string::npos)
+        << ran.out;
+}
+
 TEST_F(FuzzFragile, ADeviceThatClosesOnGarbageIsRobust) {
     start("closes-garbage");
     auto ran = fuzz({"--cases", "200"});
@@ -190,6 +205,11 @@ TEST(FuzzUsage, ABadWritableRangeIsOneLine) {
     EXPECT_EQ(ran.err,
               "mblab fuzz: --writable 'x' is not START:COUNT of holding registers (e.g. "
               "100:10)\n");
+    auto endless = run_mblab({"fuzz", "tcp://127.0.0.1:1", "--cases", "0"});
+    EXPECT_EQ(endless.status, 2);
+    EXPECT_EQ(endless.err,
+              "mblab fuzz: no budget: give --cases N or --duration D (it is pointed at "
+              "devices)\n");
     auto serial = run_mblab({"fuzz", "rtu:///dev/null"});
     EXPECT_EQ(serial.status, 2);
     EXPECT_NE(serial.err.find("only tcp:// targets are fuzzed so far"), std::string::npos)
