@@ -48,6 +48,11 @@ std::string summary_text(const FuzzResult& result) {
             out += fmt::format(", {} withheld (writes not allowed)", tally.withheld);
         out += "\n";
     }
+    if (result.one_connection_at_a_time) {
+        out +=
+            "the device serves one connection at a time: no connection was kept open "
+            "across cases for the check\n";
+    }
     if (!result.finding) {
         out += "no finding: the device served every liveness check\n";
         return out;
@@ -102,6 +107,7 @@ std::string json_report(const FuzzResult& result, const conformance::Provenance&
         {"elapsed_ms", result.elapsed.count()},
         {"longest_wait_ms", result.longest_wait.count()},
         {"stopped_by", result.stopped_by},
+        {"one_connection_at_a_time", result.one_connection_at_a_time},
         {"classes", classes},
         {"verdict", result.finding ? "finding" : "no finding"},
     };

@@ -141,6 +141,7 @@ FuzzResult FuzzRunner::run(CaseGenerator& generator, const FuzzProgress& progres
         break;
     }
     close_all();
+    result.one_connection_at_a_time = oracle_.one_at_a_time();
     oracle_.close();
     result.sends = sends_;
     result.elapsed = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);

@@ -73,6 +73,7 @@ struct FuzzResult {
     std::chrono::milliseconds elapsed{0};
     std::optional<Finding> finding;
     std::string stopped_by;  // "case budget", "time budget", "finding", "interrupted"
+    bool one_connection_at_a_time = false;  // the bystander check was dropped
 };
 
 // Told of each case as it starts (the console's progress line).

@@ -99,6 +99,13 @@ Liveness LivenessOracle::check() {
                                     error.message, since(start).count()));
         }
         outcome = ask(fresh_, detail);
+        if (outcome == Outcome::Silent && bystander_open_ && attempt == 0) {
+            // A device that serves one connection at a time is busy with the bystander.
+            bystander_.close();
+            bystander_open_ = false;
+            one_at_a_time_ = true;
+            outcome = Outcome::Closed;
+        }
     }
     fresh_.close();
     switch (outcome) {
@@ -156,6 +163,7 @@ Liveness LivenessOracle::wait_alive(std::chrono::milliseconds patience) {
 }
 
 void LivenessOracle::open_bystander() {
+    if (one_at_a_time_) return;
     client::LinkError error;
     bystander_open_ = bystander_.connect(error);
 }

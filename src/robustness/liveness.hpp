@@ -31,6 +31,9 @@ class LivenessOracle {
     // Opens the connection that the next check asks on as an already-open one.
     void open_bystander();
     void close();
+    // The device served a fresh connection only once the bystander was closed: it serves one
+    // connection at a time, and the bystander is no longer kept.
+    bool one_at_a_time() const { return one_at_a_time_; }
 
   private:
     enum class Outcome : std::uint8_t { Good, Closed, Silent, Wrong };
@@ -39,6 +42,7 @@ class LivenessOracle {
     conformance::Session fresh_;
     conformance::Session bystander_;
     bool bystander_open_ = false;
+    bool one_at_a_time_ = false;
     std::uint8_t unit_;
     std::uint16_t address_;
     std::chrono::milliseconds timeout_;

@@ -15,6 +15,9 @@
 #include <thread>
 #include <vector>
 
+#include "device/profile_paths.hpp"
+#include "device/reference_device.hpp"
+#include "support/faulty_server.hpp"
 #include "support/ports.hpp"
 #include "support/temp_dir.hpp"
 #include "test_client_support.hpp"
@@ -197,6 +200,23 @@ TEST_F(FuzzReference, TheReferenceDeviceHasNoFinding) {
     EXPECT_NE(json.find("\"verdict\": \"no finding\""), std::string::npos) << json;
     EXPECT_NE(json.find("\"cases\": 300"), std::string::npos) << json;
     EXPECT_FALSE(file_text(dir / "fuzz.pcapng").empty());
+}
+
+// One connection at a time, served in turn: the connection kept open across cases holds the
+// device, so the check drops it rather than call the device dead.
+TEST(FuzzOneAtATime, ADeviceServingOneConnectionAtATimeIsNotDead) {
+    auto loaded = device::load_profile(device::default_profile_path());
+    ASSERT_TRUE(loaded) << loaded.error();
+    FaultyServer server(**loaded, {});
+    const auto port = server.start();
+    ASSERT_NE(port, 0);
+    // The first round up to unit-id: what comes next (a partial header left hanging) does stall
+    // a device that serves one connection at a time, and that is a finding.
+    auto ran =
+        run_mblab({"fuzz", tcp_target(port), "--cases", "11", "--rate", "0", "--timeout", "300ms"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("the device serves one connection at a time"), std::string::npos)
+        << ran.out;
 }
 
 TEST(FuzzUsage, ABadWritableRangeIsOneLine) {
