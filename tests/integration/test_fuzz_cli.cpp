@@ -202,6 +202,20 @@ TEST_F(FuzzReference, TheReferenceDeviceHasNoFinding) {
     EXPECT_FALSE(file_text(dir / "fuzz.pcapng").empty());
 }
 
+// A DUT file's unit and max_read replace the probed ones; --duration alone bounds the run.
+TEST_F(FuzzReference, DeclaredFactsAndATimeBudget) {
+    TempDir dir;
+    std::ofstream(dir / "dut.toml") << "unit = 1\nmax_read = 10\n";
+    auto ran = run_mblab({"fuzz", target(), "--cases", "0", "--duration", "1s", "--dut",
+                          (dir / "dut.toml").string()});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("reconnaissance (" + (dir / "dut.toml").string() + "): unit 1"),
+              std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("largest FC 03 read 10;"), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("(time budget)"), std::string::npos) << ran.out;
+}
+
 // One connection at a time, served in turn: the connection kept open across cases holds the
 // device, so the check drops it rather than call the device dead.
 TEST(FuzzOneAtATime, ADeviceServingOneConnectionAtATimeIsNotDead) {
