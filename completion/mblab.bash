@@ -16,7 +16,7 @@ _mblab() {
         words=("${COMP_WORDS[@]}")
         cword=$COMP_CWORD
     fi
-    local commands="conform serve read write diag devid raw watch load pki"
+    local commands="conform serve read write diag devid raw watch load pki fuzz"
     local command="" i
     for ((i = 1; i < cword; i++)); do
         case " $commands " in *" ${words[i]} "*) command="${words[i]}"; break ;; esac
@@ -32,13 +32,14 @@ _mblab() {
             return
             ;;
         --json)
-            # conform and load write a report there; for the client commands it is a flag.
-            if [[ $command == conform || $command == load ]]; then
+            # conform, load and fuzz write a report there; for the client commands it is a flag.
+            if [[ $command == conform || $command == load || $command == fuzz ]]; then
                 COMPREPLY=($(compgen -f -- "$cur"))
                 return
             fi
             ;;
-        --dut | --profile | --junit | --pcap | --html | --state | --devices | --cert | --key | --ca)
+        --dut | --profile | --junit | --pcap | --html | --state | --devices | --cert | --key | --ca | \
+            --replay | --reproducer)
             COMPREPLY=($(compgen -f -- "$cur"))
             return
             ;;
@@ -58,7 +59,7 @@ _mblab() {
             COMPREPLY=($(compgen -W "text ndjson csv" -- "$cur"))
             return
             ;;
-        --role | --server-name | --days | --read-only-role | --write-role)
+        --role | --server-name | --days | --read-only-role | --write-role | --restart | --writable)
             return
             ;;
     esac

@@ -36,5 +36,7 @@ void add_raw_command(CLI::App& app, CommandRunner& runner);
 void add_watch_command(CLI::App& app, CommandRunner& runner);
 void add_load_command(CLI::App& app, CommandRunner& runner);
 void add_pki_command(CLI::App& app, CommandRunner& runner);
+// `invocation` must outlive the runner.
+void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation);
 
 }  // namespace mblab::cli

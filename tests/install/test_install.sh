@@ -41,8 +41,10 @@ complete_words() {
 [ "$(complete_words mblab con)" = conform ] || fail "completion of 'con': $(complete_words mblab con)"
 [ "$(complete_words mblab conform --su)" = --suite ] || fail "completion of 'conform --su'"
 [ "$(complete_words mblab serve --lis)" = --listen ] || fail "completion of 'serve --lis'"
+[ "$(complete_words mblab fu)" = fuzz ] || fail "completion of 'fu'"
+[ "$(complete_words mblab fuzz --check)" = --check-every ] || fail "completion of 'fuzz --check'"
 [ "$(complete_words mblab conform --suite polic)" = policy-2.1 ] || fail "completion of suite names"
-for command in conform serve read write diag devid raw watch load; do
+for command in conform serve read write diag devid raw watch load fuzz; do
     options=$(complete_words mblab "$command" --)
     case " $options " in *" --help "*) ;; *) fail "no options completed for $command: $options" ;; esac
 done

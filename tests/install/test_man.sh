@@ -13,7 +13,7 @@ errors=$(mktemp)
 trap 'rm -f "$errors"' EXIT
 text=$(MANWIDTH=100 man --warnings -l "$page" 2>"$errors")
 [ ! -s "$errors" ] || fail "man -l warns: $(cat "$errors")"
-for command in conform serve load read write diag devid raw watch pki; do
+for command in conform serve load read write diag devid raw watch pki fuzz; do
     upper=$(tr a-z A-Z <<<"$command")
     grep -q "^MBLAB $upper\$" <<<"$text" || fail "no section MBLAB $upper"
     for option in $("$mblab" "$command" --help |

@@ -1,0 +1,315 @@
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <csignal>
+#include <cstdlib>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "cli/client_options.hpp"
+#include "cli/commands.hpp"
+#include "client/target.hpp"
+#include "conformance/capture.hpp"
+#include "conformance/dut.hpp"
+#include "conformance/provenance.hpp"
+#include "conformance/reports.hpp"
+#include "robustness/case_generator.hpp"
+#include "robustness/fuzz_report.hpp"
+#include "robustness/fuzz_run.hpp"
+#include "robustness/recon.hpp"
+#include "robustness/reproducer.hpp"
+
+// `mblab fuzz TARGET`: the robustness tester (docs/robustness.md).
+namespace mblab::cli {
+
+namespace {
+
+namespace rb = mblab::robustness;
+namespace conf = mblab::conformance;
+
+struct FuzzCommandOptions {
+    std::string target;
+    std::uint64_t seed = 1;
+    std::size_t cases = 1000;
+    double duration = 0;  // seconds; 0: the case budget alone
+    double rate = 200;
+    std::size_t check_every = 1;
+    int timeout_ms = 1000;
+    int unit = 1;
+    std::string dut_file;
+    std::string writable;
+    bool allow_writes = false;
+    std::string restart;
+    std::string replay;
+    std::string reproducer = "fuzz-finding.hex";
+    std::string json;
+    std::string junit;
+    std::string pcap;
+    const Invocation* invocation = nullptr;
+};
+
+std::atomic<bool> g_stop{false};
+
+extern "C" void on_fuzz_stop_signal(int) {
+    g_stop = true;
+}
+
+int usage_error(const std::string& message) {
+    fmt::print(stderr, "mblab fuzz: {}\n", message);
+    return kExitUsage;
+}
+
+// "START:COUNT" or "START" (one register).
+std::optional<rb::WritableRange> parse_writable(const std::string& text) {
+    const auto colon = text.find(':');
+    try {
+        std::size_t used = 0;
+        const auto start = std::stoul(text.substr(0, colon), &used, 0);
+        if (used != text.substr(0, colon).size() || start > 0xFFFF) return std::nullopt;
+        unsigned long count = 1;
+        if (colon != std::string::npos) {
+            const auto rest = text.substr(colon + 1);
+            count = std::stoul(rest, &used, 0);
+            if (used != rest.size() || count == 0 || start + count > 0x10000) return std::nullopt;
+        }
+        return rb::WritableRange{static_cast<std::uint16_t>(start),
+                                 static_cast<std::uint16_t>(count)};
+    } catch (const std::exception&) {
+        return std::nullopt;
+    }
+}
+
+bool read_file(const std::string& path, std::string& text) {
+    std::ifstream in(path);
+    if (!in) return false;
+    std::stringstream buffer;
+    buffer << in.rdbuf();
+    text = buffer.str();
+    return true;
+}
+
+// The --restart command, through the shell; true when it exited 0.
+bool run_restart(const std::string& command) {
+    const int status = std::system(command.c_str());
+    return status == 0;
+}
+
+conf::Provenance provenance_of(const FuzzCommandOptions& options,
+                               std::chrono::system_clock::time_point started) {
+    conf::Provenance provenance;
+    if (options.invocation != nullptr) {
+        provenance.version = options.invocation->version;
+        provenance.commit = options.invocation->commit;
+        provenance.command_line = options.invocation->argv;
+    }
+    provenance.started = conf::iso8601_utc(started);
+    provenance.finished = conf::iso8601_utc(std::chrono::system_clock::now());
+    provenance.declared_by = options.dut_file.empty() ? "reconnaissance" : options.dut_file;
+    provenance.device.reason = "not asked: the robustness tester does not read identification";
+    return provenance;
+}
+
+int run_fuzz(const FuzzCommandOptions& options) {
+    const auto started = std::chrono::system_clock::now();
+    auto target = client::parse_target(options.target);
+    if (!target) return usage_error(target.error());
+    if (!target->tcp || target->secure)
+        return usage_error(fmt::format("{}: only tcp:// targets are fuzzed so far", target->name));
+    if (options.cases == 0 && options.duration <= 0 && options.replay.empty())
+        return usage_error("no budget: give --cases N or --duration D (it is pointed at devices)");
+    rb::ReconOptions recon_options;
+    recon_options.unit = static_cast<std::uint8_t>(options.unit);
+    recon_options.allow_writes = options.allow_writes;
+    if (!options.dut_file.empty()) {
+        auto dut = conf::load_dut_file(options.dut_file);
+        if (!dut) return usage_error(dut.error());
+        recon_options.unit = dut->unit;
+        recon_options.max_read = dut->max_read;
+    }
+    rb::WritePolicy policy{options.allow_writes, std::nullopt};
+    if (!options.writable.empty()) {
+        policy.writable = parse_writable(options.writable);
+        if (!policy.writable) {
+            return usage_error(
+                fmt::format("--writable '{}' is not START:COUNT of holding registers (e.g. 100:10)",
+                            options.writable));
+        }
+    }
+    std::signal(SIGPIPE, SIG_IGN);
+    const auto timeout = std::chrono::milliseconds(options.timeout_ms);
+
+    // Reconnaissance over one connection, one request at a time.
+    conf::Dut dut;
+    dut.unit = recon_options.unit;
+    conf::EngineOptions engine;
+    engine.timeout = timeout;
+    engine.connect_timeout = timeout;
+    conf::Capture capture;
+    conf::Session session(*target, dut, engine, &capture);
+    client::LinkError error;
+    if (!session.connect(error))
+        return usage_error(fmt::format("{}: {}", target->name, error.message));
+    std::uint16_t transaction = 0;
+    const rb::Ask ask =
+        [&](std::uint8_t unit,
+            std::span<const std::uint8_t> pdu) -> std::optional<std::vector<std::uint8_t>> {
+        client::LinkError lost;
+        if (!session.reconnect(lost)) return std::nullopt;
+        if (!session.send(rb::mbap_frame(++transaction, unit, pdu), 1, lost)) return std::nullopt;
+        auto answer = session.receive_frame(timeout);
+        if (answer.status != client::ReceiveStatus::Frame) {
+            session.close();
+            return std::nullopt;
+        }
+        return answer.pdu;
+    };
+    rb::Recon recon;
+    if (auto failed = rb::reconnoitre(ask, recon_options, recon))
+        return usage_error(fmt::format("{}: {}", target->name, *failed));
+    if (!options.dut_file.empty()) recon.source = options.dut_file;
+    session.close();
+    fmt::print("mblab fuzz {}\n{}", target->name, rb::recon_text(recon));
+    std::fflush(stdout);
+
+    rb::FuzzOptions fuzz;
+    fuzz.target = *target;
+    fuzz.seed = options.seed;
+    fuzz.rate = options.rate;
+    fuzz.check_every = options.check_every;
+    fuzz.timeout = timeout;
+    if (options.cases > 0) fuzz.cases = options.cases;
+    if (options.duration > 0)
+        fuzz.duration = std::chrono::milliseconds(static_cast<long>(options.duration * 1000));
+    if (!options.restart.empty())
+        fuzz.restart = [command = options.restart] { return run_restart(command); };
+    rb::FuzzRunner runner(fuzz, recon, &capture);
+
+    if (!options.replay.empty()) {
+        std::string text;
+        if (!read_file(options.replay, text))
+            return usage_error(fmt::format("{}: cannot read the reproducer", options.replay));
+        auto steps = rb::parse_reproducer(text);
+        if (!steps) return usage_error(fmt::format("{}: {}", options.replay, steps.error()));
+        const auto liveness = runner.replay(*steps);
+        if (liveness.alive) {
+            fmt::print("replayed {} frame(s): the device still serves (checked in {} ms)\n",
+                       steps->size(), liveness.waited.count());
+            return kExitOk;
+        }
+        fmt::print("replayed {} frame(s): the device {} (waited {} ms)\n", steps->size(),
+                   liveness.reason, liveness.waited.count());
+        return kExitFailed;
+    }
+
+    std::signal(SIGINT, on_fuzz_stop_signal);
+    std::signal(SIGTERM, on_fuzz_stop_signal);
+    const bool live = ::isatty(STDERR_FILENO) != 0;
+    rb::CaseGenerator generator(recon, policy, options.seed);
+    auto result = runner.run(
+        generator,
+        [&](const rb::FuzzResult& so_far, const rb::FuzzCase& c) {
+            if (!live) return;
+            fmt::print(stderr, "\r\033[Kcase {} {}: {}", so_far.cases, rb::class_name(c.kind),
+                       c.name);
+            std::fflush(stderr);
+        },
+        [] { return g_stop.load(); });
+    if (live) fmt::print(stderr, "\r\033[K");
+    fmt::print("{}", rb::summary_text(result));
+
+    const auto provenance = provenance_of(options, started);
+    std::string failed;
+    if (result.finding) {
+        const auto& f = *result.finding;
+        const std::string comment = fmt::format(
+            "mblab fuzz {} --seed {}\n{}: {} (case {})\nthe device {}\n{}\nreplay: "
+            "mblab fuzz {} --replay {}",
+            target->name, options.seed, rb::class_name(f.kind), f.case_name, f.case_number,
+            f.reason, f.minimise_note, target->name, options.reproducer);
+        if (!conf::write_text_file(options.reproducer, rb::reproducer_text(f.reproducer, comment),
+                                   failed))
+            return usage_error(failed);
+        const auto capture_path = options.reproducer + ".pcapng";
+        if (!conf::write_pcap(
+                capture_path,
+                rb::reproducer_capture(f.reproducer, target->tcp->host, target->tcp->port),
+                provenance, failed))
+            return usage_error(failed);
+        fmt::print("reproducer written to {} (and {})\n", options.reproducer, capture_path);
+    }
+    if (!options.json.empty() &&
+        !conf::write_text_file(options.json, rb::json_report(result, provenance), failed))
+        return usage_error(failed);
+    if (!options.junit.empty() &&
+        !conf::write_text_file(options.junit, rb::junit_report(result, provenance), failed))
+        return usage_error(failed);
+    if (!options.pcap.empty() &&
+        !conf::write_pcap(options.pcap, capture.events(), provenance, failed))
+        return usage_error(failed);
+    return result.finding ? kExitFailed : kExitOk;
+}
+
+}  // namespace
+
+void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation) {
+    auto options = std::make_shared<FuzzCommandOptions>();
+    options->invocation = &invocation;
+    CLI::App* cmd = app.add_subcommand(
+        "fuzz",
+        "Robustness test: bad input of every class PROTOCOL.md lists, then seeded mutations, with "
+        "a liveness check after each case; a finding is minimised to a reproducer");
+    cmd->footer(
+        "Exit status: 0 no finding, 1 a finding (the device stopped serving), 2 usage error,\n"
+        "a file that cannot be read or written, or a target unreachable at start.\n"
+        "Example: mblab fuzz tcp://127.0.0.1:1502 --cases 300 --junit fuzz.xml");
+    cmd->add_option("target", options->target, "tcp://HOST[:PORT] (serial framings: not yet)")
+        ->required();
+    cmd->add_option("--seed", options->seed, "seed of the mutations: the same seed, the same run")
+        ->capture_default_str();
+    cmd->add_option("--cases", options->cases, "case budget (0: the --duration budget alone)")
+        ->capture_default_str();
+    accept_duration_units(cmd->add_option("--duration", options->duration,
+                                          "time budget: 30s, 10m (a number alone is seconds; "
+                                          "0: the case budget alone)")
+                              ->check(CLI::NonNegativeNumber),
+                          DurationUnit::seconds, false);
+    cmd->add_option("--rate", options->rate, "sends per second at most (0: no limit)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    cmd->add_option("--check-every", options->check_every, "the liveness check after every N cases")
+        ->check(CLI::Range(1, 100000))
+        ->capture_default_str();
+    accept_duration_units(cmd->add_option("--timeout", options->timeout_ms,
+                                          "how long the liveness check waits for its answer: "
+                                          "milliseconds, or 250ms, 2s")
+                              ->check(CLI::Range(1, 600000))
+                              ->capture_default_str(),
+                          DurationUnit::milliseconds, true);
+    cmd->add_option("--unit", options->unit, "unit identifier of the device (default 1)")
+        ->check(CLI::Range(0, 255));
+    cmd->add_option("--dut", options->dut_file,
+                    "TOML file declaring the device (unit, max_read), as for mblab conform")
+        ->check(CLI::ExistingFile);
+    cmd->add_option("--writable", options->writable,
+                    "START:COUNT: holding registers and coils the cases may write (default: "
+                    "none)");
+    cmd->add_flag("--allow-writes", options->allow_writes,
+                  "writes anywhere: only for a lab device whose data does not matter");
+    cmd->add_option("--restart", options->restart,
+                    "shell command that restarts the device: a finding is then minimised");
+    cmd->add_option("--replay", options->replay,
+                    "send a reproducer's frames instead of fuzzing, then check liveness");
+    cmd->add_option("--reproducer", options->reproducer,
+                    "where a finding's reproducer (hex lines) is written; FILE.pcapng too")
+        ->capture_default_str();
+    cmd->add_option("--json", options->json, "write the report as JSON to FILE");
+    cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
+    cmd->add_option("--pcap", options->pcap, "write every frame of the run as pcapng to FILE");
+    cmd->callback([options, &runner] { runner = [options] { return run_fuzz(*options); }; });
+}
+
+}  // namespace mblab::cli

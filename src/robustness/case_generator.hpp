@@ -1,0 +1,64 @@
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "robustness/fuzz_case.hpp"
+#include "robustness/recon.hpp"
+#include "support/prng.hpp"
+
+// The cases of a run, the same for the same recon, policy and seed: first every class's fixed
+// cases, taken a class at a time in turn so that a short budget reaches every class, then seeded
+// mutations of valid requests without end.
+namespace mblab::robustness {
+
+// Holding registers (and coils at the same addresses) the tester may write.
+struct WritableRange {
+    std::uint16_t start = 0;
+    std::uint16_t count = 0;
+};
+
+struct WritePolicy {
+    bool allow_writes = false;  // anything goes: the device is a lab device
+    std::optional<WritableRange> writable;
+};
+
+// Whether `pdu` may be sent under `policy`: reads always; a write only when writes are allowed
+// or every address it writes lies inside the writable range; FC 08 sub-functions that change the
+// device's mode (01 restart, 03 ASCII delimiter, 04 listen only) only when writes are allowed,
+// since a device that obeys them has not failed.
+bool may_send(std::span<const std::uint8_t> pdu, const WritePolicy& policy);
+
+class CaseGenerator {
+  public:
+    CaseGenerator(Recon recon, WritePolicy policy, std::uint64_t seed);
+
+    // The next case; fixed ones first, then mutations.
+    FuzzCase next();
+    // Fixed cases left out because they would write outside the policy, per class.
+    const std::vector<std::size_t>& withheld() const { return withheld_; }
+    std::size_t fixed_cases() const { return fixed_.size(); }
+
+  private:
+    void add(FuzzCase c);
+    void add_frame(BadInput kind, std::string name, std::span<const std::uint8_t> pdu);
+    std::uint16_t next_transaction() { return ++transaction_; }
+    void fixed_frames();
+    void fixed_streams();
+    FuzzCase mutation();
+
+    Recon recon_;
+    WritePolicy policy_;
+    Prng prng_;
+    std::uint16_t transaction_ = 0;
+    std::uint16_t write_address_ = 0;
+    std::vector<std::vector<FuzzCase>> by_class_;
+    std::vector<FuzzCase> fixed_;
+    std::size_t taken_ = 0;
+    std::vector<std::size_t> withheld_;
+};
+
+}  // namespace mblab::robustness

@@ -1,0 +1,184 @@
+#include "robustness/fuzz_report.hpp"
+
+#include <fmt/core.h>
+
+#include <nlohmann/json.hpp>
+
+#include "conformance/reports.hpp"
+#include "robustness/reproducer.hpp"
+
+namespace mblab::robustness {
+
+namespace {
+
+std::string codes(const std::vector<std::uint8_t>& functions) {
+    if (functions.empty()) return "none";
+    std::string out;
+    for (auto f : functions)
+        out += fmt::format("{}{:02X}", out.empty() ? "" : " ", f);
+    return out;
+}
+
+std::string finding_comment(const Finding& finding) {
+    return fmt::format("{}: {} (case {})\n{}\n{}", class_name(finding.kind), finding.case_name,
+                       finding.case_number, finding.reason, finding.minimise_note);
+}
+
+}  // namespace
+
+std::string recon_text(const Recon& recon) {
+    return fmt::format(
+        "reconnaissance ({}): unit {}, serves {}; exception 01 for {}; silent for {}\n"
+        "  liveness check: FC 03 register {}; largest FC 03 read {}; unit 0 {}, unit 255 {}\n",
+        recon.source, recon.unit, codes(recon.served), codes(recon.not_served), codes(recon.silent),
+        recon.check_address, recon.max_read, recon.answers_unit_0 ? "answered" : "not answered",
+        recon.answers_unit_255 ? "answered" : "not answered");
+}
+
+std::string summary_text(const FuzzResult& result) {
+    std::string out =
+        fmt::format("{} cases in {:.1f} s ({}), {} liveness checks, longest wait {} ms, seed {}\n",
+                    result.cases, static_cast<double>(result.elapsed.count()) / 1000.0,
+                    result.stopped_by, result.checks, result.longest_wait.count(), result.seed);
+    for (std::size_t i = 0; i < kBadInputCount; ++i) {
+        const auto& tally = result.classes[i];
+        if (tally.run == 0 && tally.withheld == 0) continue;
+        out += fmt::format("  {:<17} {:>5} run", class_name(static_cast<BadInput>(i)), tally.run);
+        if (tally.withheld > 0)
+            out += fmt::format(", {} withheld (writes not allowed)", tally.withheld);
+        out += "\n";
+    }
+    if (result.one_connection_at_a_time) {
+        out +=
+            "the device serves one connection at a time: no connection was kept open "
+            "across cases for the check\n";
+    }
+    if (!result.finding) {
+        out += "no finding: the device served every liveness check\n";
+        return out;
+    }
+    const auto& f = *result.finding;
+    out += fmt::format("FINDING: the device {} (waited {} ms)\n", f.reason, f.waited.count());
+    out += fmt::format("  case {}, {}: {}\n", f.case_number, class_name(f.kind), f.case_name);
+    out += fmt::format("  {}\n", f.minimise_note);
+    out += "  reproducer:\n";
+    std::string text = reproducer_text(f.reproducer, "");
+    for (std::size_t from = 0; from < text.size();) {
+        const auto end = text.find('\n', from);
+        out += "    " + text.substr(from, end - from) + "\n";
+        from = end + 1;
+    }
+    return out;
+}
+
+std::string json_report(const FuzzResult& result, const conformance::Provenance& provenance) {
+    nlohmann::json classes = nlohmann::json::array();
+    for (std::size_t i = 0; i < kBadInputCount; ++i) {
+        const auto kind = static_cast<BadInput>(i);
+        classes.push_back({{"class", class_name(kind)},
+                           {"expected", class_expectation(kind)},
+                           {"run", result.classes[i].run},
+                           {"withheld", result.classes[i].withheld},
+                           {"finding", result.finding && result.finding->kind == kind}});
+    }
+    const auto& r = result.recon;
+    nlohmann::json document = {
+        {"tool", "mblab fuzz"},
+        {"version", provenance.version},
+        {"commit", provenance.commit},
+        {"started", provenance.started},
+        {"finished", provenance.finished},
+        {"command_line", provenance.command_line},
+        {"target", result.target},
+        {"seed", result.seed},
+        {"recon",
+         {{"source", r.source},
+          {"unit", r.unit},
+          {"served", r.served},
+          {"not_served", r.not_served},
+          {"silent", r.silent},
+          {"check_address", r.check_address},
+          {"max_read", r.max_read},
+          {"answers_unit_0", r.answers_unit_0},
+          {"answers_unit_255", r.answers_unit_255}}},
+        {"cases", result.cases},
+        {"checks", result.checks},
+        {"sends", result.sends},
+        {"elapsed_ms", result.elapsed.count()},
+        {"longest_wait_ms", result.longest_wait.count()},
+        {"stopped_by", result.stopped_by},
+        {"one_connection_at_a_time", result.one_connection_at_a_time},
+        {"classes", classes},
+        {"verdict", result.finding ? "finding" : "no finding"},
+    };
+    if (result.finding) {
+        const auto& f = *result.finding;
+        nlohmann::json steps = nlohmann::json::array();
+        for (const auto& step : f.reproducer) {
+            std::string hex;
+            for (auto byte : step.bytes)
+                hex += fmt::format("{}{:02X}", hex.empty() ? "" : " ", byte);
+            steps.push_back(
+                {{"connection", step.connection}, {"hex", hex}, {"pause_ms", step.pause.count()}});
+        }
+        document["finding"] = {{"class", class_name(f.kind)},
+                               {"case", f.case_name},
+                               {"case_number", f.case_number},
+                               {"reason", f.reason},
+                               {"waited_ms", f.waited.count()},
+                               {"minimised", f.minimised},
+                               {"minimise_note", f.minimise_note},
+                               {"frames_since_check", f.since_check.size()},
+                               {"reproducer", steps}};
+    }
+    return document.dump(2) + "\n";
+}
+
+std::string junit_report(const FuzzResult& result, const conformance::Provenance& provenance) {
+    using conformance::xml;
+    std::size_t skipped = 0;
+    for (const auto& tally : result.classes)
+        skipped += tally.run == 0 ? 1 : 0;
+    const double seconds = static_cast<double>(result.elapsed.count()) / 1000.0;
+    std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+    out += fmt::format(
+        "<testsuites name=\"mblab fuzz {}\" tests=\"{}\" failures=\"{}\" "
+        "time=\"{:.3f}\">\n",
+        xml_escape(result.target), kBadInputCount, result.finding ? 1 : 0, seconds);
+    out += fmt::format(
+        "  <testsuite name=\"robustness\" tests=\"{}\" failures=\"{}\" errors=\"0\" "
+        "skipped=\"{}\" time=\"{:.3f}\">\n",
+        kBadInputCount, result.finding ? 1 : 0, skipped, seconds);
+    out += "    <properties>\n";
+    for (const auto& line : conformance::provenance_lines(provenance)) {
+        const auto colon = line.find(": ");
+        out +=
+            fmt::format("      <property name=\"{}\" value=\"{}\"/>\n", xml_escape(line.substr(0, colon)),
+                        xml_escape(colon == std::string::npos ? "" : line.substr(colon + 2)));
+    }
+    out += fmt::format("      <property name=\"seed\" value=\"{}\"/>\n", result.seed);
+    out += "    </properties>\n";
+    for (std::size_t i = 0; i < kBadInputCount; ++i) {
+        const auto kind = static_cast<BadInput>(i);
+        const auto& tally = result.classes[i];
+        out += fmt::format("    <testcase classname=\"robustness\" name=\"{}\" time=\"0\">",
+                           class_name(kind));
+        if (result.finding && result.finding->kind == kind) {
+            const auto& f = *result.finding;
+            out +=
+                fmt::format("\n      <failure message=\"{}\" type=\"finding\">{}</failure>\n    ",
+                            xml_escape(fmt::format("the device {} after: {}", f.reason, f.case_name)),
+                            xml_escape(reproducer_text(f.reproducer, finding_comment(f))));
+        } else if (tally.run == 0) {
+            out +=
+                fmt::format("\n      <skipped message=\"{}\"/>\n    ",
+                            tally.withheld > 0 ? "every case would write outside the writable range"
+                                               : "not reached within the budget");
+        }
+        out += "</testcase>\n";
+    }
+    out += "  </testsuite>\n</testsuites>\n";
+    return out;
+}
+
+}  // namespace mblab::robustness

@@ -1,0 +1,215 @@
+#include "robustness/fuzz_run.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <thread>
+
+#include "robustness/minimise.hpp"
+
+namespace mblab::robustness {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+}  // namespace
+
+FuzzRunner::FuzzRunner(FuzzOptions options, Recon recon, client::LinkObserver* observer)
+    : options_(std::move(options)),
+      recon_(std::move(recon)),
+      observer_(observer),
+      oracle_(options_.target, recon_.unit, recon_.check_address, options_.timeout, observer) {}
+
+void FuzzRunner::pace() {
+    ++sends_;
+    if (options_.rate <= 0) return;
+    const auto now = Clock::now();
+    if (next_send_ > now) std::this_thread::sleep_until(next_send_);
+    next_send_ =
+        std::max(now, next_send_) + std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(1.0 / options_.rate));
+}
+
+void FuzzRunner::send_steps(const std::vector<Step>& steps, bool hold) {
+    for (const auto& step : steps) {
+        if (links_.size() <= step.connection) links_.resize(step.connection + 1);
+        auto& link = links_[step.connection];
+        if (!link || !link->is_open()) {
+            auto opened = client::open_link(options_.target, options_.timeout, observer_);
+            // A refused connection is judged by the oracle, which tries harder.
+            if (!opened) continue;
+            link = std::move(opened.value());
+        }
+        pace();
+        client::LinkError error;
+        if (!link->send(step.bytes, error)) link.reset();
+        if (step.pause.count() > 0) std::this_thread::sleep_for(step.pause);
+    }
+    // Answers are read, not judged: what a device answers to garbage is conformance's business.
+    bool first = true;
+    for (auto& link : links_) {
+        if (!link || !link->is_open()) continue;
+        link->receive_any(first ? options_.settle : std::chrono::milliseconds(1));
+        first = false;
+    }
+    if (!hold) close_all();
+}
+
+void FuzzRunner::close_all() {
+    for (auto& link : links_) {
+        if (link) link->close();
+    }
+    links_.clear();
+}
+
+Liveness FuzzRunner::replay(const std::vector<Step>& steps) {
+    send_steps(steps, true);
+    auto liveness = oracle_.check();
+    close_all();
+    return liveness;
+}
+
+FuzzResult FuzzRunner::run(CaseGenerator& generator, const FuzzProgress& progress,
+                           const std::function<bool()>& stop) {
+    FuzzResult result;
+    result.target = options_.target.name;
+    result.seed = options_.seed;
+    result.recon = recon_;
+    for (std::size_t i = 0; i < generator.withheld().size(); ++i)
+        result.classes[i].withheld = generator.withheld()[i];
+    const auto start = Clock::now();
+    oracle_.open_bystander();
+    std::vector<Step> since_check;
+    std::vector<StepOrigin> origins;
+    std::size_t connection_base = 0;
+    std::size_t unchecked = 0;
+    StepOrigin last;
+    while (true) {
+        std::string out_of_budget;
+        if (options_.cases && result.cases >= *options_.cases) {
+            out_of_budget = "case budget";
+        } else if (options_.duration && Clock::now() - start >= *options_.duration) {
+            out_of_budget = "time budget";
+        } else if (stop && stop()) {
+            out_of_budget = "interrupted";
+        }
+        if (!out_of_budget.empty()) {
+            result.stopped_by = out_of_budget;
+            // Cases not followed by a check yet get one, so "no finding" covers them all.
+            if (unchecked == 0) break;
+        } else {
+            FuzzCase c = generator.next();
+            ++result.cases;
+            ++result.classes[static_cast<std::size_t>(c.kind)].run;
+            if (progress) progress(result, c);
+            std::size_t connections = 0;
+            for (const auto& step : c.steps) {
+                connections = std::max(connections, step.connection + 1);
+                since_check.push_back(step);
+                since_check.back().connection += connection_base;
+                origins.push_back({c.kind, c.name, result.cases});
+            }
+            connection_base += connections;
+            send_steps(c.steps, c.hold_open);
+            last = {c.kind, c.name, result.cases};
+            if (++unchecked < options_.check_every && !c.hold_open) continue;
+        }
+        unchecked = 0;
+        ++result.checks;
+        const auto liveness = oracle_.check();
+        close_all();
+        result.longest_wait = std::max(result.longest_wait, liveness.waited);
+        if (liveness.alive) {
+            since_check.clear();
+            origins.clear();
+            connection_base = 0;
+            if (!out_of_budget.empty()) break;
+            continue;
+        }
+        Finding finding;
+        finding.kind = last.kind;
+        finding.case_name = last.case_name;
+        finding.case_number = last.case_number;
+        finding.reason = liveness.reason;
+        finding.waited = liveness.waited;
+        finding.since_check = std::move(since_check);
+        finding.origins = std::move(origins);
+        minimise_finding(finding);
+        result.finding = std::move(finding);
+        result.stopped_by = "finding";
+        break;
+    }
+    close_all();
+    result.one_connection_at_a_time = oracle_.one_at_a_time();
+    oracle_.close();
+    result.sends = sends_;
+    result.elapsed = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
+    return result;
+}
+
+void FuzzRunner::minimise_finding(Finding& finding) {
+    finding.reproducer = finding.since_check;
+    if (!options_.restart) {
+        finding.minimise_note = "could not minimise (no --restart)";
+        return;
+    }
+    std::size_t replays = 0;
+    bool restart_failed = false;
+    auto kills = [&](const std::vector<Step>& steps) {
+        if (restart_failed) return false;
+        close_all();
+        oracle_.close();
+        if (!options_.restart() || !oracle_.wait_alive(options_.restart_patience).alive) {
+            restart_failed = true;
+            return false;
+        }
+        ++replays;
+        return !replay(steps).alive;
+    };
+    if (!kills(finding.since_check)) {
+        finding.minimise_note =
+            restart_failed
+                ? "could not minimise: the device did not answer after --restart"
+                : "could not minimise: replaying every frame since the last good check on a "
+                  "restarted device did not kill it";
+        return;
+    }
+    const auto kept = minimise(finding.since_check.size(), [&](const std::vector<std::size_t>& at) {
+        std::vector<Step> subset;
+        for (auto i : at)
+            subset.push_back(finding.since_check[i]);
+        return kills(subset);
+    });
+    std::vector<Step> shortest;
+    for (auto i : kept)
+        shortest.push_back(finding.since_check[i]);
+    // When the frames that kill come from one case, that case is the finding's.
+    const auto& first = finding.origins[kept.empty() ? 0 : kept.front()];
+    if (!kept.empty() && std::all_of(kept.begin(), kept.end(), [&](std::size_t i) {
+            return finding.origins[i].case_number == first.case_number;
+        })) {
+        finding.kind = first.kind;
+        finding.case_name = first.case_name;
+        finding.case_number = first.case_number;
+    }
+    // Connections renumbered from 0 in order of first use.
+    std::vector<std::size_t> seen;
+    for (auto& step : shortest) {
+        auto found = std::find(seen.begin(), seen.end(), step.connection);
+        if (found == seen.end()) {
+            seen.push_back(step.connection);
+            found = seen.end() - 1;
+        }
+        step.connection = static_cast<std::size_t>(found - seen.begin());
+    }
+    finding.reproducer = std::move(shortest);
+    finding.minimised = true;
+    finding.minimise_note =
+        fmt::format("minimised from {} to {} frame(s) in {} replays", finding.since_check.size(),
+                    finding.reproducer.size(), replays);
+    // Leave the device running, as it was found.
+    if (options_.restart) options_.restart();
+}
+
+}  // namespace mblab::robustness

@@ -1,0 +1,106 @@
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "client/link.hpp"
+#include "client/target.hpp"
+#include "robustness/case_generator.hpp"
+#include "robustness/fuzz_case.hpp"
+#include "robustness/liveness.hpp"
+#include "robustness/recon.hpp"
+
+// A robustness run over Modbus/TCP: cases from the generator, the liveness oracle after each
+// (or every N), and a finding minimised by replaying from a restarted device.
+namespace mblab::robustness {
+
+struct FuzzOptions {
+    client::Target target;
+    std::uint64_t seed = 1;
+    std::optional<std::size_t> cases;                   // budget: this many cases
+    std::optional<std::chrono::milliseconds> duration;  // budget: this long
+    double rate = 200;                                  // sends per second at most (0: no limit)
+    std::size_t check_every = 1;                        // the liveness check after every N cases
+    std::chrono::milliseconds timeout{1000};
+    // How long each case's connections are read for answers before they are closed.
+    std::chrono::milliseconds settle{10};
+    // Restarts the device (the user's --restart command); empty when none was given.
+    std::function<bool()> restart;
+    std::chrono::milliseconds restart_patience{10000};
+};
+
+struct ClassTally {
+    std::size_t run = 0;
+    std::size_t withheld = 0;  // left out: they would write outside the writable range
+};
+
+// Which case a step came from.
+struct StepOrigin {
+    BadInput kind = BadInput::Mutation;
+    std::string case_name;
+    std::size_t case_number = 0;
+};
+
+// The case after which the check failed, until minimisation names the case whose frames kill.
+struct Finding {
+    BadInput kind = BadInput::Mutation;
+    std::string case_name;
+    std::size_t case_number = 0;
+    std::string reason;
+    std::chrono::milliseconds waited{0};
+    std::vector<Step> since_check;    // every step since the last good check, in order
+    std::vector<StepOrigin> origins;  // of each step of since_check
+    std::vector<Step> reproducer;     // the shortest that still kills, or since_check
+    std::string minimise_note;
+    bool minimised = false;
+};
+
+struct FuzzResult {
+    std::string target;
+    std::uint64_t seed = 1;
+    Recon recon;
+    std::size_t cases = 0;
+    std::size_t checks = 0;
+    std::size_t sends = 0;
+    std::array<ClassTally, kBadInputCount> classes{};
+    std::chrono::milliseconds longest_wait{0};  // the oracle's longest check
+    std::chrono::milliseconds elapsed{0};
+    std::optional<Finding> finding;
+    std::string stopped_by;  // "case budget", "time budget", "finding", "interrupted"
+    bool one_connection_at_a_time = false;  // the bystander check was dropped
+};
+
+// Told of each case as it starts (the console's progress line).
+using FuzzProgress = std::function<void(const FuzzResult&, const FuzzCase&)>;
+
+class FuzzRunner {
+  public:
+    FuzzRunner(FuzzOptions options, Recon recon, client::LinkObserver* observer);
+
+    FuzzResult run(CaseGenerator& generator, const FuzzProgress& progress,
+                   const std::function<bool()>& stop);
+    // Sends `steps` as a reproducer does, then asks the oracle.
+    Liveness replay(const std::vector<Step>& steps);
+
+  private:
+    void pace();
+    void send_steps(const std::vector<Step>& steps, bool hold);
+    void close_all();
+    void minimise_finding(Finding& finding);
+
+    FuzzOptions options_;
+    Recon recon_;
+    client::LinkObserver* observer_;
+    LivenessOracle oracle_;
+    std::vector<std::unique_ptr<client::Link>> links_;
+    std::chrono::steady_clock::time_point next_send_{};
+    std::size_t sends_ = 0;
+};
+
+}  // namespace mblab::robustness

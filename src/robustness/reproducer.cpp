@@ -1,0 +1,101 @@
+#include "robustness/reproducer.hpp"
+
+#include <arpa/inet.h>
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <cctype>
+#include <sstream>
+
+namespace mblab::robustness {
+
+std::string reproducer_text(const std::vector<Step>& steps, const std::string& comment) {
+    std::string out;
+    std::istringstream lines(comment);
+    for (std::string line; std::getline(lines, line);)
+        out += "# " + line + "\n";
+    for (const auto& step : steps) {
+        std::string line = step.connection == 0 ? "" : fmt::format("@{} ", step.connection);
+        for (std::size_t i = 0; i < step.bytes.size(); ++i)
+            line += fmt::format("{}{:02X}", i == 0 ? "" : " ", step.bytes[i]);
+        if (step.pause.count() > 0) line += fmt::format(" +{}ms", step.pause.count());
+        out += line + "\n";
+    }
+    return out;
+}
+
+protocol::Result<std::vector<Step>, std::string> parse_reproducer(const std::string& text) {
+    std::vector<Step> steps;
+    std::istringstream lines(text);
+    std::size_t number = 0;
+    for (std::string line; std::getline(lines, line);) {
+        ++number;
+        line = line.substr(0, line.find('#'));
+        std::istringstream words(line);
+        Step step;
+        bool any = false;
+        for (std::string word; words >> word;) {
+            auto bad = [&](std::string_view why) {
+                return fmt::format("line {}: '{}' {}", number, word, why);
+            };
+            if (word.front() == '@' && !any && step.bytes.empty()) {
+                const auto digits = word.substr(1);
+                if (digits.empty() || digits.size() > 4 ||
+                    digits.find_first_not_of("0123456789") != std::string::npos)
+                    return bad("is not a connection number (@1, @2, ...)");
+                step.connection = std::stoul(digits);
+                any = true;
+                continue;
+            }
+            if (word.front() == '+' && word.ends_with("ms")) {
+                const auto digits = word.substr(1, word.size() - 3);
+                if (digits.empty() || digits.size() > 6 ||
+                    digits.find_first_not_of("0123456789") != std::string::npos)
+                    return bad("is not a pause (+20ms)");
+                step.pause = std::chrono::milliseconds(std::stoul(digits));
+                continue;
+            }
+            if (word.size() != 2 || !std::isxdigit(static_cast<unsigned char>(word[0])) ||
+                !std::isxdigit(static_cast<unsigned char>(word[1])))
+                return bad("is not a byte: give two hex digits a byte (00 01 FF)");
+            step.bytes.push_back(static_cast<std::uint8_t>(std::stoul(word, nullptr, 16)));
+            any = true;
+        }
+        if (!any && step.pause.count() == 0) continue;
+        if (step.bytes.empty())
+            return fmt::format("line {}: no bytes: a step is hex bytes on the wire", number);
+        steps.push_back(std::move(step));
+    }
+    if (steps.empty()) return std::string("no steps: a reproducer has a line of hex bytes");
+    return steps;
+}
+
+std::vector<conformance::CaptureEvent> reproducer_capture(const std::vector<Step>& steps,
+                                                          const std::string& host,
+                                                          std::uint16_t port) {
+    using Kind = conformance::CaptureEvent::Kind;
+    in_addr peer{};
+    ::inet_pton(AF_INET, host.c_str(), &peer);
+    auto time = std::chrono::system_clock::now();
+    std::vector<conformance::CaptureEvent> events;
+    std::vector<std::size_t> opened;
+    // One connection's events in a row; a pcap of segments interleaved between connections
+    // needs the connection's addresses on every packet, which the capture gives at Open only.
+    for (const auto& step : steps) {
+        if (std::find(opened.begin(), opened.end(), step.connection) != opened.end()) continue;
+        opened.push_back(step.connection);
+        conformance::CaptureEvent open{Kind::Open, time, {}, {}, false};
+        open.addresses = {0x7F000001, static_cast<std::uint16_t>(40000 + opened.size()),
+                          ntohl(peer.s_addr), port};
+        events.push_back(open);
+        for (const auto& other : steps) {
+            if (other.connection != step.connection) continue;
+            events.push_back({Kind::Sent, time, other.bytes, {}, false});
+            time += other.pause + std::chrono::milliseconds(1);
+        }
+        events.push_back({Kind::Close, time, {}, {}, false});
+    }
+    return events;
+}
+
+}  // namespace mblab::robustness

@@ -1,0 +1,132 @@
+// A Modbus/TCP device for the tests of `mblab fuzz`: it answers FC 03 (zeros) and exception 01
+// for everything else, over any number of connections, and is fragile in one way chosen on the
+// command line, or robust in an unusual one:
+//   protocol-id     exits on a frame whose protocol id is not 0 (a crash)
+//   length-one      blocks its loop forever on an MBAP length of 1 (a hang)
+//   byte-count      stops answering anyone after an FC 10 whose byte count is not 2 x quantity
+//   closes-garbage  robust: closes the connection on anything but a valid FC 03
+//   late            robust: answers 150 ms late
+// Usage: fragile_device MODE PORT PIDFILE
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+struct Client {
+    int fd;
+    std::vector<std::uint8_t> buffer;
+};
+
+std::string g_mode;
+bool g_deaf = false;
+
+// False when the connection is to be closed.
+bool serve(Client& client) {
+    auto& b = client.buffer;
+    std::vector<std::uint8_t> out;
+    while (b.size() >= 7) {
+        const unsigned protocol = b[2] << 8 | b[3];
+        const unsigned length = b[4] << 8 | b[5];
+        if (protocol != 0 && g_mode == "protocol-id") std::_Exit(1);
+        if (length == 1 && g_mode == "length-one") {
+            while (true)
+                ::pause();
+        }
+        if (protocol != 0 || length < 2 || length > 254) return false;
+        if (b.size() < 6 + length) break;
+        const std::vector<std::uint8_t> pdu(b.begin() + 7, b.begin() + 6 + length);
+        std::vector<std::uint8_t> answer;
+        const unsigned quantity = pdu.size() >= 5 ? (pdu[3] << 8 | pdu[4]) : 0;
+        if (pdu[0] == 0x10 && pdu.size() >= 6 && pdu[5] != 2 * quantity && g_mode == "byte-count")
+            g_deaf = true;
+        if (pdu[0] == 0x03 && pdu.size() == 5 && quantity >= 1 && quantity <= 125) {
+            answer = {0x03, static_cast<std::uint8_t>(2 * quantity)};
+            answer.resize(2 + 2 * quantity, 0);
+        } else if (g_mode == "closes-garbage") {
+            return false;
+        } else {
+            answer = {static_cast<std::uint8_t>(pdu[0] | 0x80), 0x01};
+        }
+        const unsigned size = answer.size() + 1;
+        out.insert(out.end(), {b[0], b[1], 0, 0, static_cast<std::uint8_t>(size >> 8),
+                               static_cast<std::uint8_t>(size), b[6]});
+        out.insert(out.end(), answer.begin(), answer.end());
+        b.erase(b.begin(), b.begin() + 6 + length);
+    }
+    if (out.empty() || g_deaf) return true;
+    return ::send(client.fd, out.data(), out.size(), MSG_NOSIGNAL) >= 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    if (argc != 4) {
+        std::fprintf(stderr, "usage: fragile_device MODE PORT PIDFILE\n");
+        return 2;
+    }
+    g_mode = argv[1];
+    const int listener = ::socket(AF_INET, SOCK_STREAM, 0);
+    const int on = 1;
+    ::setsockopt(listener, SOL_SOCKET, SO_REUSEADDR, &on, sizeof on);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(static_cast<std::uint16_t>(std::stoi(argv[2])));
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    // Restarted, it may start before its killed predecessor has let go of the port.
+    bool bound = false;
+    for (int attempt = 0; attempt < 250 && !bound; ++attempt) {
+        bound = ::bind(listener, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
+        if (!bound) std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (!bound || ::listen(listener, 64) != 0) {
+        std::perror("fragile_device");
+        return 1;
+    }
+    if (FILE* pid = std::fopen(argv[3], "w")) {
+        std::fprintf(pid, "%d\n", static_cast<int>(::getpid()));
+        std::fclose(pid);
+    }
+    std::vector<Client> clients;
+    while (true) {
+        std::vector<pollfd> fds{{listener, POLLIN, 0}};
+        for (const auto& c : clients)
+            fds.push_back({c.fd, POLLIN, 0});
+        if (::poll(fds.data(), fds.size(), -1) < 0) continue;
+        // Late once per turn of the loop, whatever it serves: slow, never stuck.
+        if (g_mode == "late") std::this_thread::sleep_for(std::chrono::milliseconds(150));
+        if (fds[0].revents & POLLIN) {
+            for (int fd; (fd = ::accept4(listener, nullptr, nullptr, 0)) >= 0;) {
+                clients.push_back({fd, {}});
+                pollfd more{listener, POLLIN, 0};
+                if (::poll(&more, 1, 0) <= 0) break;
+            }
+        }
+        for (std::size_t i = 1; i < fds.size(); ++i) {
+            if (!(fds[i].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+            Client& client = clients[i - 1];
+            std::uint8_t chunk[4096];
+            const ssize_t got = ::recv(client.fd, chunk, sizeof chunk, 0);
+            bool keep = got > 0;
+            if (keep) {
+                client.buffer.insert(client.buffer.end(), chunk, chunk + got);
+                keep = serve(client);
+            }
+            if (!keep) {
+                ::close(client.fd);
+                client.fd = -1;
+            }
+        }
+        std::erase_if(clients, [](const Client& c) { return c.fd < 0; });
+    }
+}

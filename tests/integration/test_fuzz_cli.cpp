@@ -1,0 +1,254 @@
+// `mblab fuzz` as a user runs it: devices that die on one input each are found and minimised to
+// the killing frame; robust devices, unusual ones included, get no finding.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "device/profile_paths.hpp"
+#include "device/reference_device.hpp"
+#include "support/faulty_server.hpp"
+#include "support/ports.hpp"
+#include "support/temp_dir.hpp"
+#include "test_client_support.hpp"
+
+namespace mblab::test {
+namespace {
+
+bool accepts(std::uint16_t port) {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    sockaddr_in address{};
+    address.sin_family = AF_INET;
+    address.sin_port = htons(port);
+    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    const bool ok = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
+    ::close(fd);
+    return ok;
+}
+
+// The reproducer's step lines (comments dropped).
+std::vector<std::string> steps_of(const std::string& text) {
+    std::vector<std::string> steps;
+    std::istringstream lines(text);
+    for (std::string line; std::getline(lines, line);) {
+        if (!line.empty() && line[0] != '#') steps.push_back(line);
+    }
+    return steps;
+}
+
+// A fragile device on a free loopback port, started (and restarted) by a shell command.
+class FuzzFragile : public ::testing::Test {
+  protected:
+    void start(const std::string& mode) {
+        port_ = closed_port();
+        const auto pid_file = (dir_ / "device.pid").string();
+        restart_ = "kill $(cat " + pid_file + " 2>/dev/null) 2>/dev/null; " +
+                   std::string(MBLAB_FRAGILE_DEVICE) + " " + mode + " " + std::to_string(port_) +
+                   " " + pid_file + " >/dev/null 2>&1 </dev/null &";
+        restart();
+    }
+    // Runs the restart command and waits until the new device (a new pid) listens.
+    void restart() {
+        const auto before = file_text(dir_ / "device.pid");
+        ASSERT_EQ(std::system(restart_.c_str()), 0);
+        for (int i = 0; i < 250 && (file_text(dir_ / "device.pid") == before || !accepts(port_));
+             ++i)
+            std::this_thread::sleep_for(std::chrono::milliseconds(20));
+        ASSERT_TRUE(accepts(port_));
+    }
+    void TearDown() override {
+        const auto pid = file_text(dir_ / "device.pid");
+        if (!pid.empty()) ::kill(std::stoi(pid), SIGKILL);
+    }
+    Ran fuzz(std::vector<std::string> args) const {
+        args.insert(args.begin(), {"fuzz", tcp_target(port_), "--reproducer",
+                                   (dir_ / "finding.hex").string(), "--rate", "0"});
+        return run_mblab(args);
+    }
+    std::vector<std::string> reproducer() const {
+        return steps_of(file_text(dir_ / "finding.hex"));
+    }
+
+    TempDir dir_;
+    std::uint16_t port_ = 0;
+    std::string restart_;
+};
+
+TEST_F(FuzzFragile, ACrashOnProtocolIdIsMinimisedToTheOneFrame) {
+    start("protocol-id");
+    // Ten cases between checks: the frames since the last good check are minimised to one.
+    auto ran = fuzz({"--cases", "100", "--check-every", "10", "--restart", restart_, "--junit",
+                     (dir_ / "fuzz.xml").string()});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("FINDING: the device refuses connections"), std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("frame(s)"), std::string::npos) << ran.out;
+    const auto steps = reproducer();
+    ASSERT_EQ(steps.size(), 1U) << ran.out;
+    // Transaction id, then a protocol id that is not 0.
+    EXPECT_NE(steps[0].substr(6, 5), "00 00") << steps[0];
+    const auto junit = file_text(dir_ / "fuzz.xml");
+    const auto failure = junit.find("<failure");
+    ASSERT_NE(failure, std::string::npos) << junit;
+    EXPECT_NE(junit.rfind("name=\"protocol-id\"", failure), std::string::npos);
+    EXPECT_NE(junit.find(steps[0], failure), std::string::npos) << junit;
+    if (std::ifstream("/usr/bin/xmllint")) {
+        const auto lint = run_program({"/usr/bin/xmllint", "--noout", "--schema",
+                                       std::string(MBLAB_SOURCE_DIR) + "/tests/junit-10.xsd",
+                                       (dir_ / "fuzz.xml").string()});
+        EXPECT_EQ(lint.status, 0) << lint.err;
+    }
+
+    // The reproducer as a capture too: its frame in a segment of its own.
+    std::string frame;
+    for (std::size_t at = 0; at < steps[0].size(); at += 3)
+        frame.push_back(static_cast<char>(std::stoi(steps[0].substr(at, 2), nullptr, 16)));
+    EXPECT_NE(file_text(dir_ / "finding.hex.pcapng").find(frame), std::string::npos);
+
+    // The reproducer replays: against a restarted device it kills it again.
+    restart();
+    auto replayed =
+        run_mblab({"fuzz", tcp_target(port_), "--replay", (dir_ / "finding.hex").string()});
+    EXPECT_EQ(replayed.status, 1) << replayed.out << replayed.err;
+    EXPECT_NE(replayed.out.find("replayed 1 frame(s): the device refuses connections"),
+              std::string::npos)
+        << replayed.out;
+}
+
+TEST_F(FuzzFragile, AHangOnMbapLengthOneIsFound) {
+    start("length-one");
+    auto ran = fuzz({"--cases", "100", "--timeout", "300ms", "--restart", restart_});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("does not answer the known-good read"), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("mbap-length: MBAP length 1 for 6 bytes"), std::string::npos) << ran.out;
+    const auto steps = reproducer();
+    ASSERT_EQ(steps.size(), 1U) << ran.out;
+    EXPECT_EQ(steps[0].substr(12, 5), "00 01") << steps[0];
+}
+
+TEST_F(FuzzFragile, SilenceAfterAByteCountMismatchIsFound) {
+    start("byte-count");
+    auto ran = fuzz({"--cases", "200", "--timeout", "300ms", "--check-every", "5", "--restart",
+                     restart_, "--allow-writes"});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    const auto steps = reproducer();
+    ASSERT_EQ(steps.size(), 1U) << ran.out;
+    EXPECT_EQ(steps[0].substr(21, 2), "10") << steps[0];
+}
+
+TEST_F(FuzzFragile, WithoutRestartTheFindingIsNotMinimised) {
+    start("protocol-id");
+    auto ran = fuzz({"--cases", "100", "--check-every", "3"});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("could not minimise (no --restart)"), std::string::npos) << ran.out;
+    EXPECT_EQ(reproducer().size(), 3U) << ran.out;
+}
+
+// Writes are withheld without a writable range: the byte-count device is never sent FC 10.
+TEST_F(FuzzFragile, NoWriteLeavesWithoutPermission) {
+    start("byte-count");
+    auto ran = fuzz({"--cases", "150", "--timeout", "300ms", "--check-every", "10"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("withheld (writes not allowed)"), std::string::npos) << ran.out;
+}
+
+// Inside a declared writable range the writes go out, and the byte-count mismatch is found.
+TEST_F(FuzzFragile, WritesGoOutInsideTheWritableRange) {
+    start("byte-count");
+    auto ran = fuzz({"--cases", "150", "--timeout", "300ms", "--writable", "0:10"});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("byte-count: FC 0x10 byte count 0 for 1 registers"), std::string::npos)
+        << ran.out;
+}
+
+TEST_F(FuzzFragile, ADeviceThatClosesOnGarbageIsRobust) {
+    start("closes-garbage");
+    auto ran = fuzz({"--cases", "200"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
+}
+
+TEST_F(FuzzFragile, ALateDeviceIsRobust) {
+    start("late");
+    auto ran = fuzz({"--cases", "40", "--check-every", "5", "--timeout", "1s"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
+}
+
+class FuzzReference : public ClientCliTest {
+  protected:
+    void SetUp() override { start_reference_server(); }
+};
+
+TEST_F(FuzzReference, TheReferenceDeviceHasNoFinding) {
+    TempDir dir;
+    auto ran = run_mblab({"fuzz", target(), "--cases", "300", "--rate", "0", "--json",
+                          (dir / "fuzz.json").string(), "--pcap", (dir / "fuzz.pcapng").string()});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
+    const auto json = file_text(dir / "fuzz.json");
+    EXPECT_NE(json.find("\"verdict\": \"no finding\""), std::string::npos) << json;
+    EXPECT_NE(json.find("\"cases\": 300"), std::string::npos) << json;
+    EXPECT_FALSE(file_text(dir / "fuzz.pcapng").empty());
+}
+
+// A DUT file's unit and max_read replace the probed ones; --duration alone bounds the run.
+TEST_F(FuzzReference, DeclaredFactsAndATimeBudget) {
+    TempDir dir;
+    std::ofstream(dir / "dut.toml") << "unit = 1\nmax_read = 10\n";
+    auto ran = run_mblab({"fuzz", target(), "--cases", "0", "--duration", "1s", "--dut",
+                          (dir / "dut.toml").string()});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("reconnaissance (" + (dir / "dut.toml").string() + "): unit 1"),
+              std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("largest FC 03 read 10;"), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("(time budget)"), std::string::npos) << ran.out;
+}
+
+// One connection at a time, served in turn: the connection kept open across cases holds the
+// device, so the check drops it rather than call the device dead.
+TEST(FuzzOneAtATime, ADeviceServingOneConnectionAtATimeIsNotDead) {
+    auto loaded = device::load_profile(device::default_profile_path());
+    ASSERT_TRUE(loaded) << loaded.error();
+    FaultyServer server(**loaded, {});
+    const auto port = server.start();
+    ASSERT_NE(port, 0);
+    // The first round up to unit-id: what comes next (a partial header left hanging) does stall
+    // a device that serves one connection at a time, and that is a finding.
+    auto ran =
+        run_mblab({"fuzz", tcp_target(port), "--cases", "11", "--rate", "0", "--timeout", "300ms"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("the device serves one connection at a time"), std::string::npos)
+        << ran.out;
+}
+
+TEST(FuzzUsage, ABadWritableRangeIsOneLine) {
+    auto ran = run_mblab({"fuzz", "tcp://127.0.0.1:1", "--writable", "x"});
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err,
+              "mblab fuzz: --writable 'x' is not START:COUNT of holding registers (e.g. "
+              "100:10)\n");
+    auto endless = run_mblab({"fuzz", "tcp://127.0.0.1:1", "--cases", "0"});
+    EXPECT_EQ(endless.status, 2);
+    EXPECT_EQ(endless.err,
+              "mblab fuzz: no budget: give --cases N or --duration D (it is pointed at "
+              "devices)\n");
+    auto serial = run_mblab({"fuzz", "rtu:///dev/null"});
+    EXPECT_EQ(serial.status, 2);
+    EXPECT_NE(serial.err.find("only tcp:// targets are fuzzed so far"), std::string::npos)
+        << serial.err;
+}
+
+}  // namespace
+}  // namespace mblab::test
