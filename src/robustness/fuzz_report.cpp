@@ -135,7 +135,7 @@ std::string json_report(const FuzzResult& result, const conformance::Provenance&
 }
 
 std::string junit_report(const FuzzResult& result, const conformance::Provenance& provenance) {
-    using conformance::xml;
+    using conformance::xml_escape;
     std::size_t skipped = 0;
     for (const auto& tally : result.classes)
         skipped += tally.run == 0 ? 1 : 0;

@@ -4,6 +4,7 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cstring>
 #include <cctype>
 #include <sstream>
 
@@ -74,8 +75,17 @@ std::vector<conformance::CaptureEvent> reproducer_capture(const std::vector<Step
                                                           const std::string& host,
                                                           std::uint16_t port) {
     using Kind = conformance::CaptureEvent::Kind;
-    in_addr peer{};
-    ::inet_pton(AF_INET, host.c_str(), &peer);
+    // The device's address as given; a name the capture cannot show stays all zero (loopback).
+    client::LinkAddresses addresses;
+    in6_addr peer6{};
+    in_addr peer4{};
+    if (::inet_pton(AF_INET6, host.c_str(), &peer6) == 1) {
+        addresses.ipv6 = true;
+        std::memcpy(addresses.peer_ip.data(), &peer6, sizeof peer6);
+    } else if (::inet_pton(AF_INET, host.c_str(), &peer4) == 1) {
+        std::memcpy(addresses.peer_ip.data(), &peer4, sizeof peer4);
+    }
+    addresses.peer_port = port;
     auto time = std::chrono::system_clock::now();
     std::vector<conformance::CaptureEvent> events;
     std::vector<std::size_t> opened;
@@ -85,8 +95,8 @@ std::vector<conformance::CaptureEvent> reproducer_capture(const std::vector<Step
         if (std::find(opened.begin(), opened.end(), step.connection) != opened.end()) continue;
         opened.push_back(step.connection);
         conformance::CaptureEvent open{Kind::Open, time, {}, {}, false};
-        open.addresses = {0x7F000001, static_cast<std::uint16_t>(40000 + opened.size()),
-                          ntohl(peer.s_addr), port};
+        open.addresses = addresses;
+        open.addresses.local_port = static_cast<std::uint16_t>(40000 + opened.size());
         events.push_back(open);
         for (const auto& other : steps) {
             if (other.connection != step.connection) continue;
