@@ -38,7 +38,7 @@ _mblab() {
                 return
             fi
             ;;
-        --dut | --profile | --junit | --pcap | --state | --devices | --cert | --key | --ca)
+        --dut | --profile | --junit | --pcap | --state | --devices | --cert | --key | --ca | --http-token-file)
             COMPREPLY=($(compgen -f -- "$cur"))
             return
             ;;
@@ -58,7 +58,7 @@ _mblab() {
             COMPREPLY=($(compgen -W "text ndjson csv" -- "$cur"))
             return
             ;;
-        --role | --server-name | --days | --read-only-role | --write-role)
+        --role | --server-name | --days | --read-only-role | --write-role | --http | --http-token | --metrics)
             return
             ;;
     esac
