@@ -17,7 +17,8 @@ section{display:inline-block;vertical-align:top;margin-right:2em}
 <h1>mblab device <span id="status">connecting...</span></h1>
 <div>Connections: <b id="connections">-</b> &middot; answers/s: <b id="rate">-</b>
 &middot; mean answer time: <b id="latency">-</b> &middot;
-token for writes: <input id="token" type="password" size="12"></div>
+<form style="display:inline" onsubmit="return false">token for writes:
+<input id="token" type="password" size="12" autocomplete="off"></form></div>
 <section><h2>Data</h2>
 <label>Unit <select id="unit"></select></label>
 <label>Bank <select id="bank"><option>holding_registers</option><option>input_registers</option>
