@@ -320,6 +320,7 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
         save_timer.cancel();
     });
     io.run();
+    if (live) live->stop();
     saver.wait_idle();
     // The line is closed, so every write the device acknowledged is in it now.
     if (!options.state.empty() && !save_state(device, options.state, journal)) return kExitFailed;
@@ -538,6 +539,7 @@ int run_serve(const ServeOptions& options) {
         stats_timer.cancel();
     });
     io.run();
+    if (live) live->stop();
     // The gateway's thread posts to `io`: end it while `io` is still there.
     if (gateway) gateway->stop();
 

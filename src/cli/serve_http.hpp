@@ -43,6 +43,10 @@ class LiveDevice {
     // Starts the HTTP server and prints where it listens; false with `error` when it cannot.
     bool start(const HttpPlan& plan, std::function<std::uint64_t()> connections,
                std::function<bool(std::string&)> save_state, std::string& error);
+    // Ends the HTTP side before what its callbacks look at (the servers) goes.
+    void stop() {
+        if (server_) server_->stop();
+    }
 
   private:
     device::ReferenceDevice& device_;

@@ -66,6 +66,17 @@ HttpServer::HttpServer(std::string token)
     : server_(std::make_unique<httplib::Server>()), token_(std::move(token)) {
     server_->new_task_queue = [] { return new httplib::ThreadPool(kThreads); };
     server_->set_payload_max_length(kMaxBody);
+    // What cpp-httplib refuses before a handler runs (a POST without Content-Length, an
+    // unknown path, a body over the limit) still gets one line of JSON.
+    server_->set_error_handler([](const httplib::Request& request, httplib::Response& response) {
+        if (!response.body.empty()) return;
+        std::string reason = fmt::format("{} {}: refused with status {}", request.method,
+                                         request.path, response.status);
+        if (response.status == 400 && !request.has_header("Content-Length")) {
+            reason += " (a POST or PUT needs Content-Length; with curl, -d '' sends an empty body)";
+        }
+        response.set_content(error_body(reason), "application/json");
+    });
     server_->set_exception_handler(
         [](const httplib::Request&, httplib::Response& response, std::exception_ptr) {
             response.status = 500;

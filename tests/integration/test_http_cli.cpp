@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <fstream>
 #include <regex>
 #include <string>
 #include <vector>
@@ -104,6 +105,11 @@ TEST(ServeHttp, BadRequestsGet4xxWithOneLineReasons) {
               "{\"error\":\"unit 7: no such unit (units: 1)\"}\n404\n");
     EXPECT_EQ(curl({serve.http() + "/api/units/1/coils?start=70000"}).out,
               "{\"error\":\"start: expected an address from 0 to 65535\"}\n400\n");
+    EXPECT_EQ(curl({"-X", "POST", serve.http() + "/api/counters/reset"}).out,
+              "{\"error\":\"POST /api/counters/reset: refused with status 400 (a POST or PUT needs "
+              "Content-Length; with curl, -d '' sends an empty body)\"}\n400\n");
+    EXPECT_EQ(curl({serve.http() + "/nothing"}).out,
+              "{\"error\":\"GET /nothing: refused with status 404\"}\n404\n");
     // The server still serves after them.
     EXPECT_EQ(run_mblab({"read", serve.modbus(), "coils", "0"}).status, 0);
 }
@@ -170,6 +176,26 @@ TEST(ServeHttp, RefusesAnOpenAddressWithoutAToken) {
               "any free port)\n");
     ran = run_mblab({"serve", "--http", "127.0.0.1:0", "--devices", "2"});
     EXPECT_EQ(ran.err, "mblab serve: --http shows one device: not with --gateway or --devices\n");
+}
+
+// docs/http.md's curl examples, as printed, against a server on another port: each answered 2xx.
+TEST(ServeHttp, TheGuidesExamplesWork) {
+    if (!have("/usr/bin/curl")) GTEST_SKIP() << "no curl";
+    HttpServe serve({});
+    std::ifstream guide(std::string(MBLAB_SOURCE_DIR) + "/docs/http.md");
+    std::string line;
+    int examples = 0;
+    while (std::getline(guide, line)) {
+        if (line.rfind("curl ", 0) != 0) continue;
+        ++examples;
+        const auto at = line.find("http://127.0.0.1:8080");
+        ASSERT_NE(at, std::string::npos) << line;
+        line.replace(at, std::string("http://127.0.0.1:8080").size(), serve.http());
+        auto ran = run_program({"/bin/sh", "-c", line + " -o /dev/null -w '%{http_code}\\n'"});
+        EXPECT_EQ(ran.status, 0) << line;
+        EXPECT_EQ(ran.out.substr(0, 1), "2") << line << " answered " << ran.out;
+    }
+    EXPECT_EQ(examples, 8);
 }
 
 TEST(LoadMetrics, ServedWhileTheRunGoesAndPassPromtool) {
