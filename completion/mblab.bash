@@ -39,7 +39,7 @@ _mblab() {
             fi
             ;;
         --dut | --profile | --junit | --pcap | --html | --state | --devices | --cert | --key | --ca | \
-            --replay | --reproducer)
+            --replay | --reproducer | --http-token-file)
             COMPREPLY=($(compgen -f -- "$cur"))
             return
             ;;
@@ -59,7 +59,8 @@ _mblab() {
             COMPREPLY=($(compgen -W "text ndjson csv" -- "$cur"))
             return
             ;;
-        --role | --server-name | --days | --read-only-role | --write-role | --restart | --writable)
+        --role | --server-name | --days | --read-only-role | --write-role | --restart | --writable | \
+            --http | --http-token | --metrics)
             return
             ;;
     esac

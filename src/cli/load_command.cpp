@@ -9,6 +9,8 @@
 #include <cstring>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
@@ -30,6 +32,9 @@
 #include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
 #include "web/load_html.hpp"
+#include "web/http_server.hpp"
+#include "web/load_metrics.hpp"
+#include "web/metrics_text.hpp"
 
 // `mblab load TARGET...`: the interoperability test of seed 000 section 8. The protocol tests
 // run in a loop on every node at once while a traffic generator loads them; any failure
@@ -44,6 +49,8 @@ namespace fs = std::filesystem;
 
 constexpr auto kLiveStatusPeriod = std::chrono::seconds(1);
 constexpr auto kLogStatusPeriod = std::chrono::seconds(10);
+// How fresh --metrics is: a scrape sees the counts of at most this long ago.
+constexpr auto kMetricsPeriod = std::chrono::seconds(1);
 
 struct LoadOptions {
     std::vector<std::string> targets;
@@ -60,6 +67,7 @@ struct LoadOptions {
     std::uint32_t registers = 0;
     bool object_messaging = false;
     std::string dut_file;
+    std::string metrics;  // --metrics HOST:PORT
     int timeout_ms = 1000;
     std::size_t threads = std::max(1U, std::thread::hardware_concurrency() / 2);
     std::uint64_t seed = 1;
@@ -225,6 +233,41 @@ void catch_stop_signals() {
     std::signal(SIGPIPE, SIG_IGN);
 }
 
+// --metrics: the run's latest status at /metrics, served on threads of their own.
+class LoadMetrics {
+  public:
+    explicit LoadMetrics(const load::LoadPlan& plan) : plan_(plan) {
+        latest_.nodes.resize(plan.targets.size());
+    }
+    bool start(const std::string& address, std::string& error) {
+        auto parsed = web::parse_http_address(address, error);
+        if (!parsed) {
+            error = "--metrics " + error;
+            return false;
+        }
+        server_.get("/metrics", [this](const web::ApiRequest&) {
+            std::lock_guard lock(mutex_);
+            return web::HttpReply{200, web::load_metrics(plan_, latest_), web::kMetricsContentType};
+        });
+        auto port = server_.start(*parsed, error);
+        if (!port) return false;
+        const bool v6 = parsed->host.find(':') != std::string::npos;
+        fmt::print("mblab load: metrics at http://{}{}{}:{}/metrics\n", v6 ? "[" : "", parsed->host,
+                   v6 ? "]" : "", *port);
+        return true;
+    }
+    void update(const load::LoadStatus& status) {
+        std::lock_guard lock(mutex_);
+        latest_ = status;
+    }
+
+  private:
+    const load::LoadPlan& plan_;
+    web::HttpServer server_;
+    std::mutex mutex_;
+    load::LoadStatus latest_;
+};
+
 int run_load(const LoadOptions& options) {
     // Before the plan, which connects to every node: a run must not end with "cannot write".
     ReportFiles files;
@@ -236,19 +279,31 @@ int run_load(const LoadOptions& options) {
     }
     auto plan = make_plan(options);
     if (!plan) return usage_error(plan.error());
+    std::optional<LoadMetrics> metrics;
+    if (!options.metrics.empty()) {
+        metrics.emplace(*plan);
+        if (!metrics->start(options.metrics, error)) return usage_error(error);
+    }
     fmt::print("{}", load::load_header(*plan));
     std::fflush(stdout);
 
     raise_descriptor_limit();
     catch_stop_signals();
     const bool live = ::isatty(STDERR_FILENO) != 0;
+    const auto line_period = live ? kLiveStatusPeriod : kLogStatusPeriod;
+    const auto period = metrics ? std::min<std::chrono::milliseconds>(line_period, kMetricsPeriod)
+                                : std::chrono::milliseconds(line_period);
+    // With --metrics the status comes more often than the line is printed.
+    const auto every = static_cast<int>(line_period / period);
+    int statuses = 0;
     load::LoadRunner runner(*plan);
-    auto result = runner.run(
-        g_stop, live ? kLiveStatusPeriod : kLogStatusPeriod, [&](const load::LoadStatus& status) {
-            fmt::print(stderr, "{}{}{}", live ? "\r\033[K" : "",
-                       load::load_status_line(*plan, status), live ? "" : "\n");
-            std::fflush(stderr);
-        });
+    auto result = runner.run(g_stop, period, [&](const load::LoadStatus& status) {
+        if (metrics) metrics->update(status);
+        if (++statuses % every != 0) return;
+        fmt::print(stderr, "{}{}{}", live ? "\r\033[K" : "", load::load_status_line(*plan, status),
+                   live ? "" : "\n");
+        std::fflush(stderr);
+    });
     if (live) fmt::print(stderr, "\r\033[K");
     fmt::print("{}", load::load_summary(*plan, result));
     std::fflush(stdout);
@@ -277,7 +332,8 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
     cmd->footer(
         "Exit status: 0 PASS, 1 FAIL or INCOMPLETE (stopped early), 2 usage error, a file that\n"
         "cannot be read or written, or a node unreachable at start.\n"
-        "Example: mblab load tcp://10.0.0.5:502 --duration 10m --connections 4");
+        "Example: mblab load tcp://10.0.0.5:502 --duration 10m --connections 4\n"
+        "Example: mblab load tcp://127.0.0.1:1502 --duration 1m --metrics 127.0.0.1:9100");
     options->command = cmd;
     cmd->add_option(
            "targets", options->targets,
@@ -337,6 +393,9 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_option("--html", options->html,
                     "write the report as one self-contained HTML page to FILE: per-node tables "
                     "and latency histograms (every report file is checked before any traffic)");
+    cmd->add_option("--metrics", options->metrics,
+                    "serve the run's counters and latency histogram in Prometheus text format at "
+                    "http://HOST:PORT/metrics while it runs, e.g. 127.0.0.1:9100");
     add_tls_options(*cmd, options->tls, "client's");
     cmd->callback([options, &runner] { runner = [options] { return run_load(*options); }; });
 }

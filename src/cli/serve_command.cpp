@@ -14,6 +14,7 @@
 #include <cmath>
 #include <csignal>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -22,6 +23,7 @@
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/profile_lookup.hpp"
+#include "cli/serve_http.hpp"
 #include "cli/tls_options.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
@@ -63,6 +65,7 @@ struct ServeOptions {
     int devices = 1;
     std::string gateway;
     security::TlsFiles tls;  // mbaps://
+    HttpOptions http;
 };
 
 int usage_error(const std::string& message) {
@@ -260,11 +263,25 @@ bool save_states(const std::vector<std::unique_ptr<device::ReferenceDevice>>& de
     return saved;
 }
 
+// What POST /api/state/save does: the same file the periodic saves write.
+std::function<bool(std::string&)> state_saver_for_http(const device::ReferenceDevice& device,
+                                                       const std::string& state) {
+    if (state.empty()) return {};
+    return [&device, state](std::string& file_or_error) {
+        if (!server::write_file_atomically(state, device.save_state(), file_or_error)) {
+            return false;
+        }
+        file_or_error = state;
+        return true;
+    };
+}
+
 // --listen rtu:// or ascii://: the device on a serial line until SIGINT or SIGTERM, or until the
 // line fails (exit status 1).
 int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& device,
                     device::RequestHandler& handler, server::Journal* journal,
-                    const ServeOptions& options, std::chrono::milliseconds save_period) {
+                    const ServeOptions& options, std::chrono::milliseconds save_period,
+                    LiveDevice* live, const std::optional<HttpPlan>& http) {
     asio::io_context io(1);
     auto line = server::start_serial_server(io, handler, url, server::device_line_hooks(device));
     if (!line) return usage_error(line.error());
@@ -279,6 +296,13 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
                device.profile().name, transport::format_serial_url(url),
                fmt::join(device.unit_ids(), ","));
     std::fflush(stdout);
+    std::string error;
+    if (live && !live->start(
+                    *http, [] { return std::uint64_t{0}; },
+                    state_saver_for_http(device, options.state), error)) {
+        (*line)->stop();
+        return usage_error(error);
+    }
     asio::steady_timer save_timer(io);
     bool stopping = false;
     server::StateSaver saver;
@@ -296,6 +320,7 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
         save_timer.cancel();
     });
     io.run();
+    if (live) live->stop();
     saver.wait_idle();
     // The line is closed, so every write the device acknowledged is in it now.
     if (!options.state.empty() && !save_state(device, options.state, journal)) return kExitFailed;
@@ -357,6 +382,11 @@ int run_serve(const ServeOptions& options) {
     if (options.durable && gateway) {
         return usage_error("--durable keeps a device's writes; a --gateway has none");
     }
+    const auto http = plan_http(options.http, error);
+    if (!error.empty()) return usage_error(error);
+    if (http && (gateway || options.devices != 1)) {
+        return usage_error("--http shows one device: not with --gateway or --devices");
+    }
     auto first_port = static_cast<unsigned>(endpoint->port());
     if (first_port != 0 && first_port + static_cast<unsigned>(options.devices) - 1 > 65535) {
         return usage_error(fmt::format("{} devices from port {} run past port 65535",
@@ -398,7 +428,15 @@ int run_serve(const ServeOptions& options) {
         journals[i] = std::move(journal.value());
         journaled[i] = std::make_unique<server::JournaledDevice>(*devices[i], *journals[i]);
     }
+    // Counts every request for the HTTP side, whatever answers it.
+    std::unique_ptr<LiveDevice> live;
+    if (http) {
+        live = std::make_unique<LiveDevice>(
+            first_device,
+            journaled[0] ? static_cast<device::RequestHandler&>(*journaled[0]) : first_device);
+    }
     auto device_handler = [&](std::size_t i) -> device::RequestHandler& {
+        if (live) return live->handler();
         if (journaled[i]) return *journaled[i];
         return *devices[i];
     };
@@ -406,7 +444,7 @@ int run_serve(const ServeOptions& options) {
     std::signal(SIGPIPE, SIG_IGN);
     if (serial && !rtu_over_tcp) {
         return run_serial_line(*serial, first_device, device_handler(0), journals[0].get(), options,
-                               *save_period);
+                               *save_period, live.get(), http);
     }
     // One thread runs every server; without a gateway or a journal nothing else touches the
     // io_context, so it takes no locks. A gateway's or a journal's thread posts answers to it.
@@ -457,6 +495,16 @@ int run_serve(const ServeOptions& options) {
                    devices.size() > 1 ? "devices" : "profile", where, describe_units(first_device));
     }
     std::fflush(stdout);
+    const auto connections = [&servers] {
+        std::uint64_t open = 0;
+        for (const auto& s : servers)
+            open += server::ServerStats::read(s->stats().connections_open);
+        return open;
+    };
+    if (live && !live->start(*http, connections, state_saver_for_http(first_device, options.state),
+                             error)) {
+        return usage_error(error);
+    }
 
     asio::steady_timer save_timer(io);
     asio::steady_timer stats_timer(io);
@@ -491,6 +539,7 @@ int run_serve(const ServeOptions& options) {
         stats_timer.cancel();
     });
     io.run();
+    if (live) live->stop();
     // The gateway's thread posts to `io`: end it while `io` is still there.
     if (gateway) gateway->stop();
 
@@ -518,7 +567,8 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
         "Serves until SIGINT or SIGTERM.\n"
         "Exit status: 0 stopped by SIGINT or SIGTERM, 1 --state could not be saved, 2 usage\n"
         "error, or a profile, file or address that cannot be used.\n"
-        "Example: mblab serve --listen tcp://0.0.0.0:1502 reference");
+        "Example: mblab serve --listen tcp://0.0.0.0:1502 reference\n"
+        "Example: mblab serve --http 127.0.0.1:8080 (dashboard at http://127.0.0.1:8080/)");
     cmd->add_option("profile", options->profile,
                     "device profile: a TOML file or a shipped profile's name")
         ->capture_default_str();
@@ -577,6 +627,7 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
                   "fdatasync shared by the writes that come together) before its answer is sent, "
                   "so kill -9 loses none");
     cmd->add_flag("--stats", options->stats, "print a line of counters on stderr every second");
+    add_http_options(*cmd, options->http);
     cmd->add_option("--devices", options->devices,
                     "run K devices on consecutive ports from the --listen port")
         ->check(CLI::Range(1, 1000))

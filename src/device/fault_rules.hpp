@@ -21,6 +21,7 @@ class FaultRules {
     // The first rule that matches the request and fires; rules that match but do not fire
     // still count the request (for "every").
     const FaultSpec* fire(const RequestScope& scope, Prng& prng);
+    const std::vector<FaultSpec>& rules() const { return rules_; }
 
   private:
     static bool matches(const FaultSpec& rule, const RequestScope& scope);

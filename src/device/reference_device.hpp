@@ -93,6 +93,23 @@ class ReferenceDevice final : public RequestHandler {
                                        std::uint16_t address) const;
     bool set_value(std::uint8_t unit, BankKind kind, std::uint16_t address, std::uint16_t value);
 
+    // What the HTTP API (src/web) changes while the device serves, each under the device's lock
+    // so a request sees a range either before or after (reference_device_live.cpp). nullopt /
+    // false for a unit the profile lacks; a hole reads as nullopt and makes a write refused whole.
+    std::optional<std::vector<std::optional<std::uint16_t>>> values(std::uint8_t unit,
+                                                                    BankKind kind,
+                                                                    std::uint32_t start,
+                                                                    std::uint32_t count) const;
+    bool set_values(std::uint8_t unit, BankKind kind, std::uint32_t start,
+                    std::span<const std::uint16_t> values);
+    std::optional<std::vector<FaultSpec>> fault_rules(std::uint8_t unit) const;
+    // Replaces the unit's rules; their "every" counts start again.
+    bool set_fault_rules(std::uint8_t unit, std::vector<FaultSpec> rules);
+    // The FC 08 counters and event counter, as sub-function 0A clears them; the log stays.
+    bool clear_counters(std::uint8_t unit);
+    // The FC 0C event log, newest first.
+    std::optional<std::vector<std::uint8_t>> event_log(std::uint8_t unit) const;
+
     // Writable data (coils, holding registers, file records) as JSON, and back; see
     // docs/profiles.md "State files". load_state changes nothing unless the whole text fits
     // the profile.

@@ -31,6 +31,7 @@ class UnitModel {
     CommState& comm() { return comm_; }
     const CommState& comm() const { return comm_; }
     FaultRules& faults() { return faults_; }
+    const FaultRules& faults() const { return faults_; }
     DataBank& bank(BankKind kind) { return banks_[static_cast<std::size_t>(kind)]; }
     const DataBank& bank(BankKind kind) const { return banks_[static_cast<std::size_t>(kind)]; }
     FileStore& files() { return files_; }

@@ -36,6 +36,20 @@ std::uint64_t LatencySnapshot::percentile(double q) const {
     return max_;
 }
 
+std::uint64_t LatencySnapshot::count_at_most(std::uint64_t micros) const {
+    std::uint64_t total = 0;
+    for (std::size_t i = 0; i < counts_.size() && LatencyBuckets::upper(i) <= micros; ++i)
+        total += counts_[i];
+    return total;
+}
+
+std::uint64_t LatencySnapshot::approximate_sum() const {
+    std::uint64_t sum = 0;
+    for (std::size_t i = 0; i < counts_.size(); ++i)
+        sum += counts_[i] * std::min(LatencyBuckets::upper(i), max_);
+    return sum;
+}
+
 void LatencySnapshot::add(const LatencySnapshot& other) {
     for (std::size_t i = 0; i < counts_.size(); ++i)
         counts_[i] += other.counts_[i];

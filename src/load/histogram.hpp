@@ -57,6 +57,11 @@ class LatencySnapshot {
     std::uint64_t percentile(double q) const;
     // Answers in bucket `index` (LatencyBuckets), for drawing the distribution.
     std::uint64_t in_bucket(std::size_t index) const { return counts_[index]; }
+    // Values in the buckets wholly at or below `micros`: a Prometheus bucket's count (exact
+    // below 128 us, else to within a bucket's 1.6 %).
+    std::uint64_t count_at_most(std::uint64_t micros) const;
+    // The sum of the values, each taken as its bucket's upper end.
+    std::uint64_t approximate_sum() const;
 
     void add(const LatencySnapshot& other);
     // What `earlier` (an older snapshot of the same histogram) did not have yet. The maximum

@@ -55,6 +55,7 @@ class StatusMeter {
             Sample sample;
             for (const auto& worker : workers_) {
                 const NodeTally& tally = worker->tally(node);
+                sample.sent += tally.sent.get();
                 sample.answered += tally.answered.get();
                 sample.failures += tally.failure_total();
                 tally.latency.snapshot_into(sample.latency);
@@ -67,6 +68,9 @@ class StatusMeter {
             out.failures = sample.failures;
             out.p50_us = interval.percentile(0.50);
             out.p99_us = interval.percentile(0.99);
+            out.sent = sample.sent;
+            out.answered = sample.answered;
+            out.latency = sample.latency;
             status.rate += out.rate;
             status.failures += out.failures;
             status.nodes.push_back(out);
@@ -78,6 +82,7 @@ class StatusMeter {
 
   private:
     struct Sample {
+        std::uint64_t sent = 0;
         std::uint64_t answered = 0;
         std::uint64_t failures = 0;
         LatencySnapshot latency;

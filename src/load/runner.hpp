@@ -6,6 +6,7 @@
 #include <functional>
 #include <vector>
 
+#include "load/histogram.hpp"
 #include "load/plan.hpp"
 #include "load/result.hpp"
 
@@ -17,6 +18,10 @@ struct NodeStatus {
     std::uint64_t failures = 0;
     std::uint64_t p50_us = 0;
     std::uint64_t p99_us = 0;
+    // Since the run started, for --metrics.
+    std::uint64_t sent = 0;
+    std::uint64_t answered = 0;
+    LatencySnapshot latency;
 };
 
 struct LoadStatus {

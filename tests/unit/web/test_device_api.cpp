@@ -1,0 +1,169 @@
+// The REST API of serve --http as calls in, JSON out, checked against what Modbus then answers.
+#include <gtest/gtest.h>
+
+#include "web_harness.hpp"
+
+namespace mblab::test {
+namespace {
+
+TEST(DeviceApi, WritesRegistersThatModbusThenReads) {
+    WebHarness h;
+    auto reply = h.call("PUT", "/api/units/1/holding_registers/10", R"({"values":[4660,22136]})");
+    EXPECT_EQ(reply.status, 200) << reply.body;
+    EXPECT_EQ(h.ask("03 00 0A 00 02"), "03 04 12 34 56 78");
+    reply = h.call("GET", "/api/units/1/holding_registers", "", {{"start", "9"}, {"count", "3"}});
+    EXPECT_EQ(reply.status, 200);
+    EXPECT_EQ(h.json(reply)["values"], nlohmann::json::parse("[0,4660,22136]"));
+}
+
+TEST(DeviceApi, WritesInputsModbusCannotWrite) {
+    WebHarness h;
+    EXPECT_EQ(h.call("PUT", "/api/units/1/input_registers/0", R"({"values":[7]})").status, 200);
+    EXPECT_EQ(h.ask("04 00 00 00 01"), "04 02 00 07");
+    EXPECT_EQ(h.call("PUT", "/api/units/1/coils/3", R"({"values":[1,1]})").status, 200);
+    EXPECT_EQ(h.ask("01 00 00 00 08"), "01 01 18");
+}
+
+TEST(DeviceApi, ModbusWritesShowInTheApi) {
+    WebHarness h;
+    EXPECT_EQ(h.ask("10 00 00 00 02 04 00 01 00 02"), "10 00 00 00 02");
+    auto reply = h.call("GET", "/api/units/1/holding_registers", "", {{"count", "2"}});
+    EXPECT_EQ(h.json(reply)["values"], nlohmann::json::parse("[1,2]"));
+}
+
+TEST(DeviceApi, HolesReadAsNullAndAWriteOverOneChangesNothing) {
+    WebHarness h;
+    auto reply =
+        h.call("GET", "/api/units/1/holding_registers", "", {{"start", "99"}, {"count", "2"}});
+    EXPECT_EQ(h.json(reply)["values"], nlohmann::json::parse("[0,null]"));
+    reply = h.call("PUT", "/api/units/1/holding_registers/99", R"({"values":[5,5]})");
+    EXPECT_EQ(reply.status, 409);
+    EXPECT_EQ(reply.body,
+              R"({"error":"unit 1 holding_registers 99..100: not every address is mapped"})");
+    EXPECT_EQ(h.ask("03 00 63 00 01"), "03 02 00 00");
+}
+
+TEST(DeviceApi, BadRequestsGetOneLineReasons) {
+    WebHarness h;
+    const auto error = [&](const web::ApiReply& reply) {
+        return std::to_string(reply.status) + " " + h.json(reply).value("error", "");
+    };
+    EXPECT_EQ(error(h.call("PUT", "/api/units/1/holding_registers/0", "{values:")),
+              "400 the body is not valid JSON");
+    EXPECT_EQ(error(h.call("PUT", "/api/units/1/holding_registers/0", R"({"values":[65536]})")),
+              "400 values: holding_registers takes integers from 0 to 65535");
+    EXPECT_EQ(error(h.call("PUT", "/api/units/1/coils/0", R"({"values":[2]})")),
+              "400 values: coils takes integers from 0 to 1");
+    EXPECT_EQ(error(h.call("PUT", "/api/units/1/coils/0", R"([1])")),
+              "400 expected {\"values\": [...]} with 1 to 2000 values");
+    EXPECT_EQ(error(h.call("GET", "/api/units/9/coils")), "404 unit 9: no such unit (units: 1,2)");
+    EXPECT_EQ(error(h.call("GET", "/api/units/x/coils")), "404 unit x: no such unit (units: 1,2)");
+    EXPECT_EQ(error(h.call("GET", "/api/units/1/holding", "")),
+              "404 holding: no such bank (coils, discrete_inputs, holding_registers, "
+              "input_registers, faults)");
+    EXPECT_EQ(error(h.call("GET", "/api/units/1/coils", "", {{"start", "65535"}, {"count", "2"}})),
+              "400 start 65535 + count 2 runs past address 65535");
+    EXPECT_EQ(error(h.call("GET", "/api/units/1/coils", "", {{"start", "-1"}})),
+              "400 start: expected an address from 0 to 65535");
+    EXPECT_EQ(error(h.call("GET", "/api/units/1/coils", "", {{"count", "0"}})),
+              "400 count: expected 1 to 2000");
+    EXPECT_EQ(error(h.call("PUT", "/api/units/1/holding_registers/65536", R"({"values":[1]})")),
+              "400 65536: expected an address from 0 to 65535");
+    EXPECT_EQ(error(h.call("DELETE", "/api/counters")), "405 /api/counters takes GET, not DELETE");
+    EXPECT_EQ(error(h.call("GET", "/api/nothing")), "404 no such resource: GET /api/nothing");
+    EXPECT_EQ(error(h.call("POST", "/api/state/save")),
+              "409 serve runs without --state FILE: nothing to save to");
+}
+
+TEST(DeviceApi, FaultRulesAreListedAddedSwitchedAndRemoved) {
+    WebHarness h;
+    EXPECT_EQ(h.ask("06 00 00 00 01"), "86 06");
+    auto reply = h.call("GET", "/api/units/1/faults");
+    EXPECT_EQ(reply.body,
+              R"([{"action":"exception","enabled":true,"exception":6,"functions":[6],"index":0,)"
+              R"("probability":1.0}])");
+
+    reply = h.call("POST", "/api/units/1/faults",
+                   R"({"action":"exception","exception":4,"functions":[3],"addresses":[5,9]})");
+    EXPECT_EQ(reply.status, 201) << reply.body;
+    EXPECT_EQ(h.ask("03 00 00 00 01"), "03 02 00 00");
+    EXPECT_EQ(h.ask("03 00 05 00 01"), "83 04");
+
+    reply = h.call("PUT", "/api/units/1/faults/1",
+                   R"({"action":"exception","exception":4,"functions":[3],"enabled":false})");
+    EXPECT_EQ(reply.status, 200) << reply.body;
+    EXPECT_EQ(h.ask("03 00 05 00 01"), "03 02 00 00");
+    EXPECT_EQ(h.json(reply)[1]["enabled"], false);
+
+    EXPECT_EQ(h.call("DELETE", "/api/units/1/faults/0").status, 200);
+    EXPECT_EQ(h.ask("06 00 00 00 01"), "06 00 00 00 01");
+    EXPECT_EQ(h.json(h.call("GET", "/api/units/1/faults")).size(), 1U);
+    EXPECT_EQ(h.call("DELETE", "/api/units/1/faults/5").status, 404);
+    // Unit 2 has rules of its own.
+    EXPECT_EQ(h.call("GET", "/api/units/2/faults").body, "[]");
+}
+
+TEST(DeviceApi, BadFaultRulesAreRefusedWithTheField) {
+    WebHarness h;
+    const auto error = [&](const std::string& body) {
+        return h.json(h.call("POST", "/api/units/1/faults", body)).value("error", "");
+    };
+    EXPECT_EQ(error(R"({"action":"explode"})"),
+              "action: expected one of delay, drop, exception, garbage, close");
+    EXPECT_EQ(error(R"({"action":"delay"})"),
+              "delay_ms: a delay rule needs it, e.g. \"delay_ms\": 500");
+    EXPECT_EQ(error(R"({"action":"drop","functions":[200]})"),
+              "functions: expected a list of function codes from 1 to 127");
+    EXPECT_EQ(error(R"({"action":"drop","every":2,"probability":0.5})"),
+              "probability: give either every (every Nth request) or probability");
+    EXPECT_EQ(error(R"({"action":"drop","color":"red"})"), "color: not a fault rule field");
+    EXPECT_EQ(error(R"({"action":"drop","enabled":"yes"})"), "enabled: expected true or false");
+    EXPECT_EQ(h.json(h.call("GET", "/api/units/1/faults")).size(), 1U);
+}
+
+TEST(DeviceApi, CountersPerUnitAndFunctionAndTheirReset) {
+    WebHarness h;
+    h.ask("03 00 00 00 01");
+    h.ask("03 00 00 00 01");
+    h.ask("06 00 00 00 01");  // the profile's fault answers 06
+    h.ask("03 00 00 00 01", 2);
+    auto counters = h.json(h.call("GET", "/api/counters"));
+    EXPECT_EQ(counters["requests"],
+              nlohmann::json::parse(R"([{"unit":1,"function":3,"requests":2,"exceptions":0},
+                                        {"unit":1,"function":6,"requests":1,"exceptions":1},
+                                        {"unit":2,"function":3,"requests":1,"exceptions":0}])"));
+    EXPECT_EQ(counters["latency"]["count"], 4);
+    EXPECT_EQ(counters["connections"], 3);
+    EXPECT_EQ(counters["units"][0]["bus_messages"], 4);  // unit 2's request is on its bus too
+    EXPECT_EQ(counters["units"][0]["bus_exceptions"], 1);
+
+    auto reset = h.call("POST", "/api/counters/reset");
+    EXPECT_EQ(reset.status, 200);
+    counters = h.json(reset);
+    EXPECT_EQ(counters["requests"], nlohmann::json::array());
+    EXPECT_EQ(counters["units"][0]["bus_messages"], 0);
+    // FC 08 sub 0B (bus message count) agrees: this request is the first since the reset.
+    EXPECT_EQ(h.ask("08 00 0B 00 00"), "08 00 0B 00 01");
+}
+
+TEST(DeviceApi, LiveEventCarriesCountersAndThePageShown) {
+    WebHarness h;
+    h.ask("06 00 01 00 2A");
+    auto event = h.api().live_event(
+        {{"unit", "1"}, {"bank", "holding_registers"}, {"start", "0"}, {"count", "2"}});
+    EXPECT_EQ(event["page"]["values"], nlohmann::json::parse("[0,0]"));  // 06 refused: a fault
+    EXPECT_EQ(event["counters"]["requests"][0]["exceptions"], 1);
+    EXPECT_FALSE(h.api().live_event({}).contains("page"));
+}
+
+TEST(DeviceApi, ListsUnitsAndTheirRanges) {
+    WebHarness h;
+    auto units = h.json(h.call("GET", "/api/units"));
+    ASSERT_EQ(units.size(), 2U);
+    EXPECT_EQ(units[0]["unit"], 1);
+    EXPECT_EQ(units[0]["banks"]["holding_registers"][1],
+              nlohmann::json::parse(R"({"start":200,"count":10,"access":"rw","name":""})"));
+}
+
+}  // namespace
+}  // namespace mblab::test
