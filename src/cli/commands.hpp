@@ -36,5 +36,6 @@ void add_raw_command(CLI::App& app, CommandRunner& runner);
 void add_watch_command(CLI::App& app, CommandRunner& runner);
 void add_load_command(CLI::App& app, CommandRunner& runner);
 void add_pki_command(CLI::App& app, CommandRunner& runner);
+void add_profile_command(CLI::App& app, CommandRunner& runner);
 
 }  // namespace mblab::cli

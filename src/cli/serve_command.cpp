@@ -25,6 +25,7 @@
 #include "cli/tls_options.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
+#include "server/behaviour_timer.hpp"
 #include "server/gateway.hpp"
 #include "server/journal.hpp"
 #include "server/journaled_device.hpp"
@@ -280,6 +281,8 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
                fmt::join(device.unit_ids(), ","));
     std::fflush(stdout);
     asio::steady_timer save_timer(io);
+    server::BehaviourTimer behaviours(io, device);
+    behaviours.start();
     bool stopping = false;
     server::StateSaver saver;
     if (!options.state.empty() && save_period.count() > 0) {
@@ -294,6 +297,7 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
         stopping = true;
         (*line)->stop();
         save_timer.cancel();
+        behaviours.stop();
     });
     io.run();
     saver.wait_idle();
@@ -460,6 +464,11 @@ int run_serve(const ServeOptions& options) {
 
     asio::steady_timer save_timer(io);
     asio::steady_timer stats_timer(io);
+    std::vector<std::unique_ptr<server::BehaviourTimer>> behaviours;
+    for (auto& device : devices) {
+        behaviours.push_back(std::make_unique<server::BehaviourTimer>(io, *device));
+        behaviours.back()->start();
+    }
     StatsLine stats_line(servers);
     server::StateSaver saver;
     bool stopping = false;
@@ -489,6 +498,8 @@ int run_serve(const ServeOptions& options) {
             s->stop();
         save_timer.cancel();
         stats_timer.cancel();
+        for (auto& timer : behaviours)
+            timer->stop();
     });
     io.run();
     // The gateway's thread posts to `io`: end it while `io` is still there.
