@@ -3,7 +3,7 @@
 # never lists an option that binary lacks or misses one it gained.
 
 _mblab_options() {
-    "$1" "$2" --help 2>/dev/null | sed -nE 's/^ +((-[A-Za-z]),)?(--[A-Za-z][-A-Za-z0-9]*).*/\2 \3/p'
+    "$@" --help 2>/dev/null | sed -nE 's/^ +((-[A-Za-z]),)?(--[A-Za-z][-A-Za-z0-9]*).*/\2 \3/p'
 }
 
 _mblab() {
@@ -16,7 +16,7 @@ _mblab() {
         words=("${COMP_WORDS[@]}")
         cword=$COMP_CWORD
     fi
-    local commands="conform serve read write diag devid raw watch load pki fuzz"
+    local commands="conform serve read write diag devid raw watch load pki fuzz profile"
     local command="" i
     for ((i = 1; i < cword; i++)); do
         case " $commands " in *" ${words[i]} "*) command="${words[i]}"; break ;; esac
@@ -64,6 +64,20 @@ _mblab() {
             return
             ;;
     esac
+    # profile is a group: its subcommand comes first, and has the options.
+    if [[ $command == profile ]]; then
+        if ((cword == i + 1)); then
+            COMPREPLY=($(compgen -W "import-csv" -- "$cur"))
+            return
+        fi
+        if [[ $cur == -* ]]; then
+            COMPREPLY=($(compgen -W "$(_mblab_options "${words[0]}" profile "${words[i + 1]}")" -- "$cur"))
+            return
+        fi
+        [[ $prev == --unit || $prev == --name ]] && return
+        COMPREPLY=($(compgen -f -X '!*.csv' -- "$cur") $(compgen -d -- "$cur"))
+        return
+    fi
     if [[ $cur == -* ]]; then
         COMPREPLY=($(compgen -W "$(_mblab_options "${words[0]}" "$command")" -- "$cur"))
         return

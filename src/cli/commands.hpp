@@ -38,5 +38,6 @@ void add_load_command(CLI::App& app, CommandRunner& runner);
 void add_pki_command(CLI::App& app, CommandRunner& runner);
 // `invocation` must outlive the runner.
 void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation);
+void add_profile_command(CLI::App& app, CommandRunner& runner);
 
 }  // namespace mblab::cli

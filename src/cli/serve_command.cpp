@@ -27,6 +27,7 @@
 #include "cli/tls_options.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
+#include "server/behaviour_timer.hpp"
 #include "server/gateway.hpp"
 #include "server/journal.hpp"
 #include "server/journaled_device.hpp"
@@ -304,6 +305,8 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
         return usage_error(error);
     }
     asio::steady_timer save_timer(io);
+    server::BehaviourTimer behaviours(io, device);
+    behaviours.start();
     bool stopping = false;
     server::StateSaver saver;
     if (!options.state.empty() && save_period.count() > 0) {
@@ -318,6 +321,7 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
         stopping = true;
         (*line)->stop();
         save_timer.cancel();
+        behaviours.stop();
     });
     io.run();
     if (live) live->stop();
@@ -508,6 +512,11 @@ int run_serve(const ServeOptions& options) {
 
     asio::steady_timer save_timer(io);
     asio::steady_timer stats_timer(io);
+    std::vector<std::unique_ptr<server::BehaviourTimer>> behaviours;
+    for (auto& device : devices) {
+        behaviours.push_back(std::make_unique<server::BehaviourTimer>(io, *device));
+        behaviours.back()->start();
+    }
     StatsLine stats_line(servers);
     server::StateSaver saver;
     bool stopping = false;
@@ -537,6 +546,8 @@ int run_serve(const ServeOptions& options) {
             s->stop();
         save_timer.cancel();
         stats_timer.cancel();
+        for (auto& timer : behaviours)
+            timer->stop();
     });
     io.run();
     if (live) live->stop();

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "device/behaviour_spec.hpp"
 #include "device/role_rules.hpp"
 #include "protocol/exception_code.hpp"
 
@@ -119,6 +120,7 @@ struct UnitSpec {
     std::vector<FileSpec> files;
     std::vector<SemiObject> objects;
     std::vector<FaultSpec> faults;
+    std::vector<BehaviourSpec> behaviours;
 };
 
 // Which unit answers a TCP unit id no unit of the profile has (0 and 0xFF always go to the
@@ -131,6 +133,7 @@ struct Profile {
     std::string source;           // file name or the name given to the text
     std::vector<UnitSpec> units;  // at least one, unique ids inside [min_address, max_address]
     std::uint64_t fault_seed = 1;
+    std::uint64_t behaviour_seed = 1;  // random and random-walk behaviours draw from it
     UnmatchedUnit unmatched_unit = UnmatchedUnit::FirstUnit;
     std::uint8_t min_address = 1;
     std::uint8_t max_address = 247;

@@ -201,7 +201,8 @@ bool load_unit(const toml::table& table, const std::string& path, const Profile&
     if (unit.failed() || !load_semi_signature(unit, spec) || !load_fifos(unit, spec)) return false;
     if (!load_server_id(unit, spec.server_id) || !load_diagnostics(unit, spec.diagnostics) ||
         !load_identification(unit, spec.identification) || !load_files(unit, spec.files) ||
-        !load_objects(unit, spec.objects) || !load_faults(unit, spec.faults)) {
+        !load_objects(unit, spec.objects) || !load_faults(unit, spec.faults) ||
+        !load_behaviours(unit, spec, spec.behaviours)) {
         return false;
     }
     if (spec.identification.objects.empty()) {
@@ -216,6 +217,7 @@ bool load_root(const toml::table& root, ProfileErrors& errors, Profile& profile)
     fields.string("name", profile.name);
     fields.string("description", profile.description);
     fields.integer_as("fault_seed", profile.fault_seed, 0, INT64_MAX);
+    fields.integer_as("behaviour_seed", profile.behaviour_seed, 0, INT64_MAX);
     fields.choice<UnmatchedUnit>("unmatched_unit", profile.unmatched_unit,
                                  {{"first-unit", UnmatchedUnit::FirstUnit},
                                   {"ignore", UnmatchedUnit::Ignore},

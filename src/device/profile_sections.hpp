@@ -20,6 +20,8 @@ bool load_server_id(Fields& unit, ServerIdSpec& out);
 bool load_files(Fields& unit, std::vector<FileSpec>& out);
 bool load_objects(Fields& unit, std::vector<SemiObject>& out);
 bool load_faults(Fields& unit, std::vector<FaultSpec>& out);
+// After the unit's banks: every behaviour's points must be mapped in them.
+bool load_behaviours(Fields& unit, const UnitSpec& spec, std::vector<BehaviourSpec>& out);
 bool load_roles(Fields& root, std::vector<RoleRule>& out);
 
 // Shared value readers.

@@ -83,6 +83,9 @@ ReferenceDevice::ReferenceDevice(Profile profile)
     for (const auto& spec : profile_.units) {
         unit_index_[spec.id] = static_cast<std::int16_t>(units_.size());
         units_.emplace_back(spec);
+        // Units draw apart: the same behaviours on two units do not move in step.
+        behaviours_.emplace_back(spec.behaviours,
+                                 profile_.behaviour_seed ^ (spec.id * 0x100000001ULL));
     }
     // The units hold the data now.
     for (auto& spec : profile_.units)
@@ -359,6 +362,21 @@ std::optional<std::uint16_t> ReferenceDevice::value(std::uint8_t id, BankKind ki
     const auto span = unit->bank(kind).find(address, 1);
     if (!span.mapped) return std::nullopt;
     return unit->bank(kind).at(span.index);
+}
+
+void ReferenceDevice::advance(std::chrono::steady_clock::time_point now,
+                              std::chrono::system_clock::time_point wall) {
+    std::lock_guard lock(mutex_);
+    for (std::size_t i = 0; i < units_.size(); ++i)
+        behaviours_[i].advance(now, wall, units_[i]);
+}
+
+std::chrono::steady_clock::time_point ReferenceDevice::behaviour_deadline() const {
+    std::lock_guard lock(mutex_);
+    auto next = std::chrono::steady_clock::time_point::max();
+    for (const auto& engine : behaviours_)
+        next = std::min(next, engine.deadline());
+    return next;
 }
 
 bool ReferenceDevice::set_value(std::uint8_t id, BankKind kind, std::uint16_t address,

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <vector>
 
+#include "device/behaviour_engine.hpp"
 #include "device/comm_state.hpp"
 #include "device/profile.hpp"
 #include "device/profile_loader.hpp"
@@ -120,6 +121,14 @@ class ReferenceDevice final : public RequestHandler {
     StateSnapshot snapshot_state() const;
     bool load_state(std::string_view text, std::string& error);
 
+    // Moves the values of the profile's behaviours to `now` (BehaviourEngine::advance), under
+    // the lock that requests take, so no request sees a value half-updated. The server calls
+    // it from a timer when behaviour_deadline() comes, never from a request.
+    void advance(std::chrono::steady_clock::time_point now,
+                 std::chrono::system_clock::time_point wall);
+    // When advance() is next due: min() before the first call, max() when no value moves.
+    std::chrono::steady_clock::time_point behaviour_deadline() const;
+
     // Requests that changed the writable data (coils, holding registers, file records) so far: a
     // journal compares it before and after handle() to know what to record.
     std::uint64_t state_writes() const;
@@ -148,6 +157,7 @@ class ReferenceDevice final : public RequestHandler {
 
     Profile profile_;
     std::vector<UnitModel> units_;
+    std::vector<BehaviourEngine> behaviours_;  // one per unit, in the same order
     std::array<std::int16_t, 256> unit_index_{};
     Prng prng_;
     std::array<std::uint8_t, 256> scratch_{};

@@ -48,6 +48,9 @@ for command in conform serve read write diag devid raw watch load fuzz; do
     options=$(complete_words mblab "$command" --)
     case " $options " in *" --help "*) ;; *) fail "no options completed for $command: $options" ;; esac
 done
+[ "$(complete_words mblab profile imp)" = import-csv ] || fail "completion of 'profile imp'"
+[ "$(complete_words mblab profile import-csv --un)" = --unit ] ||
+    fail "completion of 'profile import-csv --un': $(complete_words mblab profile import-csv --un)"
 
 deb_dir="$work/deb"
 cpack --config "$build/CPackConfig.cmake" -G DEB -B "$deb_dir" >"$work/cpack.log" 2>&1 ||

@@ -13,10 +13,11 @@ errors=$(mktemp)
 trap 'rm -f "$errors"' EXIT
 text=$(MANWIDTH=100 man --warnings -l "$page" 2>"$errors")
 [ ! -s "$errors" ] || fail "man -l warns: $(cat "$errors")"
-for command in conform serve load read write diag devid raw watch pki fuzz; do
-    upper=$(tr a-z A-Z <<<"$command")
+for command in conform serve load read write diag devid raw watch pki fuzz "profile import-csv"; do
+    upper=$(tr a-z A-Z <<<"${command%% *}")
     grep -q "^MBLAB $upper\$" <<<"$text" || fail "no section MBLAB $upper"
-    for option in $("$mblab" "$command" --help |
+    # shellcheck disable=SC2086 # "profile import-csv" is a command and its subcommand
+    for option in $("$mblab" $command --help |
         sed -nE 's/^ +((-[A-Za-z]),)?(--[A-Za-z][-A-Za-z0-9]*).*/\2 \3/p'); do
         case $option in -h | --help) continue ;; esac
         grep -qe "$option\\b" <<<"$text" || fail "mblab $command $option is not in the man page"

@@ -26,12 +26,12 @@ TEST(CliUsage, AnUnknownCommandListsTheCommands) {
     EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.err,
               "mblab: unknown command 'frobnicate' (commands: conform, serve, read, write, diag, "
-              "devid, raw, watch, load, pki, fuzz)\n");
+              "devid, raw, watch, load, pki, fuzz, profile)\n");
     auto none = run_mblab({});
     EXPECT_EQ(none.status, 2);
     EXPECT_EQ(none.err,
               "mblab: a command is required: conform, serve, read, write, diag, devid, raw, "
-              "watch, load, pki, fuzz (run 'mblab --help' for usage)\n");
+              "watch, load, pki, fuzz, profile (run 'mblab --help' for usage)\n");
 }
 
 }  // namespace

@@ -164,8 +164,8 @@ TEST(ConformReportsCli, AnUnknownProfileNameListsTheShippedOnes) {
     EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.err,
               "mblab conform: --profile: no profile file or shipped profile named "
-              "'no-such-profile' (shipped: access-ranges, instrument-seed001, multi-unit, "
-              "reference)\n");
+              "'no-such-profile' (shipped: access-ranges, instrument-seed001, moving, "
+              "multi-unit, reference)\n");
     EXPECT_EQ(ran.out, "");
 }
 

@@ -487,5 +487,31 @@ TEST(ServeCommand, DurableWithoutStateIsOneLine) {
     EXPECT_EQ(failure.stderr_text, "mblab serve: --durable needs --state FILE\n");
 }
 
+// `serve moving`: the sine at holding register 1 (0..1000, a 10 s period, updated every 100 ms),
+// read through FC 03 over a real socket, moves and stays in its bounds. The test polls until the
+// value changes (for at most 20 s); it never times the server.
+TEST(ServeCommand, MovingProfileSineMovesWhenReadThroughFc03) {
+    Serve serve({"moving", "--listen", "tcp://127.0.0.1:0"});
+    ASSERT_EQ(serve.ports().size(), 1U) << serve.line();
+    auto client = serve.connect();
+    const auto read = [&client]() -> long {
+        const auto answer = client.transact("00 01 00 00 00 06 01 03 00 01 00 01");
+        if (answer.size() != 32 || answer.substr(0, 26) != "00 01 00 00 00 05 01 03 02") return -1;
+        return std::stol(answer.substr(27, 2) + answer.substr(30, 2), nullptr, 16);
+    };
+    const long first = read();
+    ASSERT_GE(first, 0);
+    EXPECT_LE(first, 1000);
+    long later = first;
+    for (int i = 0; i < 400 && later == first; ++i) {
+        std::this_thread::sleep_for(50ms);
+        later = read();
+    }
+    EXPECT_NE(later, first);
+    EXPECT_GE(later, 0);
+    EXPECT_LE(later, 1000);
+    EXPECT_EQ(serve.terminate(), 0);
+}
+
 }  // namespace
 }  // namespace mblab::test

@@ -85,7 +85,8 @@ TEST(ProfileFiles, MissingFileNamesThePath) {
 }
 
 TEST(ProfileFiles, EveryShippedProfileLoads) {
-    for (const char* name : {"reference", "instrument-seed001", "access-ranges", "multi-unit"}) {
+    for (const char* name :
+         {"reference", "instrument-seed001", "access-ranges", "multi-unit", "moving"}) {
         EXPECT_NE(shipped_device(name), nullptr) << name;
     }
 }

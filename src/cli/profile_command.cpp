@@ -1,0 +1,74 @@
+#include <fmt/core.h>
+
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "device/register_map_csv.hpp"
+
+// `mblab profile import-csv FILE.csv`: a register map kept as a spreadsheet, printed as profile
+// TOML for `mblab serve`.
+namespace mblab::cli {
+
+namespace {
+
+struct ImportOptions {
+    std::string file;
+    int unit = 1;
+    std::string name;
+};
+
+int run_import(const ImportOptions& options) {
+    std::ifstream in(options.file, std::ios::binary);
+    if (!in) {
+        fmt::print(stderr, "mblab profile import-csv: cannot open {}; check the path\n",
+                   options.file);
+        return kExitUsage;
+    }
+    std::ostringstream text;
+    text << in.rdbuf();
+    device::CsvImport import;
+    import.source = options.file;
+    import.name =
+        options.name.empty() ? std::filesystem::path(options.file).stem().string() : options.name;
+    import.unit = static_cast<std::uint8_t>(options.unit);
+    const auto profile = device::register_map_to_profile(text.str(), import);
+    if (!profile) {
+        fmt::print(stderr, "mblab profile import-csv: {}\n", profile.error());
+        return kExitUsage;
+    }
+    fmt::print("{}", profile->toml);
+    return kExitOk;
+}
+
+}  // namespace
+
+void add_profile_command(CLI::App& app, CommandRunner& runner) {
+    CLI::App* group = app.add_subcommand("profile", "work with device profiles: import-csv");
+    group->require_subcommand(1);
+    group->footer(
+        "Exit status: 0 done, 2 usage error, or a file that cannot be read or used.\n"
+        "Example: mblab profile import-csv registers.csv > registers.toml");
+    auto options = std::make_shared<ImportOptions>();
+    CLI::App* cmd = group->add_subcommand(
+        "import-csv", "print the profile TOML of a register map kept as CSV, one point a line");
+    cmd->footer(
+        "The first line names the columns: address (required), bank (holding, input, coil,\n"
+        "discrete), type (u16, i16, u32, i32, u64, i64, f32, f64), name, description,\n"
+        "behaviour and its parameters (docs/profiles.md \"Register maps from CSV\").\n"
+        "Exit status: 0 printed, 2 usage error, or a file that cannot be read or used (the\n"
+        "message names its line and column).\n"
+        "Example: mblab profile import-csv registers.csv > registers.toml");
+    cmd->add_option("file", options->file, "the CSV file")->required();
+    cmd->add_option("--unit", options->unit, "the unit id of the profile's one unit")
+        ->check(CLI::Range(1, 247))
+        ->capture_default_str();
+    cmd->add_option("--name", options->name, "the profile's name (default: the file's stem)");
+    cmd->callback([options, &runner] { runner = [options] { return run_import(*options); }; });
+}
+
+}  // namespace mblab::cli
