@@ -31,8 +31,8 @@
 #include "load/runner.hpp"
 #include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
-#include "web/load_html.hpp"
 #include "web/http_server.hpp"
+#include "web/load_html.hpp"
 #include "web/load_metrics.hpp"
 #include "web/metrics_text.hpp"
 

@@ -152,9 +152,9 @@ std::string junit_report(const FuzzResult& result, const conformance::Provenance
     out += "    <properties>\n";
     for (const auto& line : conformance::provenance_lines(provenance)) {
         const auto colon = line.find(": ");
-        out +=
-            fmt::format("      <property name=\"{}\" value=\"{}\"/>\n", xml_escape(line.substr(0, colon)),
-                        xml_escape(colon == std::string::npos ? "" : line.substr(colon + 2)));
+        out += fmt::format("      <property name=\"{}\" value=\"{}\"/>\n",
+                           xml_escape(line.substr(0, colon)),
+                           xml_escape(colon == std::string::npos ? "" : line.substr(colon + 2)));
     }
     out += fmt::format("      <property name=\"seed\" value=\"{}\"/>\n", result.seed);
     out += "    </properties>\n";
@@ -165,10 +165,10 @@ std::string junit_report(const FuzzResult& result, const conformance::Provenance
                            class_name(kind));
         if (result.finding && result.finding->kind == kind) {
             const auto& f = *result.finding;
-            out +=
-                fmt::format("\n      <failure message=\"{}\" type=\"finding\">{}</failure>\n    ",
-                            xml_escape(fmt::format("the device {} after: {}", f.reason, f.case_name)),
-                            xml_escape(reproducer_text(f.reproducer, finding_comment(f))));
+            out += fmt::format(
+                "\n      <failure message=\"{}\" type=\"finding\">{}</failure>\n    ",
+                xml_escape(fmt::format("the device {} after: {}", f.reason, f.case_name)),
+                xml_escape(reproducer_text(f.reproducer, finding_comment(f))));
         } else if (tally.run == 0) {
             out +=
                 fmt::format("\n      <skipped message=\"{}\"/>\n    ",
