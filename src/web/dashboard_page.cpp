@@ -5,8 +5,10 @@ namespace mblab::web {
 namespace {
 
 // The values and counters come from /api/events once the page runs; the page itself holds none.
+// The empty icon keeps browsers from asking for /favicon.ico, a 404 in their console.
 constexpr std::string_view kPage = R"html(<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>mblab device</title>
+<link rel="icon" href="data:,">
 <style>
 body{font:14px system-ui,sans-serif;margin:1em;color:#222}
 h1{font-size:1.3em}h2{font-size:1.1em;margin-top:1.2em}

@@ -261,14 +261,18 @@ def check_load(driver, mblab, work, shots):
     return bars[0], shot
 
 
-def main():
+def with_browser(body, prefix):
+    """Runs body(driver, mblab, work, shots) in headless chromium: the process's exit status.
+
+    body returns lines to print when every check passed, or raises Failure. argv is
+    MBLAB [SCREENSHOT_DIR]; without chromium or chromedriver the status is SKIP."""
     mblab = os.path.abspath(sys.argv[1])
     chromium, chromedriver = shutil.which("chromium"), shutil.which("chromedriver")
     if not chromium or not chromedriver:
         print("SKIP: chromium and chromium-driver are not installed "
               "(scripts/install-deps.sh installs them)")
         return SKIP
-    work = tempfile.mkdtemp(prefix="mblab-browser-")
+    work = tempfile.mkdtemp(prefix=prefix)
     shots = sys.argv[2] if len(sys.argv) > 2 else work
     os.makedirs(shots, exist_ok=True)
     port = free_port()
@@ -283,12 +287,8 @@ def main():
             except OSError:
                 time.sleep(0.1)
         driver = WebDriver(port, os.path.join(work, "profile"))
-        cases, failed, shot = check_conform(driver, mblab, work, shots)
-        print(f"conform report: {cases} cases, {failed} failures, filters and search work, "
-              f"screenshot {shot[0]}x{shot[1]} with {shot[2]}+ colours")
-        bars, shot = check_load(driver, mblab, work, shots)
-        print(f"load report: node table, latency chart of {bars} bars, "
-              f"screenshot {shot[0]}x{shot[1]} with {shot[2]}+ colours")
+        for line in body(driver, mblab, work, shots):
+            print(line)
         print(f"screenshots in {shots}")
         return 0
     except Failure as failure:
@@ -303,5 +303,14 @@ def main():
             shutil.rmtree(work, ignore_errors=True)
 
 
+def check_both(driver, mblab, work, shots):
+    cases, failed, shot = check_conform(driver, mblab, work, shots)
+    yield (f"conform report: {cases} cases, {failed} failures, filters and search work, "
+           f"screenshot {shot[0]}x{shot[1]} with {shot[2]}+ colours")
+    bars, shot = check_load(driver, mblab, work, shots)
+    yield (f"load report: node table, latency chart of {bars} bars, "
+           f"screenshot {shot[0]}x{shot[1]} with {shot[2]}+ colours")
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(with_browser(check_both, "mblab-browser-"))
