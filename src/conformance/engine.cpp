@@ -374,6 +374,17 @@ std::optional<Exchange> Engine::served_anyway(std::span<const std::uint8_t> requ
     if (!plain || service_key(*plain) != key) return std::nullopt;
     // On a connection of its own: answers of the case may still be on their way on this one.
     session_.close();
+    // A write is asked as a write of what is there already, so that asking changes nothing; when
+    // what is there cannot be read, as a write the device must refuse with 03.
+    if (auto read = read_before_write_back(request_pdu[0])) {
+        Exchange now = ask(*read);
+        auto back = now.status == client::ReceiveStatus::Frame
+                        ? write_back_pdu(request_pdu[0], pdu_of(now.received))
+                        : std::nullopt;
+        plain = back ? back : harmless_request_pdu(request_pdu[0]);
+    } else {
+        plain = harmless_request_pdu(request_pdu[0]);
+    }
     Exchange e = ask(*plain);
     note_served(e);
     if (!served_.contains(*key)) return std::nullopt;

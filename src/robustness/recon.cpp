@@ -28,30 +28,8 @@ bool Recon::serves(std::uint8_t function) const {
 }
 
 std::optional<std::vector<std::uint8_t>> probe_request(std::uint8_t function, bool allow_writes) {
-    if (!allow_writes) {
-        // Each is refused with exception 03 by a device that serves the function, and changes
-        // nothing; 01 still says "not served".
-        switch (function) {
-            case 0x05:
-                return std::vector<std::uint8_t>{0x05, 0x00, 0x00, 0x12, 0x34};
-            case 0x06:
-                return std::vector<std::uint8_t>{0x06, 0x00, 0x00};
-            case 0x0F:
-                return std::vector<std::uint8_t>{0x0F, 0x00, 0x00, 0x00, 0x00, 0x00};
-            case 0x10:
-                return std::vector<std::uint8_t>{0x10, 0x00, 0x00, 0x00, 0x00, 0x00};
-            case 0x15:
-                return std::vector<std::uint8_t>{0x15, 0x00};
-            case 0x16:
-                return std::vector<std::uint8_t>{0x16, 0x00, 0x00};
-            case 0x17:
-                return std::vector<std::uint8_t>{0x17, 0x00, 0x00, 0x00, 0x01,
-                                                 0x00, 0x00, 0x00, 0x00, 0x00};
-            default:
-                break;
-        }
-    }
-    return conformance::plain_request_pdu(function);
+    return allow_writes ? conformance::plain_request_pdu(function)
+                        : conformance::harmless_request_pdu(function);
 }
 
 std::optional<std::string> reconnoitre(const Ask& ask, const ReconOptions& options, Recon& out) {

@@ -122,6 +122,16 @@ TEST(ConformVerdicts, AnAllowedCloseThatWasACrashFailsAndSoDoesEveryCaseAfterIt)
     EXPECT_FALSE(result.all_passed());
 }
 
+// The run of `suite` against `device` served with its answers rewritten by `rule`.
+RunResult run_rewritten(device::RequestHandler& device, const Rewriting::Rule& rule,
+                        const Suite& suite) {
+    Rewriting handler(device, rule);
+    server::BackgroundServer server(handler);
+    const auto port = server.start();
+    EXPECT_TRUE(port.ok());
+    return run(port.ok() ? *port : 0, suite);
+}
+
 // FC 03 with a quantity of 0 must be answered 03 ([APP] 6.3); this device answers 01.
 const Rewriting::Rule kQuantity0Answered01 =
     [](std::span<const std::uint8_t> request) -> std::optional<std::vector<std::uint8_t>> {
@@ -143,11 +153,7 @@ expect = "00 03 00 00 00 03 01 83 03"
 
 TEST(ConformVerdicts, Exception01FromAFunctionServedEarlierInTheRunFails) {
     auto device = reference_device();
-    Rewriting handler(*device, kQuantity0Answered01);
-    server::BackgroundServer server(handler);
-    const auto port = server.start();
-    ASSERT_TRUE(port.ok());
-    auto result = run(*port, suite_of(R"(
+    auto result = run_rewritten(*device, kQuantity0Answered01, suite_of(R"(
 [[case]]
 source = "test"
 id = "read"
@@ -164,16 +170,66 @@ expect = "00 01 00 00 00 05 01 03 02 XX XX"
 
 TEST(ConformVerdicts, Exception01FromAFunctionWhosePlainRequestIsAnsweredFails) {
     auto device = reference_device();
-    Rewriting handler(*device, kQuantity0Answered01);
-    server::BackgroundServer server(handler);
-    const auto port = server.start();
-    ASSERT_TRUE(port.ok());
-    auto result = run(*port, suite_of(kQuantity0));
+    auto result = run_rewritten(*device, kQuantity0Answered01, suite_of(kQuantity0));
     EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Fail);
     EXPECT_NE(at(result, 0).outcome.reason.find("yet the device serves function 03 (its plain "
                                                 "request was answered 7E 57 00 00 00 05 01 03 02"),
               std::string::npos)
         << at(result, 0).outcome.reason;
+}
+
+// FC 06 to register 5 is answered 01 by a device that serves FC 06. Finding that out must not
+// change the device's data: the tester writes register 0's own value back to it.
+TEST(ConformVerdicts, TellingAServedWriteFromAnUnservedOneChangesNoData) {
+    auto loaded = device::load_profile_text(R"(
+name = "ten registers"
+[[unit]]
+id = 1
+[[unit.holding_registers]]
+start = 0
+count = 10
+)",
+                                            "ten.toml");
+    ASSERT_TRUE(loaded.ok());
+    auto device = std::move(loaded.value());
+    const Rewriting::Rule fc06_at_5_answered_01 =
+        [](std::span<const std::uint8_t> request) -> std::optional<std::vector<std::uint8_t>> {
+        if (request.size() == 5 && request[0] == 0x06 && request[2] == 0x05) {
+            return std::vector<std::uint8_t>{0x86, 0x01};
+        }
+        return std::nullopt;
+    };
+    auto result = run_rewritten(*device, fc06_at_5_answered_01, suite_of(R"(
+[[case]]
+source = "test"
+id = "set"
+title = "FC 10 puts BEEF in register 0"
+request = "00 01 00 00 00 09 01 10 00 00 00 01 02 BE EF"
+expect = "00 01 00 00 00 06 01 10 00 00 00 01"
+
+[[case]]
+source = "test"
+id = "fc06"
+title = "FC 06 writes register 5"
+unsupported_is_na = true
+request = "00 02 00 00 00 06 01 06 00 05 12 34"
+expect = "00 02 00 00 00 06 01 06 00 05 12 34"
+
+[[case]]
+source = "test"
+id = "after"
+title = "register 0 still holds BEEF"
+request = "00 03 00 00 00 06 01 03 00 00 00 01"
+expect = "00 03 00 00 00 05 01 03 02 BE EF"
+)"));
+    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Pass) << at(result, 0).outcome.reason;
+    EXPECT_EQ(at(result, 1).outcome.verdict, Verdict::Fail);
+    EXPECT_NE(at(result, 1).outcome.reason.find("yet the device serves function 06 (its plain "
+                                                "request was answered 7E 57 00 00 00 06 01 06 "
+                                                "00 00 BE EF"),
+              std::string::npos)
+        << at(result, 1).outcome.reason;
+    EXPECT_EQ(at(result, 2).outcome.verdict, Verdict::Pass) << at(result, 2).outcome.reason;
 }
 
 TEST(ConformVerdicts, Exception01FromAFunctionNotServedIsNotApplicable) {

@@ -88,12 +88,15 @@ void FaultyServer::serve() {
         if (fd < 0) continue;
         int one = 1;
         ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+        closed_by_rule_ = false;
         const bool died = serve_connection(fd);
-        ::close(fd);
-        if (died || rule_.fault == Fault::SlowToReopen) {
+        // Listening stops before the client sees the close, so that no connection of its can
+        // slip into the backlog in between (and be reset rather than refused).
+        if (died || (rule_.fault == Fault::SlowToReopen && closed_by_rule_)) {
             ::close(listener_);
             listener_ = -1;
         }
+        ::close(fd);
         if (died) return;
         if (listener_ < 0) {
             pollfd wake{wake_[0], POLLIN, 0};
@@ -129,6 +132,7 @@ bool FaultyServer::serve_connection(int fd) {
             const bool closes = rule_.fault == Fault::CloseConnection ||
                                 rule_.fault == Fault::Dies || rule_.fault == Fault::SlowToReopen;
             if (closes && modbus && (rule_.function == 0 || rule_.function == frame[7])) {
+                closed_by_rule_ = true;
                 return rule_.fault == Fault::Dies;
             }
         }

@@ -74,6 +74,7 @@ class FaultyServer {
     FaultRule rule_;
     int listener_ = -1;
     std::uint16_t port_ = 0;
+    bool closed_by_rule_ = false;  // the last connection was closed by a closing fault
     int wake_[2] = {-1, -1};
     std::thread thread_;
 };
