@@ -2,6 +2,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdlib>
@@ -22,6 +23,7 @@
 #include "robustness/fuzz_run.hpp"
 #include "robustness/recon.hpp"
 #include "robustness/reproducer.hpp"
+#include "transport/serial_port.hpp"
 
 // `mblab fuzz TARGET`: the robustness tester (docs/robustness.md).
 namespace mblab::cli {
@@ -117,8 +119,13 @@ int run_fuzz(const FuzzCommandOptions& options) {
     const auto started = std::chrono::system_clock::now();
     auto target = client::parse_target(options.target);
     if (!target) return usage_error(target.error());
-    if (!target->tcp || target->secure)
-        return usage_error(fmt::format("{}: only tcp:// targets are fuzzed so far", target->name));
+    if (target->secure)
+        return usage_error(fmt::format("{}: mbaps:// targets are not fuzzed yet", target->name));
+    const auto framing = client::framing_of(*target);
+    const bool line = framing != client::Framing::Mbap;
+    if (line && !options.pcap.empty())
+        return usage_error(
+            fmt::format("--pcap: captures are of Modbus/TCP only, not {}", target->name));
     if (options.cases == 0 && options.duration <= 0 && options.replay.empty())
         return usage_error("no budget: give --cases N or --duration D (it is pointed at devices)");
     rb::ReconOptions recon_options;
@@ -130,6 +137,10 @@ int run_fuzz(const FuzzCommandOptions& options) {
         recon_options.unit = dut->unit;
         recon_options.max_read = dut->max_read;
     }
+    if (line && recon_options.unit == 0)
+        return usage_error(
+            "unit 0 is broadcast, never answered on a serial line: give the "
+            "device's address (--unit)");
     rb::WritePolicy policy{options.allow_writes, std::nullopt};
     if (!options.writable.empty()) {
         policy.writable = parse_writable(options.writable);
@@ -181,6 +192,17 @@ int run_fuzz(const FuzzCommandOptions& options) {
     fuzz.rate = options.rate;
     fuzz.check_every = options.check_every;
     fuzz.timeout = timeout;
+    const auto times = transport::rtu_char_times(
+        target->serial && target->serial->kind != transport::SerialUrl::Kind::RtuOverTcp
+            ? target->serial->line.baud
+            : 19200);
+    // The line-gap class pauses between t1.5 and t3.5 where milliseconds allow; the oracle
+    // waits for more than t3.5 of silence before it asks.
+    const auto gap =
+        std::max(std::chrono::milliseconds(1),
+                 std::chrono::ceil<std::chrono::milliseconds>((times.t15 + times.t35) / 2));
+    fuzz.quiet = std::max(std::chrono::milliseconds(5),
+                          std::chrono::ceil<std::chrono::milliseconds>(times.t35) * 2);
     if (options.cases > 0) fuzz.cases = options.cases;
     if (options.duration > 0)
         fuzz.duration = std::chrono::milliseconds(static_cast<long>(options.duration * 1000));
@@ -208,7 +230,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
     std::signal(SIGINT, on_fuzz_stop_signal);
     std::signal(SIGTERM, on_fuzz_stop_signal);
     const bool live = ::isatty(STDERR_FILENO) != 0;
-    rb::CaseGenerator generator(recon, policy, options.seed);
+    rb::CaseGenerator generator(recon, policy, options.seed, framing, gap);
     auto result = runner.run(
         generator,
         [&](const rb::FuzzResult& so_far, const rb::FuzzCase& c) {
@@ -233,13 +255,17 @@ int run_fuzz(const FuzzCommandOptions& options) {
         if (!conf::write_text_file(options.reproducer, rb::reproducer_text(f.reproducer, comment),
                                    failed))
             return usage_error(failed);
-        const auto capture_path = options.reproducer + ".pcapng";
-        if (!conf::write_pcap(
-                capture_path,
-                rb::reproducer_capture(f.reproducer, target->tcp->host, target->tcp->port),
-                provenance, failed))
-            return usage_error(failed);
-        fmt::print("reproducer written to {} (and {})\n", options.reproducer, capture_path);
+        if (line) {
+            fmt::print("reproducer written to {}\n", options.reproducer);
+        } else {
+            const auto capture_path = options.reproducer + ".pcapng";
+            if (!conf::write_pcap(
+                    capture_path,
+                    rb::reproducer_capture(f.reproducer, target->tcp->host, target->tcp->port),
+                    provenance, failed))
+                return usage_error(failed);
+            fmt::print("reproducer written to {} (and {})\n", options.reproducer, capture_path);
+        }
     }
     if (!options.json.empty() &&
         !conf::write_text_file(options.json, rb::json_report(result, provenance), failed))
@@ -265,8 +291,11 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     cmd->footer(
         "Exit status: 0 no finding, 1 a finding (the device stopped serving), 2 usage error,\n"
         "a file that cannot be read or written, or a target unreachable at start.\n"
-        "Example: mblab fuzz tcp://127.0.0.1:1502 --cases 300 --junit fuzz.xml");
-    cmd->add_option("target", options->target, "tcp://HOST[:PORT] (serial framings: not yet)")
+        "Example: mblab fuzz tcp://127.0.0.1:1502 --cases 300 --junit fuzz.xml\n"
+        "Example: mblab fuzz 'rtu:///dev/ttyUSB0?baud=19200' --unit 17 --cases 300");
+    cmd->add_option("target", options->target,
+                    "tcp://HOST[:PORT], rtu:///DEV?baud=N, ascii:///DEV?baud=N or "
+                    "rtu+tcp://HOST:PORT")
         ->required();
     cmd->add_option("--seed", options->seed, "seed of the mutations: the same seed, the same run")
         ->capture_default_str();
@@ -308,7 +337,8 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
         ->capture_default_str();
     cmd->add_option("--json", options->json, "write the report as JSON to FILE");
     cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
-    cmd->add_option("--pcap", options->pcap, "write every frame of the run as pcapng to FILE");
+    cmd->add_option("--pcap", options->pcap,
+                    "write every frame of the run as pcapng to FILE (Modbus/TCP only)");
     cmd->callback([options, &runner] { runner = [options] { return run_fuzz(*options); }; });
 }
 

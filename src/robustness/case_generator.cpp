@@ -7,6 +7,7 @@
 #include <initializer_list>
 
 #include "protocol/function_table.hpp"
+#include "robustness/line_cases.hpp"
 
 namespace mblab::robustness {
 
@@ -89,11 +90,27 @@ bool may_send(std::span<const std::uint8_t> pdu, const WritePolicy& policy) {
     return address >= start && address + quantity <= start + policy.writable->count;
 }
 
-CaseGenerator::CaseGenerator(Recon recon, WritePolicy policy, std::uint64_t seed)
-    : recon_(std::move(recon)), policy_(policy), prng_(seed), by_class_(kBadInputCount) {
+CaseGenerator::CaseGenerator(Recon recon, WritePolicy policy, std::uint64_t seed,
+                             protocol::Framing framing, std::chrono::milliseconds gap)
+    : recon_(std::move(recon)),
+      policy_(policy),
+      framing_(framing),
+      prng_(seed),
+      by_class_(kBadInputCount) {
     write_address_ = policy_.writable ? policy_.writable->start : 0;
     fixed_frames();
     fixed_streams();
+    if (framing_ != protocol::Framing::Mbap) {
+        for (auto& cases : by_class_) {
+            std::vector<FuzzCase> kept;
+            for (const auto& c : cases) {
+                if (auto framed = on_line(c, framing_)) kept.push_back(std::move(*framed));
+            }
+            cases = std::move(kept);
+        }
+        for (auto& c : line_cases(framing_, recon_.unit, recon_.check_address, gap))
+            add(std::move(c));
+    }
     // A class at a time in turn, so that a short budget reaches every class.
     for (std::size_t round = 0;; ++round) {
         bool any = false;
@@ -471,7 +488,11 @@ void CaseGenerator::fixed_streams() {
 FuzzCase CaseGenerator::next() {
     if (taken_ < fixed_.size()) return fixed_[taken_++];
     ++taken_;
-    return mutation();
+    if (framing_ == protocol::Framing::Mbap) return mutation();
+    // A mutation of the MBAP header alone has nothing to say on a line: another is drawn.
+    while (true) {
+        if (auto framed = on_line(mutation(), framing_)) return std::move(*framed);
+    }
 }
 
 FuzzCase CaseGenerator::mutation() {

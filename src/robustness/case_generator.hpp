@@ -1,18 +1,21 @@
 #pragma once
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <span>
 #include <vector>
 
+#include "protocol/adu.hpp"
 #include "robustness/fuzz_case.hpp"
 #include "robustness/recon.hpp"
 #include "support/prng.hpp"
 
 // The cases of a run, the same for the same recon, policy and seed: first every class's fixed
 // cases, taken a class at a time in turn so that a short budget reaches every class, then seeded
-// mutations of valid requests without end.
+// mutations of valid requests without end. On a serial line (RTU, ASCII) the same cases re-framed
+// for it, less those that test MBAP or TCP, plus the line-only classes (robustness/line_cases.hpp).
 namespace mblab::robustness {
 
 // Holding registers (and coils at the same addresses) the tester may write.
@@ -34,7 +37,10 @@ bool may_send(std::span<const std::uint8_t> pdu, const WritePolicy& policy);
 
 class CaseGenerator {
   public:
-    CaseGenerator(Recon recon, WritePolicy policy, std::uint64_t seed);
+    // `gap` is the silence the line-gap class leaves inside an RTU frame (longer than t1.5).
+    CaseGenerator(Recon recon, WritePolicy policy, std::uint64_t seed,
+                  protocol::Framing framing = protocol::Framing::Mbap,
+                  std::chrono::milliseconds gap = std::chrono::milliseconds(2));
 
     // The next case; fixed ones first, then mutations.
     FuzzCase next();
@@ -52,6 +58,7 @@ class CaseGenerator {
 
     Recon recon_;
     WritePolicy policy_;
+    protocol::Framing framing_;
     Prng prng_;
     std::uint16_t transaction_ = 0;
     std::uint16_t write_address_ = 0;

@@ -29,6 +29,11 @@ constexpr std::array<ClassRow, kBadInputCount> kClasses{{
     {"pipelined", "each answered with its own transaction id, or 06 busy"},
     {"many-connections", "served, or the oldest idle connection closed"},
     {"boundary", "answered, or the exception the limits call for"},
+    {"frame-check", "discarded without an answer"},
+    {"short-frame", "discarded without an answer"},
+    {"line-gap", "both halves discarded (or answered once whole, if the gap is tolerated)"},
+    {"noise", "discarded; the next whole frame is answered"},
+    {"ascii-text", "discarded; the next ':' starts a new frame"},
     {"mutation", "answered, an exception, a discard or a close"},
 }};
 

@@ -14,7 +14,7 @@
 namespace mblab::robustness {
 
 // The bad-input classes of PROTOCOL.md "Bad input a server must survive" that a tester can try
-// over Modbus/TCP, plus the seeded mutation that follows them.
+// over Modbus/TCP or a serial line, plus the seeded mutation that follows them.
 enum class BadInput : std::uint8_t {
     ProtocolId,       // 1: protocol id other than 0
     MbapLength,       // 2: MBAP length shorter or longer than the bytes, 0, 1, over 254
@@ -32,6 +32,11 @@ enum class BadInput : std::uint8_t {
     Pipelined,        // 10: many requests in one segment
     ManyConnections,  // 12: many connections at once
     Boundary,         // 0, 1, max, max+1, all ones in addresses, quantities, transaction ids
+    FrameCheck,       // serial: a bad CRC (RTU) or LRC (ASCII)
+    ShortFrame,       // serial: frames shorter than address + function + check
+    LineGap,          // serial: a silence longer than t1.5 inside an RTU frame
+    Noise,            // serial: stray bytes between frames
+    AsciiText,        // serial: odd hex length, characters that are not hex, no CR LF
     Mutation,         // seeded random changes to valid requests
 };
 

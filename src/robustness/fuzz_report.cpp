@@ -42,6 +42,11 @@ std::string summary_text(const FuzzResult& result) {
                     result.stopped_by, result.checks, result.longest_wait.count(), result.seed);
     for (std::size_t i = 0; i < kBadInputCount; ++i) {
         const auto& tally = result.classes[i];
+        if (!tally.not_applicable.empty()) {
+            out += fmt::format("  {:<17}   n/a {}\n", class_name(static_cast<BadInput>(i)),
+                               tally.not_applicable);
+            continue;
+        }
         if (tally.run == 0 && tally.withheld == 0) continue;
         out += fmt::format("  {:<17} {:>5} run", class_name(static_cast<BadInput>(i)), tally.run);
         if (tally.withheld > 0)
@@ -79,6 +84,7 @@ std::string json_report(const FuzzResult& result, const conformance::Provenance&
                            {"expected", class_expectation(kind)},
                            {"run", result.classes[i].run},
                            {"withheld", result.classes[i].withheld},
+                           {"not_applicable", result.classes[i].not_applicable},
                            {"finding", result.finding && result.finding->kind == kind}});
     }
     const auto& r = result.recon;
@@ -170,10 +176,11 @@ std::string junit_report(const FuzzResult& result, const conformance::Provenance
                 xml_escape(fmt::format("the device {} after: {}", f.reason, f.case_name)),
                 xml_escape(reproducer_text(f.reproducer, finding_comment(f))));
         } else if (tally.run == 0) {
-            out +=
-                fmt::format("\n      <skipped message=\"{}\"/>\n    ",
-                            tally.withheld > 0 ? "every case would write outside the writable range"
-                                               : "not reached within the budget");
+            const std::string_view why = !tally.not_applicable.empty() ? tally.not_applicable
+                                         : tally.withheld > 0
+                                             ? "every case would write outside the writable range"
+                                             : "not reached within the budget";
+            out += fmt::format("\n      <skipped message=\"{}\"/>\n    ", xml_escape(why));
         }
         out += "</testcase>\n";
     }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <thread>
 
+#include "robustness/line_cases.hpp"
 #include "robustness/minimise.hpp"
 
 namespace mblab::robustness {
@@ -19,7 +20,48 @@ FuzzRunner::FuzzRunner(FuzzOptions options, Recon recon, client::LinkObserver* o
     : options_(std::move(options)),
       recon_(std::move(recon)),
       observer_(observer),
-      oracle_(options_.target, recon_.unit, recon_.check_address, options_.timeout, observer) {}
+      line_(client::framing_of(options_.target) != client::Framing::Mbap),
+      oracle_(options_.target, recon_.unit, recon_.check_address, options_.timeout, observer),
+      line_oracle_(recon_.unit, recon_.check_address, options_.timeout, options_.quiet) {}
+
+Liveness FuzzRunner::check() {
+    if (!line_) return oracle_.check();
+    if (links_.empty()) links_.resize(1);
+    auto& link = links_.front();
+    if (!link || !link->is_open()) {
+        auto opened = client::open_link(options_.target, options_.timeout, observer_);
+        if (!opened) {
+            Liveness dead;
+            dead.alive = false;
+            dead.reason = fmt::format("cannot be reached ({})", opened.error().message);
+            return dead;
+        }
+        link = std::move(opened.value());
+    }
+    return line_oracle_.check(*link);
+}
+
+Liveness FuzzRunner::wait_alive() {
+    if (!line_) return oracle_.wait_alive(options_.restart_patience);
+    const auto start = Clock::now();
+    while (true) {
+        auto liveness = check();
+        if (liveness.alive || Clock::now() - start >= options_.restart_patience) return liveness;
+        close_all();
+        std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    }
+}
+
+void FuzzRunner::drain_line() {
+    auto& link = links_.front();
+    // Bounded: a device that talks without end is the oracle's to judge.
+    for (int i = 0; i < 64 && link && link->is_open(); ++i) {
+        const auto got =
+            link->receive_any(i == 0 ? std::max(options_.settle, options_.quiet) : options_.quiet);
+        if (got.status == client::ReceiveStatus::Closed) link.reset();
+        if (got.status != client::ReceiveStatus::Frame && got.bytes.empty()) return;
+    }
+}
 
 void FuzzRunner::pace() {
     ++sends_;
@@ -33,8 +75,9 @@ void FuzzRunner::pace() {
 
 void FuzzRunner::send_steps(const std::vector<Step>& steps, bool hold) {
     for (const auto& step : steps) {
-        if (links_.size() <= step.connection) links_.resize(step.connection + 1);
-        auto& link = links_[step.connection];
+        const std::size_t connection = line_ ? 0 : step.connection;
+        if (links_.size() <= connection) links_.resize(connection + 1);
+        auto& link = links_[connection];
         if (!link || !link->is_open()) {
             auto opened = client::open_link(options_.target, options_.timeout, observer_);
             // A refused connection is judged by the oracle, which tries harder.
@@ -44,9 +87,16 @@ void FuzzRunner::send_steps(const std::vector<Step>& steps, bool hold) {
         pace();
         client::LinkError error;
         if (!link->send(step.bytes, error)) link.reset();
-        if (step.pause.count() > 0) std::this_thread::sleep_for(step.pause);
+        if (step.pause.count() > 0) {
+            std::this_thread::sleep_for(step.pause);
+        } else if (line_) {
+            // On a line each step is a frame of its own: its answer is awaited and the line left
+            // quiet before the next, in a replay as in the run.
+            drain_line();
+        }
     }
     // Answers are read, not judged: what a device answers to garbage is conformance's business.
+    if (line_) return;
     bool first = true;
     for (auto& link : links_) {
         if (!link || !link->is_open()) continue;
@@ -65,7 +115,7 @@ void FuzzRunner::close_all() {
 
 Liveness FuzzRunner::replay(const std::vector<Step>& steps) {
     send_steps(steps, true);
-    auto liveness = oracle_.check();
+    auto liveness = check();
     close_all();
     return liveness;
 }
@@ -78,8 +128,13 @@ FuzzResult FuzzRunner::run(CaseGenerator& generator, const FuzzProgress& progres
     result.recon = recon_;
     for (std::size_t i = 0; i < generator.withheld().size(); ++i)
         result.classes[i].withheld = generator.withheld()[i];
+    for (std::size_t i = 0; i < kBadInputCount; ++i) {
+        if (auto why =
+                not_applicable(static_cast<BadInput>(i), client::framing_of(options_.target)))
+            result.classes[i].not_applicable = *why;
+    }
     const auto start = Clock::now();
-    oracle_.open_bystander();
+    if (!line_) oracle_.open_bystander();
     std::vector<Step> since_check;
     std::vector<StepOrigin> origins;
     std::size_t connection_base = 0;
@@ -110,15 +165,16 @@ FuzzResult FuzzRunner::run(CaseGenerator& generator, const FuzzProgress& progres
                 since_check.back().connection += connection_base;
                 origins.push_back({c.kind, c.name, result.cases});
             }
-            connection_base += connections;
+            // A line is one link: its reproducers name no other connection.
+            if (!line_) connection_base += connections;
             send_steps(c.steps, c.hold_open);
             last = {c.kind, c.name, result.cases};
             if (++unchecked < options_.check_every && !c.hold_open) continue;
         }
         unchecked = 0;
         ++result.checks;
-        const auto liveness = oracle_.check();
-        close_all();
+        const auto liveness = check();
+        if (!line_) close_all();
         result.longest_wait = std::max(result.longest_wait, liveness.waited);
         if (liveness.alive) {
             since_check.clear();
@@ -142,7 +198,7 @@ FuzzResult FuzzRunner::run(CaseGenerator& generator, const FuzzProgress& progres
     }
     close_all();
     result.one_connection_at_a_time = oracle_.one_at_a_time();
-    oracle_.close();
+    if (!line_) oracle_.close();
     result.sends = sends_;
     result.elapsed = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
     return result;
@@ -159,8 +215,8 @@ void FuzzRunner::minimise_finding(Finding& finding) {
     auto kills = [&](const std::vector<Step>& steps) {
         if (restart_failed) return false;
         close_all();
-        oracle_.close();
-        if (!options_.restart() || !oracle_.wait_alive(options_.restart_patience).alive) {
+        if (!line_) oracle_.close();
+        if (!options_.restart() || !wait_alive().alive) {
             restart_failed = true;
             return false;
         }

@@ -7,17 +7,20 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "client/link.hpp"
 #include "client/target.hpp"
 #include "robustness/case_generator.hpp"
 #include "robustness/fuzz_case.hpp"
+#include "robustness/line_liveness.hpp"
 #include "robustness/liveness.hpp"
 #include "robustness/recon.hpp"
 
-// A robustness run over Modbus/TCP: cases from the generator, the liveness oracle after each
-// (or every N), and a finding minimised by replaying from a restarted device.
+// A robustness run: cases from the generator, the liveness oracle after each (or every N), and a
+// finding minimised by replaying from a restarted device. Over Modbus/TCP every case has its own
+// connections; on a serial line (or RTU over TCP) one link carries the whole run.
 namespace mblab::robustness {
 
 struct FuzzOptions {
@@ -30,6 +33,8 @@ struct FuzzOptions {
     std::chrono::milliseconds timeout{1000};
     // How long each case's connections are read for answers before they are closed.
     std::chrono::milliseconds settle{10};
+    // On a line: how long it must stay silent before the check asks (at least t3.5).
+    std::chrono::milliseconds quiet{5};
     // Restarts the device (the user's --restart command); empty when none was given.
     std::function<bool()> restart;
     std::chrono::milliseconds restart_patience{10000};
@@ -37,7 +42,8 @@ struct FuzzOptions {
 
 struct ClassTally {
     std::size_t run = 0;
-    std::size_t withheld = 0;  // left out: they would write outside the writable range
+    std::size_t withheld = 0;         // left out: they would write outside the writable range
+    std::string_view not_applicable;  // why the class is not tried over the target's framing
 };
 
 // Which case a step came from.
@@ -93,11 +99,17 @@ class FuzzRunner {
     void send_steps(const std::vector<Step>& steps, bool hold);
     void close_all();
     void minimise_finding(Finding& finding);
+    Liveness check();
+    Liveness wait_alive();
+    // On a line: the answers to the case, read until the line is quiet.
+    void drain_line();
 
     FuzzOptions options_;
     Recon recon_;
     client::LinkObserver* observer_;
+    bool line_;
     LivenessOracle oracle_;
+    LineOracle line_oracle_;
     std::vector<std::unique_ptr<client::Link>> links_;
     std::chrono::steady_clock::time_point next_send_{};
     std::size_t sends_ = 0;

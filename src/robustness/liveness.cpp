@@ -38,6 +38,15 @@ std::string hex(const std::vector<std::uint8_t>& bytes) {
 
 }  // namespace
 
+std::array<std::uint8_t, 5> known_good_read(std::uint16_t address) {
+    return {0x03, static_cast<std::uint8_t>(address >> 8), static_cast<std::uint8_t>(address), 0x00,
+            0x01};
+}
+
+bool answers_known_good(std::span<const std::uint8_t> pdu) {
+    return pdu.size() == 4 && pdu[0] == 0x03 && pdu[1] == 0x02;
+}
+
 LivenessOracle::LivenessOracle(const client::Target& target, std::uint8_t unit,
                                std::uint16_t address, std::chrono::milliseconds timeout,
                                client::LinkObserver* observer)
@@ -49,9 +58,7 @@ LivenessOracle::LivenessOracle(const client::Target& target, std::uint8_t unit,
 
 LivenessOracle::Outcome LivenessOracle::ask(conformance::Session& session, std::string& detail) {
     const std::uint16_t transaction = ++transaction_;
-    const std::uint8_t read[] = {0x03, static_cast<std::uint8_t>(address_ >> 8),
-                                 static_cast<std::uint8_t>(address_), 0x00, 0x01};
-    const auto frame = mbap_frame(transaction, unit_, read);
+    const auto frame = mbap_frame(transaction, unit_, known_good_read(address_));
     client::LinkError error;
     if (!session.send(frame, 1, error)) {
         detail = error.message;
@@ -61,7 +68,7 @@ LivenessOracle::Outcome LivenessOracle::ask(conformance::Session& session, std::
     switch (answer.status) {
         case client::ReceiveStatus::Frame:
             if (answer.header.transaction_id == transaction && answer.header.protocol_id == 0 &&
-                answer.pdu.size() == 4 && answer.pdu[0] == 0x03 && answer.pdu[1] == 0x02)
+                answers_known_good(answer.pdu))
                 return Outcome::Good;
             detail = hex(answer.bytes);
             return Outcome::Wrong;

@@ -1,7 +1,9 @@
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
+#include <span>
 #include <string>
 
 #include "client/link.hpp"
@@ -13,6 +15,11 @@
 // connection opened before the case. Closing a connection is the device's right; not answering,
 // refusing every connection or answering the known-good read wrongly is not.
 namespace mblab::robustness {
+
+// The known-good read: FC 03 of one register at `address`.
+std::array<std::uint8_t, 5> known_good_read(std::uint16_t address);
+// Whether `pdu` is its answer: FC 03 with the one register.
+bool answers_known_good(std::span<const std::uint8_t> pdu);
 
 struct Liveness {
     bool alive = true;

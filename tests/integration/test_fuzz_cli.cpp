@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 #include <thread>
+#include <utility>
 #include <vector>
 
 #include "device/profile_paths.hpp"
@@ -233,21 +234,27 @@ TEST(FuzzOneAtATime, ADeviceServingOneConnectionAtATimeIsNotDead) {
         << ran.out;
 }
 
-TEST(FuzzUsage, ABadWritableRangeIsOneLine) {
-    auto ran = run_mblab({"fuzz", "tcp://127.0.0.1:1", "--writable", "x"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab fuzz: --writable 'x' is not START:COUNT of holding registers (e.g. "
-              "100:10)\n");
-    auto endless = run_mblab({"fuzz", "tcp://127.0.0.1:1", "--cases", "0"});
-    EXPECT_EQ(endless.status, 2);
-    EXPECT_EQ(endless.err,
-              "mblab fuzz: no budget: give --cases N or --duration D (it is pointed at "
-              "devices)\n");
-    auto serial = run_mblab({"fuzz", "rtu:///dev/null"});
-    EXPECT_EQ(serial.status, 2);
-    EXPECT_NE(serial.err.find("only tcp:// targets are fuzzed so far"), std::string::npos)
-        << serial.err;
+// Each usage error is one line, exit status 2.
+TEST(FuzzUsage, BadUsageIsOneLine) {
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"tcp://127.0.0.1:1", "--writable", "x"},
+         "mblab fuzz: --writable 'x' is not START:COUNT of holding registers (e.g. 100:10)\n"},
+        {{"tcp://127.0.0.1:1", "--cases", "0"},
+         "mblab fuzz: no budget: give --cases N or --duration D (it is pointed at devices)\n"},
+        {{"rtu:///dev/null", "--unit", "0"},
+         "mblab fuzz: unit 0 is broadcast, never answered on a serial line: give the device's "
+         "address (--unit)\n"},
+        {{"ascii:///dev/null", "--pcap", "x.pcapng"},
+         "mblab fuzz: --pcap: captures are of Modbus/TCP only, not ascii:///dev/null"},
+    };
+    for (const auto& [args, error] : cases) {
+        std::vector<std::string> argv = {"fuzz"};
+        argv.insert(argv.end(), args.begin(), args.end());
+        const auto ran = run_mblab(argv);
+        EXPECT_EQ(ran.status, 2) << args.front() << ran.err;
+        EXPECT_EQ(ran.err.substr(0, error.size()), error);
+        EXPECT_EQ(ran.err.find('\n'), ran.err.size() - 1) << ran.err;
+    }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <set>
 
 #include "robustness/case_generator.hpp"
+#include "robustness/line_cases.hpp"
 
 namespace mblab::robustness {
 namespace {
@@ -46,15 +47,28 @@ TEST(CaseGenerator, TheSameSeedGivesTheSameCases) {
     EXPECT_TRUE(differs);
 }
 
+// The fixed classes tried over `framing`.
+std::set<BadInput> fixed_classes(protocol::Framing framing) {
+    std::set<BadInput> out;
+    for (std::size_t i = 0; i + 1 < kBadInputCount; ++i) {
+        if (!not_applicable(static_cast<BadInput>(i), framing))
+            out.insert(static_cast<BadInput>(i));
+    }
+    return out;
+}
+
 // A short budget reaches every class: one case of each comes before any class's second.
 TEST(CaseGenerator, TheFirstRoundHasEveryFixedClass) {
-    CaseGenerator generator(reference_recon(), {true, std::nullopt}, 1);
-    std::set<BadInput> seen;
-    for (const auto& c : take(generator, kBadInputCount - 1))
-        seen.insert(c.kind);
-    EXPECT_EQ(seen.size(), kBadInputCount - 1);
-    EXPECT_EQ(seen.count(BadInput::Mutation), 0U);
-    EXPECT_EQ(take(generator, 1).front().kind, BadInput::ProtocolId);
+    for (auto framing :
+         {protocol::Framing::Mbap, protocol::Framing::Rtu, protocol::Framing::Ascii}) {
+        CaseGenerator generator(reference_recon(), {true, std::nullopt}, 1, framing);
+        const auto expected = fixed_classes(framing);
+        std::set<BadInput> seen;
+        for (const auto& c : take(generator, expected.size()))
+            seen.insert(c.kind);
+        EXPECT_EQ(seen, expected) << static_cast<int>(framing);
+        EXPECT_EQ(take(generator, 1).front().kind, *expected.begin());
+    }
 }
 
 TEST(CaseGenerator, TheFirstCasesAreTheKnownKillers) {

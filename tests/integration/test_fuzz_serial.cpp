@@ -1,0 +1,116 @@
+// `mblab fuzz` over a serial line: `mblab serve` on one end of a pty pair, the fuzzer on the
+// other, in RTU and in ASCII. Our own server must show no finding; the report says which classes
+// were tried on the line and why the MBAP ones were not. A device that goes deaf on one line
+// input is found and minimised to that frame.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include "child_process.hpp"
+#include "serial_test_support.hpp"
+#include "support/temp_dir.hpp"
+#include "test_client_support.hpp"
+
+namespace mblab::test {
+namespace {
+
+using namespace std::chrono_literals;
+
+nlohmann::json class_row(const nlohmann::json& report, const std::string& name) {
+    for (const auto& row : report["classes"]) {
+        if (row["class"] == name) return row;
+    }
+    return {};
+}
+
+void fuzz_serve_over(const std::string& scheme) {
+    PtyPair pty;
+    ASSERT_TRUE(pty.ok()) << pty.error();
+    const std::string settings = "?baud=115200&data=8";
+    ChildProcess serve(
+        {MBLAB_BINARY, "serve", "--listen", scheme + "://" + pty.server_end() + settings});
+    const auto started = serve.read_stdout_line(10s).value_or("");
+    ASSERT_NE(started.find("mblab serve:"), std::string::npos) << started;
+    TempDir dir;
+    const auto json = (dir.path() / "fuzz.json").string();
+    const auto ran = run_mblab({"fuzz", scheme + "://" + pty.client_end() + settings, "--cases",
+                                "150", "--rate", "0", "--timeout", "500", "--json", json});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("no finding: the device served every liveness check"), std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("  protocol-id         n/a an MBAP header field: a serial line has "
+                           "none\n"),
+              std::string::npos)
+        << ran.out;
+    const auto report = nlohmann::json::parse(file_text(json), nullptr, false);
+    ASSERT_FALSE(report.is_discarded()) << ran.out;
+    EXPECT_EQ(report["cases"], 150) << ran.out;
+    for (const auto* name : {"frame-check", "short-frame", "noise", "quantity", "unit-id",
+                             "unknown-function", "oversize", "truncated"}) {
+        EXPECT_GT(class_row(report, name)["run"].get<int>(), 0) << name << "\n" << ran.out;
+    }
+    for (const auto* name : {"protocol-id", "mbap-length", "partial-header", "many-connections",
+                             "pipelined", "split-frame"}) {
+        EXPECT_EQ(class_row(report, name)["run"], 0) << name;
+        EXPECT_NE(class_row(report, name)["not_applicable"], "") << name;
+    }
+    const std::string own = scheme == "rtu" ? "line-gap" : "ascii-text";
+    EXPECT_GT(class_row(report, own)["run"].get<int>(), 0) << ran.out;
+    serve.signal(SIGTERM);
+    EXPECT_EQ(serve.wait_exit(10s), 0);
+}
+
+TEST(FuzzSerial, ServeOverRtuHasNoFinding) {
+    fuzz_serve_over("rtu");
+}
+
+TEST(FuzzSerial, ServeOverAsciiHasNoFinding) {
+    fuzz_serve_over("ascii");
+}
+
+// Restarted by `mblab fuzz --restart`: the old one is gone before the new one opens the line.
+TEST(FuzzSerial, ADeviceDeafAfterABadCrcIsFoundAndMinimised) {
+    PtyPair pty;
+    ASSERT_TRUE(pty.ok()) << pty.error();
+    TempDir dir;
+    const auto device =
+        std::filesystem::path(MBLAB_FRAGILE_DEVICE).parent_path() / "mblab_fragile_line_device";
+    const auto pid_file = (dir.path() / "device.pid").string();
+    const std::string restart = "pid=$(cat " + pid_file +
+                                " 2>/dev/null); if [ -n \"$pid\" ]; then kill $pid; while kill -0 "
+                                "$pid 2>/dev/null; do sleep 0.05; done; fi; rm -f " +
+                                pid_file + "; " + device.string() + " " + pty.server_end() + " " +
+                                pid_file + " >/dev/null 2>&1 </dev/null &";
+    ASSERT_EQ(std::system(restart.c_str()), 0);
+    for (int i = 0; i < 250 && file_text(pid_file).empty(); ++i)
+        std::this_thread::sleep_for(20ms);
+    ASSERT_FALSE(file_text(pid_file).empty());
+    const auto reproducer = (dir.path() / "finding.hex").string();
+    const auto ran =
+        run_mblab({"fuzz", "rtu://" + pty.client_end() + "?baud=115200&data=8", "--cases", "300",
+                   "--rate", "0", "--timeout", "300", "--check-every", "10", "--restart", restart,
+                   "--reproducer", reproducer});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("frame-check: bad CRC to address 247 (the last unicast)"),
+              std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find(" to 1 frame(s) in "), std::string::npos) << ran.out;
+    std::vector<std::string> steps;
+    std::istringstream lines(file_text(reproducer));
+    for (std::string line; std::getline(lines, line);) {
+        if (!line.empty() && line[0] != '#') steps.push_back(line);
+    }
+    EXPECT_EQ(steps, std::vector<std::string>{"F7 03 00 00 00 01 91 9D"}) << ran.out;
+    const auto pid = file_text(pid_file);
+    if (!pid.empty()) ::kill(std::stoi(pid), SIGKILL);
+}
+
+}  // namespace
+}  // namespace mblab::test
