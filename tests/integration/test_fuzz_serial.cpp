@@ -75,6 +75,21 @@ TEST(FuzzSerial, ServeOverAsciiHasNoFinding) {
     fuzz_serve_over("ascii");
 }
 
+// RTU frames over a TCP connection: the line's cases, one connection for the run.
+TEST(FuzzSerial, RtuOverTcpHasNoFinding) {
+    DeviceOnRtuTcp device;
+    ASSERT_EQ(device.start(), "");
+    const auto ran = run_mblab({"fuzz", "rtu+tcp://127.0.0.1:" + std::to_string(device.port()),
+                                "--cases", "150", "--rate", "0", "--timeout", "500"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("no finding: the device served every liveness check"), std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("  line-gap              2 run\n"), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("  many-connections    n/a a serial line is one connection\n"),
+              std::string::npos)
+        << ran.out;
+}
+
 // Restarted by `mblab fuzz --restart`: the old one is gone before the new one opens the line.
 TEST(FuzzSerial, ADeviceDeafAfterABadCrcIsFoundAndMinimised) {
     PtyPair pty;
