@@ -7,6 +7,7 @@
 #include <optional>
 #include <utility>
 
+#include "device/profile_loader.hpp"
 #include "web/fault_rule_json.hpp"
 
 namespace mblab::web {
@@ -16,32 +17,21 @@ namespace {
 using device::BankKind;
 using nlohmann::json;
 
-constexpr std::array<std::pair<const char*, BankKind>, 4> kBanks{{
-    {"coils", BankKind::Coils},
-    {"discrete_inputs", BankKind::DiscreteInputs},
-    {"holding_registers", BankKind::HoldingRegisters},
-    {"input_registers", BankKind::InputRegisters},
-}};
 // At most this many values in one read or write: a page of the dashboard is far fewer.
 constexpr std::uint32_t kMaxValues = 2000;
 constexpr std::uint32_t kDefaultCount = 10;
 
-const char* bank_name(BankKind kind) {
-    for (const auto& [name, value] : kBanks) {
-        if (value == kind) return name;
-    }
-    return "";
+// The profile's names for the banks: one table for profiles, state files and the API.
+std::string bank_name(BankKind kind) {
+    return std::string(device::bank_key(kind));
 }
 
 std::optional<BankKind> bank_kind(const std::string& name) {
-    for (const auto& [bank, value] : kBanks) {
-        if (name == bank) return value;
+    for (std::size_t i = 0; i < device::kBankKinds; ++i) {
+        const auto kind = static_cast<BankKind>(i);
+        if (device::bank_key(kind) == name) return kind;
     }
     return std::nullopt;
-}
-
-bool is_bits(BankKind kind) {
-    return kind == BankKind::Coils || kind == BankKind::DiscreteInputs;
 }
 
 // A whole decimal number inside [0, high]; nothing else (no sign, no spaces, no suffix).
@@ -164,7 +154,9 @@ ApiReply DeviceApi::units() const {
     json out = json::array();
     for (const auto& spec : view_.device.profile().units) {
         json banks = json::object();
-        for (const auto& [name, kind] : kBanks) {
+        for (std::size_t i = 0; i < device::kBankKinds; ++i) {
+            const auto kind = static_cast<BankKind>(i);
+            const std::string name = bank_name(kind);
             json ranges = json::array();
             for (const auto& range : spec.banks[static_cast<std::size_t>(kind)]) {
                 ranges.push_back({{"start", range.start},
@@ -223,7 +215,7 @@ ApiReply DeviceApi::write_values(std::uint8_t unit, BankKind kind, const std::st
         return api_error(
             400, fmt::format("expected {{\"values\": [...]}} with 1 to {} values", kMaxValues));
     }
-    const std::int64_t high = is_bits(kind) ? 1 : 65535;
+    const std::int64_t high = device::is_bit_bank(kind) ? 1 : 65535;
     std::vector<std::uint16_t> values;
     for (const json& value : parsed["values"]) {
         if (!value.is_number_integer() || value.get<std::int64_t>() < 0 ||
