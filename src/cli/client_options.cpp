@@ -1,6 +1,7 @@
 #include "cli/client_options.hpp"
 
 #include <fmt/core.h>
+#include <sys/resource.h>
 
 #include <cmath>
 #include <cstdio>
@@ -14,6 +15,17 @@
 #include "client/transactor.hpp"
 
 namespace mblab::cli {
+
+std::size_t raise_descriptor_limit() {
+    rlimit limit{};
+    if (::getrlimit(RLIMIT_NOFILE, &limit) != 0) return 1024;
+    if (limit.rlim_cur < limit.rlim_max) {
+        limit.rlim_cur = limit.rlim_max;
+        ::setrlimit(RLIMIT_NOFILE, &limit);
+        ::getrlimit(RLIMIT_NOFILE, &limit);
+    }
+    return static_cast<std::size_t>(limit.rlim_cur);
+}
 
 void add_client_options(CLI::App& command, ClientOptions& options) {
     command

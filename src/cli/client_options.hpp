@@ -99,4 +99,8 @@ using ClientBody = std::function<int(client::Client& client, CommandOutput& outp
 // `body`. An unusable option or target and a connection failure end here.
 int with_client(const ClientOptions& options, CommandOutput& output, const ClientBody& body);
 
+// Every connection is a descriptor: lifts the soft limit to the hard one so a thousand
+// connections fit. The soft limit now in force.
+std::size_t raise_descriptor_limit();
+
 }  // namespace mblab::cli

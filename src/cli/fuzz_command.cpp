@@ -13,6 +13,7 @@
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "client/raw_link.hpp"
 #include "client/target.hpp"
 #include "conformance/capture.hpp"
 #include "conformance/dut.hpp"
@@ -51,6 +52,7 @@ struct FuzzCommandOptions {
     std::string json;
     std::string junit;
     std::string pcap;
+    int device_pid = 0;
     const Invocation* invocation = nullptr;
 };
 
@@ -92,6 +94,19 @@ bool read_file(const std::string& path, std::string& text) {
     buffer << in.rdbuf();
     text = buffer.str();
     return true;
+}
+
+// VmRSS and VmHWM of a local process in kB, from /proc; nullopt when it is gone.
+std::optional<std::pair<std::size_t, std::size_t>> process_memory(int pid) {
+    std::ifstream in(fmt::format("/proc/{}/status", pid));
+    if (!in) return std::nullopt;
+    std::size_t rss = 0;
+    std::size_t peak = 0;
+    for (std::string line; std::getline(in, line);) {
+        if (line.starts_with("VmRSS:")) rss = std::stoul(line.substr(6));
+        if (line.starts_with("VmHWM:")) peak = std::stoul(line.substr(6));
+    }
+    return std::pair{rss, peak};
 }
 
 // The --restart command, through the shell; true when it exited 0.
@@ -150,8 +165,21 @@ int run_fuzz(const FuzzCommandOptions& options) {
                             options.writable));
         }
     }
+    std::optional<rb::DeviceMemory> memory;
+    if (options.device_pid != 0) {
+        const auto now = process_memory(options.device_pid);
+        if (!now)
+            return usage_error(fmt::format("--device-pid {}: no such process on this machine",
+                                           options.device_pid));
+        memory = rb::DeviceMemory{options.device_pid, now->first, 0, 0};
+    }
     std::signal(SIGPIPE, SIG_IGN);
     const auto timeout = std::chrono::milliseconds(options.timeout_ms);
+    // The largest many-connections case holds two thousand connections where descriptors allow.
+    rb::ResourceLimits limits;
+    const std::size_t descriptors = raise_descriptor_limit();
+    limits.connections = std::min<std::size_t>(2000, descriptors > 300 ? descriptors - 200 : 100);
+    limits.half_open = client::RawLink::can_vanish();
 
     // Reconnaissance over one connection, one request at a time.
     conf::Dut dut;
@@ -230,7 +258,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
     std::signal(SIGINT, on_fuzz_stop_signal);
     std::signal(SIGTERM, on_fuzz_stop_signal);
     const bool live = ::isatty(STDERR_FILENO) != 0;
-    rb::CaseGenerator generator(recon, policy, options.seed, framing, gap);
+    rb::CaseGenerator generator(recon, policy, options.seed, framing, gap, limits);
     auto result = runner.run(
         generator,
         [&](const rb::FuzzResult& so_far, const rb::FuzzCase& c) {
@@ -241,6 +269,13 @@ int run_fuzz(const FuzzCommandOptions& options) {
         },
         [] { return g_stop.load(); });
     if (live) fmt::print(stderr, "\r\033[K");
+    if (memory) {
+        if (const auto now = process_memory(memory->pid)) {
+            memory->end_kb = now->first;
+            memory->peak_kb = now->second;
+            result.memory = memory;
+        }
+    }
     fmt::print("{}", rb::summary_text(result));
 
     const auto provenance = provenance_of(options, started);
@@ -335,6 +370,9 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     cmd->add_option("--reproducer", options->reproducer,
                     "where a finding's reproducer (hex lines) is written; FILE.pcapng too")
         ->capture_default_str();
+    cmd->add_option("--device-pid", options->device_pid,
+                    "process id of a device running on this machine: its memory is reported")
+        ->check(CLI::PositiveNumber);
     cmd->add_option("--json", options->json, "write the report as JSON to FILE");
     cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
     cmd->add_option("--pcap", options->pcap,

@@ -1,5 +1,4 @@
 #include <fmt/core.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -211,15 +210,6 @@ protocol::Result<load::LoadPlan, std::string> make_plan(const LoadOptions& optio
     const std::size_t cores = std::max(1U, std::thread::hardware_concurrency());
     s.threads = std::min({s.threads, std::max<std::size_t>(plan.tcp_connections(), 1), cores});
     return plan;
-}
-
-// Every connection is a descriptor; lift the soft limit so 1000 connections fit.
-void raise_descriptor_limit() {
-    rlimit limit{};
-    if (::getrlimit(RLIMIT_NOFILE, &limit) == 0 && limit.rlim_cur < limit.rlim_max) {
-        limit.rlim_cur = limit.rlim_max;
-        ::setrlimit(RLIMIT_NOFILE, &limit);
-    }
 }
 
 void catch_stop_signals() {

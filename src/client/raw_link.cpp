@@ -306,6 +306,56 @@ bool RawLink::send(std::span<const std::uint8_t> bytes, LinkError& error) {
     return true;
 }
 
+std::size_t RawLink::send_for(std::span<const std::uint8_t> bytes,
+                              std::chrono::milliseconds timeout, LinkError& error) {
+    if (tls_) return send(bytes, error) ? bytes.size() : 0;
+    if (fd_ < 0) {
+        error.message = "connection closed";
+        return 0;
+    }
+    const auto deadline = Clock::now() + timeout;
+    std::size_t sent = 0;
+    while (sent < bytes.size()) {
+        pollfd pfd{fd_, POLLOUT, 0};
+        const int ready = ::poll(&pfd, 1, remaining_ms(deadline));
+        if (ready < 0 && errno == EINTR) continue;
+        if (ready <= 0) break;
+        const ssize_t n =
+            ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
+        if (n < 0) {
+            if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) continue;
+            error.message = errno_text(errno);
+            if (observer_ != nullptr && sent > 0) observer_->on_sent(bytes.first(sent));
+            drop(true);
+            return sent;
+        }
+        sent += static_cast<std::size_t>(n);
+    }
+    if (observer_ != nullptr && sent > 0) observer_->on_sent(bytes.first(sent));
+    return sent;
+}
+
+bool RawLink::vanish() {
+    if (fd_ < 0) return false;
+    const int on = 1;
+    if (::setsockopt(fd_, IPPROTO_TCP, TCP_REPAIR, &on, sizeof on) != 0) return false;
+    // In repair mode close() frees the socket silently; the capture shows no close either.
+    ::close(fd_);
+    fd_ = -1;
+    tls_.reset();
+    reader_.reset();
+    return true;
+}
+
+bool RawLink::can_vanish() {
+    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+    if (fd < 0) return false;
+    const int on = 1;
+    const bool allowed = ::setsockopt(fd, IPPROTO_TCP, TCP_REPAIR, &on, sizeof on) == 0;
+    ::close(fd);
+    return allowed;
+}
+
 RawLink::Fill RawLink::read_some(Clock::time_point deadline, std::string& detail,
                                  std::span<std::uint8_t> chunk, std::size_t& got) {
     got = 0;
@@ -390,6 +440,25 @@ Received RawLink::receive_frame(std::chrono::milliseconds timeout) {
     while (true) {
         if (auto frame = reader_.next()) return std::move(*frame);
         if (auto done = wait(deadline)) return std::move(*done);
+    }
+}
+
+Received RawLink::next_frame(std::chrono::milliseconds timeout) {
+    const auto deadline = Clock::now() + timeout;
+    while (true) {
+        if (auto frame = reader_.next()) return std::move(*frame);
+        std::string detail;
+        switch (fill(deadline, detail)) {
+            case Fill::Data:
+                break;
+            case Fill::Timeout:
+                return Received(ReceiveStatus::Timeout);
+            case Fill::Closed: {
+                Received out = reader_.take(ReceiveStatus::Closed, detail);
+                if (fd_ >= 0) drop(true);
+                return out;
+            }
+        }
     }
 }
 

@@ -64,6 +64,8 @@ class RawLink {
     // Waits until one MBAP frame is complete, the deadline passes, or the peer closes. Bytes past
     // the frame stay buffered for the next call, so pipelined answers are taken one at a time.
     Received receive_frame(std::chrono::milliseconds timeout);
+    // As receive_frame(), but on timeout the part of a frame already come stays buffered.
+    Received next_frame(std::chrono::milliseconds timeout);
 
     // Reads whatever arrives for `timeout` (or until the peer closes); used to check a device
     // stays silent. A device that floods is not allowed to fill memory: the first
@@ -72,6 +74,16 @@ class RawLink {
     static constexpr std::size_t kKeptUnasked = 4096;
 
     void close();
+
+    // Writes what the peer takes before `timeout` passes (plain TCP; over TLS, send()). The count
+    // of bytes written; the link is dropped only when the peer is gone.
+    std::size_t send_for(std::span<const std::uint8_t> bytes, std::chrono::milliseconds timeout,
+                         LinkError& error);
+    // Closes the socket in TCP repair mode, so no FIN or reset leaves: the peer keeps a half-open
+    // connection. Needs CAP_NET_ADMIN; false, and the link still open, without it.
+    bool vanish();
+    // Whether vanish() is allowed here (the capability, asked of a socket of our own).
+    static bool can_vanish();
 
   private:
     RawLink(int fd, const LinkAddresses& addresses, LinkObserver* observer);

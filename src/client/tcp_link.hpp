@@ -26,6 +26,14 @@ class TcpLink final : public Link {
         return raw_.receive_any(timeout);
     }
     void close() override { raw_.close(); }
+    std::size_t send_for(std::span<const std::uint8_t> bytes, std::chrono::milliseconds timeout,
+                         LinkError& error) override {
+        return raw_.send_for(bytes, timeout, error);
+    }
+    bool vanish() override { return raw_.vanish(); }
+    Received next_frame(std::chrono::milliseconds timeout) override {
+        return raw_.next_frame(timeout);
+    }
     const security::TlsPeer* tls_peer() const override {
         return raw_.tls() ? &raw_.tls()->peer() : nullptr;
     }

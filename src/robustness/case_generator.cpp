@@ -91,15 +91,18 @@ bool may_send(std::span<const std::uint8_t> pdu, const WritePolicy& policy) {
 }
 
 CaseGenerator::CaseGenerator(Recon recon, WritePolicy policy, std::uint64_t seed,
-                             protocol::Framing framing, std::chrono::milliseconds gap)
+                             protocol::Framing framing, std::chrono::milliseconds gap,
+                             ResourceLimits limits)
     : recon_(std::move(recon)),
       policy_(policy),
       framing_(framing),
+      limits_(limits),
       prng_(seed),
       by_class_(kBadInputCount) {
     write_address_ = policy_.writable ? policy_.writable->start : 0;
     fixed_frames();
     fixed_streams();
+    resource_cases();
     if (framing_ != protocol::Framing::Mbap) {
         for (auto& cases : by_class_) {
             std::vector<FuzzCase> kept;
@@ -482,6 +485,94 @@ void CaseGenerator::fixed_streams() {
             c.steps.push_back({i, Bytes(frame.begin(), frame.begin() + 3), {}});
         }
         add(std::move(c));
+    }
+}
+
+void CaseGenerator::resource_cases() {
+    const std::uint8_t unit = recon_.unit;
+    const Bytes read = words(0x03, {recon_.check_address, 1});
+    const Bytes largest = words(0x03, {recon_.check_address, recon_.max_read});
+    auto requests = [&](std::size_t count, const Bytes& pdu) {
+        Bytes all;
+        all.reserve(count * (7 + pdu.size()));
+        for (std::size_t i = 0; i < count; ++i) {
+            const Bytes frame = mbap_frame(next_transaction(), unit, pdu);
+            all.insert(all.end(), frame.begin(), frame.end());
+        }
+        return all;
+    };
+
+    if (limits_.connections > 100) {
+        // Idle connections held through the check: a device that is full must close the
+        // oldest idle one for a newcomer [TCPG 4.2.1.1], not refuse the newcomer.
+        FuzzCase c{BadInput::ManyConnections,
+                   fmt::format("{} connections, a request on each, held open", limits_.connections),
+                   {},
+                   true};
+        for (std::size_t i = 0; i < limits_.connections; ++i)
+            c.steps.push_back({i, mbap_frame(next_transaction(), unit, read), {}});
+        add(std::move(c));
+    }
+
+    // The answers to the largest read pile up unread: megabytes a device must not buffer.
+    for (auto [connections, count] : {std::pair{std::size_t{1}, std::size_t{40000}},
+                                      std::pair{std::size_t{8}, std::size_t{4000}}}) {
+        FuzzCase c{BadInput::SlowReader,
+                   fmt::format("{} connection(s), {} FC 03 reads of {} each, answers never read",
+                               connections, count, recon_.max_read),
+                   {},
+                   true};
+        for (std::size_t i = 0; i < connections; ++i) {
+            c.steps.push_back({i, requests(count, largest), {}});
+            c.steps.back().unread = true;
+        }
+        add(std::move(c));
+    }
+
+    if (limits_.half_open) {
+        for (auto [connections, keep] : {std::pair{std::size_t{20}, std::size_t{3}},
+                                         std::pair{std::size_t{300}, std::size_t{7}}}) {
+            FuzzCase c{BadInput::HalfOpen,
+                       fmt::format("{} connections, {} bytes of a request, then gone without a FIN",
+                                   connections, keep),
+                       {},
+                       false};
+            for (std::size_t i = 0; i < connections; ++i) {
+                const Bytes frame = mbap_frame(next_transaction(), unit, read);
+                c.steps.push_back(
+                    {i, Bytes(frame.begin(), frame.begin() + static_cast<long>(keep)), {}});
+                c.steps.back().vanish = true;
+            }
+            add(std::move(c));
+        }
+    }
+
+    {
+        FuzzCase c{BadInput::Flood, "20000 reads streamed, answers read as they come", {}, false};
+        c.steps.push_back({0, requests(20000, read), {}});
+        add(std::move(c));
+    }
+    const Bytes write_probe = words(0x06, {write_address_, 1});
+    if (recon_.serves(0x06) && may_send(write_probe, policy_)) {
+        FuzzCase c{BadInput::Flood,
+                   fmt::format("20000 requests streamed, FC 06 of 1..10000 to register {} between "
+                               "reads; the last acknowledged value read back",
+                               write_address_),
+                   {},
+                   false};
+        Bytes all;
+        for (std::uint16_t value = 1; value <= 10000; ++value) {
+            for (const Bytes& frame :
+                 {mbap_frame(next_transaction(), unit, words(0x06, {write_address_, value})),
+                  mbap_frame(next_transaction(), unit, read)})
+                all.insert(all.end(), frame.begin(), frame.end());
+        }
+        c.steps.push_back({0, std::move(all), {}});
+        c.ledger = WriteLedger{write_address_};
+        add(std::move(c));
+    } else {
+        withheld_.resize(kBadInputCount);
+        if (recon_.serves(0x06)) ++withheld_[static_cast<std::size_t>(BadInput::Flood)];
     }
 }
 

@@ -35,18 +35,26 @@ struct WritePolicy {
 // since a device that obeys them has not failed.
 bool may_send(std::span<const std::uint8_t> pdu, const WritePolicy& policy);
 
+// What the tester's own machine allows the resource cases.
+struct ResourceLimits {
+    std::size_t connections = 2000;  // held at once by the largest many-connections case
+    bool half_open = true;           // connections can be let go without a FIN (TCP_REPAIR)
+};
+
 class CaseGenerator {
   public:
     // `gap` is the silence the line-gap class leaves inside an RTU frame (longer than t1.5).
     CaseGenerator(Recon recon, WritePolicy policy, std::uint64_t seed,
                   protocol::Framing framing = protocol::Framing::Mbap,
-                  std::chrono::milliseconds gap = std::chrono::milliseconds(2));
+                  std::chrono::milliseconds gap = std::chrono::milliseconds(2),
+                  ResourceLimits limits = {});
 
     // The next case; fixed ones first, then mutations.
     FuzzCase next();
     // Fixed cases left out because they would write outside the policy, per class.
     const std::vector<std::size_t>& withheld() const { return withheld_; }
     std::size_t fixed_cases() const { return fixed_.size(); }
+    const ResourceLimits& limits() const { return limits_; }
 
   private:
     void add(FuzzCase c);
@@ -54,11 +62,13 @@ class CaseGenerator {
     std::uint16_t next_transaction() { return ++transaction_; }
     void fixed_frames();
     void fixed_streams();
+    void resource_cases();
     FuzzCase mutation();
 
     Recon recon_;
     WritePolicy policy_;
     protocol::Framing framing_;
+    ResourceLimits limits_;
     Prng prng_;
     std::uint16_t transaction_ = 0;
     std::uint16_t write_address_ = 0;

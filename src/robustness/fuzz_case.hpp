@@ -7,6 +7,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 // What the robustness tester sends: cases made of steps, each step bytes on one of the case's
@@ -30,7 +31,10 @@ enum class BadInput : std::uint8_t {
     SplitFrame,       // 10: one request over several segments, with pauses
     PartialHeader,    // 14: part of an MBAP header, then silence on an open connection
     Pipelined,        // 10: many requests in one segment
-    ManyConnections,  // 12: many connections at once
+    ManyConnections,  // 12: many connections at once, a thousand held open through the check
+    SlowReader,       // 14: requests sent, answers never read, the connection held open
+    HalfOpen,         // 14: a partial request, then the client gone without a FIN
+    Flood,            // 10: requests streamed without waiting, writes among them checked
     Boundary,         // 0, 1, max, max+1, all ones in addresses, quantities, transaction ids
     FrameCheck,       // serial: a bad CRC (RTU) or LRC (ASCII)
     ShortFrame,       // serial: frames shorter than address + function + check
@@ -49,18 +53,39 @@ std::string_view class_expectation(BadInput kind);
 std::optional<BadInput> class_named(std::string_view name);
 
 struct Step {
+    Step() = default;
+    Step(std::size_t on, std::vector<std::uint8_t> data,
+         std::chrono::milliseconds silence = std::chrono::milliseconds(0))
+        : connection(on), bytes(std::move(data)), pause(silence) {}
+
     std::size_t connection = 0;  // which of the case's connections carries it
     std::vector<std::uint8_t> bytes;
     std::chrono::milliseconds pause{0};  // silence after it, before the next step
+    // The connection's answers are never read: the device's send buffer fills (a slow reader).
+    bool unread = false;
+    // After the bytes, the connection is let go without a FIN (a half-open connection).
+    bool vanish = false;
+};
+
+// A flood's writes: FC 06 of 1, 2, 3, ... to one holding register, answers read as they come.
+// Once the device is judged alive, the register must hold a value no older than the last write
+// it acknowledged: an acknowledged write that is lost is a finding.
+struct WriteLedger {
+    std::uint16_t address = 0;
 };
 
 struct FuzzCase {
+    FuzzCase() = default;
+    FuzzCase(BadInput what, std::string called, std::vector<Step> sent = {}, bool hold = false)
+        : kind(what), name(std::move(called)), steps(std::move(sent)), hold_open(hold) {}
+
     BadInput kind = BadInput::Mutation;
     std::string name;  // "protocol id 0x0001", "FC 0x10 byte count 3 for 1 register"
     std::vector<Step> steps;
     // The case's connections stay open through the liveness check that follows it (a partial
     // header left hanging must not stall the others).
     bool hold_open = false;
+    std::optional<WriteLedger> ledger;
 };
 
 // An MBAP frame: header fields as given, then `pdu`. `length` is the MBAP length field; nullopt

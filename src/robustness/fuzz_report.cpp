@@ -58,6 +58,25 @@ std::string summary_text(const FuzzResult& result) {
             "the device serves one connection at a time: no connection was kept open "
             "across cases for the check\n";
     }
+    if (result.ledger.floods > 0) {
+        out += fmt::format(
+            "flood writes read back: {} flood(s), {} writes acknowledged, the last one kept\n",
+            result.ledger.floods, result.ledger.acknowledged);
+    }
+    if (result.ledger.unacknowledged > 0) {
+        out += fmt::format(
+            "flood writes: none acknowledged in {} flood(s) (refused or unanswered), nothing to "
+            "read back\n",
+            result.ledger.unacknowledged);
+    }
+    if (result.memory) {
+        const auto& m = *result.memory;
+        out += fmt::format(
+            "device memory (pid {}): {:.1f} MiB resident at the start, {:.1f} MiB at the end, "
+            "peak {:.1f} MiB\n",
+            m.pid, static_cast<double>(m.start_kb) / 1024.0, static_cast<double>(m.end_kb) / 1024.0,
+            static_cast<double>(m.peak_kb) / 1024.0);
+    }
     if (!result.finding) {
         out += "no finding: the device served every liveness check\n";
         return out;
@@ -67,12 +86,24 @@ std::string summary_text(const FuzzResult& result) {
     out += fmt::format("  case {}, {}: {}\n", f.case_number, class_name(f.kind), f.case_name);
     out += fmt::format("  {}\n", f.minimise_note);
     out += "  reproducer:\n";
+    // A resource case's reproducer runs to thousands of lines: the file holds them all.
+    constexpr std::size_t kShown = 20;
+    constexpr std::size_t kLongest = 200;
     std::string text = reproducer_text(f.reproducer, "");
-    for (std::size_t from = 0; from < text.size();) {
+    std::size_t lines = 0;
+    for (std::size_t from = 0; from < text.size(); ++lines) {
         const auto end = text.find('\n', from);
-        out += "    " + text.substr(from, end - from) + "\n";
+        if (lines < kShown) {
+            const auto line = text.substr(from, end - from);
+            out += "    " +
+                   (line.size() > kLongest ? fmt::format("{} ... ({} characters)",
+                                                         line.substr(0, kLongest), line.size())
+                                           : line) +
+                   "\n";
+        }
         from = end + 1;
     }
+    if (lines > kShown) out += fmt::format("    ... {} more step(s)\n", lines - kShown);
     return out;
 }
 
@@ -114,9 +145,19 @@ std::string json_report(const FuzzResult& result, const conformance::Provenance&
         {"longest_wait_ms", result.longest_wait.count()},
         {"stopped_by", result.stopped_by},
         {"one_connection_at_a_time", result.one_connection_at_a_time},
+        {"ledger",
+         {{"floods_read_back", result.ledger.floods},
+          {"acknowledged_writes", result.ledger.acknowledged},
+          {"floods_without_acknowledged_writes", result.ledger.unacknowledged}}},
         {"classes", classes},
         {"verdict", result.finding ? "finding" : "no finding"},
     };
+    if (result.memory) {
+        document["device_memory_kb"] = {{"pid", result.memory->pid},
+                                        {"start", result.memory->start_kb},
+                                        {"end", result.memory->end_kb},
+                                        {"peak", result.memory->peak_kb}};
+    }
     if (result.finding) {
         const auto& f = *result.finding;
         nlohmann::json steps = nlohmann::json::array();
@@ -124,8 +165,11 @@ std::string json_report(const FuzzResult& result, const conformance::Provenance&
             std::string hex;
             for (auto byte : step.bytes)
                 hex += fmt::format("{}{:02X}", hex.empty() ? "" : " ", byte);
-            steps.push_back(
-                {{"connection", step.connection}, {"hex", hex}, {"pause_ms", step.pause.count()}});
+            steps.push_back({{"connection", step.connection},
+                             {"hex", hex},
+                             {"pause_ms", step.pause.count()},
+                             {"unread", step.unread},
+                             {"vanish", step.vanish}});
         }
         document["finding"] = {{"class", class_name(f.kind)},
                                {"case", f.case_name},

@@ -67,6 +67,21 @@ struct Finding {
     bool minimised = false;
 };
 
+// What a flood's ledger saw: the last write the device acknowledged and what it reads back.
+struct LedgerTally {
+    std::size_t floods = 0;          // floods whose register was read back
+    std::size_t acknowledged = 0;    // FC 06 answers received in them
+    std::size_t unacknowledged = 0;  // floods whose writes the device refused or did not answer
+};
+
+// The device's memory, when it runs on this machine and the user named its process.
+struct DeviceMemory {
+    int pid = 0;
+    std::size_t start_kb = 0;  // resident at the start
+    std::size_t end_kb = 0;    // resident at the end
+    std::size_t peak_kb = 0;   // the process's high-water mark (VmHWM)
+};
+
 struct FuzzResult {
     std::string target;
     std::uint64_t seed = 1;
@@ -80,6 +95,8 @@ struct FuzzResult {
     std::optional<Finding> finding;
     std::string stopped_by;  // "case budget", "time budget", "finding", "interrupted"
     bool one_connection_at_a_time = false;  // the bystander check was dropped
+    LedgerTally ledger;
+    std::optional<DeviceMemory> memory;
 };
 
 // Told of each case as it starts (the console's progress line).
@@ -96,7 +113,15 @@ class FuzzRunner {
 
   private:
     void pace();
-    void send_steps(const std::vector<Step>& steps, bool hold);
+    void send_steps(const std::vector<Step>& steps, bool hold,
+                    const std::optional<WriteLedger>& ledger = std::nullopt);
+    // A flood: written as the device takes it while its answers are read; returns the highest
+    // value of the ledger's register that an answer acknowledged (0 when none).
+    std::uint16_t stream(client::Link& link, const Step& step,
+                         const std::optional<WriteLedger>& ledger);
+    // After a flood with a ledger: why the register read back betrays a lost write, or "".
+    std::string check_ledger(const WriteLedger& ledger, std::uint16_t acknowledged,
+                             std::uint16_t highest_sent, FuzzResult& result);
     void close_all();
     void minimise_finding(Finding& finding);
     Liveness check();
@@ -111,6 +136,8 @@ class FuzzRunner {
     LivenessOracle oracle_;
     LineOracle line_oracle_;
     std::vector<std::unique_ptr<client::Link>> links_;
+    std::vector<bool> unread_;        // per link: its answers are left for the device to hold
+    std::uint16_t acknowledged_ = 0;  // by the last case's flood
     std::chrono::steady_clock::time_point next_send_{};
     std::size_t sends_ = 0;
 };

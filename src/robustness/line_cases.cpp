@@ -126,13 +126,16 @@ std::optional<std::string_view> not_applicable(BadInput kind, Framing framing) {
         bool on_line;  // the class is out of place on a line (else: over Modbus/TCP)
         std::string_view why;
     };
-    static constexpr std::array<Row, 9> kRows{{
+    static constexpr std::array<Row, 12> kRows{{
         {BadInput::ProtocolId, true, "an MBAP header field: a serial line has none"},
         {BadInput::MbapLength, true, "an MBAP header field: a serial line has none"},
         {BadInput::PartialHeader, true, "an MBAP header field: a serial line has none"},
         {BadInput::SplitFrame, true, "TCP segments: on a line a pause inside a frame is line-gap"},
         {BadInput::Pipelined, true, "a serial line carries one request at a time"},
         {BadInput::ManyConnections, true, "a serial line is one connection"},
+        {BadInput::SlowReader, true, "a serial line has no send buffer to fill"},
+        {BadInput::HalfOpen, true, "a serial line has no connection to leave half-open"},
+        {BadInput::Flood, true, "a serial line carries one request at a time"},
         {BadInput::FrameCheck, false, "a serial-line class: the target speaks Modbus/TCP"},
         {BadInput::ShortFrame, false, "a serial-line class: the target speaks Modbus/TCP"},
         {BadInput::Noise, false, "a serial-line class: the target speaks Modbus/TCP"},

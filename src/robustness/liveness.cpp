@@ -97,8 +97,11 @@ Liveness LivenessOracle::check() {
     std::string detail;
     Outcome outcome = Outcome::Closed;
     // A device that closed the connection the case used may be slow to free its slot, and may
-    // close a fresh one it cannot serve yet: tried again before it counts.
-    for (int attempt = 0; attempt < 2 && outcome == Outcome::Closed; ++attempt) {
+    // close a fresh one it cannot serve yet (its slots still busy with the case's connections):
+    // tried again until the declared timeout has passed before it counts.
+    for (int attempt = 0; outcome == Outcome::Closed && (attempt < 2 || since(start) < timeout_);
+         ++attempt) {
+        if (attempt >= 2) std::this_thread::sleep_for(std::chrono::milliseconds(50));
         fresh_.close();
         client::LinkError error;
         if (!fresh_.reconnect(error)) {
@@ -173,6 +176,21 @@ void LivenessOracle::open_bystander() {
     if (one_at_a_time_) return;
     client::LinkError error;
     bystander_open_ = bystander_.connect(error);
+}
+
+std::optional<std::uint16_t> LivenessOracle::read_register(std::uint16_t address) {
+    fresh_.close();
+    client::LinkError error;
+    if (!fresh_.reconnect(error)) return std::nullopt;
+    const std::uint16_t transaction = ++transaction_;
+    if (!fresh_.send(mbap_frame(transaction, unit_, known_good_read(address)), 1, error))
+        return std::nullopt;
+    const auto answer = fresh_.receive_frame(timeout_);
+    fresh_.close();
+    if (answer.status != client::ReceiveStatus::Frame ||
+        answer.header.transaction_id != transaction || !answers_known_good(answer.pdu))
+        return std::nullopt;
+    return static_cast<std::uint16_t>(answer.pdu[2] << 8 | answer.pdu[3]);
 }
 
 void LivenessOracle::close() {

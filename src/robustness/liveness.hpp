@@ -3,6 +3,7 @@
 #include <array>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -37,6 +38,9 @@ class LivenessOracle {
     Liveness wait_alive(std::chrono::milliseconds patience);
     // Opens the connection that the next check asks on as an already-open one.
     void open_bystander();
+    // Holding register `address` read on a fresh connection; nullopt when it is not answered
+    // with its value.
+    std::optional<std::uint16_t> read_register(std::uint16_t address);
     void close();
     // The device served a fresh connection only once the bystander was closed: it serves one
     // connection at a time, and the bystander is no longer kept.

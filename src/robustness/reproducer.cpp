@@ -20,6 +20,8 @@ std::string reproducer_text(const std::vector<Step>& steps, const std::string& c
         for (std::size_t i = 0; i < step.bytes.size(); ++i)
             line += fmt::format("{}{:02X}", i == 0 ? "" : " ", step.bytes[i]);
         if (step.pause.count() > 0) line += fmt::format(" +{}ms", step.pause.count());
+        if (step.unread) line += " unread";
+        if (step.vanish) line += " vanish";
         out += line + "\n";
     }
     return out;
@@ -54,6 +56,11 @@ protocol::Result<std::vector<Step>, std::string> parse_reproducer(const std::str
                     digits.find_first_not_of("0123456789") != std::string::npos)
                     return bad("is not a pause (+20ms)");
                 step.pause = std::chrono::milliseconds(std::stoul(digits));
+                continue;
+            }
+            if (word == "unread" || word == "vanish") {
+                if (step.bytes.empty()) return bad("comes after the bytes it is about");
+                (word == "unread" ? step.unread : step.vanish) = true;
                 continue;
             }
             if (word.size() != 2 || !std::isxdigit(static_cast<unsigned char>(word[0])) ||

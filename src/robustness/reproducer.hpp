@@ -9,7 +9,8 @@
 
 // A reproducer as text `mblab fuzz TARGET --replay FILE` sends again: one step a line, the bytes
 // as they go on the wire (MBAP header included) in hex, "@N" first for a connection other than
-// the first, "+MSms" last for the silence after it; '#' starts a comment.
+// the first, "+MSms" for the silence after it, "unread" when the connection's answers are never
+// read, "vanish" when it is let go without a FIN after the bytes; '#' starts a comment.
 //   # protocol-id: protocol id 0x0001
 //   00 01 00 01 00 06 01 03 00 00 00 01
 namespace mblab::robustness {

@@ -4,15 +4,24 @@
 //   protocol-id     exits on a frame whose protocol id is not 0 (a crash)
 //   length-one      blocks its loop forever on an MBAP length of 1 (a hang)
 //   byte-count      stops answering anyone after an FC 10 whose byte count is not 2 x quantity
+//   blocking-send   writes answers with blocking sends: a client that never reads its answers
+//                   stalls everyone (otherwise such a client is closed)
+//   loses-writes    serves FC 06 to registers 0..99 but, given more than 8 requests at once,
+//                   acknowledges the writes among them without keeping them
+//   few-slots       64 connections at most: a newcomer evicts a connection stuck in a partial
+//                   frame but never an idle one, and is closed when there is none
 //   closes-garbage  robust: closes the connection on anything but a valid FC 03
 //   late            robust: answers 150 ms late
 // Usage: fragile_device MODE PORT PIDFILE
 #include <arpa/inet.h>
 #include <netinet/in.h>
 #include <poll.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -30,11 +39,24 @@ struct Client {
 
 std::string g_mode;
 bool g_deaf = false;
+std::array<std::uint16_t, 100> g_registers{};
+
+// Whole requests waiting in `b`.
+std::size_t whole_requests(const std::vector<std::uint8_t>& b) {
+    std::size_t count = 0;
+    for (std::size_t at = 0; at + 7 <= b.size(); ++count) {
+        const std::size_t length = b[at + 4] << 8 | b[at + 5];
+        if (length < 2 || at + 6 + length > b.size()) break;
+        at += 6 + length;
+    }
+    return count;
+}
 
 // False when the connection is to be closed.
 bool serve(Client& client) {
     auto& b = client.buffer;
     std::vector<std::uint8_t> out;
+    const bool forgetful = g_mode == "loses-writes" && whole_requests(b) > 8;
     while (b.size() >= 7) {
         const unsigned protocol = b[2] << 8 | b[3];
         const unsigned length = b[4] << 8 | b[5];
@@ -50,9 +72,18 @@ bool serve(Client& client) {
         const unsigned quantity = pdu.size() >= 5 ? (pdu[3] << 8 | pdu[4]) : 0;
         if (pdu[0] == 0x10 && pdu.size() >= 6 && pdu[5] != 2 * quantity && g_mode == "byte-count")
             g_deaf = true;
+        const unsigned address = pdu.size() >= 3 ? (pdu[1] << 8 | pdu[2]) : 0;
         if (pdu[0] == 0x03 && pdu.size() == 5 && quantity >= 1 && quantity <= 125) {
             answer = {0x03, static_cast<std::uint8_t>(2 * quantity)};
-            answer.resize(2 + 2 * quantity, 0);
+            for (unsigned i = 0; i < quantity; ++i) {
+                const auto value = address + i < g_registers.size() ? g_registers[address + i] : 0;
+                answer.push_back(static_cast<std::uint8_t>(value >> 8));
+                answer.push_back(static_cast<std::uint8_t>(value));
+            }
+        } else if (g_mode == "loses-writes" && pdu[0] == 0x06 && pdu.size() == 5 &&
+                   address < g_registers.size()) {
+            if (!forgetful) g_registers[address] = static_cast<std::uint16_t>(quantity);
+            answer = pdu;
         } else if (g_mode == "closes-garbage") {
             return false;
         } else {
@@ -65,7 +96,9 @@ bool serve(Client& client) {
         b.erase(b.begin(), b.begin() + 6 + length);
     }
     if (out.empty() || g_deaf) return true;
-    return ::send(client.fd, out.data(), out.size(), MSG_NOSIGNAL) >= 0;
+    // Without blocking, a client whose answers do not fit is closed rather than waited for.
+    const int flags = g_mode == "blocking-send" ? MSG_NOSIGNAL : MSG_NOSIGNAL | MSG_DONTWAIT;
+    return ::send(client.fd, out.data(), out.size(), flags) == static_cast<ssize_t>(out.size());
 }
 
 }  // namespace
@@ -76,6 +109,12 @@ int main(int argc, char** argv) {
         return 2;
     }
     g_mode = argv[1];
+    // Thousands of connections at once are a case of their own.
+    rlimit limit{};
+    if (::getrlimit(RLIMIT_NOFILE, &limit) == 0) {
+        limit.rlim_cur = limit.rlim_max;
+        ::setrlimit(RLIMIT_NOFILE, &limit);
+    }
     const int listener = ::socket(AF_INET, SOCK_STREAM, 0);
     const int on = 1;
     ::setsockopt(listener, SOL_SOCKET, SO_REUSEADDR, &on, sizeof on);
@@ -107,7 +146,25 @@ int main(int argc, char** argv) {
         if (g_mode == "late") std::this_thread::sleep_for(std::chrono::milliseconds(150));
         if (fds[0].revents & POLLIN) {
             for (int fd; (fd = ::accept4(listener, nullptr, nullptr, 0)) >= 0;) {
-                clients.push_back({fd, {}});
+                const auto live = std::count_if(clients.begin(), clients.end(),
+                                                [](const Client& c) { return c.fd >= 0; });
+                bool admit = true;
+                if (g_mode == "few-slots" && live >= 64) {
+                    // Marked, not erased: the poll set below still maps onto `clients`.
+                    auto stuck = std::find_if(clients.begin(), clients.end(), [](const Client& c) {
+                        return c.fd >= 0 && !c.buffer.empty();
+                    });
+                    admit = stuck != clients.end();
+                    if (admit) {
+                        ::close(stuck->fd);
+                        stuck->fd = -1;
+                    }
+                }
+                if (admit) {
+                    clients.push_back({fd, {}});
+                } else {
+                    ::close(fd);
+                }
                 pollfd more{listener, POLLIN, 0};
                 if (::poll(&more, 1, 0) <= 0) break;
             }

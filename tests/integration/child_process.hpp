@@ -19,6 +19,7 @@ class ChildProcess {
     ChildProcess& operator=(const ChildProcess&) = delete;
 
     bool started() const { return pid_ > 0; }
+    pid_t pid() const { return pid_; }
     // One line of stdout without its newline; nullopt on timeout or end of output.
     std::optional<std::string> read_stdout_line(std::chrono::milliseconds timeout);
     void signal(int signal_number) const;

@@ -10,12 +10,15 @@
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
+#include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <utility>
 #include <vector>
 
+#include "child_process.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
 #include "support/faulty_server.hpp"
@@ -186,6 +189,64 @@ TEST_F(FuzzFragile, ALateDeviceIsRobust) {
     EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
 }
 
+// A device that writes its answers with blocking sends: one client that never reads its answers
+// fills the socket, and the device's one loop waits on it, serving nobody.
+TEST_F(FuzzFragile, ASlowReaderThatStallsEveryoneIsFound) {
+    start("blocking-send");
+    auto ran = fuzz({"--cases", "100", "--timeout", "300ms", "--restart", restart_});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("slow-reader: 1 connection(s), 40000 FC 03 reads of 125 each, answers "
+                           "never read"),
+              std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("does not answer the known-good read"), std::string::npos) << ran.out;
+    // The one step, marked as never read: the replay leaves it unread too and stalls the device.
+    const auto steps = reproducer();
+    ASSERT_EQ(steps.size(), 1U) << ran.out;
+    EXPECT_TRUE(steps[0].ends_with(" unread")) << steps[0].substr(0, 80);
+    restart();
+    auto replayed = fuzz({"--replay", (dir_ / "finding.hex").string(), "--timeout", "300ms"});
+    EXPECT_EQ(replayed.status, 1) << replayed.out << replayed.err;
+}
+
+// Acknowledges every FC 06 but, given more than 8 requests at once, keeps none of them: the
+// flood's ledger reads the register back and finds an acknowledged write gone.
+TEST_F(FuzzFragile, AnAcknowledgedWriteThatIsLostIsFound) {
+    start("loses-writes");
+    auto ran = fuzz({"--cases", "120", "--timeout", "300ms", "--writable", "0:10"});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("FINDING: the device lost an acknowledged write: register 0 reads "),
+              std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("flood: 20000 requests streamed, FC 06 of 1..10000 to register 0"),
+              std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("not minimised: a lost write is judged over the whole flood"),
+              std::string::npos)
+        << ran.out;
+}
+
+// The same device without writes allowed: the flood's writes are withheld and nothing is lost.
+TEST_F(FuzzFragile, WithoutAWritableRangeTheFloodWritesNothing) {
+    start("loses-writes");
+    auto ran = fuzz({"--cases", "120", "--timeout", "300ms"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("flood                 1 run, 1 withheld"), std::string::npos)
+        << ran.out;
+}
+
+// 64 slots, and a newcomer evicts only a connection stuck in a partial frame: idle connections
+// held open lock everyone out, where [TCPG 4.2.1.1] has the oldest idle one closed.
+TEST_F(FuzzFragile, ADeviceThatLocksNewcomersOutBehindIdleConnectionsIsFound) {
+    start("few-slots");
+    auto ran = fuzz({"--cases", "200", "--timeout", "300ms"});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("connections, a request on each, held open"), std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("closes a fresh connection before answering"), std::string::npos)
+        << ran.out;
+}
+
 class FuzzReference : public ClientCliTest {
   protected:
     void SetUp() override { start_reference_server(); }
@@ -232,6 +293,73 @@ TEST(FuzzOneAtATime, ADeviceServingOneConnectionAtATimeIsNotDead) {
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
     EXPECT_NE(ran.out.find("the device serves one connection at a time"), std::string::npos)
         << ran.out;
+}
+
+// Our own server as a process, every class against it and the resource cases with it: two
+// thousand connections held, slow readers, floods, half-open connections. No finding, memory
+// bounded, and the flood's last acknowledged write read back.
+TEST(FuzzOwnServer, ServeSurvivesEveryClassAndTheResourceCases) {
+    using namespace std::chrono_literals;
+    TempDir dir;
+    ChildProcess serve({MBLAB_BINARY, "serve", "--listen", "tcp://127.0.0.1:0"});
+    std::smatch match;
+    const auto line = serve.read_stdout_line(10s).value_or("");
+    ASSERT_TRUE(std::regex_search(line, match, std::regex("tcp://127\\.0\\.0\\.1:[0-9]+"))) << line;
+    const std::string target = match[0];
+    const auto json_path = (dir / "fuzz.json").string();
+    // Enough cases for every fixed case of the resource classes; register 100 on is writable
+    // in the reference profile.
+    auto ran = run_mblab({"fuzz", target, "--cases", "400", "--rate", "0", "--writable", "100:10",
+                          "--device-pid", std::to_string(serve.pid()), "--json", json_path});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
+    const auto report = nlohmann::json::parse(file_text(dir / "fuzz.json"));
+    for (const auto& row : report["classes"]) {
+        const std::string name = row["class"];
+        if (!row["not_applicable"].get<std::string>().empty()) continue;
+        EXPECT_GT(row["run"].get<int>(), 0) << name;
+        EXPECT_FALSE(row["finding"].get<bool>()) << name;
+    }
+    auto run_of = [&](std::string_view name) {
+        for (const auto& row : report["classes"]) {
+            if (row["class"] == name) return row["run"].get<int>();
+        }
+        return -1;
+    };
+    EXPECT_EQ(run_of("slow-reader"), 2);
+    EXPECT_EQ(run_of("flood"), 2);
+    EXPECT_EQ(run_of("many-connections"), 5);
+    if (::geteuid() == 0) {
+        EXPECT_EQ(run_of("half-open"), 2);
+    }
+    EXPECT_EQ(report["ledger"]["floods_read_back"], 1);
+    EXPECT_EQ(report["ledger"]["acknowledged_writes"], 10000);
+    // Megabytes of answers went unread and two thousand connections came at once: the server
+    // holds its memory in bounds (it starts near 12 MiB).
+    const auto peak = report["device_memory_kb"]["peak"].get<std::size_t>();
+    EXPECT_GT(peak, 0U);
+    EXPECT_LT(peak, 64U * 1024U) << ran.out;
+    EXPECT_NE(ran.out.find("device memory (pid " + std::to_string(serve.pid()) + ")"),
+              std::string::npos)
+        << ran.out;
+}
+
+// On a terminal, a progress line names each case as it starts, rewritten in place, and is
+// cleared before the summary; on a pipe there is none.
+TEST_F(FuzzReference, TheProgressLineShowsOnATerminalOnly) {
+    TempDir dir;
+    const std::string command =
+        std::string(MBLAB_BINARY) + " fuzz " + target() + " --cases 3 --rate 0 2>&1";
+    auto ran = run_program({"script", "-qec", command, "/dev/null"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("\r\033[Kcase 1 protocol-id: protocol id 0x0001"), std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("\r\033[Kcase 3 "), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("\r\033[K3 cases in"), std::string::npos) << ran.out;
+    auto piped = run_mblab({"fuzz", target(), "--cases", "3", "--rate", "0"});
+    EXPECT_EQ(piped.status, 0) << piped.out << piped.err;
+    EXPECT_EQ(piped.err.find("case 1"), std::string::npos) << piped.err;
+    EXPECT_EQ(piped.out.find("\033[K"), std::string::npos) << piped.out;
 }
 
 // Each usage error is one line, exit status 2.
