@@ -50,10 +50,13 @@ class CaseGenerator {
 
   private:
     void add(FuzzCase c);
+    // Counts the frame as withheld when the policy does not let it out.
+    bool withhold(BadInput kind, std::span<const std::uint8_t> pdu);
     void add_frame(BadInput kind, std::string name, std::span<const std::uint8_t> pdu);
     std::uint16_t next_transaction() { return ++transaction_; }
     void fixed_frames();
     void fixed_streams();
+    void pairwise();
     FuzzCase mutation();
 
     Recon recon_;
