@@ -7,7 +7,10 @@
 #include <initializer_list>
 
 #include "protocol/function_table.hpp"
+#include "robustness/in_turn.hpp"
 #include "robustness/line_cases.hpp"
+#include "robustness/pairwise_cases.hpp"
+#include "robustness/request_bytes.hpp"
 
 namespace mblab::robustness {
 
@@ -15,48 +18,12 @@ namespace {
 
 using Bytes = std::vector<std::uint8_t>;
 
-void put16(Bytes& out, std::uint16_t value) {
-    out.push_back(static_cast<std::uint8_t>(value >> 8));
-    out.push_back(static_cast<std::uint8_t>(value));
-}
-
-// A function code followed by 16-bit fields.
-Bytes words(std::uint8_t function, std::initializer_list<std::uint16_t> fields) {
-    Bytes out{function};
-    for (auto field : fields)
-        put16(out, field);
-    return out;
-}
-
-// FC 0F / 10 with a byte count and `data` bytes of payload (zeros), whatever the quantity says.
-Bytes multiple_write(std::uint8_t function, std::uint16_t address, std::uint16_t quantity,
-                     std::uint8_t byte_count, std::size_t data) {
-    Bytes out = words(function, {address, quantity});
-    out.push_back(byte_count);
-    out.resize(out.size() + data, 0);
-    return out;
-}
-
-Bytes read_write(std::uint16_t read_address, std::uint16_t read_quantity,
-                 std::uint16_t write_address, std::uint16_t write_quantity, std::uint8_t byte_count,
-                 std::size_t data) {
-    Bytes out = words(0x17, {read_address, read_quantity, write_address, write_quantity});
-    out.push_back(byte_count);
-    out.resize(out.size() + data, 0);
-    return out;
-}
-
 std::uint16_t field16(std::span<const std::uint8_t> pdu, std::size_t at) {
     return static_cast<std::uint16_t>(pdu[at] << 8 | pdu[at + 1]);
 }
 
 bool is_read(std::uint8_t function) {
     return function >= 0x01 && function <= 0x04;
-}
-
-std::uint8_t byte_count_for(std::uint8_t function, std::uint32_t quantity) {
-    const std::uint32_t bytes = function == 0x0F ? (quantity + 7) / 8 : 2 * quantity;
-    return static_cast<std::uint8_t>(std::min<std::uint32_t>(bytes, 0xFF));
 }
 
 }  // namespace
@@ -103,6 +70,7 @@ CaseGenerator::CaseGenerator(Recon recon, WritePolicy policy, std::uint64_t seed
     fixed_frames();
     fixed_streams();
     resource_cases();
+    pairwise();
     if (framing_ != protocol::Framing::Mbap) {
         for (auto& cases : by_class_) {
             std::vector<FuzzCase> kept;
@@ -115,16 +83,7 @@ CaseGenerator::CaseGenerator(Recon recon, WritePolicy policy, std::uint64_t seed
             add(std::move(c));
     }
     // A class at a time in turn, so that a short budget reaches every class.
-    for (std::size_t round = 0;; ++round) {
-        bool any = false;
-        for (auto& cases : by_class_) {
-            if (round < cases.size()) {
-                fixed_.push_back(std::move(cases[round]));
-                any = true;
-            }
-        }
-        if (!any) break;
-    }
+    fixed_ = in_turn(std::move(by_class_));
     by_class_.clear();
 }
 
@@ -132,15 +91,32 @@ void CaseGenerator::add(FuzzCase c) {
     by_class_[static_cast<std::size_t>(c.kind)].push_back(std::move(c));
 }
 
+bool CaseGenerator::withhold(BadInput kind, std::span<const std::uint8_t> pdu) {
+    if (may_send(pdu, policy_)) return false;
+    withheld_.resize(kBadInputCount);
+    ++withheld_[static_cast<std::size_t>(kind)];
+    return true;
+}
+
 void CaseGenerator::add_frame(BadInput kind, std::string name, std::span<const std::uint8_t> pdu) {
-    if (!may_send(pdu, policy_)) {
-        withheld_.resize(kBadInputCount);
-        ++withheld_[static_cast<std::size_t>(kind)];
-        return;
-    }
+    if (withhold(kind, pdu)) return;
     FuzzCase c{kind, std::move(name), {}, false};
     c.steps.push_back({0, mbap_frame(next_transaction(), recon_.unit, pdu), {}});
     add(std::move(c));
+}
+
+void CaseGenerator::pairwise() {
+    // On a line the MBAP fields are no parameters: each row is a frame that re-frames whole.
+    for (auto& frame :
+         pairwise_frames(recon_, policy_.writable, framing_ == protocol::Framing::Mbap)) {
+        if (withhold(BadInput::Pairwise, frame.pdu)) continue;
+        FuzzCase c{BadInput::Pairwise, std::move(frame.name), {}, false};
+        c.steps.push_back({0,
+                           mbap_frame(frame.transaction.value_or(next_transaction()), frame.unit,
+                                      frame.pdu, frame.protocol, frame.length),
+                           {}});
+        add(std::move(c));
+    }
 }
 
 void CaseGenerator::fixed_frames() {
@@ -553,7 +529,7 @@ void CaseGenerator::resource_cases() {
         add(std::move(c));
     }
     const Bytes write_probe = words(0x06, {write_address_, 1});
-    if (recon_.serves(0x06) && may_send(write_probe, policy_)) {
+    if (recon_.serves(0x06) && !withhold(BadInput::Flood, write_probe)) {
         FuzzCase c{BadInput::Flood,
                    fmt::format("20000 requests streamed, FC 06 of 1..10000 to register {} between "
                                "reads; the last acknowledged value read back",
@@ -570,9 +546,6 @@ void CaseGenerator::resource_cases() {
         c.steps.push_back({0, std::move(all), {}});
         c.ledger = WriteLedger{write_address_};
         add(std::move(c));
-    } else {
-        withheld_.resize(kBadInputCount);
-        if (recon_.serves(0x06)) ++withheld_[static_cast<std::size_t>(BadInput::Flood)];
     }
 }
 

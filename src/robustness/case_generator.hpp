@@ -13,9 +13,10 @@
 #include "support/prng.hpp"
 
 // The cases of a run, the same for the same recon, policy and seed: first every class's fixed
-// cases, taken a class at a time in turn so that a short budget reaches every class, then seeded
-// mutations of valid requests without end. On a serial line (RTU, ASCII) the same cases re-framed
-// for it, less those that test MBAP or TCP, plus the line-only classes (robustness/line_cases.hpp).
+// cases (the pairwise rows among them), taken a class at a time in turn so that a short budget
+// reaches every class, then seeded mutations of valid requests without end. On a serial line (RTU,
+// ASCII) the same cases re-framed for it, less those that test MBAP or TCP, plus the line-only
+// classes (robustness/line_cases.hpp).
 namespace mblab::robustness {
 
 // Holding registers (and coils at the same addresses) the tester may write.
@@ -58,11 +59,14 @@ class CaseGenerator {
 
   private:
     void add(FuzzCase c);
+    // Counts the frame as withheld when the policy does not let it out.
+    bool withhold(BadInput kind, std::span<const std::uint8_t> pdu);
     void add_frame(BadInput kind, std::string name, std::span<const std::uint8_t> pdu);
     std::uint16_t next_transaction() { return ++transaction_; }
     void fixed_frames();
     void fixed_streams();
     void resource_cases();
+    void pairwise();
     FuzzCase mutation();
 
     Recon recon_;

@@ -37,6 +37,7 @@ constexpr std::array<ClassRow, kBadInputCount> kClasses{{
     {"line-gap", "both halves discarded (or answered once whole, if the gap is tolerated)"},
     {"noise", "discarded; the next whole frame is answered"},
     {"ascii-text", "discarded; the next ':' starts a new frame"},
+    {"pairwise", "answered, the exception the fields call for, a discard or a close"},
     {"mutation", "answered, an exception, a discard or a close"},
 }};
 

@@ -41,6 +41,7 @@ enum class BadInput : std::uint8_t {
     LineGap,          // serial: a silence longer than t1.5 inside an RTU frame
     Noise,            // serial: stray bytes between frames
     AsciiText,        // serial: odd hex length, characters that are not hex, no CR LF
+    Pairwise,         // every pair of boundary values of two request fields, MBAP ones included
     Mutation,         // seeded random changes to valid requests
 };
 

@@ -264,6 +264,29 @@ TEST_F(FuzzReference, TheReferenceDeviceHasNoFinding) {
     EXPECT_FALSE(file_text(dir / "fuzz.pcapng").empty());
 }
 
+// The pairwise class in its turn among the others: its first rows reach the device, writes aimed
+// outside --writable are withheld, and the reference device survives them.
+TEST_F(FuzzReference, PairwiseCasesRunWithoutAFinding) {
+    TempDir dir;
+    auto ran = run_mblab({"fuzz", target(), "--cases", "400", "--rate", "0", "--writable", "0:10",
+                          "--json", (dir / "fuzz.json").string()});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("  pairwise"), std::string::npos) << ran.out;
+    const auto json = nlohmann::json::parse(file_text(dir / "fuzz.json"));
+    EXPECT_EQ(json["verdict"], "no finding");
+    const nlohmann::json* pairwise = nullptr;
+    for (const auto& row : json["classes"]) {
+        if (row["class"] == "pairwise") pairwise = &row;
+    }
+    ASSERT_NE(pairwise, nullptr) << json.dump(2);
+    // A function at a time in turn: at least the first row of each of the 12 served functions
+    // with a layout (FC 01 to 06, 08, 0F, 10, 16, 17, 2B).
+    EXPECT_GE((*pairwise)["run"].get<std::size_t>(), 12U) << json.dump(2);
+    EXPECT_GT((*pairwise)["withheld"].get<std::size_t>(), 0U);
+    EXPECT_FALSE((*pairwise)["finding"].get<bool>());
+}
+
 // A DUT file's unit and max_read replace the probed ones; --duration alone bounds the run.
 TEST_F(FuzzReference, DeclaredFactsAndATimeBudget) {
     TempDir dir;

@@ -138,3 +138,169 @@ TEST(CaseGenerator, NoCaseWritesOutsideThePolicy) {
 
 }  // namespace
 }  // namespace mblab::robustness
+
+namespace mblab::robustness {
+namespace {
+
+// The pairwise cases of a run, in the order they come.
+std::vector<FuzzCase> pairwise_cases(const Recon& recon, const WritePolicy& policy,
+                                     protocol::Framing framing = protocol::Framing::Mbap,
+                                     std::uint64_t seed = 1) {
+    CaseGenerator generator(recon, policy, seed, framing);
+    std::vector<FuzzCase> out;
+    for (auto& c : take(generator, generator.fixed_cases())) {
+        if (c.kind == BadInput::Pairwise) out.push_back(std::move(c));
+    }
+    return out;
+}
+
+std::set<std::uint8_t> functions_of(const std::vector<FuzzCase>& cases) {
+    std::set<std::uint8_t> out;
+    for (const auto& c : cases) {
+        const auto bytes = all_bytes(c);
+        out.insert(bytes.at(7));
+    }
+    return out;
+}
+
+std::size_t withheld_pairwise(const CaseGenerator& generator) {
+    const auto& withheld = generator.withheld();
+    const auto at = static_cast<std::size_t>(BadInput::Pairwise);
+    return at < withheld.size() ? withheld[at] : 0;
+}
+
+TEST(CaseGeneratorPairwise, OnlyTheServedFunctionsWithALayout) {
+    const WritePolicy all{true, std::nullopt};
+    EXPECT_EQ(functions_of(pairwise_cases(reference_recon(), all)),
+              (std::set<std::uint8_t>{0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x08, 0x0F, 0x10, 0x16,
+                                      0x17, 0x2B}));
+    Recon two;
+    two.served = {0x03, 0x10};
+    EXPECT_EQ(functions_of(pairwise_cases(two, all)), (std::set<std::uint8_t>{0x03, 0x10}));
+    Recon none;
+    none.served = {0x14, 0x18};
+    EXPECT_TRUE(pairwise_cases(none, all).empty());
+}
+
+// A function at a time in turn: the first pairwise cases reach every function, each with its
+// nominal request (a right header, fields in range).
+TEST(CaseGeneratorPairwise, TheFirstRowOfEachFunctionComesFirstAndIsNominal) {
+    const auto cases = pairwise_cases(reference_recon(), {true, std::nullopt});
+    ASSERT_GE(cases.size(), 12U);
+    const std::vector<FuzzCase> first(cases.begin(), cases.begin() + 12);
+    EXPECT_EQ(functions_of(first).size(), 12U);
+    EXPECT_EQ(first[2].name, "FC 0x03 unit 1 address 0x0000 quantity 1 length right");
+    const auto bytes = all_bytes(first[2]);
+    EXPECT_EQ(
+        std::vector<std::uint8_t>(bytes.begin() + 2, bytes.end()),
+        (std::vector<std::uint8_t>{0x00, 0x00, 0x00, 0x06, 0x01, 0x03, 0x00, 0x00, 0x00, 0x01}));
+}
+
+TEST(CaseGeneratorPairwise, WritesOutsideThePolicyAreWithheldAndCounted) {
+    const auto recon = reference_recon();
+    for (const WritePolicy& policy : {WritePolicy{}, WritePolicy{false, WritableRange{100, 10}}}) {
+        CaseGenerator generator(recon, policy, 1);
+        const auto sent = pairwise_cases(recon, policy);
+        // The same rows with writes allowed (the range decides the write addresses): those
+        // withheld are left out and counted.
+        const auto every = pairwise_cases(recon, {true, policy.writable});
+        EXPECT_GT(withheld_pairwise(generator), 0U);
+        EXPECT_EQ(sent.size() + withheld_pairwise(generator), every.size());
+        std::set<std::uint8_t> functions;
+        for (const auto& c : sent) {
+            const auto bytes = all_bytes(c);
+            const std::span<const std::uint8_t> pdu(bytes.begin() + 7, bytes.end());
+            EXPECT_TRUE(may_send(pdu, policy)) << c.name;
+            EXPECT_EQ(c.name.find("sub-function 0x0001"), std::string::npos) << c.name;
+            functions.insert(pdu[0]);
+        }
+        EXPECT_TRUE(functions.count(0x08));
+        for (std::uint8_t write : {0x05, 0x06, 0x0F, 0x10, 0x16, 0x17}) {
+            // Read-only: no write at all; inside the range, the rows aimed inside it.
+            EXPECT_EQ(functions.count(write), policy.writable ? 1U : 0U) << int(write);
+        }
+    }
+}
+
+TEST(CaseGeneratorPairwise, TheSameForTheSameSeed) {
+    const auto a = pairwise_cases(reference_recon(), {}, protocol::Framing::Mbap, 5);
+    const auto b = pairwise_cases(reference_recon(), {}, protocol::Framing::Mbap, 5);
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_FALSE(a.empty());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        EXPECT_EQ(a[i].name, b[i].name);
+        EXPECT_EQ(all_bytes(a[i]), all_bytes(b[i])) << a[i].name;
+    }
+}
+
+// The FC 03 frames decoded: every value of every field meets every value of every other field
+// in some frame, MBAP fields included. The transaction id is 0, 0xFFFF or the generator's own
+// count (-1 here).
+TEST(CaseGeneratorPairwise, EveryPairOfFc03FieldValuesIsInSomeFrame) {
+    Recon recon = reference_recon();
+    recon.unit = 5;
+    recon.check_address = 100;
+    recon.max_read = 60;
+    std::vector<std::array<long, 6>> frames;
+    for (const auto& c : pairwise_cases(recon, {})) {
+        const auto b = all_bytes(c);
+        if (b.at(7) != 0x03) continue;
+        ASSERT_EQ(b.size(), 12U) << c.name;
+        const long transaction = b[0] << 8 | b[1];
+        frames.push_back({transaction == 0 || transaction == 0xFFFF ? transaction : -1,
+                          b[2] << 8 | b[3], b[4] << 8 | b[5], b[6], b[8] << 8 | b[9],
+                          b[10] << 8 | b[11]});
+    }
+    const std::array<std::set<long>, 6> expected = {
+        {{-1, 0, 0xFFFF},                                 // transaction
+         {0, 1},                                          // protocol
+         {6, 0, 1, 5, 7, 255},                            // length: right, 0, 1, right -+ 1, 255
+         {5, 0, 255, 247, 1},                             // unit
+         {100, 0, 1, 0x7FFF, 0xFFFE, 0xFFFF},             // address
+         {1, 0, 60, 125, 126, 0x7FFF, 0xFFFE, 0xFFFF}}};  // quantity
+    std::array<std::set<long>, 6> seen;
+    std::set<std::tuple<std::size_t, long, std::size_t, long>> pairs;
+    for (const auto& f : frames) {
+        for (std::size_t i = 0; i < 6; ++i) {
+            seen[i].insert(f[i]);
+            for (std::size_t j = i + 1; j < 6; ++j)
+                pairs.insert({i, f[i], j, f[j]});
+        }
+    }
+    EXPECT_EQ(seen, expected);
+    for (std::size_t i = 0; i < 6; ++i) {
+        for (std::size_t j = i + 1; j < 6; ++j) {
+            for (long a : expected[i]) {
+                for (long b : expected[j])
+                    EXPECT_TRUE(pairs.count({i, a, j, b}))
+                        << "fields " << i << ", " << j << ": " << a << ", " << b;
+            }
+        }
+    }
+    // Far fewer than every combination (3 * 2 * 6 * 5 * 6 * 8 = 8640).
+    EXPECT_LE(frames.size(), 60U);
+    EXPECT_GE(frames.size(), 48U);
+}
+
+// On a line the MBAP fields are no parameters: every pairwise frame re-frames whole, to the
+// device's address or broadcast, and there are fewer rows.
+TEST(CaseGeneratorPairwise, OnALineWithoutTheMbapFields) {
+    const auto tcp = pairwise_cases(reference_recon(), {});
+    for (auto framing : {protocol::Framing::Rtu, protocol::Framing::Ascii}) {
+        const auto line = pairwise_cases(reference_recon(), {}, framing);
+        ASSERT_FALSE(line.empty());
+        EXPECT_LT(line.size(), tcp.size());
+        for (const auto& c : line) {
+            EXPECT_EQ(c.name.find("length"), std::string::npos) << c.name;
+            EXPECT_EQ(c.name.find("transaction"), std::string::npos) << c.name;
+            ASSERT_EQ(c.steps.size(), 1U);
+            if (framing == protocol::Framing::Rtu) {
+                const auto address = c.steps[0].bytes.at(0);
+                EXPECT_TRUE(address == 1 || address == 0) << c.name;
+            }
+        }
+    }
+}
+
+}  // namespace
+}  // namespace mblab::robustness
