@@ -238,6 +238,14 @@ std::string ranges_of(const Recon& recon, Table table) {
     return out;
 }
 
+// What a file teaches, in short: the counts of its source line and one table's ranges.
+void expect_learned(const Bytes& file, const std::string& counts, Table table,
+                    const std::string& ranges) {
+    const auto recon = learned(file);
+    EXPECT_EQ(recon.source, "learned from normal.pcap (" + counts + ")");
+    EXPECT_EQ(ranges_of(recon, table), ranges);
+}
+
 void expect_normal_facts(const Recon& recon) {
     EXPECT_EQ(recon.unit, 1);
     EXPECT_EQ(recon.served, (std::vector<std::uint8_t>{0x01, 0x03, 0x04, 0x06}));
@@ -393,10 +401,8 @@ TEST(PcapLearn, RetransmittedBytesAreDropped) {
         // Overlaps the end of the first request and the start of the second.
         .at(true, 6, hex("01 03 0064 000A 0002 0000"))
         .answer(hex("0002 0000 0005 01 03 02 0000"));
-    const auto recon = learned(classic(false, 101, talk.packets()));
-    EXPECT_EQ(recon.source, "learned from normal.pcap (2 requests, 2 answers)");
-    EXPECT_EQ(recon.check_address, 0);
-    EXPECT_EQ(recon.max_read, 10);
+    expect_learned(classic(false, 101, talk.packets()), "2 requests, 2 answers",
+                   Table::HoldingRegisters, "0-0 100-109 ");
 }
 
 // Segments captured in another order than sent are put back in sequence order.
@@ -407,9 +413,8 @@ TEST(PcapLearn, OutOfOrderSegmentsAreReordered) {
         .at(true, 0, hex("0001 0000 0006 01 03 0064 000A"))
         .at(false, 29, hex("0002 0000 0005 01 03 02 0000"))
         .at(false, 0, hex("0001 0000 0017 01 03 14 0000000000000000000000000000000000000000"));
-    const auto recon = learned(pcapng(false, 101, talk.packets()));
-    EXPECT_EQ(recon.source, "learned from normal.pcap (2 requests, 2 answers)");
-    EXPECT_EQ(ranges_of(recon, Table::HoldingRegisters), "0-0 100-109 ");
+    expect_learned(pcapng(false, 101, talk.packets()), "2 requests, 2 answers",
+                   Table::HoldingRegisters, "0-0 100-109 ");
 }
 
 // A frame in three segments, and two frames in one.
@@ -421,9 +426,8 @@ TEST(PcapLearn, FramesSplitAndJoinedAcrossSegments) {
         .ask(hex("0064 000A 0002 0000 0006 01 01 0000 0008"))
         .answer(hex("0001 0000 0017 01 03 14 0000000000000000000000000000000000000000 0002"))
         .answer(hex("0000 0004 01 01 01 00"));
-    const auto recon = learned(classic(true, 101, talk.packets()));
-    EXPECT_EQ(recon.source, "learned from normal.pcap (2 requests, 2 answers)");
-    EXPECT_EQ(ranges_of(recon, Table::Coils), "0-7 ");
+    expect_learned(classic(true, 101, talk.packets()), "2 requests, 2 answers", Table::Coils,
+                   "0-7 ");
 }
 
 // A direction stops at a gap: the request after a lost segment is not learned.
@@ -434,9 +438,8 @@ TEST(PcapLearn, AGapStopsTheDirection) {
         .answer(hex("0001 0000 0017 01 03 14 0000000000000000000000000000000000000000"))
         .at(true, 24, hex("0003 0000 0006 01 03 0000 0001"))
         .at(false, 29, hex("0002 0000 0005 01 03 02 0000 0003 0000 0005 01 03 02 0000"));
-    const auto recon = learned(classic(false, 101, talk.packets()));
-    EXPECT_EQ(recon.source, "learned from normal.pcap (1 requests, 1 answers)");
-    EXPECT_EQ(ranges_of(recon, Table::HoldingRegisters), "100-109 ");
+    expect_learned(classic(false, 101, talk.packets()), "1 requests, 1 answers",
+                   Table::HoldingRegisters, "100-109 ");
 }
 
 // Several units: the most answered with an FC 03 read is the one checked; 0 and 255 answered.
