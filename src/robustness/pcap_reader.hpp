@@ -28,11 +28,7 @@ struct TcpSegment {
     std::vector<std::uint8_t> payload;
 };
 
-namespace tcp_flag {
-inline constexpr std::uint8_t kFin = 0x01;
-inline constexpr std::uint8_t kSyn = 0x02;
-inline constexpr std::uint8_t kAck = 0x10;
-}  // namespace tcp_flag
+inline constexpr std::uint8_t kTcpSyn = 0x02;
 
 struct PcapContents {
     std::size_t packets = 0;  // packet records, TCP or not
