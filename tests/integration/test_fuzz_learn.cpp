@@ -1,5 +1,6 @@
 // `mblab fuzz --learn`: reconnaissance learned from captures that other programs wrote (dumpcap
 // of mbpoll's traffic, editcap's conversion of mblab's own pcapng), and no probe sent.
+#include <fmt/core.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <unistd.h>
@@ -203,6 +204,54 @@ TEST(FuzzLearn, ConformPcapngAndItsClassicConversionLearnTheSame) {
         EXPECT_EQ(a.ranges.of(table), b.ranges.of(table)) << robustness::table_name(table);
     }
     EXPECT_FALSE(a.ranges.of(robustness::Table::HoldingRegisters).empty());
+}
+
+// A classic pcap (raw IP) of one FC 03 read of 2 registers at 5 to `port`, and its answer.
+std::string one_read_to(std::uint16_t port) {
+    const auto p = fmt::format("{:04X}", port);
+    const auto bytes =
+        hex("D4C3B2A1 0200 0400 00000000 00000000 FFFF0000 65000000"
+            "00000000 00000000 34000000 34000000"
+            "4500 0034 0001 4000 4006 0000 7F000001 7F000001"
+            "9C41" +
+            p +
+            "00000001 00000000 5018 FFFF 0000 0000"
+            "0001 0000 0006 01 03 0005 0002"
+            "00000000 00000000 35000000 35000000"
+            "4500 0035 0002 4000 4006 0000 7F000001 7F000001" +
+            p +
+            "9C41 00000001 00000000 5018 FFFF 0000 0000"
+            "0001 0000 0007 01 03 04 00000000");
+    return std::string(bytes.begin(), bytes.end());
+}
+
+class FuzzLearnReference : public ClientCliTest {
+  protected:
+    void SetUp() override { start_reference_server(); }
+};
+
+// --dut declares unit and max_read over what was learned; the rest stays learned.
+TEST_F(FuzzLearnReference, TheDutFileStillDeclaresUnitAndMaxRead) {
+    TempDir dir;
+    std::ofstream(dir / "one.pcap", std::ios::binary) << one_read_to(port_);
+    std::ofstream(dir / "dut.toml") << "unit = 1\nmax_read = 7\n";
+    const auto learned = run_mblab(
+        {"fuzz", target(), "--learn", (dir / "one.pcap").string(), "--cases", "20", "--rate", "0"});
+    EXPECT_EQ(learned.status, 0) << learned.out << learned.err;
+    EXPECT_NE(learned.out.find("FC 03 register 5; largest FC 03 read 2;"), std::string::npos)
+        << learned.out;
+    const auto declared =
+        run_mblab({"fuzz", target(), "--learn", (dir / "one.pcap").string(), "--dut",
+                   (dir / "dut.toml").string(), "--cases", "20", "--rate", "0"});
+    EXPECT_EQ(declared.status, 0) << declared.out << declared.err;
+    EXPECT_NE(declared.out.find("(1 requests, 1 answers); unit and max_read declared by " +
+                                (dir / "dut.toml").string() + "): unit 1, serves 03;"),
+              std::string::npos)
+        << declared.out;
+    EXPECT_NE(declared.out.find("FC 03 register 5; largest FC 03 read 7;"), std::string::npos)
+        << declared.out;
+    EXPECT_NE(declared.out.find("answered at: holding registers 5-6\n"), std::string::npos)
+        << declared.out;
 }
 
 // A capture with no FC 03 read answered, and a file that is no capture: exit 2, one line, before
