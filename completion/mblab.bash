@@ -39,7 +39,7 @@ _mblab() {
             fi
             ;;
         --dut | --profile | --junit | --pcap | --html | --state | --devices | --cert | --key | --ca | \
-            --replay | --reproducer | --http-token-file)
+            --replay | --reproducer | --learn | --http-token-file)
             COMPREPLY=($(compgen -f -- "$cur"))
             return
             ;;

@@ -22,6 +22,8 @@
 #include "robustness/case_generator.hpp"
 #include "robustness/fuzz_report.hpp"
 #include "robustness/fuzz_run.hpp"
+#include "robustness/learn.hpp"
+#include "robustness/pcap_reader.hpp"
 #include "robustness/recon.hpp"
 #include "robustness/reproducer.hpp"
 #include "transport/serial_port.hpp"
@@ -43,7 +45,9 @@ struct FuzzCommandOptions {
     std::size_t check_every = 1;
     int timeout_ms = 1000;
     int unit = 1;
+    bool unit_given = false;
     std::string dut_file;
+    std::string learn;
     std::string writable;
     bool allow_writes = false;
     std::string restart;
@@ -88,7 +92,7 @@ std::optional<rb::WritableRange> parse_writable(const std::string& text) {
 }
 
 bool read_file(const std::string& path, std::string& text) {
-    std::ifstream in(path);
+    std::ifstream in(path, std::ios::binary);
     if (!in) return false;
     std::stringstream buffer;
     buffer << in.rdbuf();
@@ -125,7 +129,9 @@ conf::Provenance provenance_of(const FuzzCommandOptions& options,
     }
     provenance.started = conf::iso8601_utc(started);
     provenance.finished = conf::iso8601_utc(std::chrono::system_clock::now());
-    provenance.declared_by = options.dut_file.empty() ? "reconnaissance" : options.dut_file;
+    provenance.declared_by = !options.dut_file.empty() ? options.dut_file
+                             : !options.learn.empty()  ? options.learn
+                                                       : "reconnaissance";
     provenance.device.reason = "not asked: the robustness tester does not read identification";
     return provenance;
 }
@@ -141,6 +147,9 @@ int run_fuzz(const FuzzCommandOptions& options) {
     if (line && !options.pcap.empty())
         return usage_error(
             fmt::format("--pcap: captures are of Modbus/TCP only, not {}", target->name));
+    if (line && !options.learn.empty())
+        return usage_error(
+            fmt::format("--learn: captures are of Modbus/TCP only, not {}", target->name));
     if (options.cases == 0 && options.duration <= 0 && options.replay.empty())
         return usage_error("no budget: give --cases N or --duration D (it is pointed at devices)");
     rb::ReconOptions recon_options;
@@ -151,6 +160,25 @@ int run_fuzz(const FuzzCommandOptions& options) {
         if (!dut) return usage_error(dut.error());
         recon_options.unit = dut->unit;
         recon_options.max_read = dut->max_read;
+    }
+    // Learned before connecting: a capture that teaches nothing is the user's to fix first.
+    std::optional<rb::Recon> learned;
+    if (!options.learn.empty()) {
+        std::string bytes;
+        if (!read_file(options.learn, bytes))
+            return usage_error(fmt::format("{}: cannot read the capture", options.learn));
+        const auto capture = rb::read_pcap(
+            std::span(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size()));
+        if (!capture) return usage_error(fmt::format("{}: {}", options.learn, capture.error()));
+        auto recon = rb::learn_recon(*capture, target->tcp->port, options.learn);
+        if (!recon) return usage_error(recon.error());
+        learned = std::move(*recon);
+        if (options.unit_given) learned->unit = recon_options.unit;
+        if (!options.dut_file.empty()) {
+            learned->unit = recon_options.unit;
+            learned->max_read = *recon_options.max_read;
+            learned->source += fmt::format("; unit and max_read declared by {}", options.dut_file);
+        }
     }
     if (line && recon_options.unit == 0)
         return usage_error(
@@ -207,9 +235,13 @@ int run_fuzz(const FuzzCommandOptions& options) {
         return answer.pdu;
     };
     rb::Recon recon;
-    if (auto failed = rb::reconnoitre(ask, recon_options, recon))
-        return usage_error(fmt::format("{}: {}", target->name, *failed));
-    if (!options.dut_file.empty()) recon.source = options.dut_file;
+    if (learned) {
+        recon = std::move(*learned);
+    } else {
+        if (auto failed = rb::reconnoitre(ask, recon_options, recon))
+            return usage_error(fmt::format("{}: {}", target->name, *failed));
+        if (!options.dut_file.empty()) recon.source = options.dut_file;
+    }
     session.close();
     fmt::print("mblab fuzz {}\n{}", target->name, rb::recon_text(recon));
     std::fflush(stdout);
@@ -358,6 +390,10 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     cmd->add_option("--dut", options->dut_file,
                     "TOML file declaring the device (unit, max_read), as for mblab conform")
         ->check(CLI::ExistingFile);
+    cmd->add_option("--learn", options->learn,
+                    "learn the reconnaissance from FILE, a pcap or pcapng capture of normal "
+                    "traffic to the target's port, instead of probing")
+        ->check(CLI::ExistingFile);
     cmd->add_option("--writable", options->writable,
                     "START:COUNT: holding registers and coils the cases may write (default: "
                     "none)");
@@ -377,7 +413,10 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
     cmd->add_option("--pcap", options->pcap,
                     "write every frame of the run as pcapng to FILE (Modbus/TCP only)");
-    cmd->callback([options, &runner] { runner = [options] { return run_fuzz(*options); }; });
+    cmd->callback([options, cmd, &runner] {
+        options->unit_given = cmd->count("--unit") > 0;
+        runner = [options] { return run_fuzz(*options); };
+    });
 }
 
 }  // namespace mblab::cli

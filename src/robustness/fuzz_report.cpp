@@ -19,6 +19,35 @@ std::string codes(const std::vector<std::uint8_t>& functions) {
     return out;
 }
 
+// "holding registers 0-9, 100; coils 0-15", the tables with no range left out.
+std::string ranges_text(const AnsweredRanges& ranges) {
+    std::string out;
+    for (std::size_t t = 0; t < kTableCount; ++t) {
+        const auto table = static_cast<Table>(t);
+        if (ranges.of(table).empty()) continue;
+        out += fmt::format("{}{}", out.empty() ? "" : "; ", table_name(table));
+        const char* separator = " ";
+        for (const auto& r : ranges.of(table)) {
+            out += r.first == r.last ? fmt::format("{}{}", separator, r.first)
+                                     : fmt::format("{}{}-{}", separator, r.first, r.last);
+            separator = ", ";
+        }
+    }
+    return out;
+}
+
+nlohmann::json ranges_json(const AnsweredRanges& ranges) {
+    nlohmann::json out = nlohmann::json::object();
+    for (std::size_t t = 0; t < kTableCount; ++t) {
+        const auto table = static_cast<Table>(t);
+        nlohmann::json list = nlohmann::json::array();
+        for (const auto& r : ranges.of(table))
+            list.push_back({r.first, r.last});
+        out[table_key(table)] = list;
+    }
+    return out;
+}
+
 std::string finding_comment(const Finding& finding) {
     return fmt::format("{}: {} (case {})\n{}\n{}", class_name(finding.kind), finding.case_name,
                        finding.case_number, finding.reason, finding.minimise_note);
@@ -27,12 +56,17 @@ std::string finding_comment(const Finding& finding) {
 }  // namespace
 
 std::string recon_text(const Recon& recon) {
+    const std::string ranges =
+        recon.ranges.empty() ? "" : fmt::format("  answered at: {}\n", ranges_text(recon.ranges));
     return fmt::format(
-        "reconnaissance ({}): unit {}, serves {}; exception 01 for {}; silent for {}\n"
-        "  liveness check: FC 03 register {}; largest FC 03 read {}; unit 0 {}, unit 255 {}\n",
-        recon.source, recon.unit, codes(recon.served), codes(recon.not_served), codes(recon.silent),
-        recon.check_address, recon.max_read, recon.answers_unit_0 ? "answered" : "not answered",
-        recon.answers_unit_255 ? "answered" : "not answered");
+               "reconnaissance ({}): unit {}, serves {}; exception 01 for {}; silent for {}\n"
+               "  liveness check: FC 03 register {}; largest FC 03 read {}; unit 0 {}, unit 255 "
+               "{}\n",
+               recon.source, recon.unit, codes(recon.served), codes(recon.not_served),
+               codes(recon.silent), recon.check_address, recon.max_read,
+               recon.answers_unit_0 ? "answered" : "not answered",
+               recon.answers_unit_255 ? "answered" : "not answered") +
+           ranges;
 }
 
 std::string summary_text(const FuzzResult& result) {
@@ -137,7 +171,8 @@ std::string json_report(const FuzzResult& result, const conformance::Provenance&
           {"check_address", r.check_address},
           {"max_read", r.max_read},
           {"answers_unit_0", r.answers_unit_0},
-          {"answers_unit_255", r.answers_unit_255}}},
+          {"answers_unit_255", r.answers_unit_255},
+          {"answered_ranges", ranges_json(r.ranges)}}},
         {"cases", result.cases},
         {"checks", result.checks},
         {"sends", result.sends},

@@ -6,6 +6,7 @@
 #include <array>
 
 #include "conformance/plain_requests.hpp"
+#include "protocol/request.hpp"
 
 namespace mblab::robustness {
 
@@ -21,7 +22,93 @@ bool read_answered(const std::optional<std::vector<std::uint8_t>>& answer, std::
            (*answer)[1] == 2 * quantity;
 }
 
+AddressRange span_of(std::uint16_t address, std::uint16_t quantity) {
+    return {address, static_cast<std::uint16_t>(address + quantity - 1)};
+}
+
 }  // namespace
+
+const char* table_name(Table table) {
+    static constexpr std::array<const char*, kTableCount> kNames{
+        "coils", "discrete inputs", "holding registers", "input registers"};
+    return kNames[static_cast<std::size_t>(table)];
+}
+
+const char* table_key(Table table) {
+    static constexpr std::array<const char*, kTableCount> kKeys{
+        "coils", "discrete_inputs", "holding_registers", "input_registers"};
+    return kKeys[static_cast<std::size_t>(table)];
+}
+
+void AnsweredRanges::add(Table table, AddressRange range) {
+    auto& ranges = tables_[static_cast<std::size_t>(table)];
+    const auto at = std::lower_bound(
+        ranges.begin(), ranges.end(), range,
+        [](const AddressRange& a, const AddressRange& b) { return a.first < b.first; });
+    ranges.insert(at, range);
+    std::vector<AddressRange> merged;
+    for (const auto& r : ranges) {
+        if (!merged.empty() && r.first <= static_cast<std::uint32_t>(merged.back().last) + 1) {
+            merged.back().last = std::max(merged.back().last, r.last);
+        } else {
+            merged.push_back(r);
+        }
+    }
+    ranges = std::move(merged);
+}
+
+bool AnsweredRanges::empty() const {
+    return std::all_of(tables_.begin(), tables_.end(),
+                       [](const auto& ranges) { return ranges.empty(); });
+}
+
+bool note_answered(std::span<const std::uint8_t> request, std::span<const std::uint8_t> answer,
+                   AnsweredRanges& ranges) {
+    const auto decoded = protocol::decode_request(request);
+    if (!decoded || answer.empty() || answer[0] != request[0]) return false;
+    // A write's answer repeats the first bytes of its request.
+    const auto echoes = [&](std::size_t size) {
+        return answer.size() == size && request.size() >= size &&
+               std::equal(answer.begin(), answer.end(), request.begin());
+    };
+    const auto carries = [&](std::size_t data) {
+        return answer.size() == 2 + data && answer[1] == data;
+    };
+    using protocol::FunctionCode;
+    if (const auto* r = std::get_if<protocol::ReadBitsRequest>(&*decoded)) {
+        if (!carries((r->quantity + 7U) / 8U)) return false;
+        ranges.add(r->function == FunctionCode::ReadCoils ? Table::Coils : Table::DiscreteInputs,
+                   span_of(r->address, r->quantity));
+    } else if (const auto* r = std::get_if<protocol::ReadRegistersRequest>(&*decoded)) {
+        if (!carries(2U * r->quantity)) return false;
+        ranges.add(r->function == FunctionCode::ReadHoldingRegisters ? Table::HoldingRegisters
+                                                                     : Table::InputRegisters,
+                   span_of(r->address, r->quantity));
+    } else if (const auto* r = std::get_if<protocol::WriteSingleCoilRequest>(&*decoded)) {
+        if (!echoes(5)) return false;
+        ranges.add(Table::Coils, span_of(r->address, 1));
+    } else if (const auto* r = std::get_if<protocol::WriteSingleRegisterRequest>(&*decoded)) {
+        if (!echoes(5)) return false;
+        ranges.add(Table::HoldingRegisters, span_of(r->address, 1));
+    } else if (const auto* r = std::get_if<protocol::WriteMultipleCoilsRequest>(&*decoded)) {
+        if (!echoes(5)) return false;
+        ranges.add(Table::Coils, span_of(r->address, r->quantity));
+    } else if (const auto* r = std::get_if<protocol::WriteMultipleRegistersRequest>(&*decoded)) {
+        if (!echoes(5)) return false;
+        ranges.add(Table::HoldingRegisters, span_of(r->address, r->quantity));
+    } else if (const auto* r = std::get_if<protocol::MaskWriteRegisterRequest>(&*decoded)) {
+        if (!echoes(7)) return false;
+        ranges.add(Table::HoldingRegisters, span_of(r->address, 1));
+    } else if (const auto* r =
+                   std::get_if<protocol::ReadWriteMultipleRegistersRequest>(&*decoded)) {
+        if (!carries(2U * r->read_quantity)) return false;
+        ranges.add(Table::HoldingRegisters, span_of(r->read_address, r->read_quantity));
+        ranges.add(Table::HoldingRegisters, span_of(r->write_address, r->write_quantity));
+    } else {
+        return false;
+    }
+    return true;
+}
 
 bool Recon::serves(std::uint8_t function) const {
     return std::find(served.begin(), served.end(), function) != served.end();
@@ -32,8 +119,13 @@ std::optional<std::vector<std::uint8_t>> probe_request(std::uint8_t function, bo
                         : conformance::harmless_request_pdu(function);
 }
 
-std::optional<std::string> reconnoitre(const Ask& ask, const ReconOptions& options, Recon& out) {
+std::optional<std::string> reconnoitre(const Ask& device, const ReconOptions& options, Recon& out) {
     out.unit = options.unit;
+    const Ask ask = [&](std::uint8_t unit, std::span<const std::uint8_t> pdu) {
+        auto answer = device(unit, pdu);
+        if (answer && unit == options.unit) note_answered(pdu, *answer, out.ranges);
+        return answer;
+    };
     for (std::uint8_t function : conformance::functions_with_plain_requests()) {
         const auto request = probe_request(function, options.allow_writes);
         if (!request) continue;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -11,6 +12,33 @@
 // cases aim at code that runs and the liveness check asks something the device answers.
 namespace mblab::robustness {
 
+// The four data tables a request can reach.
+enum class Table : std::uint8_t { Coils, DiscreteInputs, HoldingRegisters, InputRegisters };
+inline constexpr std::size_t kTableCount = 4;
+// "coils", "discrete inputs", "holding registers", "input registers".
+const char* table_name(Table table);
+// "coils", "discrete_inputs", ...: the JSON report's keys.
+const char* table_key(Table table);
+
+struct AddressRange {
+    std::uint16_t first = 0;
+    std::uint16_t last = 0;  // inclusive: a range may end at 0xFFFF
+    friend bool operator==(const AddressRange&, const AddressRange&) = default;
+};
+
+// The addresses that answered, per table, sorted and merged (adjacent ranges join).
+class AnsweredRanges {
+  public:
+    void add(Table table, AddressRange range);
+    const std::vector<AddressRange>& of(Table table) const {
+        return tables_[static_cast<std::size_t>(table)];
+    }
+    bool empty() const;
+
+  private:
+    std::array<std::vector<AddressRange>, kTableCount> tables_;
+};
+
 struct Recon {
     std::uint8_t unit = 1;
     std::vector<std::uint8_t> served;      // function codes answered other than with exception 01
@@ -20,7 +48,9 @@ struct Recon {
     std::uint16_t max_read = 125;          // the largest FC 03 quantity answered there
     bool answers_unit_0 = false;
     bool answers_unit_255 = false;
-    std::string source = "probed";  // or the DUT file that declared unit and max_read
+    // "probed", the DUT file that declared unit and max_read, or "learned from FILE (...)".
+    std::string source = "probed";
+    AnsweredRanges ranges;  // where requests were answered with data or an echo
 
     bool serves(std::uint8_t function) const;
 };
@@ -41,6 +71,12 @@ struct ReconOptions {
 // refuse (quantity 0, a coil value other than 0000/FF00) unless writes are allowed, where it is
 // the plain request. nullopt for codes not probed.
 std::optional<std::vector<std::uint8_t>> probe_request(std::uint8_t function, bool allow_writes);
+
+// Adds to `ranges` the addresses `request` reached when `answer` is its normal answer (read data
+// of the size asked, a write's echo); returns whether it was. Exceptions, other function codes
+// and answers that do not fit the request add nothing.
+bool note_answered(std::span<const std::uint8_t> request, std::span<const std::uint8_t> answer,
+                   AnsweredRanges& ranges);
 
 // Fails with one line when no holding register answers FC 03 (nothing to check liveness with).
 std::optional<std::string> reconnoitre(const Ask& ask, const ReconOptions& options, Recon& out);

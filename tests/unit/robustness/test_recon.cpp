@@ -29,6 +29,9 @@ TEST(Recon, LearnsWhatTheDeviceServes) {
     EXPECT_EQ(recon.max_read, 50);
     EXPECT_FALSE(recon.answers_unit_0);
     EXPECT_TRUE(recon.answers_unit_255);
+    // The reads answered while probing: the binary search reached 100..149.
+    EXPECT_EQ(recon.ranges.of(Table::HoldingRegisters), (std::vector<AddressRange>{{100, 149}}));
+    EXPECT_TRUE(recon.ranges.of(Table::Coils).empty());
 }
 
 TEST(Recon, ProbesWritesWithRequestsThatChangeNothing) {
