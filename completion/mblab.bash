@@ -60,7 +60,7 @@ _mblab() {
             return
             ;;
         --role | --server-name | --days | --read-only-role | --write-role | --restart | --writable | \
-            --http | --http-token | --metrics)
+            --http | --http-token | --metrics | --device-pid)
             return
             ;;
     esac

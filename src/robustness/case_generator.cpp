@@ -502,6 +502,9 @@ void CaseGenerator::resource_cases() {
             c.steps.push_back({i, requests(count, largest), {}});
             c.steps.back().unread = true;
         }
+        // Time for the device to work through the requests until its send buffer is full: a
+        // device that stalls on a slow reader does so only once it is.
+        c.steps.back().pause = std::chrono::milliseconds(500);
         add(std::move(c));
     }
 

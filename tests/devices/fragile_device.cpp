@@ -80,10 +80,15 @@ bool serve(Client& client) {
                 answer.push_back(static_cast<std::uint8_t>(value >> 8));
                 answer.push_back(static_cast<std::uint8_t>(value));
             }
-        } else if (g_mode == "loses-writes" && pdu[0] == 0x06 && pdu.size() == 5 &&
-                   address < g_registers.size()) {
-            if (!forgetful) g_registers[address] = static_cast<std::uint16_t>(quantity);
-            answer = pdu;
+        } else if (g_mode == "loses-writes" && pdu[0] == 0x06) {
+            if (pdu.size() != 5) {
+                answer = {0x86, 0x03};
+            } else if (address >= g_registers.size()) {
+                answer = {0x86, 0x02};
+            } else {
+                if (!forgetful) g_registers[address] = static_cast<std::uint16_t>(quantity);
+                answer = pdu;
+            }
         } else if (g_mode == "closes-garbage") {
             return false;
         } else {

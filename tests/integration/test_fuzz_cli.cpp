@@ -330,10 +330,15 @@ TEST(FuzzOwnServer, ServeSurvivesEveryClassAndTheResourceCases) {
     ASSERT_TRUE(std::regex_search(line, match, std::regex("tcp://127\\.0\\.0\\.1:[0-9]+"))) << line;
     const std::string target = match[0];
     const auto json_path = (dir / "fuzz.json").string();
-    // Enough cases for every fixed case of the resource classes; register 100 on is writable
-    // in the reference profile.
-    auto ran = run_mblab({"fuzz", target, "--cases", "400", "--rate", "0", "--writable", "100:10",
-                          "--device-pid", std::to_string(serve.pid()), "--json", json_path});
+    // Every fixed case and some mutations; register 100 on is writable in the reference
+    // profile. Long enough that the run is read with a longer patience than run_mblab's.
+    ChildProcess fuzz({MBLAB_BINARY, "fuzz", target, "--cases", "1500", "--rate", "0", "--writable",
+                       "100:10", "--device-pid", std::to_string(serve.pid()), "--json", json_path});
+    Ran ran;
+    while (auto out = fuzz.read_stdout_line(180s))
+        ran.out += *out + "\n";
+    ran.status = fuzz.wait_exit(10s).value_or(-1);
+    ran.err = fuzz.drain_stderr();
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
     EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
     const auto report = nlohmann::json::parse(file_text(dir / "fuzz.json"));
@@ -373,7 +378,7 @@ TEST_F(FuzzReference, TheProgressLineShowsOnATerminalOnly) {
     TempDir dir;
     const std::string command =
         std::string(MBLAB_BINARY) + " fuzz " + target() + " --cases 3 --rate 0 2>&1";
-    auto ran = run_program({"script", "-qec", command, "/dev/null"});
+    auto ran = run_program({"/usr/bin/script", "-qec", command, "/dev/null"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
     EXPECT_NE(ran.out.find("\r\033[Kcase 1 protocol-id: protocol id 0x0001"), std::string::npos)
         << ran.out;
