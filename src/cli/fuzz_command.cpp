@@ -13,6 +13,7 @@
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/tls_options.hpp"
 #include "client/raw_link.hpp"
 #include "client/target.hpp"
 #include "conformance/capture.hpp"
@@ -57,6 +58,7 @@ struct FuzzCommandOptions {
     std::string junit;
     std::string pcap;
     int device_pid = 0;
+    security::TlsFiles tls;  // the tester's certificate on mbaps://
     const Invocation* invocation = nullptr;
 };
 
@@ -140,8 +142,10 @@ int run_fuzz(const FuzzCommandOptions& options) {
     const auto started = std::chrono::system_clock::now();
     auto target = client::parse_target(options.target);
     if (!target) return usage_error(target.error());
-    if (target->secure)
-        return usage_error(fmt::format("{}: mbaps:// targets are not fuzzed yet", target->name));
+    if (target->secure) {
+        if (auto failed = client::attach_tls(*target, options.tls); !failed.empty())
+            return usage_error(failed);
+    }
     const auto framing = client::framing_of(*target);
     const bool line = framing != client::Framing::Mbap;
     if (line && !options.pcap.empty())
@@ -361,8 +365,8 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
         "Example: mblab fuzz tcp://127.0.0.1:1502 --cases 300 --junit fuzz.xml\n"
         "Example: mblab fuzz 'rtu:///dev/ttyUSB0?baud=19200' --unit 17 --cases 300");
     cmd->add_option("target", options->target,
-                    "tcp://HOST[:PORT], rtu:///DEV?baud=N, ascii:///DEV?baud=N or "
-                    "rtu+tcp://HOST:PORT")
+                    "tcp://HOST[:PORT], mbaps://HOST[:PORT] (with --cert, --key, --ca), "
+                    "rtu:///DEV?baud=N, ascii:///DEV?baud=N or rtu+tcp://HOST:PORT")
         ->required();
     cmd->add_option("--seed", options->seed, "seed of the mutations: the same seed, the same run")
         ->capture_default_str();
@@ -409,6 +413,7 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     cmd->add_option("--device-pid", options->device_pid,
                     "process id of a device running on this machine: its memory is reported")
         ->check(CLI::PositiveNumber);
+    add_tls_options(*cmd, options->tls, "tester's (client)");
     cmd->add_option("--json", options->json, "write the report as JSON to FILE");
     cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
     cmd->add_option("--pcap", options->pcap,

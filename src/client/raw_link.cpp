@@ -308,31 +308,42 @@ bool RawLink::send(std::span<const std::uint8_t> bytes, LinkError& error) {
 
 std::size_t RawLink::send_for(std::span<const std::uint8_t> bytes,
                               std::chrono::milliseconds timeout, LinkError& error) {
-    if (tls_) return send(bytes, error) ? bytes.size() : 0;
     if (fd_ < 0) {
         error.message = "connection closed";
         return 0;
     }
     const auto deadline = Clock::now() + timeout;
+    // Over TLS the channel takes the plaintext whole, and its records go out as the peer takes
+    // them; what is left waits in the channel for the next write.
+    if (tls_ && !tls_->write(bytes)) {
+        error.message = "TLS: " + tls_->error();
+        drop(true);
+        return 0;
+    }
+    auto wire = [&] { return tls_ ? tls_->output() : bytes; };
     std::size_t sent = 0;
-    while (sent < bytes.size()) {
+    while (sent < wire().size()) {
         pollfd pfd{fd_, POLLOUT, 0};
         const int ready = ::poll(&pfd, 1, remaining_ms(deadline));
         if (ready < 0 && errno == EINTR) continue;
         if (ready <= 0) break;
-        const ssize_t n =
-            ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL | MSG_DONTWAIT);
+        const auto pending = wire().subspan(tls_ ? 0 : sent);
+        const ssize_t n = ::send(fd_, pending.data(), pending.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
         if (n < 0) {
             if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) continue;
             error.message = errno_text(errno);
-            if (observer_ != nullptr && sent > 0) observer_->on_sent(bytes.first(sent));
             drop(true);
-            return sent;
+            break;
         }
-        sent += static_cast<std::size_t>(n);
+        if (tls_) {
+            tls_->sent(static_cast<std::size_t>(n));
+        } else {
+            sent += static_cast<std::size_t>(n);
+        }
     }
-    if (observer_ != nullptr && sent > 0) observer_->on_sent(bytes.first(sent));
-    return sent;
+    const std::size_t taken = tls_ ? bytes.size() : sent;
+    if (observer_ != nullptr && taken > 0) observer_->on_sent(bytes.first(taken));
+    return taken;
 }
 
 bool RawLink::vanish() {

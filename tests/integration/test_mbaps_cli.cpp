@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -205,6 +206,25 @@ TEST_F(MbapsCli, LoadWithARoleThatMayNotReadFails) {
     auto run = mblab_load("mbaps_load_norole", args);
     EXPECT_EQ(run.status, 1) << run.out << run.err;
     EXPECT_GT(failures(run.report["nodes"][0], "exception"), 0U) << run.report.dump();
+}
+
+// The robustness tester inside TLS: every case on a TLS connection of its own, the checks too.
+TEST_F(MbapsCli, FuzzRunsItsCasesInsideTls) {
+    auto ran = mblab({"fuzz", "--cases", "60", "--rate", "0"}, "client-Operator");
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("mblab fuzz mbaps://"), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
+    // Reconnaissance, then at least a case and a check each on connections of their own.
+    EXPECT_GT(server::ServerStats::read(server_->stats().tls_handshakes), 120U);
+    // A role that may not read leaves nothing to check liveness with: one line, status 2.
+    auto norole = mblab({"fuzz", "--cases", "10"}, "client-norole");
+    EXPECT_EQ(norole.status, 2) << norole.out << norole.err;
+    EXPECT_NE(norole.err.find("answers FC 03 with unit 1"), std::string::npos) << norole.err;
+    EXPECT_EQ(std::count(norole.err.begin(), norole.err.end(), '\n'), 1) << norole.err;
+    auto no_certificate = run_mblab({"fuzz", target_, "--cases", "10"});
+    EXPECT_EQ(no_certificate.status, 2) << no_certificate.err;
+    EXPECT_EQ(std::count(no_certificate.err.begin(), no_certificate.err.end(), '\n'), 1)
+        << no_certificate.err;
 }
 
 TEST(MbapsServe, ServesTlsFromTheCommandLineAndRefusesBadFiles) {
