@@ -58,17 +58,29 @@ Liveness FuzzRunner::check() {
     if (!line_) return oracle_.check();
     if (links_.empty()) links_.resize(1);
     auto& link = links_.front();
-    if (!link || !link->is_open()) {
-        auto opened = client::open_link(options_.target, options_.timeout, observer_);
-        if (!opened) {
-            Liveness dead;
-            dead.alive = false;
-            dead.reason = fmt::format("cannot be reached ({})", opened.error().message);
-            return dead;
+    // RTU over TCP: the link is a connection, and closing it on bad input is the device's right
+    // as over Modbus/TCP; a fresh one must then be served. A serial port that closes has failed.
+    const bool connection = options_.target.serial &&
+                            options_.target.serial->kind == transport::SerialUrl::Kind::RtuOverTcp;
+    Liveness earlier;
+    for (int attempt = 0; attempt < (connection ? 2 : 1); ++attempt) {
+        if (!link || !link->is_open()) {
+            auto opened = client::open_link(options_.target, options_.timeout, observer_);
+            if (!opened) {
+                Liveness dead;
+                dead.alive = false;
+                dead.reason = fmt::format("cannot be reached ({})", opened.error().message);
+                dead.waited = earlier.waited;
+                return dead;
+            }
+            link = std::move(opened.value());
         }
-        link = std::move(opened.value());
+        auto liveness = line_oracle_.check(*link);
+        liveness.waited += earlier.waited;
+        if (liveness.alive || link->is_open()) return liveness;
+        earlier = liveness;
     }
-    return line_oracle_.check(*link);
+    return earlier;
 }
 
 Liveness FuzzRunner::wait_alive() {

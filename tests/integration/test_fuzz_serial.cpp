@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -88,6 +89,23 @@ TEST(FuzzSerial, RtuOverTcpHasNoFinding) {
     EXPECT_NE(ran.out.find("  many-connections    n/a a serial line is one connection\n"),
               std::string::npos)
         << ran.out;
+}
+
+// `mblab serve` over RTU over TCP closes a connection on a frame longer than any RTU frame: its
+// right on TCP. The check then asks on a fresh connection rather than call the device dead.
+TEST(FuzzSerial, ServeOverRtuTcpClosingOnAnOversizeFrameIsNotAFinding) {
+    ChildProcess serve({MBLAB_BINARY, "serve", "--listen", "rtu+tcp://127.0.0.1:0"});
+    std::smatch match;
+    const auto line = serve.read_stdout_line(10s).value_or("");
+    ASSERT_TRUE(std::regex_search(line, match, std::regex("rtu\\+tcp://127\\.0\\.0\\.1:[0-9]+")))
+        << line;
+    const auto ran = run_mblab({"fuzz", match[0], "--cases", "40", "--rate", "0"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("  oversize              "), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("no finding: the device served every liveness check"), std::string::npos)
+        << ran.out;
+    serve.signal(SIGTERM);
+    EXPECT_EQ(serve.wait_exit(10s), 0);
 }
 
 // Restarted by `mblab fuzz --restart`: the old one is gone before the new one opens the line.
