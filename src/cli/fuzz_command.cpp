@@ -148,9 +148,6 @@ int run_fuzz(const FuzzCommandOptions& options) {
     }
     const auto framing = client::framing_of(*target);
     const bool line = framing != client::Framing::Mbap;
-    if (line && !options.pcap.empty())
-        return usage_error(
-            fmt::format("--pcap: captures are of Modbus/TCP only, not {}", target->name));
     if (line && !options.learn.empty())
         return usage_error(
             fmt::format("--learn: captures are of Modbus/TCP only, not {}", target->name));
@@ -326,17 +323,16 @@ int run_fuzz(const FuzzCommandOptions& options) {
         if (!conf::write_text_file(options.reproducer, rb::reproducer_text(f.reproducer, comment),
                                    failed))
             return usage_error(failed);
-        if (line) {
-            fmt::print("reproducer written to {}\n", options.reproducer);
-        } else {
-            const auto capture_path = options.reproducer + ".pcapng";
-            if (!conf::write_pcap(
-                    capture_path,
-                    rb::reproducer_capture(f.reproducer, target->tcp->host, target->tcp->port),
-                    provenance, failed))
-                return usage_error(failed);
-            fmt::print("reproducer written to {} (and {})\n", options.reproducer, capture_path);
-        }
+        const auto capture_path = options.reproducer + ".pcapng";
+        const bool written =
+            line ? conf::write_line_pcap(capture_path, rb::reproducer_capture(f.reproducer, "", 0),
+                                         provenance, failed)
+                 : conf::write_pcap(
+                       capture_path,
+                       rb::reproducer_capture(f.reproducer, target->tcp->host, target->tcp->port),
+                       provenance, failed);
+        if (!written) return usage_error(failed);
+        fmt::print("reproducer written to {} (and {})\n", options.reproducer, capture_path);
     }
     if (!options.json.empty() &&
         !conf::write_text_file(options.json, rb::json_report(result, provenance), failed))
@@ -345,7 +341,8 @@ int run_fuzz(const FuzzCommandOptions& options) {
         !conf::write_text_file(options.junit, rb::junit_report(result, provenance), failed))
         return usage_error(failed);
     if (!options.pcap.empty() &&
-        !conf::write_pcap(options.pcap, capture.events(), provenance, failed))
+        !(line ? conf::write_line_pcap(options.pcap, capture.events(), provenance, failed)
+               : conf::write_pcap(options.pcap, capture.events(), provenance, failed)))
         return usage_error(failed);
     return result.finding ? kExitFailed : kExitOk;
 }
@@ -417,7 +414,8 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     cmd->add_option("--json", options->json, "write the report as JSON to FILE");
     cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
     cmd->add_option("--pcap", options->pcap,
-                    "write every frame of the run as pcapng to FILE (Modbus/TCP only)");
+                    "write every frame of the run as pcapng to FILE (a line's frames on "
+                    "LINKTYPE_USER0)");
     cmd->callback([options, cmd, &runner] {
         options->unit_given = cmd->count("--unit") > 0;
         runner = [options] { return run_fuzz(*options); };

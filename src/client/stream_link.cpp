@@ -40,13 +40,14 @@ int poll_ms(Clock::duration wait) {
 
 StreamLink::StreamLink(std::string name, std::unique_ptr<asio::io_context> io,
                        std::unique_ptr<Port> port, const protocol::FramerOptions& framing,
-                       std::chrono::microseconds silence)
+                       std::chrono::microseconds silence, LinkObserver* observer)
     : name_(std::move(name)),
       framing_(framing.framing),
       io_(std::move(io)),
       port_(std::move(port)),
       reader_(framing),
-      silence_(silence) {
+      silence_(silence),
+      observer_(observer) {
     fd_ = std::visit([](auto& p) { return static_cast<int>(p.native_handle()); }, *port_);
 }
 
@@ -61,24 +62,26 @@ void StreamLink::close() {
 }
 
 protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_serial(
-    const transport::SerialUrl& url, std::string name) {
+    const transport::SerialUrl& url, std::string name, LinkObserver* observer) {
     auto io = std::make_unique<asio::io_context>();
     auto opened = transport::open_serial_port(io->get_executor(), url.line);
     if (!opened) return LinkError{opened.error()};
     auto port = std::make_unique<Port>(std::move(opened.value()));
     if (url.kind == transport::SerialUrl::Kind::Ascii) {
         return std::unique_ptr<Link>(new StreamLink(std::move(name), std::move(io), std::move(port),
-                                                    {.framing = Framing::Ascii}, kAsciiSilence));
+                                                    {.framing = Framing::Ascii}, kAsciiSilence,
+                                                    observer));
     }
     const auto t35 = transport::rtu_char_times(url.line.baud).t35;
     return std::unique_ptr<Link>(
         new StreamLink(std::move(name), std::move(io), std::move(port),
                        {.framing = Framing::Rtu, .direction = protocol::Direction::Response},
-                       std::max<std::chrono::microseconds>(t35, kMinSerialSilence)));
+                       std::max<std::chrono::microseconds>(t35, kMinSerialSilence), observer));
 }
 
 protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_rtu_over_tcp(
-    const asio::ip::tcp::endpoint& endpoint, std::string name, milliseconds timeout) {
+    const asio::ip::tcp::endpoint& endpoint, std::string name, milliseconds timeout,
+    LinkObserver* observer) {
     auto io = std::make_unique<asio::io_context>();
     asio::ip::tcp::socket socket(*io);
     asio::error_code result = asio::error::would_block;
@@ -93,10 +96,11 @@ protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_rtu_over_tcp
                        {.framing = Framing::Rtu,
                         .direction = protocol::Direction::Response,
                         .unknown_length = protocol::RtuFramer::UnknownLength::EndOnCrcMatch},
-                       kTcpSilence));
+                       kTcpSilence, observer));
 }
 
 bool StreamLink::send(std::span<const std::uint8_t> adu, LinkError& error) {
+    if (observer_ != nullptr) observer_->on_sent(adu);
     while (!adu.empty()) {
         if (fd_ < 0) {
             error.message = "connection closed";
@@ -120,6 +124,12 @@ bool StreamLink::send(std::span<const std::uint8_t> adu, LinkError& error) {
 }
 
 Received StreamLink::receive_frame(milliseconds timeout) {
+    Received received = read_frame(timeout);
+    if (observer_ != nullptr && !received.bytes.empty()) observer_->on_received(received.bytes);
+    return received;
+}
+
+Received StreamLink::read_frame(milliseconds timeout) {
     const auto deadline = Clock::now() + timeout;
     while (true) {
         if (auto frame = reader_.next()) return std::move(*frame);

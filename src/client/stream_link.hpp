@@ -22,12 +22,13 @@ namespace mblab::client {
 class StreamLink final : public Link {
   public:
     // rtu://, ascii://: the serial line the URL names.
+    // `observer` is told of every write and of every frame (or garbled bytes) read.
     static protocol::Result<std::unique_ptr<Link>, LinkError> open_serial(
-        const transport::SerialUrl& url, std::string name);
+        const transport::SerialUrl& url, std::string name, LinkObserver* observer = nullptr);
     // rtu+tcp://: RTU frames over a TCP connection.
     static protocol::Result<std::unique_ptr<Link>, LinkError> open_rtu_over_tcp(
         const asio::ip::tcp::endpoint& endpoint, std::string name,
-        std::chrono::milliseconds timeout);
+        std::chrono::milliseconds timeout, LinkObserver* observer = nullptr);
     ~StreamLink() override;
 
     Framing framing() const override { return framing_; }
@@ -45,7 +46,10 @@ class StreamLink final : public Link {
     using Port = std::variant<asio::serial_port, asio::ip::tcp::socket>;
 
     StreamLink(std::string name, std::unique_ptr<asio::io_context> io, std::unique_ptr<Port> port,
-               const protocol::FramerOptions& framing, std::chrono::microseconds silence);
+               const protocol::FramerOptions& framing, std::chrono::microseconds silence,
+               LinkObserver* observer);
+    // receive_frame() without telling the observer.
+    Received read_frame(std::chrono::milliseconds timeout);
 
     std::string name_;
     Framing framing_;
@@ -55,6 +59,7 @@ class StreamLink final : public Link {
     // Quiet time that ends a frame whose layout does not say its length (t3.5 on RTU lines).
     std::chrono::microseconds silence_;
     int fd_ = -1;
+    LinkObserver* observer_ = nullptr;
 };
 
 }  // namespace mblab::client

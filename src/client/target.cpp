@@ -56,9 +56,10 @@ protocol::Result<std::unique_ptr<Link>, LinkError> open_link(const Target& targe
                                                              LinkObserver* observer) {
     if (target.tcp) return TcpLink::open(*target.tcp, target.name, timeout, observer);
     if (target.serial->kind == transport::SerialUrl::Kind::RtuOverTcp) {
-        return StreamLink::open_rtu_over_tcp(target.serial->endpoint, target.name, timeout);
+        return StreamLink::open_rtu_over_tcp(target.serial->endpoint, target.name, timeout,
+                                             observer);
     }
-    return StreamLink::open_serial(*target.serial, target.name);
+    return StreamLink::open_serial(*target.serial, target.name, observer);
 }
 
 }  // namespace mblab::client

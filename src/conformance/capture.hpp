@@ -45,4 +45,12 @@ class Capture : public client::LinkObserver {
 bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events,
                 const Provenance& provenance, std::string& error);
 
+// A serial line's capture (RTU or ASCII, RTU over TCP too) as pcapng: the same section header,
+// then each frame as it was written or read, marked outbound (tester) or inbound (device), on
+// LINKTYPE_USER0 (147), since no link type is assigned to Modbus serial lines. Wireshark decodes
+// RTU frames once User 0 is mapped to "mbrtu" (docs/robustness.md says how); ASCII frames show as
+// their text.
+bool write_line_pcap(const std::string& path, const std::vector<CaptureEvent>& events,
+                     const Provenance& provenance, std::string& error);
+
 }  // namespace mblab::conformance

@@ -179,7 +179,9 @@ class PcapngFile {
         block.close();
     }
 
-    void packet(std::chrono::microseconds since_epoch, std::span<const std::uint8_t> bytes) {
+    // `inbound`: the epb_flags direction, for packets whose link layer does not say it.
+    void packet(std::chrono::microseconds since_epoch, std::span<const std::uint8_t> bytes,
+                std::optional<bool> inbound = std::nullopt) {
         Block block(out_, kEnhancedPacket);
         const auto stamp = static_cast<std::uint64_t>(since_epoch.count());
         put32(0);  // interface 0
@@ -189,6 +191,12 @@ class PcapngFile {
         put32(static_cast<std::uint32_t>(bytes.size()));
         out_.insert(out_.end(), bytes.begin(), bytes.end());
         pad();
+        if (inbound) {
+            put16(kEpbFlags);
+            put16(4);
+            put32(*inbound ? 1U : 2U);
+            end_options();
+        }
         block.close();
     }
 
@@ -203,6 +211,7 @@ class PcapngFile {
     static constexpr std::uint16_t kShbHardware = 2;
     static constexpr std::uint16_t kShbOs = 3;
     static constexpr std::uint16_t kShbUserAppl = 4;
+    static constexpr std::uint16_t kEpbFlags = 2;
 
     // Writes the type and a length to be filled in; close() writes the length at both ends, as
     // pcapng has it so a reader can walk the blocks backwards too.
@@ -251,7 +260,8 @@ class PcapngFile {
     std::string out_;
 };
 
-constexpr std::uint16_t kLinktypeRaw = 101;  // raw IPv4 or IPv6, no link-layer header
+constexpr std::uint16_t kLinktypeRaw = 101;    // raw IPv4 or IPv6, no link-layer header
+constexpr std::uint16_t kLinktypeUser0 = 147;  // private use: a serial line's frames
 constexpr std::uint32_t kSnapLength = 65535;
 
 }  // namespace
@@ -315,6 +325,20 @@ bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events
                 stream.reset();
                 break;
         }
+    }
+    return write_text_file(path, file.bytes(), error);
+}
+
+bool write_line_pcap(const std::string& path, const std::vector<CaptureEvent>& events,
+                     const Provenance& provenance, std::string& error) {
+    PcapngFile file;
+    file.section_header(provenance);
+    file.interface(kLinktypeUser0, kSnapLength);
+    for (const auto& e : events) {
+        if (e.kind != CaptureEvent::Kind::Sent && e.kind != CaptureEvent::Kind::Received) continue;
+        file.packet(
+            std::chrono::duration_cast<std::chrono::microseconds>(e.time.time_since_epoch()),
+            e.bytes, e.kind == CaptureEvent::Kind::Received);
     }
     return write_text_file(path, file.bytes(), error);
 }

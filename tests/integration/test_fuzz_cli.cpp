@@ -400,8 +400,6 @@ TEST(FuzzUsage, BadUsageIsOneLine) {
         {{"rtu:///dev/null", "--unit", "0"},
          "mblab fuzz: unit 0 is broadcast, never answered on a serial line: give the device's "
          "address (--unit)\n"},
-        {{"ascii:///dev/null", "--pcap", "x.pcapng"},
-         "mblab fuzz: --pcap: captures are of Modbus/TCP only, not ascii:///dev/null"},
     };
     for (const auto& [args, error] : cases) {
         std::vector<std::string> argv = {"fuzz"};

@@ -24,6 +24,10 @@ namespace {
 
 using namespace std::chrono_literals;
 
+// tshark's option that decodes LINKTYPE_USER0, where mblab writes a line's frames, as Modbus RTU.
+constexpr const char* kUser0IsModbusRtu =
+    R"x(uat:user_dlts:"User 0 (DLT=147)","mbrtu","0","","0","")x";
+
 nlohmann::json class_row(const nlohmann::json& report, const std::string& name) {
     for (const auto& row : report["classes"]) {
         if (row["class"] == name) return row;
@@ -91,6 +95,42 @@ TEST(FuzzSerial, RtuOverTcpHasNoFinding) {
         << ran.out;
 }
 
+// `--pcap` on a line: every frame of the run, the tester's outbound and the device's inbound,
+// which tshark decodes as Modbus RTU queries and responses.
+TEST(FuzzSerial, APcapOfALineRunHoldsItsFramesBothWays) {
+    PtyPair pty;
+    ASSERT_TRUE(pty.ok()) << pty.error();
+    ChildProcess serve(
+        {MBLAB_BINARY, "serve", "--listen", "rtu://" + pty.server_end() + "?baud=115200&data=8"});
+    ASSERT_TRUE(serve.read_stdout_line(10s).has_value());
+    TempDir dir;
+    const auto pcap = (dir.path() / "run.pcapng").string();
+    const auto ran = run_mblab({"fuzz", "rtu://" + pty.client_end() + "?baud=115200&data=8",
+                                "--cases", "20", "--rate", "0", "--pcap", pcap});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    std::string decoded;
+    ASSERT_EQ(run_command({"tshark", "-o", kUser0IsModbusRtu, "-r", pcap, "-T", "fields", "-e",
+                           "frame.p2p_dir", "-e", "mbrtu.unit_id", "-e", "modbus.func_code"},
+                          decoded),
+              0)
+        << decoded;
+    // Sent (p2p_dir 0: outbound) reads and received (1: inbound) answers, unit 1, FC 03.
+    EXPECT_NE(decoded.find("0\t1\t3\n"), std::string::npos) << decoded.substr(0, 2000);
+    EXPECT_NE(decoded.find("1\t1\t3\n"), std::string::npos) << decoded.substr(0, 2000);
+    // The command docs/robustness.md prints, as printed, in the directory of run.pcapng.
+    const auto doc = file_text(std::string(MBLAB_SOURCE_DIR) + "/docs/robustness.md");
+    const auto at = doc.find("tshark -o 'uat:user_dlts:");
+    ASSERT_NE(at, std::string::npos);
+    const auto command = doc.substr(at, doc.find('\n', at) - at);
+    std::string printed;
+    EXPECT_EQ(run_command({"sh", "-c", "cd " + dir.path().string() + " && " + command}, printed), 0)
+        << command << "\n"
+        << printed;
+    EXPECT_NE(printed.find("Modbus RTU"), std::string::npos) << printed.substr(0, 2000);
+    serve.signal(SIGTERM);
+    EXPECT_EQ(serve.wait_exit(10s), 0);
+}
+
 // `mblab serve` over RTU over TCP closes a connection on a frame longer than any RTU frame: its
 // right on TCP. The check then asks on a fresh connection rather than call the device dead.
 TEST(FuzzSerial, ServeOverRtuTcpClosingOnAnOversizeFrameIsNotAFinding) {
@@ -141,6 +181,14 @@ TEST(FuzzSerial, ADeviceDeafAfterABadCrcIsFoundAndMinimised) {
         if (!line.empty() && line[0] != '#') steps.push_back(line);
     }
     EXPECT_EQ(steps, std::vector<std::string>{"F7 03 00 00 00 01 91 9D"}) << ran.out;
+    // Beside it, the frame as a capture Wireshark reads as Modbus RTU once User 0 is "mbrtu".
+    std::string decoded;
+    EXPECT_EQ(run_command({"tshark", "-o", kUser0IsModbusRtu, "-r", reproducer + ".pcapng", "-T",
+                           "fields", "-e", "mbrtu.unit_id", "-e", "modbus.func_code"},
+                          decoded),
+              0)
+        << decoded;
+    EXPECT_NE(decoded.find("247\t3"), std::string::npos) << decoded;
     const auto pid = file_text(pid_file);
     if (!pid.empty()) ::kill(std::stoi(pid), SIGKILL);
 }
