@@ -6,6 +6,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
 #include <thread>
 
 namespace mblab::test {
@@ -92,6 +97,19 @@ std::string ChildProcess::drain_stderr() {
         text.append(chunk, static_cast<std::size_t>(n));
     }
     return text;
+}
+
+void kill_processes_naming(const std::string& text) {
+    std::error_code error;
+    for (const auto& entry : std::filesystem::directory_iterator("/proc", error)) {
+        const auto name = entry.path().filename().string();
+        if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+        std::ifstream in(entry.path() / "cmdline", std::ios::binary);
+        std::string cmdline((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::replace(cmdline.begin(), cmdline.end(), '\0', ' ');
+        const int pid = std::stoi(name);
+        if (pid != ::getpid() && cmdline.find(text) != std::string::npos) ::kill(pid, SIGKILL);
+    }
 }
 
 }  // namespace mblab::test

@@ -36,4 +36,8 @@ class ChildProcess {
     bool exited_ = false;
 };
 
+// SIGKILL to every process of ours whose command line holds `text` (a test's own temporary
+// path): devices a test started through a shell, whose pids it cannot be sure of.
+void kill_processes_naming(const std::string& text);
+
 }  // namespace mblab::test
