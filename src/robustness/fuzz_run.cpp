@@ -19,12 +19,14 @@ using Clock = std::chrono::steady_clock;
 constexpr std::size_t kStreamAbove = 64 * 1024;
 constexpr std::size_t kStreamChunk = 16 * 1024;
 
-// The whole MBAP frames at the start of `bytes`.
-std::size_t whole_frames(std::span<const std::uint8_t> bytes) {
+// Calls `visit` with the PDU of each whole MBAP frame at the start of `bytes`; returns how many.
+template <class Visit>
+std::size_t each_frame(std::span<const std::uint8_t> bytes, Visit&& visit) {
     std::size_t count = 0;
     for (std::size_t at = 0; at + 7 <= bytes.size(); ++count) {
         const std::size_t length = bytes[at + 4] << 8 | bytes[at + 5];
         if (length < 2 || at + 6 + length > bytes.size()) break;
+        visit(bytes.subspan(at + 7, length - 1));
         at += 6 + length;
     }
     return count;
@@ -33,14 +35,10 @@ std::size_t whole_frames(std::span<const std::uint8_t> bytes) {
 // The highest FC 06 value to `address` among MBAP frames in `bytes`.
 std::uint16_t highest_write(std::span<const std::uint8_t> bytes, std::uint16_t address) {
     std::uint16_t highest = 0;
-    for (std::size_t at = 0; at + 7 <= bytes.size();) {
-        const std::size_t length = bytes[at + 4] << 8 | bytes[at + 5];
-        if (length < 2 || at + 6 + length > bytes.size()) break;
-        const auto pdu = bytes.subspan(at + 7, length - 1);
+    each_frame(bytes, [&](std::span<const std::uint8_t> pdu) {
         if (pdu.size() == 5 && pdu[0] == 0x06 && (pdu[1] << 8 | pdu[2]) == address)
             highest = std::max(highest, static_cast<std::uint16_t>(pdu[3] << 8 | pdu[4]));
-        at += 6 + length;
-    }
+    });
     return highest;
 }
 
@@ -204,7 +202,7 @@ std::uint16_t FuzzRunner::stream(client::Link& link, const Step& step,
         if (take_answers(std::chrono::milliseconds(0)) > 0 || n > 0) last_progress = Clock::now();
     }
     // The answers still on their way, until each request has one or the device falls quiet.
-    const std::size_t requests = whole_frames(bytes.first(sent));
+    const std::size_t requests = each_frame(bytes.first(sent), [](auto) {});
     while (link.is_open() && answers < requests && take_answers(options_.timeout) > 0) {
     }
     return acknowledged;
