@@ -18,6 +18,9 @@ using Clock = std::chrono::steady_clock;
 // answers as it reads must not find its answers piling up unread.
 constexpr std::size_t kStreamAbove = 64 * 1024;
 constexpr std::size_t kStreamChunk = 16 * 1024;
+// How long a slow reader's requests are written for: once the device stops taking them its
+// buffers are full, which is all the case needs, and a device that reads slowly is not waited on.
+constexpr std::chrono::milliseconds kSlowReaderWindow{250};
 
 // Calls `visit` with the PDU of each whole MBAP frame at the start of `bytes`; returns how many.
 template <class Visit>
@@ -139,7 +142,8 @@ void FuzzRunner::send_steps(const std::vector<Step>& steps, bool hold,
         client::LinkError error;
         if (ledger || (!line_ && !step.unread && step.bytes.size() > kStreamAbove)) {
             acknowledged_ = std::max(acknowledged_, stream(*link, step, ledger));
-        } else if (link->send_for(step.bytes, options_.timeout, error) < step.bytes.size() &&
+        } else if (link->send_for(step.bytes, step.unread ? kSlowReaderWindow : options_.timeout,
+                                  error) < step.bytes.size() &&
                    !step.unread) {
             // A device that takes a small request no faster than this is the oracle's to judge.
             link.reset();
@@ -179,12 +183,14 @@ std::uint16_t FuzzRunner::stream(client::Link& link, const Step& step,
         while (link.is_open()) {
             const auto answer = link.next_frame(taken == 0 ? wait : std::chrono::milliseconds(0));
             if (answer.status != client::ReceiveStatus::Frame) break;
+            ++taken;
             const auto& pdu = answer.pdu;
             if (ledger && pdu.size() == 5 && pdu[0] == 0x06 &&
                 (pdu[1] << 8 | pdu[2]) == ledger->address)
                 acknowledged =
                     std::max(acknowledged, static_cast<std::uint16_t>(pdu[3] << 8 | pdu[4]));
         }
+        answers += taken;
         return taken;
     };
     const std::span<const std::uint8_t> bytes(step.bytes);
@@ -201,9 +207,13 @@ std::uint16_t FuzzRunner::stream(client::Link& link, const Step& step,
         sent += n;
         if (take_answers(std::chrono::milliseconds(0)) > 0 || n > 0) last_progress = Clock::now();
     }
-    // The answers still on their way, until each request has one or the device falls quiet.
+    // The answers still on their way, until each request has one, the device falls quiet, or as
+    // long again as the writing was allowed: a slow device's last acknowledgements may go
+    // unread, which only weakens the ledger's check, never makes it wrong.
     const std::size_t requests = each_frame(bytes.first(sent), [](auto) {});
-    while (link.is_open() && answers < requests && take_answers(options_.timeout) > 0) {
+    const auto answers_by = Clock::now() + 2 * options_.timeout;
+    while (link.is_open() && answers < requests && Clock::now() < answers_by &&
+           take_answers(options_.timeout) > 0) {
     }
     return acknowledged;
 }

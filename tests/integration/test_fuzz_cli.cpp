@@ -363,11 +363,20 @@ TEST(FuzzOwnServer, ServeSurvivesEveryClassAndTheResourceCases) {
     }
     EXPECT_EQ(report["ledger"]["floods_read_back"], 1);
     EXPECT_EQ(report["ledger"]["acknowledged_writes"], 10000);
-    // Megabytes of answers went unread and two thousand connections came at once: the server
-    // holds its memory in bounds (it starts near 12 MiB).
+    // Megabytes of answers went unread (10 MB on one connection alone) and two thousand
+    // connections came at once: the server grows by less than one slow reader's answers.
+    // AddressSanitizer keeps freed memory in quarantine (up to 256 MiB), so there the bound is
+    // looser; the plain build grows by under a MiB.
+#if defined(__SANITIZE_ADDRESS__)
+    constexpr std::size_t kGrowthKb = 64U * 1024U;
+#else
+    constexpr std::size_t kGrowthKb = 8U * 1024U;
+#endif
+    const auto start = report["device_memory_kb"]["start"].get<std::size_t>();
     const auto peak = report["device_memory_kb"]["peak"].get<std::size_t>();
-    EXPECT_GT(peak, 0U);
-    EXPECT_LT(peak, 64U * 1024U) << ran.out;
+    EXPECT_GT(start, 0U);
+    EXPECT_GE(peak, start);
+    EXPECT_LT(peak - start, kGrowthKb) << ran.out;
     EXPECT_NE(ran.out.find("device memory (pid " + std::to_string(serve.pid()) + ")"),
               std::string::npos)
         << ran.out;
