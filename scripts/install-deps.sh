@@ -6,7 +6,7 @@ PKGS="build-essential cmake ninja-build pkg-config git clang-14 clang-format-14 
  libclang-rt-14-dev libasio-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev \
  libfmt-dev libssl-dev libpcap-dev libgtest-dev libgmock-dev googletest libbenchmark-dev \
  python3-pymodbus python3-serial python3-serial-asyncio libmodbus-dev mbpoll socat tshark libxml2-utils \
- libcpp-httplib-dev prometheus curl \
+ prometheus curl \
  iputils-ping man-db chromium chromium-driver"
 missing=""
 for p in $PKGS; do

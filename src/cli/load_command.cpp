@@ -235,7 +235,7 @@ class LoadMetrics {
             error = "--metrics " + error;
             return false;
         }
-        server_.get("/metrics", [this](const web::ApiRequest&) {
+        server_.routes().get("/metrics", [this](const web::HttpRequest&) {
             std::lock_guard lock(mutex_);
             return web::HttpReply{200, web::load_metrics(plan_, latest_), web::kMetricsContentType};
         });

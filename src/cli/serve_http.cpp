@@ -1,19 +1,29 @@
 #include "cli/serve_http.hpp"
 
 #include <fmt/core.h>
+#include <sys/random.h>
 
 #include <fstream>
 
-#include "web/dashboard_page.hpp"
-#include "web/metrics_text.hpp"
-#include "web/serve_metrics.hpp"
+#include "web/device_routes.hpp"
 
 namespace mblab::cli {
 
 namespace {
 
-// How often the dashboard's event stream sends the counters and the page it shows.
-constexpr std::chrono::milliseconds kEventPeriod{500};
+// 128 bits from the kernel's generator, as hex: what a page on another site cannot guess.
+std::string random_token() {
+    unsigned char bytes[16] = {};
+    std::size_t got = 0;
+    while (got < sizeof bytes) {
+        const auto n = ::getrandom(bytes + got, sizeof bytes - got, 0);
+        if (n > 0) got += static_cast<std::size_t>(n);
+    }
+    std::string out;
+    for (const auto b : bytes)
+        out += fmt::format("{:02x}", b);
+    return out;
+}
 
 bool read_token_file(const std::string& path, std::string& token, std::string& error) {
     std::ifstream in(path);
@@ -37,16 +47,25 @@ void add_http_options(CLI::App& command, HttpOptions& options) {
                        "serve a dashboard, a REST API under /api and Prometheus metrics at "
                        "/metrics on HOST:PORT, e.g. 127.0.0.1:8080 (docs/http.md)");
     command.add_option("--http-token", options.token,
-                       "require \"Authorization: Bearer TOKEN\" on --http writes (needed when "
-                       "--http is not a loopback address)");
+                       "require \"Authorization: Bearer TOKEN\" on --http changes (by default a "
+                       "random token is made and printed)");
     command.add_option("--http-token-file", options.token_file,
                        "as --http-token, the token being the first line of FILE");
+    command.add_flag("--http-no-token", options.no_token,
+                     "on a loopback --http address, take changes without a token (any program "
+                     "of any user on this machine may then make them)");
+    command.add_option("--http-allow-host", options.allowed_hosts,
+                       "a host name the HTTP side answers to besides its address and localhost "
+                       "(others are refused against DNS rebinding); repeatable");
 }
 
 std::optional<HttpPlan> plan_http(const HttpOptions& options, std::string& error) {
     if (options.address.empty()) {
-        if (!options.token.empty() || !options.token_file.empty()) {
-            error = "--http-token and --http-token-file need --http";
+        if (!options.token.empty() || !options.token_file.empty() || options.no_token ||
+            !options.allowed_hosts.empty()) {
+            error =
+                "--http-token, --http-token-file, --http-no-token and --http-allow-host "
+                "need --http";
         }
         return std::nullopt;
     }
@@ -55,20 +74,24 @@ std::optional<HttpPlan> plan_http(const HttpOptions& options, std::string& error
         error = "--http " + error;
         return std::nullopt;
     }
-    HttpPlan plan{*address, options.token};
-    if (!options.token.empty() && !options.token_file.empty()) {
-        error = "give --http-token or --http-token-file, not both";
+    HttpPlan plan{*address, options.token, options.allowed_hosts};
+    if ((!options.token.empty() + !options.token_file.empty() + options.no_token) > 1) {
+        error = "give one of --http-token, --http-token-file and --http-no-token";
         return std::nullopt;
     }
     if (!options.token_file.empty() && !read_token_file(options.token_file, plan.token, error)) {
         return std::nullopt;
     }
-    if (plan.token.empty() && !web::is_loopback(plan.address.host)) {
+    if (options.no_token && !web::is_loopback(plan.address.host)) {
         error = fmt::format(
-            "--http {}: not a loopback address, so writes need --http-token or "
-            "--http-token-file",
+            "--http {}: not a loopback address, so changes need a token (--http-no-token is for "
+            "loopback only)",
             options.address);
         return std::nullopt;
+    }
+    if (plan.token.empty() && !options.no_token) {
+        plan.token = random_token();
+        plan.token_made = true;
     }
     return plan;
 }
@@ -77,30 +100,22 @@ bool LiveDevice::start(const HttpPlan& plan, std::function<std::uint64_t()> conn
                        std::function<bool(std::string&)> save_state, std::string& error) {
     api_ = std::make_unique<web::DeviceApi>(
         web::ServeView{device_, meter_, std::move(connections), std::move(save_state)});
-    server_ = std::make_unique<web::HttpServer>(plan.token);
-    auto* api = api_.get();
-    server_->get("/", [](const web::ApiRequest&) {
-        return web::HttpReply{200, std::string(web::dashboard_page()), "text/html; charset=utf-8"};
-    });
-    server_->get("/metrics", [api](const web::ApiRequest&) {
-        return web::HttpReply{200, web::serve_metrics(api->view()), web::kMetricsContentType};
-    });
-    // Before /api's catch-all, which would take it.
-    server_->events(
-        "/api/events", [api](const auto& query) { return api->live_event(query).dump(); },
-        kEventPeriod);
-    server_->under("/api", [api](const web::ApiRequest& request) {
-        auto reply = api->handle(request);
-        return web::HttpReply{reply.status, std::move(reply.body)};
-    });
+    server_ = std::make_unique<web::HttpServer>(web::GateOptions{plan.token, {}, 0, plan.names});
+    web::add_device_routes(server_->routes(), *api_);
     auto port = server_->start(plan.address, error);
     if (!port) return false;
     const bool v6 = plan.address.host.find(':') != std::string::npos;
-    fmt::print(
-        "mblab serve: dashboard on http://{}{}{}:{}/, REST API under /api, metrics at "
-        "/metrics{}\n",
-        v6 ? "[" : "", plan.address.host, v6 ? "]" : "", *port,
-        plan.token.empty() ? "" : "; writes need the token");
+    const auto base =
+        fmt::format("http://{}{}{}:{}/", v6 ? "[" : "", plan.address.host, v6 ? "]" : "", *port);
+    if (plan.token_made) {
+        fmt::print(
+            "mblab serve: dashboard on {}#token={}, REST API under /api (changes need "
+            "\"Authorization: Bearer {}\"), metrics at /metrics\n",
+            base, plan.token, plan.token);
+    } else {
+        fmt::print("mblab serve: dashboard on {}, REST API under /api, metrics at /metrics{}\n",
+                   base, plan.token.empty() ? "" : "; changes need the token");
+    }
     std::fflush(stdout);
     return true;
 }

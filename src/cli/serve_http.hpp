@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "device/reference_device.hpp"
 #include "web/device_api.hpp"
@@ -20,14 +21,19 @@ struct HttpOptions {
     std::string address;  // empty: no HTTP
     std::string token;
     std::string token_file;
+    bool no_token = false;
+    std::vector<std::string> allowed_hosts;
 };
 
 void add_http_options(CLI::App& command, HttpOptions& options);
 
-// The checked options: where to listen and the token writes need (may be empty on loopback).
+// The checked options: where to listen, the token changes need (empty only with
+// --http-no-token on loopback; made at random when none is given) and the host names taken.
 struct HttpPlan {
     web::HttpAddress address;
     std::string token;
+    std::vector<std::string> names;
+    bool token_made = false;
 };
 // nullopt with an empty `error` when --http is not given.
 std::optional<HttpPlan> plan_http(const HttpOptions& options, std::string& error);

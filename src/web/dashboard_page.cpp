@@ -5,21 +5,19 @@ namespace mblab::web {
 namespace {
 
 // The values and counters come from /api/events once the page runs; the page itself holds none.
+// Script and style are files of their own so that the Content-Security-Policy every answer
+// carries can forbid inline script: markup injected into the page could not run.
 // The empty icon keeps browsers from asking for /favicon.ico, a 404 in their console.
 constexpr std::string_view kPage = R"html(<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>mblab device</title>
 <link rel="icon" href="data:,">
-<style>
-body{font:14px system-ui,sans-serif;margin:1em;color:#222}
-h1{font-size:1.3em}h2{font-size:1.1em;margin-top:1.2em}
-table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}
-th{background:#eee}input.v{width:6em;text-align:right}.err{color:#b00}
-section{display:inline-block;vertical-align:top;margin-right:2em}
-</style></head><body>
+<link rel="stylesheet" href="/dashboard.css">
+<script src="/dashboard.js" defer></script>
+</head><body>
 <h1>mblab device <span id="status">connecting...</span></h1>
 <div>Connections: <b id="connections">-</b> &middot; answers/s: <b id="rate">-</b>
 &middot; mean answer time: <b id="latency">-</b> &middot;
-<form style="display:inline" onsubmit="return false">token for writes:
+<form id="tokenform">token for writes:
 <input id="token" type="password" size="12" autocomplete="off"></form></div>
 <section><h2>Data</h2>
 <label>Unit <select id="unit"></select></label>
@@ -38,13 +36,28 @@ section{display:inline-block;vertical-align:top;margin-right:2em}
 </thead><tbody></tbody></table>
 <p><input id="newrule" size="40" value='{"action":"exception","exception":4,"functions":[3]}'>
 <button id="add">Add rule</button></p></section>
-<script>
-"use strict";
+</body></html>
+)html";
+
+constexpr std::string_view kStyle = R"css(body{font:14px system-ui,sans-serif;margin:1em;color:#222}
+h1{font-size:1.3em}h2{font-size:1.1em;margin-top:1.2em}
+table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 6px;text-align:right}
+th{background:#eee}input.v{width:6em;text-align:right}.err{color:#b00}
+section{display:inline-block;vertical-align:top;margin-right:2em}
+#tokenform{display:inline}
+)css";
+
+constexpr std::string_view kScript = R"js("use strict";
 const PAGE = 20;
 const $ = id => document.getElementById(id);
 let source = null, lastTotal = null, lastTime = 0;
-$("token").value = localStorage.getItem("mblab-token") || "";
-$("token").onchange = () => localStorage.setItem("mblab-token", $("token").value);
+// serve prints the page's address with its token after '#', which no request carries: it is kept
+// for this tab and taken off the address bar.
+const given = new URLSearchParams(location.hash.slice(1)).get("token");
+if (given) { sessionStorage.setItem("mblab-token", given); history.replaceState(null, "", location.pathname); }
+$("token").value = sessionStorage.getItem("mblab-token") || "";
+$("token").onchange = () => sessionStorage.setItem("mblab-token", $("token").value);
+$("tokenform").onsubmit = () => false;
 function call(method, path, body) {
   const headers = {"Content-Type": "application/json"};
   if ($("token").value) headers.Authorization = "Bearer " + $("token").value;
@@ -149,13 +162,20 @@ call("GET", "/api/units").then(units => {
   }
   listen(); loadRules();
 });
-</script></body></html>
-)html";
+)js";
 
 }  // namespace
 
 std::string_view dashboard_page() {
     return kPage;
+}
+
+std::string_view dashboard_style() {
+    return kStyle;
+}
+
+std::string_view dashboard_script() {
+    return kScript;
 }
 
 }  // namespace mblab::web

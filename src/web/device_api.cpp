@@ -9,6 +9,7 @@
 
 #include "device/profile_loader.hpp"
 #include "web/fault_rule_json.hpp"
+#include "web/json_text.hpp"
 
 namespace mblab::web {
 
@@ -56,7 +57,7 @@ std::vector<std::string> split_path(const std::string& path) {
 }
 
 ApiReply ok(const json& body, int status = 200) {
-    return {status, body.dump()};
+    return {status, json_text(body)};
 }
 
 const char* access_name(device::Access access) {
@@ -90,7 +91,7 @@ json comm_json(const device::UnitStats& stats, const std::vector<std::uint8_t>& 
 }  // namespace
 
 ApiReply api_error(int status, const std::string& reason) {
-    return {status, json{{"error", reason}}.dump()};
+    return {status, json_text({{"error", reason}})};
 }
 
 DeviceApi::DeviceApi(ServeView view) : view_(std::move(view)) {
@@ -208,8 +209,10 @@ ApiReply DeviceApi::write_values(std::uint8_t unit, BankKind kind, const std::st
     const auto start = whole_number(address, 65535);
     if (!start)
         return api_error(400, fmt::format("{}: expected an address from 0 to 65535", address));
-    const json parsed = json::parse(body, nullptr, false);
-    if (parsed.is_discarded()) return api_error(400, "the body is not valid JSON");
+    std::string error;
+    const auto body_json = parse_json_body(body, error);
+    if (!body_json) return api_error(400, error);
+    const json& parsed = *body_json;
     if (!parsed.is_object() || !parsed.contains("values") || !parsed["values"].is_array() ||
         parsed["values"].empty() || parsed["values"].size() > kMaxValues) {
         return api_error(
@@ -272,10 +275,11 @@ ApiReply DeviceApi::change_rules(const ApiRequest& request, std::uint8_t unit,
         return list_rules(unit);
     }
     if ((request.method == "POST" && !index) || (request.method == "PUT" && index)) {
-        const json parsed = json::parse(request.body, nullptr, false);
-        if (parsed.is_discarded()) return api_error(400, "the body is not valid JSON");
-        Rule rule;
         std::string error;
+        const auto body_json = parse_json_body(request.body, error);
+        if (!body_json) return api_error(400, error);
+        const json& parsed = *body_json;
+        Rule rule;
         if (!parse_fault_rule(parsed, rule.spec, error)) return api_error(400, error);
         if (parsed.contains("enabled")) {
             if (!parsed["enabled"].is_boolean())

@@ -1,36 +1,25 @@
 #pragma once
 
 #include <atomic>
-#include <chrono>
 #include <condition_variable>
 #include <cstdint>
-#include <functional>
-#include <map>
+#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
+#include <vector>
 
-#include "web/device_api.hpp"
+#include "web/http_gate.hpp"
+#include "web/http_routes.hpp"
 
-namespace httplib {
-class Server;
-}
-
-// The HTTP side of `serve --http` and `load --metrics`: cpp-httplib's threaded server on threads
-// of its own, never the Modbus event loop's. It carries requests to handlers and back; what the
-// answers say is the handlers' (device_api.hpp, serve_metrics.hpp, load_metrics.hpp).
+// The HTTP side of `serve --http` and `load --metrics`, on threads of its own, never the Modbus
+// event loop's. One thread owns every socket and moves bytes without blocking, so a client that
+// sends or reads slowly holds a connection slot, never a thread: a whole request head must come
+// within a deadline, a full table lets go of the oldest unfinished request first, and a
+// Prometheus scrape is answered while slow clients wait. Handlers run on a few worker threads.
 namespace mblab::web {
-
-struct HttpReply {
-    int status = 200;
-    std::string body;
-    std::string content_type = "application/json";
-};
-using HttpHandler = std::function<HttpReply(const ApiRequest&)>;
-// The data of one server-sent event, from the query the stream was opened with.
-using EventSource = std::function<std::string(const std::map<std::string, std::string>& query)>;
 
 // HOST:PORT as --http and --metrics take it: an IPv4 address, [IPv6], or localhost.
 struct HttpAddress {
@@ -42,34 +31,44 @@ bool is_loopback(const std::string& host);
 
 class HttpServer {
   public:
-    // With a token, every request but GET must carry "Authorization: Bearer TOKEN".
-    explicit HttpServer(std::string token = {});
+    explicit HttpServer(GateOptions gate = {});
     ~HttpServer();
     HttpServer(const HttpServer&) = delete;
     HttpServer& operator=(const HttpServer&) = delete;
 
-    // Before start(): GET of exactly `path`, or every method under `prefix`.
-    void get(const std::string& path, HttpHandler handler);
-    void under(const std::string& prefix, HttpHandler handler);
-    // GET `path` is a text/event-stream sending source's data every `period`.
-    void events(const std::string& path, EventSource source, std::chrono::milliseconds period);
+    // Before start().
+    HttpRoutes& routes() { return routes_; }
 
     // Binds (port 0: any free port) and serves on its own threads; the port, or nullopt and
     // `error`.
     std::optional<std::uint16_t> start(const HttpAddress& address, std::string& error);
-    // Ends open event streams and the threads; called by the destructor too.
+    // Closes every connection and ends the threads; called by the destructor too.
     void stop();
 
   private:
-    bool authorized(const std::string& method, const std::string& header) const;
+    struct Loop;
+    struct Job {
+        std::uint64_t connection = 0;
+        HttpRequest request;
+    };
+    struct Done {
+        std::uint64_t connection = 0;
+        HttpRoutes::Outcome outcome;
+    };
 
-    std::unique_ptr<httplib::Server> server_;
-    std::string token_;
-    std::thread thread_;
-    std::mutex stop_mutex_;
-    std::condition_variable stop_changed_;
+    void work();
+
+    GateOptions gate_options_;
+    HttpRoutes routes_;
+    std::unique_ptr<Loop> loop_;
+    std::thread io_thread_;
+    std::vector<std::thread> workers_;
+    std::mutex jobs_mutex_;
+    std::condition_variable jobs_changed_;
+    std::deque<Job> jobs_;
+    std::vector<Done> done_;
     bool stopping_ = false;
-    std::atomic<int> streams_{0};
+    int wake_fd_ = -1;
 };
 
 }  // namespace mblab::web
