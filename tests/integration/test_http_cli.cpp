@@ -9,64 +9,16 @@
 #include <string>
 #include <vector>
 
-#include "child_process.hpp"
-#include "test_client_support.hpp"
+#include "http_serve.hpp"
 
 namespace mblab::test {
 namespace {
-
-using namespace std::chrono_literals;
-
-// `mblab serve` with --http on ephemeral ports: both addresses from its first two lines.
-class HttpServe {
-  public:
-    explicit HttpServe(std::vector<std::string> extra) : child_(args(std::move(extra))) {
-        std::smatch match;
-        if (auto line = child_.read_stdout_line(10s);
-            line && std::regex_search(*line, match, std::regex("tcp://127\\.0\\.0\\.1:[0-9]+"))) {
-            modbus_ = match[0];
-        }
-        if (auto line = child_.read_stdout_line(10s);
-            line && std::regex_search(*line, match, std::regex("http://127\\.0\\.0\\.1:[0-9]+"))) {
-            http_ = match[0];
-        }
-    }
-    ~HttpServe() {
-        child_.signal(SIGTERM);
-        child_.wait_exit(10s);
-    }
-    const std::string& modbus() const { return modbus_; }
-    const std::string& http() const { return http_; }
-
-  private:
-    static std::vector<std::string> args(std::vector<std::string> extra) {
-        std::vector<std::string> out{MBLAB_BINARY,        "serve",  "--listen",
-                                     "tcp://127.0.0.1:0", "--http", "127.0.0.1:0"};
-        out.insert(out.end(), extra.begin(), extra.end());
-        return out;
-    }
-    ChildProcess child_;
-    std::string modbus_;
-    std::string http_;
-};
-
-// curl ARGS... with the status code on a last line of its own.
-Ran curl(std::vector<std::string> args) {
-    std::vector<std::string> argv{"/usr/bin/curl", "-s", "-w", "\n%{http_code}\n"};
-    argv.insert(argv.end(), args.begin(), args.end());
-    return run_program(argv);
-}
-
-bool have(const char* program) {
-    return ::access(program, X_OK) == 0;
-}
 
 TEST(ServeHttp, AValueWrittenOverRestIsReadOverModbusAndBack) {
     if (!have("/usr/bin/curl")) GTEST_SKIP() << "no curl";
     HttpServe serve({});
     ASSERT_FALSE(serve.http().empty());
-    auto put = curl({"-X", "PUT", "-d", R"({"values":[4660,7]})",
-                     serve.http() + "/api/units/1/holding_registers/10"});
+    auto put = change(serve, "PUT", "/api/units/1/holding_registers/10", R"({"values":[4660,7]})");
     EXPECT_EQ(put.out,
               "{\"bank\":\"holding_registers\",\"start\":10,\"unit\":1,\"written\":2}\n200\n");
     auto read = run_mblab({"read", serve.modbus(), "holding", "10", "2"});
@@ -84,32 +36,35 @@ TEST(ServeHttp, AValueWrittenOverRestIsReadOverModbusAndBack) {
 TEST(ServeHttp, AFaultRuleAddedOverRestAnswersModbus) {
     if (!have("/usr/bin/curl")) GTEST_SKIP() << "no curl";
     HttpServe serve({});
-    auto post = curl({"-X", "POST", "-d", R"({"action":"exception","exception":4,"functions":[3]})",
-                      serve.http() + "/api/units/1/faults"});
+    auto post = change(serve, "POST", "/api/units/1/faults",
+                       R"({"action":"exception","exception":4,"functions":[3]})");
     EXPECT_EQ(post.out.substr(post.out.size() - 4), "201\n") << post.out;
     auto read = run_mblab({"read", serve.modbus(), "holding", "0"});
     EXPECT_EQ(read.status, 1);
     EXPECT_NE(read.err.find("exception 04"), std::string::npos) << read.err;
-    curl({"-X", "PUT", "-d",
-          R"({"action":"exception","exception":4,"functions":[3],"enabled":false})",
-          serve.http() + "/api/units/1/faults/0"});
+    change(serve, "PUT", "/api/units/1/faults/0",
+           R"({"action":"exception","exception":4,"functions":[3],"enabled":false})");
     EXPECT_EQ(run_mblab({"read", serve.modbus(), "holding", "0"}).status, 0);
 }
 
 TEST(ServeHttp, BadRequestsGet4xxWithOneLineReasons) {
     if (!have("/usr/bin/curl")) GTEST_SKIP() << "no curl";
     HttpServe serve({});
-    EXPECT_EQ(curl({"-X", "PUT", "-d", "{nope", serve.http() + "/api/units/1/coils/0"}).out,
+    EXPECT_EQ(change(serve, "PUT", "/api/units/1/coils/0", "{nope").out,
               "{\"error\":\"the body is not valid JSON\"}\n400\n");
     EXPECT_EQ(curl({serve.http() + "/api/units/7/coils"}).out,
               "{\"error\":\"unit 7: no such unit (units: 1)\"}\n404\n");
     EXPECT_EQ(curl({serve.http() + "/api/units/1/coils?start=70000"}).out,
               "{\"error\":\"start: expected an address from 0 to 65535\"}\n400\n");
-    EXPECT_EQ(curl({"-X", "POST", serve.http() + "/api/counters/reset"}).out,
-              "{\"error\":\"POST /api/counters/reset: refused with status 400 (a POST or PUT needs "
-              "Content-Length; with curl, -d '' sends an empty body)\"}\n400\n");
+    EXPECT_EQ(curl({"-X", "POST", "-H", "Authorization: Bearer " + serve.token(),
+                    serve.http() + "/api/counters/reset"})
+                  .out,
+              "{\"error\":\"POST takes a body of Content-Type: application/json (with curl: -H "
+              "'Content-Type: application/json')\"}\n415\n");
     EXPECT_EQ(curl({serve.http() + "/nothing"}).out,
-              "{\"error\":\"GET /nothing: refused with status 404\"}\n404\n");
+              "{\"error\":\"no such resource: GET /nothing\"}\n404\n");
+    EXPECT_EQ(curl({serve.http() + "/%FF"}).out,
+              "{\"error\":\"no such resource: GET /\xef\xbf\xbd\"}\n404\n");
     // The server still serves after them.
     EXPECT_EQ(run_mblab({"read", serve.modbus(), "coils", "0"}).status, 0);
 }
@@ -151,24 +106,30 @@ TEST(ServeHttp, ATokenGuardsWritesButNotReads) {
     if (!have("/usr/bin/curl")) GTEST_SKIP() << "no curl";
     HttpServe serve({"--http-token", "s3cret"});
     const auto url = serve.http() + "/api/units/1/coils/0";
-    auto refused = curl({"-X", "PUT", "-d", R"({"values":[1]})", url});
+    const std::string json = "Content-Type: application/json";
+    auto refused = curl({"-X", "PUT", "-H", json, "-d", R"({"values":[1]})", url});
     EXPECT_EQ(refused.out.substr(refused.out.size() - 4), "401\n");
-    auto wrong =
-        curl({"-X", "PUT", "-H", "Authorization: Bearer nope", "-d", R"({"values":[1]})", url});
+    auto wrong = curl({"-X", "PUT", "-H", json, "-H", "Authorization: Bearer nope", "-d",
+                       R"({"values":[1]})", url});
     EXPECT_EQ(wrong.out.substr(wrong.out.size() - 4), "401\n");
-    auto taken =
-        curl({"-X", "PUT", "-H", "Authorization: Bearer s3cret", "-d", R"({"values":[1]})", url});
+    auto taken = curl({"-X", "PUT", "-H", json, "-H", "Authorization: Bearer s3cret", "-d",
+                       R"({"values":[1]})", url});
     EXPECT_EQ(taken.out.substr(taken.out.size() - 4), "200\n");
     EXPECT_EQ(curl({serve.http() + "/api/units/1/coils?count=1"}).out,
               "{\"bank\":\"coils\",\"start\":0,\"unit\":1,\"values\":[1]}\n200\n");
 }
 
 TEST(ServeHttp, RefusesAnOpenAddressWithoutAToken) {
-    auto ran = run_mblab({"serve", "--listen", "tcp://127.0.0.1:0", "--http", "0.0.0.0:0"});
+    auto ran = run_mblab(
+        {"serve", "--listen", "tcp://127.0.0.1:0", "--http", "0.0.0.0:0", "--http-no-token"});
     EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.err,
-              "mblab serve: --http 0.0.0.0:0: not a loopback address, so writes need "
-              "--http-token or --http-token-file\n");
+              "mblab serve: --http 0.0.0.0:0: not a loopback address, so changes need a token "
+              "(--http-no-token is for loopback only)\n");
+    ran = run_mblab({"serve", "--http", "127.0.0.1:0", "--http-token", "a", "--http-no-token"});
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err,
+              "mblab serve: give one of --http-token, --http-token-file and --http-no-token\n");
     ran = run_mblab({"serve", "--http", "localhost"});
     EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.err,
@@ -181,7 +142,7 @@ TEST(ServeHttp, RefusesAnOpenAddressWithoutAToken) {
 // docs/http.md's curl examples, as printed, against a server on another port: each answered 2xx.
 TEST(ServeHttp, TheGuidesExamplesWork) {
     if (!have("/usr/bin/curl")) GTEST_SKIP() << "no curl";
-    HttpServe serve({});
+    HttpServe serve({"--http-token", "s3cret"});
     std::ifstream guide(std::string(MBLAB_SOURCE_DIR) + "/docs/http.md");
     std::string line;
     int examples = 0;
