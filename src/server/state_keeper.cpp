@@ -12,7 +12,7 @@ namespace {
 // What a record costs in the file beyond its text: "*CRC" and the newline.
 constexpr std::uint64_t kSealBytes = 10;
 
-std::uint64_t file_size(const std::filesystem::path& path) {
+std::uint64_t size_or_zero(const std::filesystem::path& path) {
     std::error_code ec;
     const auto size = std::filesystem::file_size(path, ec);
     return ec ? 0 : size;
@@ -99,7 +99,7 @@ StateKeeper::Write StateKeeper::write_values(std::uint8_t unit, device::BankKind
 bool replay_journal(device::ReferenceDevice& device, const std::filesystem::path& state,
                     const StateKeeper::Report& warn, std::string& error) {
     const auto path = journal_path_of(state);
-    if (file_size(path) == 0 && file_size(journal_old_path(path)) == 0) {
+    if (size_or_zero(path) == 0 && size_or_zero(journal_old_path(path)) == 0) {
         // Nothing to replay: an empty journal is what a clean exit leaves.
         return true;
     }

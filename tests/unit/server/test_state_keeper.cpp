@@ -10,6 +10,7 @@
 
 #include "device/reference_device.hpp"
 #include "server/journaled_device.hpp"
+#include "server/state_file.hpp"
 #include "server/state_keeper.hpp"
 #include "support/temp_dir.hpp"
 
@@ -70,6 +71,9 @@ std::unique_ptr<StateKeeper> durable_keeper(device::ReferenceDevice& device,
 std::unique_ptr<device::ReferenceDevice> restarted(const std::filesystem::path& state) {
     auto device = make_device();
     std::string error;
+    if (auto text = read_state_file(state, error)) {
+        EXPECT_TRUE(device->load_state(*text, error)) << error;
+    }
     EXPECT_TRUE(replay_journal(*device, state, {}, error)) << error;
     return device;
 }
