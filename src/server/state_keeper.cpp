@@ -68,14 +68,15 @@ void StateKeeper::save_soon_locked() {
 
 bool StateKeeper::save_now(std::string& error) {
     std::uint64_t rotation = 0;
-    std::string text;
+    device::StateSnapshot snapshot;
     {
         std::lock_guard order(order_);
         rotation = journal_ ? journal_->rotate() : 0;
         since_rotation_ = 0;
-        text = device_.save_state();
+        snapshot = device_.snapshot_state();
     }
-    if (!write_file_atomically(state_, text, error)) return false;
+    // The text outside the lock: writes go on meanwhile (into the rotated journal).
+    if (!write_file_atomically(state_, snapshot.to_json(), error)) return false;
     if (journal_) journal_->drop_old(rotation);
     return true;
 }
