@@ -57,7 +57,7 @@ bool replay_values(device::ReferenceDevice& device, std::string_view line) {
     const char bank = line[first + 3];
     const auto rest = line.substr(first + 5);
     const long start = word_at(rest, 0);
-    if (unit > 255 || (bank != 'C' && bank != 'H') || start < 0 || rest.size() < 10 ||
+    if (unit > 255 || (bank != 'C' && bank != 'H') || start < 0 || rest.size() < 9 ||
         rest[4] != ' ' || (rest.size() - 5) % 4 != 0) {
         return false;
     }

@@ -145,6 +145,8 @@ TEST(JournalRecord, ValuesRecordsRoundTripThroughReplay) {
     auto device = make_device();
     EXPECT_TRUE(replay_record(*device, "1 V H 0010 1234ABCD"));
     EXPECT_EQ(device->value(1, device::BankKind::HoldingRegisters, 0x11), 0xABCD);
+    EXPECT_TRUE(replay_record(*device, "1 V H 0020 00FF"));
+    EXPECT_EQ(device->value(1, device::BankKind::HoldingRegisters, 0x20), 0xFF);
     for (const char* bad : {"1 V H 0010", "1 V X 0010 0001", "1 V H 0010 123", "1 V H 00G0 0001",
                             "1 V H 0010 0001 ", "1 W H 0010 0001"}) {
         EXPECT_FALSE(replay_record(*device, bad)) << bad;
