@@ -35,6 +35,7 @@
 #include "server/serial_server.hpp"
 #include "server/server_options.hpp"
 #include "server/state_file.hpp"
+#include "server/state_keeper.hpp"
 #include "server/state_saver.hpp"
 #include "server/tcp_server.hpp"
 #include "transport/serial_url.hpp"
@@ -181,67 +182,10 @@ asio::awaitable<void> every(asio::steady_timer& timer, std::chrono::milliseconds
     }
 }
 
-using Journals = std::vector<std::unique_ptr<server::Journal>>;
+using Keepers = std::vector<std::unique_ptr<server::StateKeeper>>;
 
-// With a journal, the records so far move aside before the state is taken, and go once the
-// state file holds them; a failed save keeps them for the next.
-bool save_state(const device::ReferenceDevice& device, const fs::path& path,
-                server::Journal* journal) {
-    std::string error;
-    const auto rotation = journal ? journal->rotate() : 0;
-    if (server::write_file_atomically(path, device.save_state(), error)) {
-        if (journal) journal->drop_old(rotation);
-        return true;
-    }
-    fmt::print(stderr, "mblab serve: cannot save state: {}\n", error);
-    return false;
-}
-
-// A periodic save: the snapshot is taken here, on the server's thread, in step with the journal;
-// the rest happens on the saver's thread while clients are served.
-void save_state_soon(server::StateSaver& saver, const device::ReferenceDevice& device,
-                     const fs::path& path, server::Journal* journal) {
-    const auto rotation = journal ? journal->rotate() : 0;
-    saver.save(path, device.snapshot_state(),
-               [journal, rotation](bool saved, const std::string& error) {
-                   if (!saved) {
-                       fmt::print(stderr, "mblab serve: cannot save state: {}\n", error);
-                   } else if (journal) {
-                       journal->drop_old(rotation);
-                   }
-               });
-}
-
-fs::path journal_path(const fs::path& state) {
-    auto path = state;
-    path += ".journal";
-    return path;
-}
-
-// The writes a journal holds that the state file may not (kill -9, a crash) are made again on
-// the device and saved, so that the journal can start empty. Any journal is replayed, with
-// --durable or not, so a restart without it loses nothing either.
-bool replay_journal(device::ReferenceDevice& device, const fs::path& state, std::string& error) {
-    const auto path = journal_path(state);
-    auto records = server::read_journal(path);
-    if (!records) {
-        error = records.error();
-        return false;
-    }
-    if (records->empty()) return true;
-    device::RequestContext context;
-    std::vector<std::uint8_t> request;
-    for (std::size_t i = 0; i < records->size(); ++i) {
-        if (!server::parse_journal_record((*records)[i], context, request)) {
-            error = fmt::format("journal {}: record {} is not a journal record ('{}')",
-                                path.string(), i + 1, (*records)[i].substr(0, 40));
-            return false;
-        }
-        device.replay_write(context, request);
-    }
-    if (!server::write_file_atomically(state, device.save_state(), error)) return false;
-    server::remove_journal(path);
-    return true;
+void report(const std::string& message) {
+    fmt::print(stderr, "mblab serve: {}\n", message);
 }
 
 // The state file of device `index` of `count`: FILE itself for one device; for several, one file
@@ -253,26 +197,41 @@ fs::path device_state_path(const fs::path& file, std::size_t index, std::size_t 
 }
 
 // Saves every device's state; false when any save failed (each failure is reported).
-bool save_states(const std::vector<std::unique_ptr<device::ReferenceDevice>>& devices,
-                 const fs::path& file, const Journals& journals) {
+bool save_states(const Keepers& keepers) {
     bool saved = true;
-    for (std::size_t i = 0; i < devices.size(); ++i) {
-        saved = save_state(*devices[i], device_state_path(file, i, devices.size()),
-                           journals[i].get()) &&
-                saved;
+    for (const auto& keeper : keepers) {
+        std::string error;
+        if (!keeper->save_now(error)) {
+            report("cannot save state: " + error);
+            saved = false;
+        }
     }
     return saved;
 }
 
-// What POST /api/state/save does: the same file the periodic saves write.
-std::function<bool(std::string&)> state_saver_for_http(const device::ReferenceDevice& device,
-                                                       const std::string& state) {
-    if (state.empty()) return {};
-    return [&device, state](std::string& file_or_error) {
-        if (!server::write_file_atomically(state, device.save_state(), file_or_error)) {
-            return false;
+// REST writes made as the keeper keeps them: with --durable, journaled before their answer.
+void write_values_through(LiveDevice& live, server::StateKeeper* keeper) {
+    if (!keeper || !keeper->journal()) return;
+    live.write_values_with([keeper](std::uint8_t unit, device::BankKind kind, std::uint32_t start,
+                                    std::span<const std::uint16_t> values) {
+        switch (keeper->write_values(unit, kind, start, values)) {
+            case server::StateKeeper::Write::Done:
+                return web::ValueWrite::Written;
+            case server::StateKeeper::Write::Unmapped:
+                return web::ValueWrite::Unmapped;
+            case server::StateKeeper::Write::NotDurable:
+                break;
         }
-        file_or_error = state;
+        return web::ValueWrite::NotDurable;
+    });
+}
+
+// What POST /api/state/save does: the same file the periodic saves write.
+std::function<bool(std::string&)> state_saver_for_http(server::StateKeeper* keeper) {
+    if (!keeper) return {};
+    return [keeper](std::string& file_or_error) {
+        if (!keeper->save_now(file_or_error)) return false;
+        file_or_error = keeper->state().string();
         return true;
     };
 }
@@ -280,9 +239,9 @@ std::function<bool(std::string&)> state_saver_for_http(const device::ReferenceDe
 // --listen rtu:// or ascii://: the device on a serial line until SIGINT or SIGTERM, or until the
 // line fails (exit status 1).
 int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& device,
-                    device::RequestHandler& handler, server::Journal* journal,
-                    const ServeOptions& options, std::chrono::milliseconds save_period,
-                    LiveDevice* live, const std::optional<HttpPlan>& http) {
+                    device::RequestHandler& handler, server::StateKeeper* keeper,
+                    std::chrono::milliseconds save_period, LiveDevice* live,
+                    const std::optional<HttpPlan>& http) {
     asio::io_context io(1);
     auto line = server::start_serial_server(io, handler, url, server::device_line_hooks(device));
     if (!line) return usage_error(line.error());
@@ -299,8 +258,7 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
     std::fflush(stdout);
     std::string error;
     if (live && !live->start(
-                    *http, [] { return std::uint64_t{0}; },
-                    state_saver_for_http(device, options.state), error)) {
+                    *http, [] { return std::uint64_t{0}; }, state_saver_for_http(keeper), error)) {
         (*line)->stop();
         return usage_error(error);
     }
@@ -308,11 +266,8 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
     server::BehaviourTimer behaviours(io, device);
     behaviours.start();
     bool stopping = false;
-    server::StateSaver saver;
-    if (!options.state.empty() && save_period.count() > 0) {
-        asio::co_spawn(io,
-                       every(save_timer, save_period, stopping,
-                             [&] { save_state_soon(saver, device, options.state, journal); }),
+    if (keeper && save_period.count() > 0) {
+        asio::co_spawn(io, every(save_timer, save_period, stopping, [&] { keeper->save_soon(); }),
                        asio::detached);
     }
     asio::signal_set signals(io, SIGINT, SIGTERM);
@@ -325,9 +280,12 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
     });
     io.run();
     if (live) live->stop();
-    saver.wait_idle();
     // The line is closed, so every write the device acknowledged is in it now.
-    if (!options.state.empty() && !save_state(device, options.state, journal)) return kExitFailed;
+    std::string error_at_exit;
+    if (keeper && !keeper->save_now(error_at_exit)) {
+        report("cannot save state: " + error_at_exit);
+        return kExitFailed;
+    }
     return status;
 }
 
@@ -420,24 +378,33 @@ int run_serve(const ServeOptions& options) {
         }
         // Found now rather than at the first save, which may be minutes away or at exit.
         if (!server::check_state_writable(path, error)) return usage_error("--state: " + error);
-        if (!replay_journal(*devices[i], path, error)) return usage_error(error);
+        if (!server::replay_journal(*devices[i], path, report, error)) return usage_error(error);
     }
-    // Cleared before the io_context goes at the end (their threads post answers to it).
-    Journals journals(devices.size());
+    // Before the keepers, whose saves it runs.
+    server::StateSaver saver;
+    // Cleared before the io_context goes at the end (their journals' threads post answers to it).
+    Keepers keepers;
     std::vector<std::unique_ptr<server::JournaledDevice>> journaled(devices.size());
-    for (std::size_t i = 0; i < devices.size() && options.durable; ++i) {
-        auto journal = server::Journal::create(
-            journal_path(device_state_path(options.state, i, devices.size())));
-        if (!journal) return usage_error(journal.error());
-        journals[i] = std::move(journal.value());
-        journaled[i] = std::make_unique<server::JournaledDevice>(*devices[i], *journals[i]);
+    for (std::size_t i = 0; i < devices.size() && !options.state.empty(); ++i) {
+        const auto path = device_state_path(options.state, i, devices.size());
+        std::unique_ptr<server::Journal> journal;
+        if (options.durable) {
+            auto made = server::Journal::create(server::journal_path_of(path));
+            if (!made) return usage_error(made.error());
+            journal = std::move(made.value());
+        }
+        keepers.push_back(std::make_unique<server::StateKeeper>(*devices[i], path, saver,
+                                                                std::move(journal), report));
+        if (options.durable) journaled[i] = std::make_unique<server::JournaledDevice>(*keepers[i]);
     }
+    server::StateKeeper* first_keeper = keepers.empty() ? nullptr : keepers.front().get();
     // Counts every request for the HTTP side, whatever answers it.
     std::unique_ptr<LiveDevice> live;
     if (http) {
         live = std::make_unique<LiveDevice>(
             first_device,
             journaled[0] ? static_cast<device::RequestHandler&>(*journaled[0]) : first_device);
+        write_values_through(*live, first_keeper);
     }
     auto device_handler = [&](std::size_t i) -> device::RequestHandler& {
         if (live) return live->handler();
@@ -447,8 +414,8 @@ int run_serve(const ServeOptions& options) {
 
     std::signal(SIGPIPE, SIG_IGN);
     if (serial && !rtu_over_tcp) {
-        return run_serial_line(*serial, first_device, device_handler(0), journals[0].get(), options,
-                               *save_period, live.get(), http);
+        return run_serial_line(*serial, first_device, device_handler(0), first_keeper, *save_period,
+                               live.get(), http);
     }
     // One thread runs every server; without a gateway or a journal nothing else touches the
     // io_context, so it takes no locks. A gateway's or a journal's thread posts answers to it.
@@ -505,8 +472,7 @@ int run_serve(const ServeOptions& options) {
             open += server::ServerStats::read(s->stats().connections_open);
         return open;
     };
-    if (live && !live->start(*http, connections, state_saver_for_http(first_device, options.state),
-                             error)) {
+    if (live && !live->start(*http, connections, state_saver_for_http(first_keeper), error)) {
         return usage_error(error);
     }
 
@@ -518,18 +484,13 @@ int run_serve(const ServeOptions& options) {
         behaviours.back()->start();
     }
     StatsLine stats_line(servers);
-    server::StateSaver saver;
     bool stopping = false;
-    if (!options.state.empty() && save_period->count() > 0) {
+    if (!keepers.empty() && save_period->count() > 0) {
         asio::co_spawn(io,
                        every(save_timer, *save_period, stopping,
                              [&] {
-                                 for (std::size_t i = 0; i < devices.size(); ++i) {
-                                     save_state_soon(
-                                         saver, *devices[i],
-                                         device_state_path(options.state, i, devices.size()),
-                                         journals[i].get());
-                                 }
+                                 for (auto& keeper : keepers)
+                                     keeper->save_soon();
                              }),
                        asio::detached);
     }
@@ -560,10 +521,10 @@ int run_serve(const ServeOptions& options) {
         stats_line.finish();
     }
     saver.wait_idle();
-    const bool saved = options.state.empty() || save_states(devices, options.state, journals);
+    const bool saved = save_states(keepers);
     // A journal's thread posts answers to `io`: end it while `io` is still there.
     journaled.clear();
-    journals.clear();
+    keepers.clear();
     return saved ? kExitOk : kExitFailed;
 }
 
@@ -636,7 +597,9 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_flag("--durable", options->durable,
                   "with --state: every acknowledged write is in a journal on disk (FILE.journal, "
                   "fdatasync shared by the writes that come together) before its answer is sent, "
-                  "so kill -9 loses none");
+                  "so kill -9 loses none; a write that cannot be journaled is answered 04 (500 "
+                  "over --http); past 64 MiB of journal the state is saved, whatever "
+                  "--save-interval says");
     cmd->add_flag("--stats", options->stats, "print a line of counters on stderr every second");
     add_http_options(*cmd, options->http);
     cmd->add_option("--devices", options->devices,

@@ -45,6 +45,8 @@ class LiveDevice {
         : device_(device), metered_(handler, meter_) {}
 
     device::RequestHandler& handler() { return metered_; }
+    // How REST writes are made (ServeView::write_values); set before start().
+    void write_values_with(web::WriteValues write) { write_values_ = std::move(write); }
 
     // Starts the HTTP server and prints where it listens; false with `error` when it cannot.
     bool start(const HttpPlan& plan, std::function<std::uint64_t()> connections,
@@ -58,6 +60,7 @@ class LiveDevice {
     device::ReferenceDevice& device_;
     web::RequestMeter meter_;
     web::MeteredHandler metered_;
+    web::WriteValues write_values_;
     std::unique_ptr<web::DeviceApi> api_;
     std::unique_ptr<web::HttpServer> server_;
 };

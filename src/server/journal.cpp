@@ -1,48 +1,43 @@
 #include "server/journal.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 #include "server/file_writes.hpp"
+#include "server/journal_file.hpp"
 
 namespace mblab::server {
 
 namespace {
 
-std::filesystem::path old_path_of(const std::filesystem::path& path) {
-    auto old = path;
-    old += ".old";
-    return old;
-}
+constexpr std::size_t kCopyChunk = 64 * 1024;
 
 int open_new(const std::filesystem::path& path) {
     return ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC | O_NOFOLLOW,
                   0600);
 }
 
-bool read_lines(const std::filesystem::path& path, std::vector<std::string>& lines,
-                std::string& error) {
-    std::error_code ec;
-    if (!std::filesystem::exists(path, ec)) return true;
-    std::ifstream in(path, std::ios::binary);
-    if (!in) {
-        error = "cannot read " + path.string() + ": " + std::strerror(errno);
-        return false;
+// Appends the whole of `from` to `to`; false at the first read or write that fails.
+bool copy_all(int from, int to) {
+    std::string chunk(kCopyChunk, '\0');
+    for (;;) {
+        auto n = ::read(from, chunk.data(), chunk.size());
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0) return false;
+        if (n == 0) return true;
+        if (!write_all(to, std::string_view(chunk.data(), static_cast<std::size_t>(n)))) {
+            return false;
+        }
     }
-    std::ostringstream text;
-    text << in.rdbuf();
-    const std::string all = text.str();
-    std::size_t begin = 0;
-    for (auto end = all.find('\n'); end != std::string::npos; end = all.find('\n', begin)) {
-        lines.push_back(all.substr(begin, end - begin));
-        begin = end + 1;
-    }
-    return true;
+}
+
+off_t size_of(int fd) {
+    struct stat st {};
+    return ::fstat(fd, &st) == 0 ? st.st_size : -1;
 }
 
 }  // namespace
@@ -56,7 +51,7 @@ protocol::Result<std::unique_ptr<Journal>, std::string> Journal::create(
 }
 
 Journal::Journal(std::filesystem::path path, int fd)
-    : path_(std::move(path)), old_path_(old_path_of(path_)), fd_(fd) {
+    : path_(std::move(path)), old_path_(journal_old_path(path_)), fd_(fd) {
     std::error_code ec;
     old_exists_ = std::filesystem::exists(old_path_, ec);
     thread_ = std::thread([this] { run(); });
@@ -112,20 +107,24 @@ void Journal::run() {
         for (auto& item : batch) {
             switch (item.kind) {
                 case Item::Kind::Record:
-                    buffer += item.record;
+                    buffer += seal_record(item.record);
                     buffer += '\n';
                     waiting.push_back(std::move(item.done));
                     break;
                 case Item::Kind::Rotate:
                     flush(buffer, waiting);
-                    do_rotate();
+                    (void)do_rotate();
                     last_rotation_ = item.rotation;
                     break;
                 case Item::Kind::DropOld:
-                    if (item.rotation != last_rotation_) break;
+                    // Records appended after the rotation may be in PATH.old when a rotation
+                    // failed half-way: then it never goes.
+                    if (item.rotation != last_rotation_ || appending_to_old_) break;
                     flush(buffer, waiting);
-                    ::unlink(old_path_.c_str());
-                    old_exists_ = false;
+                    if (::unlink(old_path_.c_str()) == 0 || errno == ENOENT) {
+                        old_exists_ = false;
+                        sync_directory_of(path_);
+                    }
                     break;
             }
         }
@@ -137,7 +136,16 @@ void Journal::run() {
 
 void Journal::flush(std::string& buffer, std::vector<Durable>& waiting) {
     if (waiting.empty()) return;
-    const bool written = fd_ >= 0 && write_all(fd_, buffer) && ::fdatasync(fd_) == 0;
+    bool written = fd_ >= 0 && (!torn_ || ::ftruncate(fd_, good_size_) == 0);
+    if (written) torn_ = false;
+    written = written && write_all(fd_, buffer) && ::fdatasync(fd_) == 0;
+    if (written) {
+        good_size_ += static_cast<off_t>(buffer.size());
+    } else if (fd_ >= 0) {
+        // A record cut short by a full disk would glue the next one to it: the file goes back
+        // to its last good end, and until it does nothing more is appended.
+        torn_ = ::ftruncate(fd_, good_size_) != 0;
+    }
     {
         std::lock_guard lock(mutex_);
         ++syncs_;
@@ -149,45 +157,51 @@ void Journal::flush(std::string& buffer, std::vector<Durable>& waiting) {
     waiting.clear();
 }
 
-void Journal::do_rotate() {
+// Every step is checked; on a failure the records stay where replay finds them (PATH.old, then
+// PATH) and nothing is truncated or removed. A rotation that did not happen costs nothing but
+// a longer replay: the save that follows covers PATH.old, and PATH's records set values the
+// state already holds.
+bool Journal::do_rotate() {
+    if (fd_ < 0 || torn_) return false;
     if (old_exists_) {
-        // The last save failed, so PATH.old still holds records no state file has: keep them,
-        // with these after them.
-        std::vector<std::string> lines;
-        std::string error;
-        read_lines(path_, lines, error);
+        // The last save failed (or is still running), so PATH.old holds records no state file
+        // has: keep them, with these after them.
+        int in = ::open(path_.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW);
         int old = ::open(old_path_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC | O_NOFOLLOW);
-        std::string text;
-        for (const auto& line : lines)
-            text += line + "\n";
-        if (old >= 0) {
-            write_all(old, text);
-            ::fdatasync(old);
-            ::close(old);
+        const off_t old_size = old >= 0 ? size_of(old) : -1;
+        const bool copied = in >= 0 && old_size >= 0 && copy_all(in, old) && ::fdatasync(old) == 0;
+        if (!copied && old_size >= 0 && ::ftruncate(old, old_size) == 0) ::fdatasync(old);
+        if (in >= 0) ::close(in);
+        if (old >= 0) ::close(old);
+        if (!copied) return false;
+        // Should this fail, the records are in both files, which replay takes twice harmlessly.
+        if (::ftruncate(fd_, 0) != 0) return false;
+        good_size_ = 0;
+        ::fdatasync(fd_);
+        return true;
+    }
+    if (::rename(path_.c_str(), old_path_.c_str()) != 0) return false;
+    int fd = open_new(path_);
+    if (fd < 0) {
+        // Back where replay finds them last; should that fail too, the open descriptor writes
+        // to PATH.old, which replay reads first, and no PATH follows it.
+        if (::rename(old_path_.c_str(), path_.c_str()) != 0) {
+            old_exists_ = true;
+            appending_to_old_ = true;
         }
-        if (fd_ >= 0) ::ftruncate(fd_, 0);
-        return;
+        return false;
     }
-    if (fd_ >= 0) ::close(fd_);
-    ::rename(path_.c_str(), old_path_.c_str());
-    fd_ = open_new(path_);
-    sync_directory_of(path_);
+    ::close(fd_);
+    fd_ = fd;
+    good_size_ = 0;
     old_exists_ = true;
-}
-
-protocol::Result<std::vector<std::string>, std::string> read_journal(
-    const std::filesystem::path& path) {
-    std::vector<std::string> lines;
-    std::string error;
-    if (!read_lines(old_path_of(path), lines, error) || !read_lines(path, lines, error)) {
-        return error;
-    }
-    return lines;
+    sync_directory_of(path_);
+    return true;
 }
 
 void remove_journal(const std::filesystem::path& path) {
     ::unlink(path.c_str());
-    ::unlink(old_path_of(path).c_str());
+    ::unlink(journal_old_path(path).c_str());
     sync_directory_of(path);
 }
 

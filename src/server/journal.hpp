@@ -1,5 +1,7 @@
 #pragma once
 
+#include <sys/types.h>
+
 #include <condition_variable>
 #include <cstdint>
 #include <filesystem>
@@ -11,13 +13,16 @@
 #include <vector>
 
 #include "protocol/result.hpp"
+#include "server/journal_file.hpp"
 
 // The write journal of `mblab serve --durable`: every acknowledged write is appended to a file
-// and made durable before its answer goes out. Records are lines of text; a thread of its own
-// writes and fdatasyncs them in groups (group commit: the records appended while one fdatasync
-// runs share the next), so many writes pay for one sync. Each save of the state file compacts
-// it: rotate() before the state is taken moves the records so far to PATH.old, drop_old() after
-// the state file is safely written removes them.
+// and made durable before its answer goes out. Records are lines of text, each sealed with its
+// checksum (journal_file.hpp); a thread of its own writes and fdatasyncs them in groups (group
+// commit: the records appended while one fdatasync runs share the next), so many writes pay for one
+// sync. Each save of the state file compacts it: rotate() before the state is taken moves the
+// records so far to PATH.old, drop_old() after the state file is safely written removes them. A
+// failure anywhere (a full disk) leaves the records where replay finds them: an append that fails
+// is cut off again and reported as not written, a rotation that fails moves nothing.
 namespace mblab::server {
 
 class Journal {
@@ -57,12 +62,15 @@ class Journal {
     void run();
     void push(Item item);
     void flush(std::string& buffer, std::vector<Durable>& waiting);
-    void do_rotate();
+    bool do_rotate();
 
     std::filesystem::path path_;
     std::filesystem::path old_path_;
     int fd_;
+    off_t good_size_ = 0;  // the end of the last record made durable
+    bool torn_ = false;    // a failed append could not be cut off yet
     bool old_exists_ = false;
+    bool appending_to_old_ = false;    // a rotation failed half-way: fd_ writes to PATH.old
     std::uint64_t rotations_ = 0;      // asked for, on the caller's side
     std::uint64_t last_rotation_ = 0;  // done, on the journal's thread
     mutable std::mutex mutex_;
@@ -73,11 +81,6 @@ class Journal {
     std::thread thread_;
 };
 
-// The records of the journal at `path`: PATH.old's first, then PATH's, in order. A last line
-// without its newline (a write cut short by a crash, never acknowledged) is left out. No files:
-// no records.
-protocol::Result<std::vector<std::string>, std::string> read_journal(
-    const std::filesystem::path& path);
 // Removes PATH and PATH.old, once the state file holds their records.
 void remove_journal(const std::filesystem::path& path);
 

@@ -17,17 +17,68 @@ void device_failure(std::uint8_t function, device::Reply& reply, std::span<std::
     reply.size = 2;
 }
 
+constexpr char kDigits[] = "0123456789ABCDEF";
+
 int hex_digit(char c) {
     if (c >= '0' && c <= '9') return c - '0';
     if (c >= 'A' && c <= 'F') return c - 'A' + 10;
     return -1;
 }
 
+void add_word(std::string& line, std::uint32_t word) {
+    for (int shift = 12; shift >= 0; shift -= 4)
+        line += kDigits[(word >> shift) & 0xFU];
+}
+
+// Four hex digits at `at`, or -1.
+long word_at(std::string_view text, std::size_t at) {
+    if (at + 4 > text.size()) return -1;
+    long word = 0;
+    for (std::size_t i = at; i < at + 4; ++i) {
+        const int digit = hex_digit(text[i]);
+        if (digit < 0) return -1;
+        word = word * 16 + digit;
+    }
+    return word;
+}
+
+// "UNIT V C|H START HEX" back into set_values; false when the line is not one.
+bool replay_values(device::ReferenceDevice& device, std::string_view line) {
+    const auto first = line.find(' ');
+    if (first == std::string_view::npos || first == 0 || first > 3 || line.size() < first + 5 ||
+        line.substr(first, 3) != " V " || line[first + 4] != ' ') {
+        return false;
+    }
+    unsigned unit = 0;
+    for (std::size_t i = 0; i < first; ++i) {
+        if (line[i] < '0' || line[i] > '9') return false;
+        unit = unit * 10 + static_cast<unsigned>(line[i] - '0');
+    }
+    const char bank = line[first + 3];
+    const auto rest = line.substr(first + 5);
+    const long start = word_at(rest, 0);
+    if (unit > 255 || (bank != 'C' && bank != 'H') || start < 0 || rest.size() < 9 ||
+        rest[4] != ' ' || (rest.size() - 5) % 4 != 0) {
+        return false;
+    }
+    std::vector<std::uint16_t> values;
+    for (std::size_t at = 5; at < rest.size(); at += 4) {
+        const long word = word_at(rest, at);
+        if (word < 0) return false;
+        values.push_back(static_cast<std::uint16_t>(word));
+    }
+    // A unit or an address the profile no longer maps was refused when written: nothing to do.
+    (void)device.set_values(
+        static_cast<std::uint8_t>(unit),
+        bank == 'C' ? device::BankKind::Coils : device::BankKind::HoldingRegisters,
+        static_cast<std::uint32_t>(start), values);
+    return true;
+}
+
 }  // namespace
 
 std::string journal_record(const device::RequestContext& context,
                            std::span<const std::uint8_t> request) {
-    static constexpr char kDigits[] = "0123456789ABCDEF";
     std::string line = std::to_string(context.unit);
     line += context.link == device::Link::Serial ? " S " : " T ";
     for (auto byte : request) {
@@ -37,7 +88,7 @@ std::string journal_record(const device::RequestContext& context,
     return line;
 }
 
-bool parse_journal_record(const std::string& line, device::RequestContext& context,
+bool parse_journal_record(std::string_view line, device::RequestContext& context,
                           std::vector<std::uint8_t>& request) {
     const auto first = line.find(' ');
     if (first == std::string::npos || first == 0 || first > 3 || line.size() < first + 3 ||
@@ -51,7 +102,7 @@ bool parse_journal_record(const std::string& line, device::RequestContext& conte
     }
     const char link = line[first + 1];
     if (unit > 255 || (link != 'T' && link != 'S')) return false;
-    const auto hex = std::string_view(line).substr(first + 3);
+    const auto hex = line.substr(first + 3);
     if (hex.empty() || hex.size() % 2 != 0) return false;
     request.clear();
     for (std::size_t i = 0; i < hex.size(); i += 2) {
@@ -65,15 +116,41 @@ bool parse_journal_record(const std::string& line, device::RequestContext& conte
     return true;
 }
 
+std::string values_record(std::uint8_t unit, device::BankKind kind, std::uint32_t start,
+                          std::span<const std::uint16_t> values) {
+    std::string line = std::to_string(unit);
+    line += kind == device::BankKind::Coils ? " V C " : " V H ";
+    add_word(line, start);
+    line += ' ';
+    for (auto value : values)
+        add_word(line, value);
+    return line;
+}
+
+bool replay_record(device::ReferenceDevice& device, std::string_view line) {
+    device::RequestContext context;
+    std::vector<std::uint8_t> request;
+    if (parse_journal_record(line, context, request)) {
+        // One the device refuses now (another profile) changed nothing when it was made either.
+        (void)device.replay_write(context, request);
+        return true;
+    }
+    return replay_values(device, line);
+}
+
 device::Reply JournaledDevice::handle(const device::RequestContext& context,
                                       std::span<const std::uint8_t> request,
                                       std::span<std::uint8_t> response) {
-    const auto before = device_.state_writes();
-    auto reply = device_.handle(context, request, response);
-    if (device_.state_writes() == before) return reply;
     std::promise<bool> written;
-    journal_.append(journal_record(context, request),
-                    [&written](bool ok) { written.set_value(ok); });
+    device::Reply reply;
+    {
+        auto order = keeper_.lock_order();
+        const auto before = device_.state_writes();
+        reply = device_.handle(context, request, response);
+        if (device_.state_writes() == before) return reply;
+        keeper_.append_locked(journal_record(context, request),
+                              [&written](bool ok) { written.set_value(ok); });
+    }
     if (!written.get_future().get() && reply.action == device::ReplyAction::Answer) {
         device_failure(request[0], reply, response);
     }
@@ -84,24 +161,25 @@ std::optional<device::Reply> JournaledDevice::handle_or_defer(const device::Requ
                                                               std::span<const std::uint8_t> request,
                                                               std::span<std::uint8_t> response,
                                                               device::Deferral& deferral) {
+    auto order = keeper_.lock_order();
     const auto before = device_.state_writes();
     auto reply = device_.handle(context, request, response);
     if (device_.state_writes() == before) return reply;
     if (reply.action != device::ReplyAction::Answer) {
         // Nothing acknowledges this write (a broadcast, a fault): record it, hold nothing back.
-        journal_.append(journal_record(context, request), {});
+        keeper_.append_locked(journal_record(context, request), {});
         return reply;
     }
     auto answer = std::vector<std::uint8_t>(response.begin(), response.begin() + reply.size);
-    journal_.append(journal_record(context, request),
-                    [done = deferral.take(), reply, answer = std::move(answer),
-                     function = request[0]](bool written) mutable {
-                        if (!written) {
-                            answer.resize(2);
-                            device_failure(function, reply, answer);
-                        }
-                        done(reply, answer);
-                    });
+    keeper_.append_locked(journal_record(context, request),
+                          [done = deferral.take(), reply, answer = std::move(answer),
+                           function = request[0]](bool written) mutable {
+                              if (!written) {
+                                  answer.resize(2);
+                                  device_failure(function, reply, answer);
+                              }
+                              done(reply, answer);
+                          });
     return std::nullopt;
 }
 

@@ -232,9 +232,18 @@ ApiReply DeviceApi::write_values(std::uint8_t unit, BankKind kind, const std::st
         return api_error(
             400, fmt::format("{} values from {} run past address 65535", values.size(), *start));
     }
-    if (!view_.device.set_values(unit, kind, *start, values)) {
+    const auto written = view_.write_values ? view_.write_values(unit, kind, *start, values)
+                         : view_.device.set_values(unit, kind, *start, values)
+                             ? ValueWrite::Written
+                             : ValueWrite::Unmapped;
+    if (written == ValueWrite::Unmapped) {
         return api_error(409, fmt::format("unit {} {} {}..{}: not every address is mapped", unit,
                                           bank_name(kind), *start, *start + values.size() - 1));
+    }
+    if (written == ValueWrite::NotDurable) {
+        return api_error(500,
+                         "the values were written but could not be made durable (the "
+                         "journal could not be written): do not take them as kept");
     }
     return ok(
         {{"unit", unit}, {"bank", bank_name(kind)}, {"start", *start}, {"written", values.size()}});

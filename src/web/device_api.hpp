@@ -5,6 +5,7 @@
 #include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -29,6 +30,13 @@ struct ApiReply {
     std::string body;  // JSON, one line
 };
 
+// How a write of values went: made (and kept, when the server keeps writes), refused whole
+// (an address the profile does not map), or made but not kept (the journal could not).
+enum class ValueWrite : std::uint8_t { Written, Unmapped, NotDurable };
+using WriteValues =
+    std::function<ValueWrite(std::uint8_t unit, device::BankKind kind, std::uint32_t start,
+                             std::span<const std::uint16_t> values)>;
+
 // What the API sees of the server besides the device.
 struct ServeView {
     device::ReferenceDevice& device;
@@ -36,6 +44,9 @@ struct ServeView {
     std::function<std::uint64_t()> connections;  // Modbus/TCP connections open now
     // Saves --state now; empty when serve runs without --state. Returns the file or an error.
     std::function<bool(std::string& file_or_error)> save_state;
+    // Writes values the way the server keeps them (`serve --durable` journals them before the
+    // answer); empty: straight to the device.
+    WriteValues write_values = {};
 };
 
 class DeviceApi {
