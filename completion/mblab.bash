@@ -60,7 +60,7 @@ _mblab() {
             return
             ;;
         --role | --server-name | --days | --read-only-role | --write-role | --restart | --writable | \
-            --http | --http-token | --metrics | --device-pid)
+            --http | --http-token | --http-allow-host | --metrics | --device-pid)
             return
             ;;
     esac
