@@ -226,7 +226,10 @@ void catch_stop_signals() {
 // --metrics: the run's latest status at /metrics, served on threads of their own.
 class LoadMetrics {
   public:
-    explicit LoadMetrics(const load::LoadPlan& plan) : plan_(plan) {
+    // Any Host: Prometheus scrapes by name, and nothing here changes or tells what a Modbus
+    // client could not see.
+    explicit LoadMetrics(const load::LoadPlan& plan)
+        : plan_(plan), server_(web::GateOptions{{}, {}, 0, {}, true}) {
         latest_.nodes.resize(plan.targets.size());
     }
     bool start(const std::string& address, std::string& error) {

@@ -45,6 +45,15 @@ TEST(HttpGate, OnAWildcardAddressAnyAddressLiteralButNoName) {
     EXPECT_EQ(status(open, "GET / HTTP/1.1\r\nHost: attacker.example\r\n"), 403);
 }
 
+TEST(HttpGate, AMetricsOnlyServerTakesAnyHostButNoChange) {
+    const HttpGate metrics({"", "0.0.0.0", 9100, {}, true});
+    EXPECT_EQ(status(metrics, "GET /metrics HTTP/1.1\r\nHost: labhost.plant.lan:9100\r\n"), 0);
+    EXPECT_EQ(status(metrics,
+                     "PUT /metrics HTTP/1.1\r\nHost: labhost:9100\r\n"
+                     "Origin: http://evil.example\r\n"),
+              403);
+}
+
 constexpr const char* kChange =
     "PUT /api/units/1/coils/0 HTTP/1.1\r\nHost: 127.0.0.1:8080\r\nContent-Length: 2\r\n";
 
