@@ -15,8 +15,8 @@ namespace {
 
 mblab::device::ReferenceDevice& device() {
     static std::unique_ptr<mblab::device::ReferenceDevice> instance = [] {
-        std::filesystem::path path = std::filesystem::path(__FILE__).parent_path().parent_path() /
-                                     "profiles" / "reference.toml";
+        std::filesystem::path path =
+            std::filesystem::path(MBLAB_SOURCE_DIR) / "profiles" / "reference.toml";
         if (std::getenv("MBLAB_PROFILES_DIR")) path = mblab::device::default_profile_path();
         auto loaded = mblab::device::load_profile(path);
         if (!loaded) {

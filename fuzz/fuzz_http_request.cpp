@@ -30,8 +30,7 @@ struct Served {
 Served& served() {
     static std::unique_ptr<Served> instance = [] {
         auto s = std::make_unique<Served>();
-        const auto path = std::filesystem::path(__FILE__).parent_path().parent_path() / "profiles" /
-                          "reference.toml";
+        const auto path = std::filesystem::path(MBLAB_SOURCE_DIR) / "profiles" / "reference.toml";
         auto loaded = mblab::device::load_profile(path);
         if (!loaded) {
             std::fprintf(stderr, "%s\n", loaded.error().c_str());

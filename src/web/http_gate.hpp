@@ -21,6 +21,9 @@ struct GateOptions {
     std::string bound_host;          // the address listened on, an IP literal
     std::uint16_t port = 0;          // the port listened on (set once bound)
     std::vector<std::string> names;  // more host names taken (--http-allow-host)
+    // Any Host: for a server that takes no change and shows nothing a rebound page could use
+    // (load --metrics, scraped by host name).
+    bool any_host = false;
 };
 
 class HttpGate {
