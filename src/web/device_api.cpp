@@ -20,6 +20,9 @@ using nlohmann::json;
 
 // At most this many values in one read or write: a page of the dashboard is far fewer.
 constexpr std::uint32_t kMaxValues = 2000;
+// Fault rules a unit may have: far more than a test sets up, few enough that a client looping on
+// POST cannot grow the process without end.
+constexpr std::size_t kMaxRules = 256;
 constexpr std::uint32_t kDefaultCount = 10;
 
 // The profile's names for the banks: one table for profiles, state files and the API.
@@ -297,6 +300,9 @@ ApiReply DeviceApi::change_rules(const ApiRequest& request, std::uint8_t unit,
         }
         if (index) {
             rules[*index] = std::move(rule);
+        } else if (rules.size() >= kMaxRules) {
+            return api_error(
+                409, fmt::format("unit {} has {} fault rules, the most it takes", unit, kMaxRules));
         } else {
             rules.push_back(std::move(rule));
         }

@@ -121,6 +121,19 @@ TEST(DeviceApi, BadFaultRulesAreRefusedWithTheField) {
     EXPECT_EQ(h.json(h.call("GET", "/api/units/1/faults")).size(), 1U);
 }
 
+// A client looping on POST: the rules stop at a bound, with a reason, instead of growing the
+// process (the HTTP fuzz target found it).
+TEST(DeviceApi, AUnitTakesAtMost256FaultRules) {
+    WebHarness h;
+    const std::string rule = R"({"action":"drop","functions":[5]})";
+    for (int i = 1; i < 256; ++i)
+        ASSERT_EQ(h.call("POST", "/api/units/1/faults", rule).status, 201) << i;
+    const auto refused = h.call("POST", "/api/units/1/faults", rule);
+    EXPECT_EQ(refused.status, 409);
+    EXPECT_EQ(h.json(refused).value("error", ""), "unit 1 has 256 fault rules, the most it takes");
+    EXPECT_EQ(h.call("PUT", "/api/units/1/faults/255", rule).status, 200);
+}
+
 TEST(DeviceApi, CountersPerUnitAndFunctionAndTheirReset) {
     WebHarness h;
     h.ask("03 00 00 00 01");
