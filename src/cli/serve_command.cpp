@@ -137,7 +137,8 @@ class StatsLine {
             refused += s->listener_counters().refused_address.load() +
                        s->listener_counters().refused_full.load();
             evicted += s->listener_counters().evicted_idle.load() +
-                       s->listener_counters().evicted_stalled.load();
+                       s->listener_counters().evicted_stalled.load() +
+                       s->listener_counters().evicted_handshaking.load();
         }
         const auto tls = handshakes + tls_refused == 0
                              ? std::string()

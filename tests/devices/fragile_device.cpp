@@ -12,6 +12,8 @@
 //                   frame but never an idle one, and is closed when there is none
 //   closes-garbage  robust: closes the connection on anything but a valid FC 03
 //   late            robust: answers 150 ms late
+//   floods-answers  robust: answers anything but FC 03 with its answer repeated for a megabyte,
+//                   as much of it as the connection takes (a client must not keep it all)
 // Usage: fragile_device MODE PORT PIDFILE
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -22,6 +24,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -95,15 +98,23 @@ bool serve(Client& client) {
             answer = {static_cast<std::uint8_t>(pdu[0] | 0x80), 0x01};
         }
         const unsigned size = answer.size() + 1;
+        const bool flood = g_mode == "floods-answers" && pdu[0] != 0x03;
+        const std::size_t frame_at = out.size();
         out.insert(out.end(), {b[0], b[1], 0, 0, static_cast<std::uint8_t>(size >> 8),
                                static_cast<std::uint8_t>(size), b[6]});
         out.insert(out.end(), answer.begin(), answer.end());
+        const std::vector<std::uint8_t> frame(out.begin() + static_cast<long>(frame_at), out.end());
+        while (flood && out.size() - frame_at < (std::size_t{1} << 20))
+            out.insert(out.end(), frame.begin(), frame.end());
         b.erase(b.begin(), b.begin() + 6 + length);
     }
     if (out.empty() || g_deaf) return true;
     // Without blocking, a client whose answers do not fit is closed rather than waited for.
     const int flags = g_mode == "blocking-send" ? MSG_NOSIGNAL : MSG_NOSIGNAL | MSG_DONTWAIT;
-    return ::send(client.fd, out.data(), out.size(), flags) == static_cast<ssize_t>(out.size());
+    const auto sent = ::send(client.fd, out.data(), out.size(), flags);
+    // A flood is as much as the connection takes: the rest is dropped, the client kept.
+    if (g_mode == "floods-answers") return sent >= 0 || errno == EAGAIN;
+    return sent == static_cast<ssize_t>(out.size());
 }
 
 }  // namespace
