@@ -12,8 +12,9 @@
 //                   frame but never an idle one, and is closed when there is none
 //   closes-garbage  robust: closes the connection on anything but a valid FC 03
 //   late            robust: answers 150 ms late
-//   floods-answers  robust: answers anything but FC 03 with its answer repeated for a megabyte,
-//                   as much of it as the connection takes (a client must not keep it all)
+//   floods-answers  robust: answers a function code no standard request uses with its exception
+//                   repeated for a megabyte, as much of it as the connection takes (a client
+//                   must not keep it all)
 // Usage: fragile_device MODE PORT PIDFILE
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -98,7 +99,12 @@ bool serve(Client& client) {
             answer = {static_cast<std::uint8_t>(pdu[0] | 0x80), 0x01};
         }
         const unsigned size = answer.size() + 1;
-        const bool flood = g_mode == "floods-answers" && pdu[0] != 0x03;
+        // Only codes no standard request uses: the tester's reconnaissance and checks ask
+        // standard ones on connections of their own, and would read the flood as answers.
+        constexpr std::array<std::uint8_t, 19> kPublic = {1,  2,  3,  4,  5,  6,  7,  8,  11, 12,
+                                                          15, 16, 17, 20, 21, 22, 23, 24, 43};
+        const bool flood = g_mode == "floods-answers" &&
+                           std::find(kPublic.begin(), kPublic.end(), pdu[0]) == kPublic.end();
         const std::size_t frame_at = out.size();
         out.insert(out.end(), {b[0], b[1], 0, 0, static_cast<std::uint8_t>(size >> 8),
                                static_cast<std::uint8_t>(size), b[6]});
