@@ -62,6 +62,9 @@ struct FuzzCommandOptions {
     const Invocation* invocation = nullptr;
 };
 
+// What --pcap keeps of a run, in bytes of memory: a run's capture is otherwise unbounded.
+constexpr std::size_t kPcapBound = std::size_t{32} << 20;
+
 std::atomic<bool> g_stop{false};
 
 extern "C" void on_fuzz_stop_signal(int) {
@@ -216,8 +219,11 @@ int run_fuzz(const FuzzCommandOptions& options) {
     conf::EngineOptions engine;
     engine.timeout = timeout;
     engine.connect_timeout = timeout;
-    conf::Capture capture;
-    conf::Session session(*target, dut, engine, &capture);
+    // Without --pcap nothing of the traffic is kept: against a device that floods its answers
+    // that was every byte of the run. With it, the run's last kPcapBound bytes or so are kept.
+    conf::Capture capture(kPcapBound);
+    client::LinkObserver* observer = options.pcap.empty() ? nullptr : &capture;
+    conf::Session session(*target, dut, engine, observer);
     client::LinkError error;
     if (!session.connect(error))
         return usage_error(fmt::format("{}: {}", target->name, error.message));
@@ -269,7 +275,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
         fuzz.duration = std::chrono::milliseconds(static_cast<long>(options.duration * 1000));
     if (!options.restart.empty())
         fuzz.restart = [command = options.restart] { return run_restart(command); };
-    rb::FuzzRunner runner(fuzz, recon, &capture);
+    rb::FuzzRunner runner(fuzz, recon, observer);
 
     if (!options.replay.empty()) {
         std::string text;
@@ -344,6 +350,12 @@ int run_fuzz(const FuzzCommandOptions& options) {
         !(line ? conf::write_line_pcap(options.pcap, capture.events(), provenance, failed)
                : conf::write_pcap(options.pcap, capture.events(), provenance, failed)))
         return usage_error(failed);
+    if (!options.pcap.empty() && capture.dropped_bytes() > 0) {
+        fmt::print(
+            "{} holds the run's last frames: the first {} byte(s) were let go to bound "
+            "memory\n",
+            options.pcap, capture.dropped_bytes());
+    }
     return result.finding ? kExitFailed : kExitOk;
 }
 
@@ -414,8 +426,8 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     cmd->add_option("--json", options->json, "write the report as JSON to FILE");
     cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
     cmd->add_option("--pcap", options->pcap,
-                    "write every frame of the run as pcapng to FILE (a line's frames on "
-                    "LINKTYPE_USER0)");
+                    "write the run's frames as pcapng to FILE (a line's frames on "
+                    "LINKTYPE_USER0); the last 32 MB or so of a longer run");
     cmd->callback([options, cmd, &runner] {
         options->unit_given = cmd->count("--unit") > 0;
         runner = [options] { return run_fuzz(*options); };

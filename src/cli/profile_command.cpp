@@ -1,10 +1,11 @@
 #include <fmt/core.h>
 
 #include <CLI/CLI.hpp>
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <sstream>
+#include <optional>
 #include <string>
 
 #include "cli/commands.hpp"
@@ -22,21 +23,44 @@ struct ImportOptions {
     std::string name;
 };
 
+// The file's text, or why it cannot be used: a directory, a file past the size bound, or a
+// stream (a pipe, /dev/zero) that goes on past it.
+std::optional<std::string> read_csv(const std::string& file, std::string& text) {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    const auto status = fs::status(file, ec);
+    if (!ec && fs::is_directory(status)) return file + " is a directory, not a CSV file";
+    const auto too_large = fmt::format(
+        "{} is larger than {} MiB, far more than a register map of every address takes; "
+        "check the file",
+        file, device::kMaxCsvBytes >> 20);
+    if (!ec && fs::is_regular_file(status)) {
+        const auto size = fs::file_size(file, ec);
+        if (!ec && size > device::kMaxCsvBytes) return too_large;
+    }
+    std::ifstream in(file, std::ios::binary);
+    if (!in) return "cannot open " + file + "; check the path";
+    std::array<char, 64 * 1024> chunk{};
+    while (in.read(chunk.data(), chunk.size()) || in.gcount() > 0) {
+        text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+        if (text.size() > device::kMaxCsvBytes) return too_large;
+    }
+    if (in.bad()) return "cannot read " + file;
+    return std::nullopt;
+}
+
 int run_import(const ImportOptions& options) {
-    std::ifstream in(options.file, std::ios::binary);
-    if (!in) {
-        fmt::print(stderr, "mblab profile import-csv: cannot open {}; check the path\n",
-                   options.file);
+    std::string text;
+    if (const auto error = read_csv(options.file, text)) {
+        fmt::print(stderr, "mblab profile import-csv: {}\n", *error);
         return kExitUsage;
     }
-    std::ostringstream text;
-    text << in.rdbuf();
     device::CsvImport import;
     import.source = options.file;
     import.name =
         options.name.empty() ? std::filesystem::path(options.file).stem().string() : options.name;
     import.unit = static_cast<std::uint8_t>(options.unit);
-    const auto profile = device::register_map_to_profile(text.str(), import);
+    const auto profile = device::register_map_to_profile(text, import);
     if (!profile) {
         fmt::print(stderr, "mblab profile import-csv: {}\n", profile.error());
         return kExitUsage;

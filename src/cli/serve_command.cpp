@@ -137,8 +137,7 @@ class StatsLine {
             slow += ServerStats::read(s->stats().closed_slow_frame);
             refused += s->listener_counters().refused_address.load() +
                        s->listener_counters().refused_full.load();
-            evicted += s->listener_counters().evicted_idle.load() +
-                       s->listener_counters().evicted_stalled.load();
+            evicted += s->listener_counters().evicted();
         }
         const auto tls = handshakes + tls_refused == 0
                              ? std::string()

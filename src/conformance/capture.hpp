@@ -1,6 +1,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -20,16 +21,30 @@ struct CaptureEvent {
     bool by_peer = false;             // Close
 };
 
+// With a bound, only the last part of a long run is kept: a robustness run against a device that
+// floods its answers would otherwise keep every byte of it (hundreds of megabytes), and the frames
+// before a finding are the ones worth having. What is let go goes a connection at a time, so
+// what is kept starts where a connection opens.
 class Capture : public client::LinkObserver {
   public:
+    // `bound`: roughly the memory the kept events may take, in bytes; 0 keeps everything.
+    explicit Capture(std::size_t bound = 0) : bound_(bound) {}
+
     void on_open(const client::LinkAddresses& addresses) override;
     void on_sent(std::span<const std::uint8_t> bytes) override;
     void on_received(std::span<const std::uint8_t> bytes) override;
     void on_close(bool by_peer) override;
 
     const std::vector<CaptureEvent>& events() const { return events_; }
+    // The bytes sent and received that were let go to keep within the bound.
+    std::size_t dropped_bytes() const { return dropped_bytes_; }
 
   private:
+    void keep(CaptureEvent event);
+
+    std::size_t bound_ = 0;
+    std::size_t kept_ = 0;  // the memory events_ takes, as keep() counts it
+    std::size_t dropped_bytes_ = 0;
     std::vector<CaptureEvent> events_;
 };
 

@@ -181,9 +181,18 @@ class Importer {
     void write_behaviour(const Point& point);
     std::string locate(const std::string& loader_error) const;
 
+    static std::size_t bank_index(const std::string& bank) {
+        const auto it = std::find_if(kBanks.begin(), kBanks.end(),
+                                     [&](const auto& b) { return b.second == bank; });
+        return static_cast<std::size_t>(it - kBanks.begin()) / 2;
+    }
+
     const CsvImport& import_;
     std::vector<std::size_t> column_of_;  // CSV column -> kColumns index
     std::vector<Point> points_;
+    // Per bank (kBanks order, one per pair): 1 + the index in points_ of each address's point,
+    // 0 for none; made when the bank's first point comes.
+    std::array<std::vector<std::uint32_t>, kBanks.size() / 2> owners_;
     ProfileText out_;
 };
 
@@ -279,16 +288,26 @@ std::optional<std::string> Importer::read_point(const std::vector<std::string>& 
             }
         }
     }
-    for (const auto& other : points_) {
-        if (other.bank == point.bank && point.address < other.address + other.width &&
-            other.address < point.address + point.width) {
-            return fail(line, "address",
-                        point.bank + " " + std::to_string(point.address) + " overlaps line " +
-                            std::to_string(other.line) + " (" + std::to_string(other.address) +
-                            ".." + std::to_string(other.address + other.width - 1) + ")");
-        }
+    // Each address knows the point that holds it: a scan of every earlier point made a map of
+    // the whole address space (4 x 65536 rows) take minutes.
+    auto& owners = owners_[bank_index(point.bank)];
+    if (owners.empty()) owners.assign(0x10000, 0);
+    std::uint32_t first_owner = 0;
+    for (std::uint32_t a = point.address; a < point.address + point.width; ++a) {
+        if (owners[a] != 0 && (first_owner == 0 || owners[a] < first_owner))
+            first_owner = owners[a];
+    }
+    if (first_owner != 0) {
+        const auto& other = points_[first_owner - 1];
+        return fail(line, "address",
+                    point.bank + " " + std::to_string(point.address) + " overlaps line " +
+                        std::to_string(other.line) + " (" + std::to_string(other.address) + ".." +
+                        std::to_string(other.address + other.width - 1) + ")");
     }
     points_.push_back(std::move(point));
+    const auto& placed = points_.back();
+    for (std::uint32_t a = placed.address; a < placed.address + placed.width; ++a)
+        owners[a] = static_cast<std::uint32_t>(points_.size());
     return std::nullopt;
 }
 
@@ -344,13 +363,22 @@ std::string Importer::locate(const std::string& loader_error) const {
 }
 
 Loaded<ImportedProfile> Importer::run(std::string_view csv) {
+    // A spreadsheet saving "CSV UTF-8" starts the file with a byte order mark; it is not part of
+    // the first column's name.
+    constexpr std::string_view kByteOrderMark = "\xEF\xBB\xBF";
+    if (csv.starts_with(kByteOrderMark)) csv.remove_prefix(kByteOrderMark.size());
     std::vector<std::string> cells;
     std::size_t line = 0;
     bool header = false;
     while (!csv.empty()) {
-        const auto end = csv.find('\n');
+        // Lines end in LF, CRLF or, from old Mac spreadsheets, a lone CR.
+        const auto end = csv.find_first_of("\r\n");
         const auto text = csv.substr(0, end);
-        csv = end == std::string_view::npos ? std::string_view() : csv.substr(end + 1);
+        std::size_t next = end == std::string_view::npos ? csv.size() : end + 1;
+        if (end != std::string_view::npos && csv[end] == '\r' && next < csv.size() &&
+            csv[next] == '\n')
+            ++next;
+        csv.remove_prefix(next);
         ++line;
         if (trim(text).empty() || trim(text).starts_with('#')) continue;
         if (!split_cells(text, cells)) return fail(line, "", "a quoted cell is not closed");

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -11,6 +12,11 @@
 // The text is checked by the profile loader before it is returned, so what comes out loads; an
 // error names the CSV file, the line and the column.
 namespace mblab::device {
+
+// The largest CSV file read: a whole map (4 banks x 65536 points) at a few dozen bytes a row is
+// tens of megabytes, and a bound keeps an endless input (/dev/zero, a pipe) from being read
+// forever.
+constexpr std::size_t kMaxCsvBytes = std::size_t{128} << 20;
 
 struct CsvImport {
     std::string source;  // the CSV file's name, for messages and the profile's header

@@ -70,7 +70,11 @@ void TcpSession::start() {
 }
 
 transport::Standing TcpSession::standing(Clock::time_point now) const {
-    return closed_ ? transport::Standing::Busy : session_.standing(now);
+    if (closed_) return transport::Standing::Busy;
+    if (tls_ && tls_->state() == security::TlsChannel::State::Handshaking) {
+        return transport::Standing::Handshaking;
+    }
+    return session_.standing(now);
 }
 
 void TcpSession::close() {

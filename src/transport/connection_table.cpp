@@ -25,6 +25,7 @@ void ConnectionTable::remove(TrackedConnection& connection) {
 
 Standing ConnectionTable::close_one_for_newcomer(Clock::time_point now) {
     // A linear scan: it runs only when the table is full, and a full table is rare.
+    TrackedConnection* oldest_handshaking = nullptr;
     TrackedConnection* oldest_stalled = nullptr;
     TrackedConnection* oldest_idle = nullptr;
     auto older = [](TrackedConnection* best, TrackedConnection* c) {
@@ -33,8 +34,13 @@ Standing ConnectionTable::close_one_for_newcomer(Clock::time_point now) {
     for (auto* c = head_; c; c = c->next_) {
         if (c->closing_) continue;
         const auto standing = c->standing(now);
+        if (standing == Standing::Handshaking) oldest_handshaking = older(oldest_handshaking, c);
         if (standing == Standing::Stalled) oldest_stalled = older(oldest_stalled, c);
         if (standing == Standing::Idle) oldest_idle = older(oldest_idle, c);
+    }
+    if (oldest_handshaking) {
+        close(*oldest_handshaking);
+        return Standing::Handshaking;
     }
     if (oldest_stalled) {
         close(*oldest_stalled);

@@ -18,6 +18,10 @@ enum class Standing : unsigned char {
     // unfinished frame or leaves its answers unread. Such a client holds a place without using
     // it, so it goes before any idle one; otherwise a few hundred of them lock everyone out.
     Stalled,
+    // Still in its TLS handshake: not yet authenticated, so it has shown no right to a place.
+    // It goes before every other kind, or handshakes opened faster than they finish would
+    // evict an authenticated session before each of its polls.
+    Handshaking,
 };
 
 class TrackedConnection {
@@ -57,8 +61,9 @@ class ConnectionTable {
     void remove(TrackedConnection& connection);
     std::size_t size() const { return size_; }
 
-    // Closes the stalled connection with the oldest activity, or else the oldest idle one, to
-    // admit a newcomer; returns which kind it closed, Busy when every connection is busy.
+    // Closes the oldest connection still in its TLS handshake, or else the stalled one with the
+    // oldest activity, or else the oldest idle one, to admit a newcomer; returns which kind it
+    // closed, Busy when every connection is busy.
     Standing close_one_for_newcomer(Clock::time_point now);
     void close_all();
 

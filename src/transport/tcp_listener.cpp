@@ -123,6 +123,9 @@ bool TcpListener::admit(asio::ip::tcp::socket& socket) {
             case Standing::Stalled:
                 counters_.evicted_stalled.fetch_add(1, std::memory_order_relaxed);
                 break;
+            case Standing::Handshaking:
+                counters_.evicted_handshaking.fetch_add(1, std::memory_order_relaxed);
+                break;
         }
     }
     counters_.accepted.fetch_add(1, std::memory_order_relaxed);

@@ -29,6 +29,11 @@ struct ListenerCounters {
     std::atomic<std::uint64_t> refused_full{0};     // at the limit and nobody idle
     std::atomic<std::uint64_t> evicted_idle{0};     // closed to admit a newer connection
     std::atomic<std::uint64_t> evicted_stalled{0};  // likewise, a client that trickles or stalls
+    std::atomic<std::uint64_t> evicted_handshaking{0};  // likewise, one still in its TLS handshake
+
+    std::uint64_t evicted() const {
+        return evicted_idle.load() + evicted_stalled.load() + evicted_handshaking.load();
+    }
 };
 
 class TcpListener : public std::enable_shared_from_this<TcpListener> {

@@ -12,6 +12,9 @@
 //                   frame but never an idle one, and is closed when there is none
 //   closes-garbage  robust: closes the connection on anything but a valid FC 03
 //   late            robust: answers 150 ms late
+//   floods-answers  robust: answers a function code no standard request uses with its exception
+//                   repeated for a megabyte, as much of it as the connection takes (a client
+//                   must not keep it all)
 // Usage: fragile_device MODE PORT PIDFILE
 #include <arpa/inet.h>
 #include <netinet/in.h>
@@ -22,6 +25,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -95,15 +99,28 @@ bool serve(Client& client) {
             answer = {static_cast<std::uint8_t>(pdu[0] | 0x80), 0x01};
         }
         const unsigned size = answer.size() + 1;
+        // Only codes no standard request uses: the tester's reconnaissance and checks ask
+        // standard ones on connections of their own, and would read the flood as answers.
+        constexpr std::array<std::uint8_t, 19> kPublic = {1,  2,  3,  4,  5,  6,  7,  8,  11, 12,
+                                                          15, 16, 17, 20, 21, 22, 23, 24, 43};
+        const bool flood = g_mode == "floods-answers" &&
+                           std::find(kPublic.begin(), kPublic.end(), pdu[0]) == kPublic.end();
+        const std::size_t frame_at = out.size();
         out.insert(out.end(), {b[0], b[1], 0, 0, static_cast<std::uint8_t>(size >> 8),
                                static_cast<std::uint8_t>(size), b[6]});
         out.insert(out.end(), answer.begin(), answer.end());
+        const std::vector<std::uint8_t> frame(out.begin() + static_cast<long>(frame_at), out.end());
+        while (flood && out.size() - frame_at < (std::size_t{1} << 20))
+            out.insert(out.end(), frame.begin(), frame.end());
         b.erase(b.begin(), b.begin() + 6 + length);
     }
     if (out.empty() || g_deaf) return true;
     // Without blocking, a client whose answers do not fit is closed rather than waited for.
     const int flags = g_mode == "blocking-send" ? MSG_NOSIGNAL : MSG_NOSIGNAL | MSG_DONTWAIT;
-    return ::send(client.fd, out.data(), out.size(), flags) == static_cast<ssize_t>(out.size());
+    const auto sent = ::send(client.fd, out.data(), out.size(), flags);
+    // A flood is as much as the connection takes: the rest is dropped, the client kept.
+    if (g_mode == "floods-answers") return sent >= 0 || errno == EAGAIN;
+    return sent == static_cast<ssize_t>(out.size());
 }
 
 }  // namespace

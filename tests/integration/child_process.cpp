@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -74,9 +75,11 @@ std::optional<int> ChildProcess::wait_exit(std::chrono::milliseconds timeout) {
     auto deadline = std::chrono::steady_clock::now() + timeout;
     while (pid_ > 0 && !exited_) {
         int status = 0;
-        auto done = ::waitpid(pid_, &status, WNOHANG);
+        rusage usage{};
+        auto done = ::wait4(pid_, &status, WNOHANG, &usage);
         if (done == pid_) {
             exited_ = true;
+            peak_rss_kb_ = usage.ru_maxrss;
             if (WIFEXITED(status)) return WEXITSTATUS(status);
             return std::nullopt;
         }

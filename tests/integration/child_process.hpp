@@ -27,6 +27,9 @@ class ChildProcess {
     std::optional<int> wait_exit(std::chrono::milliseconds timeout);
     // Everything written to stderr; call after wait_exit.
     std::string drain_stderr();
+    // The child's peak resident memory in kB (its ru_maxrss), once wait_exit saw it exit; 0
+    // before.
+    long peak_rss_kb() const { return peak_rss_kb_; }
 
   private:
     pid_t pid_ = -1;
@@ -34,6 +37,7 @@ class ChildProcess {
     int stderr_fd_ = -1;
     std::string stdout_buffer_;
     bool exited_ = false;
+    long peak_rss_kb_ = 0;
 };
 
 // SIGKILL to every process of ours whose command line holds `text` (a test's own temporary

@@ -3,6 +3,9 @@
 // run as printed.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <string>
 
@@ -74,6 +77,61 @@ TEST(ProfileImportCsv, ABadFileNamesItsLineAndColumn) {
     EXPECT_EQ(missing.status, 2);
     EXPECT_EQ(missing.err,
               "mblab profile import-csv: cannot open /nonexistent/map.csv; check the path\n");
+}
+
+// A directory, a file past the size bound and an endless stream are each one line, exit status
+// 2; before, a directory said "no points" and /dev/zero was read until memory ran out.
+TEST(ProfileImportCsv, WhatIsNotACsvFileIsOneLine) {
+    TempDir dir;
+    auto directory = run_mblab({"profile", "import-csv", dir.path().string()});
+    EXPECT_EQ(directory.status, 2);
+    EXPECT_EQ(directory.err, "mblab profile import-csv: " + dir.path().string() +
+                                 " is a directory, not a CSV file\n");
+    const std::string too_large =
+        " is larger than 128 MiB, far more than a register map of every address takes; check "
+        "the file\n";
+    // Sparse: it takes no disk.
+    const auto huge = write_file(dir, "huge.csv", "address\n0\n");
+    std::filesystem::resize_file(huge, (std::uintmax_t{128} << 20) + 1);
+    auto big = run_mblab({"profile", "import-csv", huge});
+    EXPECT_EQ(big.status, 2);
+    EXPECT_EQ(big.err, "mblab profile import-csv: " + huge + too_large);
+    auto endless = run_mblab({"profile", "import-csv", "/dev/zero"});
+    EXPECT_EQ(endless.status, 2);
+    EXPECT_EQ(endless.err, "mblab profile import-csv: /dev/zero" + too_large);
+    EXPECT_EQ(endless.out, "");
+}
+
+// A map of every address (262,144 rows) through the command: quadratic, it took 224 s. The time
+// is printed, not judged.
+TEST(ProfileImportCsv, AMapOfEveryAddressImports) {
+    TempDir dir;
+    std::string csv =
+        "\xEF\xBB\xBF"
+        "address,bank,type,name\r\n";
+    for (const char* bank : {"holding", "input", "coil", "discrete"}) {
+        const bool bits = bank[0] == 'c' || bank[0] == 'd';
+        for (int address = 0; address < 0x10000; ++address)
+            csv += std::to_string(address) + "," + bank + (bits ? ",bit,p" : ",u16,p") +
+                   std::to_string(address) + "\r\n";
+    }
+    const auto file = write_file(dir, "every.csv", csv);
+    const auto toml = (dir.path() / "every.toml").string();
+    const auto started = std::chrono::steady_clock::now();
+    auto ran = run_program(
+        {"/bin/sh", "-c",
+         std::string(MBLAB_BINARY) + " profile import-csv '" + file + "' > '" + toml + "'"});
+    const auto took = std::chrono::duration_cast<std::chrono::milliseconds>(
+        std::chrono::steady_clock::now() - started);
+    std::printf("mblab profile import-csv of 262144 rows: %lld ms\n",
+                static_cast<long long>(took.count()));
+    EXPECT_EQ(ran.status, 0) << ran.err;
+    EXPECT_EQ(ran.err, "");
+    std::ifstream in(toml);
+    std::size_t ranges = 0;
+    for (std::string line; std::getline(in, line);)
+        ranges += line.starts_with("[[unit.");
+    EXPECT_EQ(ranges, 4U * 0x10000);
 }
 
 TEST(ProfileImportCsv, TheDocumentedExampleWorksAsPrinted) {

@@ -7,7 +7,11 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <thread>
+#include <vector>
 
+#include "blocking_client.hpp"
+#include "client/target.hpp"
 #include "device/profile_loader.hpp"
 #include "device/reference_device.hpp"
 #include "load_cli_support.hpp"
@@ -35,7 +39,13 @@ class MbapsCli : public ::testing::Test {
             device::load_profile(std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml");
         ASSERT_TRUE(loaded) << loaded.error();
         device_ = std::move(loaded.value());
+        start_server(server::ServerOptions().max_connections);
+    }
+
+    void start_server(std::size_t max_connections) {
+        server_.reset();
         server::ServerOptions options;
+        options.max_connections = max_connections;
         auto context =
             security::make_server_context({file("server.pem"), file("server.key"), file("ca.pem")});
         ASSERT_TRUE(context) << context.error();
@@ -44,6 +54,7 @@ class MbapsCli : public ::testing::Test {
         server_ = std::make_unique<server::BackgroundServer>(*device_, options);
         auto port = server_->start();
         ASSERT_TRUE(port) << port.error();
+        port_ = *port;
         target_ = "mbaps://localhost:" + std::to_string(*port);
     }
 
@@ -73,6 +84,7 @@ class MbapsCli : public ::testing::Test {
     static LabPki* pki_;
     std::unique_ptr<device::ReferenceDevice> device_;
     std::unique_ptr<server::BackgroundServer> server_;
+    std::uint16_t port_ = 0;
     std::string target_;
 };
 
@@ -225,6 +237,50 @@ TEST_F(MbapsCli, FuzzRunsItsCasesInsideTls) {
     EXPECT_EQ(no_certificate.status, 2) << no_certificate.err;
     EXPECT_EQ(std::count(no_certificate.err.begin(), no_certificate.err.end(), '\n'), 1)
         << no_certificate.err;
+}
+
+// An attack run opened more TLS handshakes than --max-connections and never finished them: each
+// newcomer evicted the oldest idle connection, the authenticated session, before every poll. A
+// connection still in its handshake is now the one to go.
+TEST_F(MbapsCli, UnfinishedHandshakesDoNotEvictAnAuthenticatedSession) {
+    constexpr std::size_t kMaxConnections = 4;
+    start_server(kMaxConnections);
+    auto target = client::parse_target(target_);
+    ASSERT_TRUE(target) << target.error();
+    ASSERT_EQ(client::attach_tls(*target, {file("client-Operator.pem"), file("client-Operator.key"),
+                                           file("ca.pem")}),
+              "");
+    auto link = client::open_link(*target, std::chrono::seconds(5));
+    ASSERT_TRUE(link) << link.error().message;
+    auto& session = *link.value();
+    auto poll = [&](std::uint8_t id) {
+        const std::vector<std::uint8_t> read = {0, id, 0, 0, 0, 6, 1, 0x03, 0, 0, 0, 1};
+        client::LinkError error;
+        if (!session.send(read, error)) return "send: " + error.message;
+        const auto answer = session.receive_frame(std::chrono::seconds(5));
+        return answer.status == client::ReceiveStatus::Frame ? std::string("answered")
+                                                             : "no answer: " + answer.detail;
+    };
+    ASSERT_EQ(poll(1), "answered");
+    // Twice the table each round, half silent, half a ClientHello's first bytes.
+    std::vector<BlockingClient> handshakes;
+    std::uint64_t admitted = server_->listener_counters().accepted.load();
+    for (std::uint8_t round = 2; round < 7; ++round) {
+        for (std::size_t i = 0; i < 2 * kMaxConnections; ++i) {
+            handshakes.emplace_back(port_);
+            ASSERT_TRUE(handshakes.back().connected());
+            if (i % 2 == 1) handshakes.back().send_hex("16 03 01 00 F0 01 00 00");
+        }
+        // The poll follows the newcomers' admission, and so any eviction.
+        admitted += 2 * kMaxConnections;
+        for (int wait = 0; wait < 500 && server_->listener_counters().accepted.load() < admitted;
+             ++wait)
+            std::this_thread::sleep_for(std::chrono::milliseconds(10));
+        ASSERT_EQ(server_->listener_counters().accepted.load(), admitted);
+        EXPECT_EQ(poll(round), "answered") << "round " << int(round);
+    }
+    EXPECT_EQ(server_->listener_counters().evicted_idle.load(), 0U);
+    EXPECT_GT(server_->listener_counters().evicted_handshaking.load(), 0U);
 }
 
 TEST(MbapsServe, ServesTlsFromTheCommandLineAndRefusesBadFiles) {

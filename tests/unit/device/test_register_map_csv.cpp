@@ -2,6 +2,10 @@
 // with its line and column.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdio>
+#include <string>
+
 #include "device/register_map_csv.hpp"
 #include "device_harness.hpp"
 
@@ -37,6 +41,49 @@ TEST(RegisterMapCsv, MakesRangesAndBehavioursThatLoad) {
     EXPECT_EQ(ask(*device, "04 00 02 00 02", 3), "04 04 00 00 41 AC");  // 21.5, words swapped
     EXPECT_EQ(ask(*device, "03 00 0A 00 02", 3), "03 04 00 00 00 00");
     EXPECT_EQ(ask(*device, "01 00 00 00 01", 3), "01 01 00");
+}
+
+// A spreadsheet's "CSV UTF-8" starts with a byte order mark; old Mac ones end lines in CR alone,
+// Windows ones in CRLF. Line numbers in messages count each kind of line end once.
+TEST(RegisterMapCsv, TakesAByteOrderMarkAndEveryKindOfLineEnd) {
+    for (const std::string_view end : {"\n", "\r", "\r\n"}) {
+        const std::string rows = "address,type,name" + std::string(end) + "0,u16,a" +
+                                 std::string(end) + "1,u16,b" + std::string(end);
+        const auto toml = import("\xEF\xBB\xBF" + rows);
+        ASSERT_EQ(toml.substr(0, 6), "# Impo") << toml;
+        EXPECT_NE(toml.find("name = \"b\""), std::string::npos) << toml;
+        EXPECT_EQ(toml.find('\r'), std::string::npos) << toml;
+        const std::string bad = "address,type" + std::string(end) + "0,u16" + std::string(end) +
+                                std::string(end) + "1,u24" + std::string(end);
+        EXPECT_EQ(import(bad),
+                  "ERROR map.csv:4: type: expected one of u16, i16, u32, i32, u64, i64, f32, f64, "
+                  "got \"u24\"");
+    }
+}
+
+// Every address of every bank, 262,144 rows, a behaviour on each register: checking each row
+// (and each behaviour) against every earlier one took minutes. The time is printed, not judged.
+TEST(RegisterMapCsv, AMapOfEveryAddressImports) {
+    std::string csv = "address,bank,type,name,behaviour,value\n";
+    for (const char* bank : {"holding", "input", "coil", "discrete"}) {
+        const bool bits = bank[0] == 'c' || bank[0] == 'd';
+        for (int address = 0; address < 0x10000; ++address)
+            csv += std::to_string(address) + "," + bank + (bits ? ",bit,p" : ",u16,p") +
+                   std::to_string(address) + (bits ? ",,\n" : ",constant,1\n");
+    }
+    const auto started = std::chrono::steady_clock::now();
+    const auto toml = import(csv);
+    const auto took = std::chrono::duration_cast<std::chrono::milliseconds>(
+        std::chrono::steady_clock::now() - started);
+    std::printf("262144 rows, 131072 behaviours imported in %lld ms\n",
+                static_cast<long long>(took.count()));
+    ASSERT_EQ(toml.substr(0, 6), "# Impo") << toml.substr(0, 500);
+    EXPECT_NE(toml.find("[[unit.discrete_inputs]]\nstart = 65535\n"), std::string::npos);
+    EXPECT_NE(toml.find("kind = \"constant\"\nbank = \"input_registers\"\naddress = 65535\n"),
+              std::string::npos);
+    // The last row overlaps the first: the message still names the earlier row.
+    EXPECT_EQ(import(csv + "0,holding,u32,again,,\n"),
+              "ERROR map.csv:262146: address: holding_registers 0 overlaps line 2 (0..0)");
 }
 
 struct BadCsv {
