@@ -1,13 +1,21 @@
 #!/bin/sh
-# Installs every build and test dependency of mblab from Debian 12 packages.
-# Idempotent; run as root on a fresh machine.
+# Installs mblab's dependencies from Debian 12 packages. Idempotent; run as root on a fresh machine.
+#   install-deps.sh          everything: building, every test and its third-party peers (CI)
+#   install-deps.sh --build  only what building and running mblab needs (the README's first command)
 set -eu
-PKGS="build-essential cmake ninja-build pkg-config git clang-14 clang-format-14 \
- libclang-rt-14-dev libasio-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev \
- libfmt-dev libssl-dev libpcap-dev libgtest-dev libgmock-dev googletest libbenchmark-dev \
- python3-pymodbus python3-serial python3-serial-asyncio libmodbus-dev mbpoll socat tshark libxml2-utils \
- prometheus curl \
- iputils-ping man-db chromium chromium-driver"
+# Configuring the build needs the test and benchmark libraries too (small header packages).
+BUILD="build-essential cmake ninja-build pkg-config git \
+ libasio-dev libcli11-dev libtomlplusplus-dev nlohmann-json3-dev \
+ libfmt-dev libssl-dev libpcap-dev libgtest-dev libgmock-dev googletest libbenchmark-dev"
+# The second compiler, sanitizers, the formatter, the peers the tests run against and the browser.
+TEST="clang-14 clang-format-14 libclang-rt-14-dev \
+ python3-pymodbus python3-serial python3-serial-asyncio libmodbus-dev mbpoll socat tshark \
+ libxml2-utils prometheus curl iputils-ping man-db chromium chromium-driver"
+case "${1:-}" in
+  --build) PKGS="$BUILD" ;;
+  "") PKGS="$BUILD $TEST" ;;
+  *) echo "usage: install-deps.sh [--build]" >&2; exit 2 ;;
+esac
 missing=""
 for p in $PKGS; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
