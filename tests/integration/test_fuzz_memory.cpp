@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <thread>
 #include <vector>
@@ -66,7 +67,10 @@ TEST(FuzzMemory, AFloodOfAnswersIsNotKept) {
         EXPECT_GT(fuzz.peak_rss_kb(), 0);
         EXPECT_LT(fuzz.peak_rss_kb(), kBoundKb) << (pcap ? "with --pcap" : "without --pcap");
         if (pcap) {
-            EXPECT_NE(out.find("run.pcapng holds the run's last frames"), std::string::npos) << out;
+            // The capture keeps a window of about 32 MB of whole connections. How much the flood
+            // sends depends on the build's speed (a sanitizer build sends less than 32 MB), so
+            // whether the run had to let frames go varies; the file stays within the window.
+            EXPECT_LT(std::filesystem::file_size(dir / "run.pcapng"), 40U << 20) << out;
         }
     }
 }
