@@ -22,12 +22,13 @@
 #include <vector>
 
 #include "cli/commands.hpp"
+#include "cli/conform_reports.hpp"
 #include "cli/profile_lookup.hpp"
 #include "cli/report_files.hpp"
-#include "cli/suggestion.hpp"
 #include "cli/terminal_style.hpp"
 #include "cli/tls_options.hpp"
 #include "client/target.hpp"
+#include "conformance/builtin_mbaps.hpp"
 #include "conformance/capture.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/catalogue_paths.hpp"
@@ -38,6 +39,7 @@
 #include "conformance/provenance.hpp"
 #include "conformance/reports.hpp"
 #include "conformance/security_cases.hpp"
+#include "conformance/suite_selection.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
 #include "security/pki.hpp"
@@ -69,10 +71,7 @@ struct ConformOptions {
     int timeout_ms = 1000;
     int pipeline = 1;
     int settle_ms = 10;
-    std::string json;
-    std::string junit;
-    std::string pcap;
-    std::string html;
+    ConformReports reports;
     security::TlsFiles tls;  // the tester's certificate on mbaps://
     std::string pki;
     std::string read_only_role;
@@ -104,137 +103,6 @@ void catch_stop_signals() {
     sigemptyset(&action.sa_mask);
     ::sigaction(SIGINT, &action, nullptr);
     ::sigaction(SIGTERM, &action, nullptr);
-}
-
-// A suite given as a file, or by the name of a shipped one ([suite] name or file stem).
-std::optional<std::string> find_suite(const std::string& wanted,
-                                      const std::vector<std::string>& shipped, std::string& error) {
-    namespace fs = std::filesystem;
-    std::error_code ignored;
-    if (wanted.ends_with(".toml") || wanted.find('/') != std::string::npos ||
-        fs::is_regular_file(wanted, ignored)) {
-        if (!fs::is_regular_file(wanted, ignored)) {
-            error = fmt::format("suite file {} does not exist", wanted);
-            return std::nullopt;
-        }
-        return wanted;
-    }
-    std::string names;
-    std::vector<std::string> candidates;
-    for (const auto& file : shipped) {
-        if (fs::path(file).stem() == wanted) return file;
-        auto suite = conf::load_suite_file(file);
-        if (suite && suite->name == wanted) return file;
-        names += (names.empty() ? "" : ", ") + fs::path(file).stem().string();
-        candidates.push_back(fs::path(file).stem().string());
-        if (suite) candidates.push_back(suite->name);
-    }
-    const auto near = nearest(wanted, candidates);
-    error = fmt::format("no suite named '{}'{} (shipped suites: {})", wanted,
-                        near ? fmt::format("; did you mean '{}'?", *near) : std::string(), names);
-    return std::nullopt;
-}
-
-bool load_suites(const ConformOptions& options, std::vector<conf::Suite>& suites,
-                 std::string& error) {
-    const std::string dir =
-        options.catalogue.empty() ? conf::catalogue_dir().string() : options.catalogue;
-    const auto shipped = conf::shipped_suite_files(dir);
-    std::vector<std::string> files;
-    if (options.suites.empty()) {
-        files = shipped;
-        if (files.empty()) {
-            error = fmt::format("no suites in {} (use --catalogue DIR or --suite FILE)", dir);
-            return false;
-        }
-    }
-    for (const auto& wanted : options.suites) {
-        auto file = find_suite(wanted, shipped, error);
-        if (!file) return false;
-        files.push_back(*file);
-    }
-    for (const auto& file : files) {
-        auto suite = conf::load_suite_file(file);
-        if (!suite) {
-            error = suite.error();
-            return false;
-        }
-        suites.push_back(std::move(suite.value()));
-    }
-    return true;
-}
-
-// A case id pattern: `*` stands for any run of characters, `?` for any one; the rest is literal.
-bool glob_match(std::string_view pattern, std::string_view text) {
-    std::size_t p = 0;
-    std::size_t t = 0;
-    std::size_t star = std::string_view::npos;  // the last `*` seen, to retry from on a mismatch
-    std::size_t star_text = 0;
-    while (t < text.size()) {
-        if (p < pattern.size() && (pattern[p] == '?' || pattern[p] == text[t])) {
-            ++p;
-            ++t;
-        } else if (p < pattern.size() && pattern[p] == '*') {
-            star = p++;
-            star_text = t;
-        } else if (star != std::string_view::npos) {
-            p = star + 1;
-            t = ++star_text;
-        } else {
-            return false;
-        }
-    }
-    while (p < pattern.size() && pattern[p] == '*')
-        ++p;
-    return p == pattern.size();
-}
-
-// Keeps the cases that match a --case pattern, with the earlier cases they depend on: a chosen
-// case's dependencies decide whether it can run at all, so rerunning it alone would otherwise
-// judge it without them. Suites with no case left are dropped. Every pattern must match a case,
-// or the user's typo would silently run nothing of what was meant.
-bool select_cases(const std::vector<std::string>& patterns, std::vector<conf::Suite>& suites,
-                  std::string& error) {
-    if (patterns.empty()) return true;
-    std::string names;
-    for (const auto& suite : suites)
-        names += (names.empty() ? "" : ", ") + suite.name;
-    std::vector<bool> used(patterns.size(), false);
-    std::vector<conf::Suite> chosen;
-    for (auto& suite : suites) {
-        std::vector<bool> keep(suite.cases.size(), false);
-        for (std::size_t i = 0; i < suite.cases.size(); ++i) {
-            for (std::size_t n = 0; n < patterns.size(); ++n) {
-                if (glob_match(patterns[n], suite.cases[i].id)) keep[i] = used[n] = true;
-            }
-        }
-        // Dependencies are earlier cases, so one pass from the end takes them transitively.
-        for (std::size_t i = suite.cases.size(); i-- > 0;) {
-            if (!keep[i]) continue;
-            for (const auto& dependency : suite.cases[i].depends_on) {
-                for (std::size_t j = 0; j < i; ++j) {
-                    if (suite.cases[j].id == dependency) keep[j] = true;
-                }
-            }
-        }
-        std::vector<conf::Case> cases;
-        for (std::size_t i = 0; i < suite.cases.size(); ++i) {
-            if (keep[i]) cases.push_back(std::move(suite.cases[i]));
-        }
-        if (cases.empty()) continue;
-        suite.cases = std::move(cases);
-        chosen.push_back(std::move(suite));
-    }
-    for (std::size_t n = 0; n < patterns.size(); ++n) {
-        if (used[n]) continue;
-        error = fmt::format(
-            "--case '{}' matches no case of the selected suites ({}); conform --list shows the "
-            "case ids",
-            patterns[n], names);
-        return false;
-    }
-    suites = std::move(chosen);
-    return true;
 }
 
 void print_catalogue(const std::vector<conf::Suite>& suites) {
@@ -337,83 +205,6 @@ bool declare_dut(const ConformOptions& options, conf::Dut& dut, DeclarationSourc
     return true;
 }
 
-bool uses_mbaps(const std::vector<conf::Suite>& suites) {
-    for (const auto& suite : suites) {
-        for (const auto& c : suite.cases) {
-            if (conf::is_security_procedure(c.procedure)) return true;
-        }
-    }
-    return false;
-}
-
-// The built-in device's Modbus/TCP Security side, for the security suite: a lab PKI made for the
-// run in a directory of its own (removed afterwards), and the reference device a second time
-// behind TLS, with the profile's [[role]] rules. A second device rather than a second listener
-// on the first, because each BackgroundServer calls its device from its own thread.
-class BuiltinMbaps {
-  public:
-    BuiltinMbaps() = default;
-    BuiltinMbaps(const BuiltinMbaps&) = delete;
-    BuiltinMbaps& operator=(const BuiltinMbaps&) = delete;
-    ~BuiltinMbaps() {
-        server_.reset();
-        if (!dir_.empty()) {
-            std::error_code ignored;
-            std::filesystem::remove_all(dir_, ignored);
-        }
-    }
-
-    // Starts it; "" when it runs, else why not. `dut` gets the PKI and the tester's certificate.
-    std::string start(const std::filesystem::path& profile, conf::Dut& dut,
-                      client::Target& secure) {
-        std::string pattern =
-            (std::filesystem::temp_directory_path() / "mblab-conform-pki-XXXXXX").string();
-        if (::mkdtemp(pattern.data()) == nullptr) {
-            return fmt::format("cannot make a directory for the lab PKI: {}", std::strerror(errno));
-        }
-        dir_ = pattern;
-        security::PkiRequest request;
-        request.overwrite = true;  // the directory is new, and mkdtemp made it
-        if (auto made = security::make_lab_pki(dir_, request); !made) return made.error();
-        const auto file = [&](const char* name) { return (dir_ / name).string(); };
-        auto context =
-            security::make_server_context({file("server.pem"), file("server.key"), file("ca.pem")});
-        if (!context) return context.error();
-        auto loaded = device::read_profile(profile);
-        if (!loaded) return loaded.error();
-        server::ServerOptions options;
-        options.tls = std::move(context.value());
-        options.roles = std::make_shared<const device::RoleRules>(loaded->roles);
-        device_ = std::make_unique<device::ReferenceDevice>(std::move(loaded.value()));
-        server_ = std::make_unique<server::BackgroundServer>(*device_, options);
-        auto port = server_->start();
-        if (!port) return "cannot start the reference device over mbaps: " + port.error();
-        dut.security.pki = dir_.string();
-        dut.security.client = {file("client-Administrator.pem"), file("client-Administrator.key"),
-                               file("ca.pem")};
-        auto parsed = client::parse_target(fmt::format("mbaps://127.0.0.1:{}", *port));
-        if (!parsed) return parsed.error();
-        secure = std::move(parsed.value());
-        return client::attach_tls(secure, dut.security.client);
-    }
-
-  private:
-    std::filesystem::path dir_;
-    std::unique_ptr<device::ReferenceDevice> device_;
-    std::unique_ptr<server::BackgroundServer> server_;
-};
-
-bool check_report_files(const ConformOptions& options, ReportFiles& files, std::string& error) {
-    return files.check("--json", options.json, error) &&
-           files.check("--junit", options.junit, error) &&
-           files.check("--pcap", options.pcap, error) && files.check("--html", options.html, error);
-}
-
-bool wants_reports(const ConformOptions& options) {
-    return !options.json.empty() || !options.junit.empty() || !options.pcap.empty() ||
-           !options.html.empty();
-}
-
 // What the reports say about where they came from. The device is asked who it is after the run,
 // so the question cannot change any verdict; an interrupted run is not kept waiting for it.
 conf::Provenance make_provenance(const ConformOptions& options, conf::Session& session,
@@ -437,43 +228,18 @@ conf::Provenance make_provenance(const ConformOptions& options, conf::Session& s
     return provenance;
 }
 
-bool write_reports(const ConformOptions& options, const conf::RunResult& result,
-                   const conf::Provenance& provenance, const conf::Capture& capture,
-                   ReportFiles& files, std::string& error) {
-    if (!options.json.empty()) {
-        if (!conf::write_text_file(options.json, conf::json_report(result, provenance), error))
-            return false;
-        files.written(options.json);
-    }
-    if (!options.junit.empty()) {
-        if (!conf::write_text_file(options.junit, conf::junit_report(result, provenance), error))
-            return false;
-        files.written(options.junit);
-    }
-    if (!options.html.empty()) {
-        if (!conf::write_text_file(options.html, web::conform_html_report(result, provenance),
-                                   error))
-            return false;
-        files.written(options.html);
-    }
-    if (!options.pcap.empty()) {
-        if (!conf::write_pcap(options.pcap, capture.events(), provenance, error)) return false;
-        files.written(options.pcap);
-    }
-    return true;
-}
-
 int run_conform(const ConformOptions& options) {
     std::vector<conf::Suite> suites;
     std::string error;
-    if (!load_suites(options, suites, error)) return usage_error(error);
-    if (!select_cases(options.cases, suites, error)) return usage_error(error);
+    if (!conf::load_suites(options.catalogue, options.suites, suites, error))
+        return usage_error(error);
+    if (!conf::select_cases(options.cases, suites, error)) return usage_error(error);
     if (options.list) {
         print_catalogue(suites);
         return kExitOk;
     }
     ReportFiles files;
-    if (!check_report_files(options, files, error)) return usage_error(error);
+    if (!options.reports.check(files, error)) return usage_error(error);
 
     conf::Dut dut;
     DeclarationSources sources("defaults");
@@ -482,7 +248,7 @@ int run_conform(const ConformOptions& options) {
     std::unique_ptr<server::BackgroundServer> server;
     client::Target target;
     std::optional<client::Target> secure;
-    BuiltinMbaps builtin_mbaps;
+    conf::BuiltinMbaps builtin_mbaps;
     if (options.target.empty()) {
         for (const char* option : {"--cert", "--key", "--ca", "--pki"}) {
             if (options.command->count(option) > 0) {
@@ -517,7 +283,7 @@ int run_conform(const ConformOptions& options) {
     if (!declare_dut(options, dut, sources, error)) return usage_error(error);
     // After the declarations, which a --dut file replaces whole: the run's own PKI is not one of
     // them to lose.
-    if (options.target.empty() && uses_mbaps(suites)) {
+    if (options.target.empty() && conf::uses_mbaps(suites)) {
         client::Target secure_target;
         const auto profile = builtin_profile(options.profile, error);
         if (auto failed = builtin_mbaps.start(*profile, dut, secure_target); !failed.empty()) {
@@ -539,7 +305,7 @@ int run_conform(const ConformOptions& options) {
         }
     }
     if (!target.tcp) {
-        if (!options.pcap.empty()) {
+        if (!options.reports.pcap.empty()) {
             return usage_error("--pcap records Modbus/TCP only; " + target.name +
                                " is not a tcp:// target");
         }
@@ -556,8 +322,8 @@ int run_conform(const ConformOptions& options) {
     conf::ConsoleReport console(stdout, stderr, ::isatty(STDERR_FILENO) != 0,
                                 styles_wanted(STDOUT_FILENO));
     conf::Capture capture;
-    conf::Session session(target, dut, engine_options, options.pcap.empty() ? nullptr : &capture,
-                          &console);
+    conf::Session session(target, dut, engine_options,
+                          options.reports.pcap.empty() ? nullptr : &capture, &console);
     if (secure) session.set_secure_target(std::move(*secure));
     catch_stop_signals();
     const auto started = std::chrono::system_clock::now();
@@ -572,10 +338,10 @@ int run_conform(const ConformOptions& options) {
     engine.stop_when(g_stop);
     conf::RunResult result = engine.run(suites, target.name);
     console.summary(result);
-    if (wants_reports(options)) {
+    if (options.reports.wanted()) {
         const conf::Provenance provenance =
             make_provenance(options, session, sources, started, result.interrupted);
-        if (!write_reports(options, result, provenance, capture, files, error))
+        if (!options.reports.write(result, provenance, capture, files, error))
             return usage_error(error);
     }
     // 128 + the signal, as a shell reports a program the signal ended: 130 for SIGINT, 143 for
@@ -655,16 +421,16 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
         "mbaps://: a role the device lets write holding register 0x0010 (client-ROLE.pem "
         "in --pki)");
     cmd->add_option(
-        "--json", options->json,
+        "--json", options->reports.json,
         "write the report as JSON to FILE, with the run's provenance (checked before any "
         "traffic)");
-    cmd->add_option("--junit", options->junit,
+    cmd->add_option("--junit", options->reports.junit,
                     "write the report as JUnit XML to FILE, the run's provenance as each suite's "
                     "<properties> (checked before any traffic)");
-    cmd->add_option("--pcap", options->pcap,
+    cmd->add_option("--pcap", options->reports.pcap,
                     "write every exchange as a pcapng capture to FILE, the run's provenance in its "
                     "section header (checked before any traffic)");
-    cmd->add_option("--html", options->html,
+    cmd->add_option("--html", options->reports.html,
                     "write the report as one self-contained HTML page to FILE: summary, "
                     "provenance, every case, the differing bytes of failures marked, filters by "
                     "verdict and a search by case id (checked before any traffic)");

@@ -13,7 +13,7 @@
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/number_text.hpp"
-#include "cli/suggestion.hpp"
+#include "support/suggestion.hpp"
 
 namespace {
 
@@ -32,7 +32,7 @@ std::optional<std::string> option_suggestion(const CLI::App& command, int first,
         if (!word.starts_with("--")) continue;
         word = word.substr(0, word.find('='));
         if (std::find(names.begin(), names.end(), word) != names.end()) continue;
-        if (auto near = mblab::cli::nearest(word, names))
+        if (auto near = mblab::support::nearest(word, names))
             return fmt::format("{}; did you mean {}?", word, *near);
         return std::nullopt;
     }
@@ -140,7 +140,7 @@ std::string usage_line(const CLI::App& app, const CLI::ParseError& error, int ar
         command_index = i;
     }
     if (command.empty() && !unknown.empty()) {
-        if (auto near = mblab::cli::nearest(unknown, commands)) {
+        if (auto near = mblab::support::nearest(unknown, commands)) {
             return fmt::format("mblab: unknown command '{}'; did you mean '{}'?", unknown, *near);
         }
         return fmt::format("mblab: unknown command '{}' (commands: {})", unknown, names);

@@ -6,8 +6,8 @@
 #include <system_error>
 #include <vector>
 
-#include "cli/suggestion.hpp"
 #include "device/profile_paths.hpp"
+#include "support/suggestion.hpp"
 
 namespace mblab::cli {
 
@@ -25,7 +25,7 @@ std::optional<std::filesystem::path> find_profile(const std::string& wanted, std
         if (entry.path().extension() == ".toml") names.push_back(entry.path().stem().string());
     }
     std::sort(names.begin(), names.end());
-    const auto near = nearest(wanted, names);
+    const auto near = support::nearest(wanted, names);
     error = fmt::format("no profile file or shipped profile named '{}'{} (shipped: {})", wanted,
                         near ? fmt::format("; did you mean '{}'?", *near) : std::string(),
                         names.empty() ? "none found" : fmt::format("{}", fmt::join(names, ", ")));

@@ -24,6 +24,9 @@
 #include "cli/commands.hpp"
 #include "cli/profile_lookup.hpp"
 #include "cli/serve_http.hpp"
+#include "cli/serve_line.hpp"
+#include "cli/serve_state.hpp"
+#include "cli/serve_stats_line.hpp"
 #include "cli/tls_options.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
@@ -48,7 +51,6 @@ namespace {
 
 namespace fs = std::filesystem;
 using Seconds = std::chrono::duration<double>;
-constexpr auto use_tuple = asio::experimental::as_tuple(asio::use_awaitable);
 
 struct ServeOptions {
     std::string profile = "reference";
@@ -71,7 +73,7 @@ struct ServeOptions {
 };
 
 int usage_error(const std::string& message) {
-    fmt::print(stderr, "mblab serve: {}\n", message);
+    report(message);
     return kExitUsage;
 }
 
@@ -112,180 +114,6 @@ server::ServerOptions server_options(const ServeOptions& options, std::string& e
         if (!out.allow.add(entry, error)) break;
     }
     return out;
-}
-
-// The counters of every server, summed, on one line once a second: a live line on a terminal,
-// a line per second in a log.
-class StatsLine {
-  public:
-    explicit StatsLine(const std::vector<std::unique_ptr<server::TcpServer>>& servers)
-        : servers_(servers), live_(::isatty(STDERR_FILENO) != 0) {}
-
-    void print() {
-        using server::ServerStats;
-        std::uint64_t open = 0, requests = 0, exceptions = 0, busy = 0, refused = 0, evicted = 0,
-                      slow = 0, handshakes = 0, resumed = 0, tls_refused = 0, denied = 0;
-        for (const auto& s : servers_) {
-            handshakes += ServerStats::read(s->stats().tls_handshakes);
-            resumed += ServerStats::read(s->stats().tls_resumed);
-            tls_refused += ServerStats::read(s->stats().tls_refused);
-            denied += ServerStats::read(s->stats().denied);
-            open += ServerStats::read(s->stats().connections_open);
-            requests += ServerStats::read(s->stats().requests);
-            exceptions += ServerStats::read(s->stats().exceptions);
-            busy += ServerStats::read(s->stats().busy);
-            slow += ServerStats::read(s->stats().closed_slow_frame);
-            refused += s->listener_counters().refused_address.load() +
-                       s->listener_counters().refused_full.load();
-            evicted += s->listener_counters().evicted();
-        }
-        const auto tls = handshakes + tls_refused == 0
-                             ? std::string()
-                             : fmt::format(
-                                   "; TLS {} handshakes ({} resumed), {} refused, {} "
-                                   "requests denied by role",
-                                   handshakes, resumed, tls_refused, denied);
-        fmt::print(stderr,
-                   "{}mblab serve: {} connections, {} req/s, {} exc/s; total {} requests, {} "
-                   "exceptions, {} busy, {} refused, {} evicted, {} closed for a slow frame{}{}",
-                   live_ ? "\r\033[K" : "", open, requests - last_requests_,
-                   exceptions - last_exceptions_, requests, exceptions, busy, refused, evicted,
-                   slow, tls, live_ ? "" : "\n");
-        std::fflush(stderr);
-        last_requests_ = requests;
-        last_exceptions_ = exceptions;
-    }
-    void finish() const {
-        if (live_) fmt::print(stderr, "\n");
-    }
-
-  private:
-    const std::vector<std::unique_ptr<server::TcpServer>>& servers_;
-    bool live_;
-    std::uint64_t last_requests_ = 0;
-    std::uint64_t last_exceptions_ = 0;
-};
-
-// Runs `action` every `period` until `stopping` is set. Cancelling the timer alone cannot stop
-// it: a cancel that comes while the timer's completion is already queued (the period ran out as
-// the action ran) finds nothing to cancel, and the loop would wait again, keeping the server
-// running after SIGTERM.
-template <class Action>
-asio::awaitable<void> every(asio::steady_timer& timer, std::chrono::milliseconds period,
-                            const bool& stopping, Action action) {
-    while (!stopping) {
-        timer.expires_after(period);
-        auto [ec] = co_await timer.async_wait(use_tuple);
-        if (ec || stopping) co_return;
-        action();
-    }
-}
-
-using Keepers = std::vector<std::unique_ptr<server::StateKeeper>>;
-
-void report(const std::string& message) {
-    fmt::print(stderr, "mblab serve: {}\n", message);
-}
-
-// The state file of device `index` of `count`: FILE itself for one device; for several, one file
-// each, numbered from 1 in port order: lab.json -> lab-1.json, lab-2.json, ...
-fs::path device_state_path(const fs::path& file, std::size_t index, std::size_t count) {
-    if (count == 1) return file;
-    return file.parent_path() /
-           (file.stem().string() + "-" + std::to_string(index + 1) + file.extension().string());
-}
-
-// Saves every device's state; false when any save failed (each failure is reported).
-bool save_states(const Keepers& keepers) {
-    bool saved = true;
-    for (const auto& keeper : keepers) {
-        std::string error;
-        if (!keeper->save_now(error)) {
-            report("cannot save state: " + error);
-            saved = false;
-        }
-    }
-    return saved;
-}
-
-// REST writes made as the keeper keeps them: with --durable, journaled before their answer.
-void write_values_through(LiveDevice& live, server::StateKeeper* keeper) {
-    if (!keeper || !keeper->journal()) return;
-    live.write_values_with([keeper](std::uint8_t unit, device::BankKind kind, std::uint32_t start,
-                                    std::span<const std::uint16_t> values) {
-        switch (keeper->write_values(unit, kind, start, values)) {
-            case server::StateKeeper::Write::Done:
-                return web::ValueWrite::Written;
-            case server::StateKeeper::Write::Unmapped:
-                return web::ValueWrite::Unmapped;
-            case server::StateKeeper::Write::NotDurable:
-                break;
-        }
-        return web::ValueWrite::NotDurable;
-    });
-}
-
-// What POST /api/state/save does: the same file the periodic saves write.
-std::function<bool(std::string&)> state_saver_for_http(server::StateKeeper* keeper) {
-    if (!keeper) return {};
-    return [keeper](std::string& file_or_error) {
-        if (!keeper->save_now(file_or_error)) return false;
-        file_or_error = keeper->state().string();
-        return true;
-    };
-}
-
-// --listen rtu:// or ascii://: the device on a serial line until SIGINT or SIGTERM, or until the
-// line fails (exit status 1).
-int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& device,
-                    device::RequestHandler& handler, server::StateKeeper* keeper,
-                    std::chrono::milliseconds save_period, LiveDevice* live,
-                    const std::optional<HttpPlan>& http) {
-    asio::io_context io(1);
-    auto line = server::start_serial_server(io, handler, url, server::device_line_hooks(device));
-    if (!line) return usage_error(line.error());
-    int status = kExitOk;
-    (*line)->on_failure([&](const std::string& why) {
-        fmt::print(stderr, "mblab serve: {}\n", why);
-        status = kExitFailed;
-        io.stop();
-    });
-    // Serial addressing: 0 is a broadcast; addresses without a unit are not answered.
-    fmt::print("mblab serve: {} profile on {}, addresses {}; stop with Ctrl-C\n",
-               device.profile().name, transport::format_serial_url(url),
-               fmt::join(device.unit_ids(), ","));
-    std::fflush(stdout);
-    std::string error;
-    if (live && !live->start(
-                    *http, [] { return std::uint64_t{0}; }, state_saver_for_http(keeper), error)) {
-        (*line)->stop();
-        return usage_error(error);
-    }
-    asio::steady_timer save_timer(io);
-    server::BehaviourTimer behaviours(io, device);
-    behaviours.start();
-    bool stopping = false;
-    if (keeper && save_period.count() > 0) {
-        asio::co_spawn(io, every(save_timer, save_period, stopping, [&] { keeper->save_soon(); }),
-                       asio::detached);
-    }
-    asio::signal_set signals(io, SIGINT, SIGTERM);
-    signals.async_wait([&](const asio::error_code& ec, int) {
-        if (ec) return;
-        stopping = true;
-        (*line)->stop();
-        save_timer.cancel();
-        behaviours.stop();
-    });
-    io.run();
-    if (live) live->stop();
-    // The line is closed, so every write the device acknowledged is in it now.
-    std::string error_at_exit;
-    if (keeper && !keeper->save_now(error_at_exit)) {
-        report("cannot save state: " + error_at_exit);
-        return kExitFailed;
-    }
-    return status;
 }
 
 // --cert/--key/--ca, each taken from the profile's [tls] table when the command line does not

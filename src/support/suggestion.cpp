@@ -1,9 +1,9 @@
-#include "cli/suggestion.hpp"
+#include "support/suggestion.hpp"
 
 #include <algorithm>
 #include <cstddef>
 
-namespace mblab::cli {
+namespace mblab::support {
 
 namespace {
 
@@ -44,4 +44,4 @@ std::optional<std::string> nearest(std::string_view word, const std::vector<std:
     return best;
 }
 
-}  // namespace mblab::cli
+}  // namespace mblab::support

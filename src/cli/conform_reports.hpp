@@ -1,0 +1,29 @@
+#pragma once
+
+#include <string>
+
+#include "cli/report_files.hpp"
+#include "conformance/capture.hpp"
+#include "conformance/provenance.hpp"
+#include "conformance/reports.hpp"
+
+// The report files of `mblab conform`: --json, --junit, --html and --pcap, each checked before
+// the run (a run must not end with "cannot write") and written after it.
+namespace mblab::cli {
+
+struct ConformReports {
+    std::string json;
+    std::string junit;
+    std::string pcap;
+    std::string html;
+
+    bool wanted() const {
+        return !json.empty() || !junit.empty() || !pcap.empty() || !html.empty();
+    }
+    // False with `error` when a file cannot be written.
+    bool check(ReportFiles& files, std::string& error) const;
+    bool write(const conformance::RunResult& result, const conformance::Provenance& provenance,
+               const conformance::Capture& capture, ReportFiles& files, std::string& error) const;
+};
+
+}  // namespace mblab::cli

@@ -1,0 +1,74 @@
+#include "cli/serve_line.hpp"
+
+#include <fmt/format.h>
+
+#include <asio/co_spawn.hpp>
+#include <asio/detached.hpp>
+#include <asio/io_context.hpp>
+#include <asio/signal_set.hpp>
+#include <csignal>
+#include <cstdio>
+
+#include "cli/commands.hpp"
+#include "cli/serve_state.hpp"
+#include "server/behaviour_timer.hpp"
+#include "server/serial_server.hpp"
+
+namespace mblab::cli {
+
+int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& device,
+                    device::RequestHandler& handler, server::StateKeeper* keeper,
+                    std::chrono::milliseconds save_period, LiveDevice* live,
+                    const std::optional<HttpPlan>& http) {
+    asio::io_context io(1);
+    auto line = server::start_serial_server(io, handler, url, server::device_line_hooks(device));
+    if (!line) {
+        report(line.error());
+        return kExitUsage;
+    }
+    int status = kExitOk;
+    (*line)->on_failure([&](const std::string& why) {
+        fmt::print(stderr, "mblab serve: {}\n", why);
+        status = kExitFailed;
+        io.stop();
+    });
+    // Serial addressing: 0 is a broadcast; addresses without a unit are not answered.
+    fmt::print("mblab serve: {} profile on {}, addresses {}; stop with Ctrl-C\n",
+               device.profile().name, transport::format_serial_url(url),
+               fmt::join(device.unit_ids(), ","));
+    std::fflush(stdout);
+    std::string error;
+    if (live && !live->start(
+                    *http, [] { return std::uint64_t{0}; }, state_saver_for_http(keeper), error)) {
+        (*line)->stop();
+        report(error);
+        return kExitUsage;
+    }
+    asio::steady_timer save_timer(io);
+    server::BehaviourTimer behaviours(io, device);
+    behaviours.start();
+    bool stopping = false;
+    if (keeper && save_period.count() > 0) {
+        asio::co_spawn(io, every(save_timer, save_period, stopping, [&] { keeper->save_soon(); }),
+                       asio::detached);
+    }
+    asio::signal_set signals(io, SIGINT, SIGTERM);
+    signals.async_wait([&](const asio::error_code& ec, int) {
+        if (ec) return;
+        stopping = true;
+        (*line)->stop();
+        save_timer.cancel();
+        behaviours.stop();
+    });
+    io.run();
+    if (live) live->stop();
+    // The line is closed, so every write the device acknowledged is in it now.
+    std::string error_at_exit;
+    if (keeper && !keeper->save_now(error_at_exit)) {
+        report("cannot save state: " + error_at_exit);
+        return kExitFailed;
+    }
+    return status;
+}
+
+}  // namespace mblab::cli

@@ -1,0 +1,40 @@
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "client/target.hpp"
+#include "conformance/catalogue.hpp"
+#include "conformance/dut.hpp"
+#include "device/reference_device.hpp"
+#include "server/background_server.hpp"
+
+// What `mblab conform` without a target tests over Modbus/TCP Security when a suite asks for it.
+namespace mblab::conformance {
+
+// Whether any case of `suites` runs a Modbus/TCP Security procedure.
+bool uses_mbaps(const std::vector<Suite>& suites);
+
+// The built-in device's Modbus/TCP Security side, for the security suite: a lab PKI made for the
+// run in a directory of its own (removed afterwards), and the reference device a second time
+// behind TLS, with the profile's [[role]] rules. A second device rather than a second listener
+// on the first, because each BackgroundServer calls its device from its own thread.
+class BuiltinMbaps {
+  public:
+    BuiltinMbaps() = default;
+    BuiltinMbaps(const BuiltinMbaps&) = delete;
+    BuiltinMbaps& operator=(const BuiltinMbaps&) = delete;
+    ~BuiltinMbaps();
+
+    // Starts it; "" when it runs, else why not. `dut` gets the PKI and the tester's certificate.
+    std::string start(const std::filesystem::path& profile, Dut& dut, client::Target& secure);
+
+  private:
+    std::filesystem::path dir_;
+    std::unique_ptr<device::ReferenceDevice> device_;
+    std::unique_ptr<server::BackgroundServer> server_;
+};
+
+}  // namespace mblab::conformance
