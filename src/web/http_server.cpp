@@ -309,6 +309,9 @@ void HttpServer::Loop::run() {
                 close_fd(c.fd);
             }
             if (c.fd >= 0 && !c.out.empty() && !write_to(c, now)) close_fd(c.fd);
+            // An answer just went out whole: a request the client pipelined behind it is
+            // already here, and no new byte may come to wake the loop for it.
+            if (c.fd >= 0 && c.phase == Phase::Head && !c.in.empty()) advance(ids[i], c, now);
             if (c.fd < 0) connections.erase(found);
         }
         if (fds[1].revents & POLLIN) accept_all(now);

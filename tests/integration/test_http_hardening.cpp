@@ -179,6 +179,29 @@ TEST(HttpHardening, SlowClientsDoNotKeepAScrapeOut) {
     expect_alive(serve);
 }
 
+TEST(HttpHardening, PipelinedRequestsAreAnsweredInOrder) {
+    HttpServe serve({});
+    BlockingClient client(port_of(serve.http()));
+    const std::string host = "Host: 127.0.0.1:" + std::to_string(port_of(serve.http())) + "\r\n";
+    const std::string requests =
+        "GET /api/units/1/coils?count=1 HTTP/1.1\r\n" + host + "\r\nGET /nothing HTTP/1.1\r\n" +
+        host + "\r\nGET /api/counters HTTP/1.1\r\n" + host + "Connection: close\r\n\r\n";
+    client.send(std::span(reinterpret_cast<const std::uint8_t*>(requests.data()), requests.size()));
+    std::string answers;
+    while (true) {
+        const auto got = client.read(65536, 5s);
+        if (got.empty()) break;
+        answers += text_of(got);
+    }
+    const auto first = answers.find("HTTP/1.1 200 OK");
+    const auto second = answers.find("HTTP/1.1 404 Not Found");
+    const auto third = answers.find("HTTP/1.1 200 OK", second == std::string::npos ? 0 : second);
+    EXPECT_EQ(first, 0U) << answers;
+    EXPECT_NE(second, std::string::npos) << answers;
+    EXPECT_NE(third, std::string::npos) << answers;
+    EXPECT_NE(answers.find("Connection: close"), std::string::npos) << answers;
+}
+
 TEST(HttpHardening, ARangeOfAThousandPartsIsAnsweredWhole) {
     if (!have("/usr/bin/curl")) GTEST_SKIP() << "no curl";
     HttpServe serve({});
