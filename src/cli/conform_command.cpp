@@ -319,8 +319,10 @@ int run_conform(const ConformOptions& options) {
     engine_options.timeout = std::chrono::milliseconds(options.timeout_ms);
     engine_options.pipeline_depth = static_cast<std::size_t>(options.pipeline);
     engine_options.settle = std::chrono::milliseconds(options.settle_ms);
-    conf::ConsoleReport console(stdout, stderr, ::isatty(STDERR_FILENO) != 0,
-                                styles_wanted(STDOUT_FILENO));
+    // With a report on standard output, the console report goes to standard error.
+    const bool report_out = options.reports.to_stdout();
+    conf::ConsoleReport console(report_out ? stderr : stdout, stderr, ::isatty(STDERR_FILENO) != 0,
+                                styles_wanted(report_out ? STDERR_FILENO : STDOUT_FILENO));
     conf::Capture capture;
     conf::Session session(target, dut, engine_options,
                           options.reports.pcap.empty() ? nullptr : &capture, &console);
@@ -422,8 +424,8 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
         "in --pki)");
     cmd->add_option(
         "--json", options->reports.json,
-        "write the report as JSON to FILE, with the run's provenance (checked before any "
-        "traffic)");
+        "write the report as JSON to FILE (- for standard output, the console report then "
+        "going to standard error), with the run's provenance (checked before any traffic)");
     cmd->add_option("--junit", options->reports.junit,
                     "write the report as JUnit XML to FILE, the run's provenance as each suite's "
                     "<properties> (checked before any traffic)");

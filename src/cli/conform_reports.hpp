@@ -8,7 +8,8 @@
 #include "conformance/reports.hpp"
 
 // The report files of `mblab conform`: --json, --junit, --html and --pcap, each checked before
-// the run (a run must not end with "cannot write") and written after it.
+// the run (a run must not end with "cannot write") and written after it. One text report may be
+// `-`, standard output; the console report then goes to standard error.
 namespace mblab::cli {
 
 struct ConformReports {
@@ -20,6 +21,8 @@ struct ConformReports {
     bool wanted() const {
         return !json.empty() || !junit.empty() || !pcap.empty() || !html.empty();
     }
+    // Whether one report goes to standard output.
+    bool to_stdout() const { return json == "-" || junit == "-" || html == "-"; }
     // False with `error` when a file cannot be written.
     bool check(ReportFiles& files, std::string& error) const;
     bool write(const conformance::RunResult& result, const conformance::Provenance& provenance,

@@ -44,6 +44,36 @@ TEST(ConformReportsCli, AReportInAMissingDirectoryIsRefusedBeforeConnecting) {
     EXPECT_FALSE(fs::exists(dir / "no-such-dir"));
 }
 
+// `-` is standard output: the report alone there (the console report on standard error), and no
+// file named `-` left in the working directory.
+TEST(ConformReportsCli, AReportToStandardOutput) {
+    test::TempDir dir;
+    const auto in_dir = [&](const std::string& args) {
+        return test::run_program(
+            {"/bin/sh", "-c",
+             "cd " + dir.path().string() + " && " MBLAB_BINARY " conform " + args});
+    };
+    auto ran = in_dir("--case 7.3.1 --json -");
+    EXPECT_EQ(ran.status, 0) << ran.err;
+    const auto report = nlohmann::json::parse(ran.out, nullptr, false);
+    ASSERT_FALSE(report.is_discarded()) << ran.out;
+    EXPECT_EQ(report["passed"], true) << ran.out;
+    EXPECT_NE(ran.err.find("PASS     7.3.1"), std::string::npos) << ran.err;
+    EXPECT_FALSE(fs::exists(dir / "-"));
+    ran = in_dir("--case 7.3.1 --junit -");
+    EXPECT_EQ(ran.status, 0);
+    EXPECT_EQ(ran.out.rfind("<?xml", 0), 0U) << ran.out;
+    ran = in_dir("--case 7.3.1 --json - --html -");
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err, "mblab conform: only one report can go to standard output (-)\n");
+    ran = in_dir("--case 7.3.1 --pcap -");
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err,
+              "mblab conform: --pcap -: a capture is binary; give it a file (tshark -r FILE "
+              "reads it)\n");
+    EXPECT_FALSE(fs::exists(dir / "-"));
+}
+
 TEST(ConformReportsCli, AReportUnderAFileOrOnADirectoryIsRefused) {
     test::TempDir dir;
     const std::string file = (dir / "plain").string();
