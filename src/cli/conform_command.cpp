@@ -338,6 +338,7 @@ int run_conform(const ConformOptions& options) {
     console.header(target.name, session.dut(), note);
     conf::Engine engine(session, &console);
     engine.stop_when(g_stop);
+    engine.stop_if_unanswered();
     conf::RunResult result = engine.run(suites, target.name);
     console.summary(result);
     if (options.reports.wanted()) {
@@ -349,6 +350,8 @@ int run_conform(const ConformOptions& options) {
     // 128 + the signal, as a shell reports a program the signal ended: 130 for SIGINT, 143 for
     // SIGTERM, so a script tells an interrupted run from a failed one.
     if (result.interrupted) return 128 + g_stop_signal.load();
+    // A device that answers nothing is not under test: the target or the unit is wrong.
+    if (!result.unanswered.empty()) return usage_error(result.unanswered);
     return result.all_passed() ? kExitOk : kExitFailed;
 }
 

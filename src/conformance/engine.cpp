@@ -189,6 +189,7 @@ RunResult Engine::run(const std::vector<Suite>& suites, const std::string& targe
     for (const auto& suite : suites)
         result.suites.push_back(run_suite(suite));
     result.interrupted = stopped();
+    result.unanswered = unanswered_;
     session_.close();
     result.elapsed = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start);
     result.requests = session_.requests() - requests_before;
@@ -198,9 +199,14 @@ RunResult Engine::run(const std::vector<Suite>& suites, const std::string& targe
 SuiteResult Engine::run_suite(const Suite& suite) {
     SuiteResult result{suite.name, suite.title, suite.file, {}};
     std::map<std::string, Verdict> verdicts;
-    if (listener_ != nullptr && !stopped()) listener_->suite_started(suite);
+    if (listener_ != nullptr && !stopped() && unanswered_.empty()) listener_->suite_started(suite);
     for (const auto& c : suite.cases) {
         CaseResult case_result{c.id, c.source, c.title, {}, {}, 0, false};
+        if (!unanswered_.empty()) {
+            case_result.outcome = verdict(Verdict::NotRun, "the device answered nothing");
+            result.cases.push_back(std::move(case_result));
+            continue;
+        }
         if (stopped()) {
             // Reports list every case, so a reader sees what an interrupted run left out.
             case_result.outcome = verdict(Verdict::NotRun, "interrupted");
@@ -230,6 +236,13 @@ SuiteResult Engine::run_suite(const Suite& suite) {
         verdicts[c.id] = case_result.outcome.verdict;
         if (listener_ != nullptr) listener_->case_finished(suite, case_result);
         result.cases.push_back(std::move(case_result));
+        if (stop_if_unanswered_ && session_.probed() && !session_.heard()) {
+            const bool tcp = session_.framing() == client::Framing::Mbap;
+            unanswered_ =
+                fmt::format("no answer on {} {}{} to {} requests: check the port and --unit",
+                            tcp ? "unit" : "address", session_.dut().unit, tcp ? ", 255 or 0" : "",
+                            session_.requests());
+        }
     }
     return result;
 }

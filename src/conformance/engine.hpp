@@ -32,6 +32,10 @@ class Engine {
     // Once `flag` is set (from a signal handler, say), no further case starts: the case under
     // way ends, and every case not reached is NOT RUN, marked interrupted.
     void stop_when(const std::atomic<bool>& flag) { stop_ = &flag; }
+    // Ends the run after the first case whose request went unanswered, when the other unit ids
+    // were asked too and the device has never sent a byte: a wrong port or unit, or a device in
+    // listen-only mode, would otherwise cost every case its timeouts for nothing.
+    void stop_if_unanswered() { stop_if_unanswered_ = true; }
 
     RunResult run(const std::vector<Suite>& suites, const std::string& target);
     SuiteResult run_suite(const Suite& suite);
@@ -61,6 +65,8 @@ class Engine {
     Session& session_;
     RunListener* listener_;
     const std::atomic<bool>* stop_ = nullptr;
+    bool stop_if_unanswered_ = false;
+    std::string unanswered_;  // set once nothing answered: the run stops
     // Services answered otherwise than with exception 01 (service_key in engine.cpp).
     std::set<std::uint32_t> served_;
 };

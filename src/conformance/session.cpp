@@ -157,6 +157,7 @@ client::Received Session::receive_frame(std::chrono::milliseconds timeout) {
     client::Received received{client::ReceiveStatus::Closed, {}, "connection closed"};
     if (link_) received = in_case_notation(link_->receive_frame(timeout));
     if (received.status == client::ReceiveStatus::Frame) last_frame_ = received.bytes;
+    if (!received.bytes.empty()) heard_ = true;
     return received;
 }
 
@@ -164,6 +165,7 @@ client::Received Session::take_unasked(std::chrono::milliseconds wait) {
     if (!link_ || !link_->is_open()) return {client::ReceiveStatus::Timeout};
     // On a line a framing error also means bytes arrived; they are kept as they came.
     auto got = link_->receive_any(wait);
+    if (!got.bytes.empty()) heard_ = true;
     return got.bytes.empty() ? client::Received{client::ReceiveStatus::Timeout} : got;
 }
 
@@ -190,6 +192,7 @@ std::string Session::no_answer_hint(std::span<const std::uint8_t> request) {
 client::Received Session::receive_any(std::chrono::milliseconds timeout) {
     if (!link_) return {client::ReceiveStatus::Closed, {}, "connection closed"};
     auto got = link_->receive_any(timeout);
+    if (!got.bytes.empty()) heard_ = true;
     return link_->framing() == client::Framing::Mbap ? got : in_case_notation(std::move(got));
 }
 

@@ -85,6 +85,10 @@ class Session {
     client::Received receive_any(std::chrono::milliseconds timeout);
 
     std::size_t requests() const { return requests_; }
+    // Whether the device ever sent a byte on any connection of this session.
+    bool heard() const { return heard_; }
+    // Whether no_answer_hint has asked the other unit ids.
+    bool probed() const { return probed_; }
     // Requests the current connection has carried (a device that stops after N shows here).
     std::size_t connection_requests() const { return connection_requests_; }
     // The last whole frame received on this connection, to recognise an answer sent twice.
@@ -117,6 +121,7 @@ class Session {
     std::size_t connection_requests_ = 0;
     std::vector<std::uint8_t> last_frame_;
     bool probed_ = false;
+    bool heard_ = false;
     bool ever_connected_ = false;
 };
 

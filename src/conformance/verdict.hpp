@@ -73,6 +73,9 @@ struct RunResult {
     std::chrono::microseconds elapsed{0};
     std::size_t requests = 0;
     bool interrupted = false;  // stopped early (SIGINT, SIGTERM); cases not reached are NOT RUN
+    // Set when the run stopped because nothing ever answered (Engine::stop_if_unanswered): what
+    // was tried, in one line; the cases not reached are NOT RUN.
+    std::string unanswered;
 
     Counts counts() const;
     bool all_passed() const { return counts().failed == 0; }

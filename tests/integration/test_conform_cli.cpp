@@ -1,11 +1,19 @@
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <poll.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
+#include <atomic>
 #include <filesystem>
 #include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <thread>
+#include <vector>
 
 #include "child_process.hpp"
 #include "device/reference_device.hpp"
@@ -90,6 +98,68 @@ TEST(ConformCli, AnUnreachableTargetIsAUsageErrorOnOneLine) {
     EXPECT_EQ(ran.err, "mblab conform: cannot connect to tcp://127.0.0.1:" + std::to_string(port) +
                            ": connection refused\n");
     EXPECT_EQ(ran.out, "");
+}
+
+// A device that takes connections and answers nothing: a wrong port behind a forwarder, a unit
+// no gateway routes, a device in listen-only mode.
+class MuteDevice {
+  public:
+    MuteDevice() {
+        listener_ = ::socket(AF_INET, SOCK_STREAM, 0);
+        sockaddr_in address{};
+        address.sin_family = AF_INET;
+        address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+        socklen_t length = sizeof address;
+        if (::bind(listener_, reinterpret_cast<sockaddr*>(&address), length) == 0 &&
+            ::listen(listener_, 16) == 0 &&
+            ::getsockname(listener_, reinterpret_cast<sockaddr*>(&address), &length) == 0) {
+            port_ = ntohs(address.sin_port);
+        }
+        thread_ = std::thread([this] {
+            while (!stop_) {
+                pollfd ready{listener_, POLLIN, 0};
+                if (::poll(&ready, 1, 50) > 0)
+                    held_.push_back(::accept(listener_, nullptr, nullptr));
+            }
+        });
+    }
+    ~MuteDevice() {
+        stop_ = true;
+        thread_.join();
+        for (int fd : held_)
+            ::close(fd);
+        ::close(listener_);
+    }
+    std::uint16_t port() const { return port_; }
+
+  private:
+    int listener_ = -1;
+    std::uint16_t port_ = 0;
+    std::atomic<bool> stop_{false};
+    std::vector<int> held_;
+    std::thread thread_;
+};
+
+TEST(ConformCli, ADeviceThatAnswersNothingEndsTheRunAfterItsFirstCase) {
+    MuteDevice device;
+    ASSERT_NE(device.port(), 0);
+    const auto json = temp("mute.json");
+    auto ran = mblab({"conform", "tcp://127.0.0.1:" + std::to_string(device.port()), "--suite",
+                      "exceptions", "--timeout", "300", "--json", json});
+    EXPECT_EQ(ran.status, 2) << ran.out << ran.err;
+    EXPECT_EQ(ran.err,
+              "mblab conform: no answer on unit 1, 255 or 0 to 4 requests: check the port and "
+              "--unit\n");
+    EXPECT_NE(ran.out.find("units 255 and 0 did not answer either"), std::string::npos) << ran.out;
+    const auto report = nlohmann::json::parse(slurp(json));
+    const auto& cases = report["suites"][0]["cases"];
+    ASSERT_GT(cases.size(), 2U);
+    EXPECT_EQ(cases[0]["verdict"], "FAIL");
+    for (std::size_t i = 1; i < cases.size(); ++i) {
+        EXPECT_EQ(cases[i]["verdict"], "NOT RUN") << cases[i];
+        EXPECT_EQ(cases[i]["reason"], "the device answered nothing") << cases[i];
+    }
+    std::filesystem::remove(json);
 }
 
 TEST(ConformCli, AMalformedUserSuiteIsRefusedWithFileAndLine) {
