@@ -16,15 +16,16 @@ protocol::Result<Target, std::string> parse_target(std::string_view text) {
         return target;
     }
     target.secure = transport::is_mbaps_url(text);
-    auto endpoint =
-        target.secure ? transport::parse_mbaps_url(text) : transport::parse_tcp_url(text);
-    if (!endpoint) return endpoint.error();
-    target.name = transport::format_tcp_url(*endpoint, target.secure);
-    target.tcp = Endpoint{endpoint->address().to_string(), endpoint->port(), nullptr};
-    // The certificate names what the user typed: "localhost" is a DNS name, not 127.0.0.1.
-    const auto host = text.substr(std::string_view("mbaps://").size());
-    target.server_name =
-        host.starts_with("localhost") ? std::string("localhost") : endpoint->address().to_string();
+    auto address =
+        target.secure ? transport::parse_mbaps_address(text) : transport::parse_tcp_address(text);
+    if (!address) return address.error();
+    // A name that does not resolve is the user's typo, said now; the link resolves it again when
+    // it connects and tries every address in turn.
+    if (auto found = transport::resolve_tcp_address(text, *address); !found) return found.error();
+    target.name = transport::format_tcp_url(*address, target.secure);
+    target.tcp = Endpoint{address->host, address->port, nullptr};
+    // The certificate must name what the user typed: a DNS name or an IP address.
+    target.server_name = address->host;
     return target;
 }
 

@@ -153,11 +153,12 @@ protocol::Result<SerialUrl, std::string> parse_serial_url(std::string_view url) 
         if (rest.find('?') != std::string_view::npos) {
             return url_error(url, "rtu+tcp:// takes no settings");
         }
-        auto endpoint = parse_tcp_url(rest);
-        if (!endpoint) {
-            return url_error(url, "HOST:PORT must be a numeric IP address or localhost and a port");
-        }
-        out.endpoint = *endpoint;
+        auto address = parse_tcp_address(rest);
+        if (!address)
+            return url_error(url, "HOST:PORT must be a host name or IP address and a port");
+        auto endpoint = resolve_tcp_address(url, *address);
+        if (!endpoint) return endpoint.error();
+        out.endpoint = endpoint->front();
         return out;
     }
     if (url.starts_with(kRtuScheme)) {

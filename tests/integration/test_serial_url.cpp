@@ -103,9 +103,9 @@ TEST(SerialUrl, NamesWhatIsWrongInOneLine) {
               "bad address 'rtu:///dev/ttyS0?timeout=0': timeout must be milliseconds from 1 to "
               "600000" +
                   expected);
-    EXPECT_EQ(error_of("rtu+tcp://example.com:502"),
-              "bad address 'rtu+tcp://example.com:502': HOST:PORT must be a numeric IP address or "
-              "localhost and a port" +
+    EXPECT_EQ(error_of("rtu+tcp://plc 01:502"),
+              "bad address 'rtu+tcp://plc 01:502': HOST:PORT must be a host name or IP address "
+              "and a port" +
                   expected);
     EXPECT_EQ(error_of("modbus:///dev/ttyS0"),
               "bad address 'modbus:///dev/ttyS0': unknown scheme" + expected);
