@@ -7,6 +7,7 @@
 #include <asio/connect.hpp>
 #include <cerrno>
 #include <cstring>
+#include <thread>
 
 #include "transport/serial_port.hpp"
 
@@ -40,13 +41,15 @@ int poll_ms(Clock::duration wait) {
 
 StreamLink::StreamLink(std::string name, std::unique_ptr<asio::io_context> io,
                        std::unique_ptr<Port> port, const protocol::FramerOptions& framing,
-                       std::chrono::microseconds silence, LinkObserver* observer)
+                       std::chrono::microseconds silence, std::chrono::microseconds inter_frame,
+                       LinkObserver* observer)
     : name_(std::move(name)),
       framing_(framing.framing),
       io_(std::move(io)),
       port_(std::move(port)),
       reader_(framing),
       silence_(silence),
+      master_({.inter_frame = inter_frame}),
       observer_(observer) {
     fd_ = std::visit([](auto& p) { return static_cast<int>(p.native_handle()); }, *port_);
 }
@@ -69,14 +72,14 @@ protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_serial(
     auto port = std::make_unique<Port>(std::move(opened.value()));
     if (url.kind == transport::SerialUrl::Kind::Ascii) {
         return std::unique_ptr<Link>(new StreamLink(std::move(name), std::move(io), std::move(port),
-                                                    {.framing = Framing::Ascii}, kAsciiSilence,
+                                                    {.framing = Framing::Ascii}, kAsciiSilence, {},
                                                     observer));
     }
     const auto t35 = transport::rtu_char_times(url.line.baud).t35;
     return std::unique_ptr<Link>(
         new StreamLink(std::move(name), std::move(io), std::move(port),
                        {.framing = Framing::Rtu, .direction = protocol::Direction::Response},
-                       std::max<std::chrono::microseconds>(t35, kMinSerialSilence), observer));
+                       std::max<std::chrono::microseconds>(t35, kMinSerialSilence), t35, observer));
 }
 
 protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_rtu_over_tcp(
@@ -96,10 +99,12 @@ protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_rtu_over_tcp
                        {.framing = Framing::Rtu,
                         .direction = protocol::Direction::Response,
                         .unknown_length = protocol::RtuFramer::UnknownLength::EndOnCrcMatch},
-                       kTcpSilence, observer));
+                       kTcpSilence, {}, observer));
 }
 
 bool StreamLink::send(std::span<const std::uint8_t> adu, LinkError& error) {
+    if (Clock::now() < master_.line_free_at())
+        std::this_thread::sleep_until(master_.line_free_at());
     if (observer_ != nullptr) observer_->on_sent(adu);
     while (!adu.empty()) {
         if (fd_ < 0) {
@@ -144,6 +149,7 @@ Received StreamLink::read_frame(milliseconds timeout) {
             std::uint8_t chunk[512];
             const ssize_t got = ::read(fd_, chunk, sizeof chunk);
             if (got > 0) {
+                master_.heard(Clock::now());
                 reader_.add({chunk, static_cast<std::size_t>(got)});
                 continue;
             }

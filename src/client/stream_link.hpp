@@ -12,11 +12,15 @@
 #include "client/frame_reader.hpp"
 #include "client/link.hpp"
 #include "protocol/result.hpp"
+#include "transport/serial_master.hpp"
 #include "transport/serial_url.hpp"
 
 // Links whose frames are cut by a serial framer rather than by a length header: RTU and ASCII on
 // a serial line, and RTU over TCP. Blocking, like RawLink: every wait is a poll() with a deadline
 // on the port's descriptor; Asio only opens the port (its termios setup) or connects the socket.
+// A request waits for the line to be free as transport::SerialMaster, the gateway's master too,
+// says (the inter-frame silence after what was heard). Every frame is handed up, from whatever
+// address: the tester judges an answer a plain master would discard [SER 2.4.1].
 namespace mblab::client {
 
 class StreamLink final : public Link {
@@ -47,7 +51,7 @@ class StreamLink final : public Link {
 
     StreamLink(std::string name, std::unique_ptr<asio::io_context> io, std::unique_ptr<Port> port,
                const protocol::FramerOptions& framing, std::chrono::microseconds silence,
-               LinkObserver* observer);
+               std::chrono::microseconds inter_frame, LinkObserver* observer);
     // receive_frame() without telling the observer.
     Received read_frame(std::chrono::milliseconds timeout);
 
@@ -58,6 +62,7 @@ class StreamLink final : public Link {
     FrameReader reader_;
     // Quiet time that ends a frame whose layout does not say its length (t3.5 on RTU lines).
     std::chrono::microseconds silence_;
+    transport::SerialMaster master_;
     int fd_ = -1;
     LinkObserver* observer_ = nullptr;
 };

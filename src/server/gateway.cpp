@@ -11,7 +11,7 @@
 #include "protocol/adu.hpp"
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
-#include "server/serial_session.hpp"
+#include "server/line_session_core.hpp"
 #include "transport/serial_port.hpp"
 
 namespace mblab::server {
@@ -40,8 +40,10 @@ bool wait_ready(int fd, short events, LineClock::time_point until) {
 SerialGateway::SerialGateway(const transport::SerialUrl& url, const LineSetup& setup)
     : port_(io_),
       framing_(setup.framing),
-      inter_frame_(setup.turnaround),
       receiver_(setup.framing, setup.timing, protocol::Direction::Response),
+      // A broadcast's turnaround is the inter-frame silence: the devices that execute it do
+      // not answer, so nothing on the line waits for them.
+      master_({setup.turnaround, setup.turnaround, url.response_timeout}),
       units_(url.units),
       response_timeout_(url.response_timeout) {}
 
@@ -146,18 +148,18 @@ SerialGateway::~SerialGateway() {
 device::Reply SerialGateway::forward(std::uint8_t unit, std::span<const std::uint8_t> request,
                                      std::span<std::uint8_t> response) {
     const std::uint8_t function = request[0];
-    // An answer that came too late for the last request must not pass for this one's.
+    // What came while no request waited is late or unasked, which the master discards: the
+    // kernel's buffer drops it sooner.
     ::tcflush(port_.native_handle(), TCIFLUSH);
     receiver_.reset();
-    std::this_thread::sleep_until(line_free_at_);
+    std::this_thread::sleep_until(master_.line_free_at());
     if (!send_frame(unit, request)) return path_unavailable(function, response);
     ++stats_.forwarded;
-    if (unit == 0) {
-        line_free_at_ = LineClock::now() + inter_frame_;
-        return {device::ReplyAction::NoAnswer, 0, {}};
+    master_.request_sent(unit, function, LineClock::now());
+    if (master_.state() != transport::SerialMaster::State::WaitingReply) {
+        return {device::ReplyAction::NoAnswer, 0, {}};  // a broadcast
     }
-    const long size = await_answer(unit, function, response);
-    line_free_at_ = LineClock::now() + inter_frame_;
+    const long size = await_answer(response);
     if (size < 0) return path_unavailable(function, response);
     if (size == 0) {
         ++stats_.timeouts;
@@ -188,17 +190,15 @@ bool SerialGateway::send_frame(std::uint8_t unit, std::span<const std::uint8_t> 
     return ::tcdrain(fd) == 0 || errno == ENOTTY;
 }
 
-long SerialGateway::await_answer(std::uint8_t unit, std::uint8_t function,
-                                 std::span<std::uint8_t> response) {
+long SerialGateway::await_answer(std::span<std::uint8_t> response) {
+    using Verdict = transport::SerialMaster::Verdict;
     const int fd = port_.native_handle();
-    const auto deadline = LineClock::now() + response_timeout_;
     const auto take = [&](const LineEvent& event) -> long {
         if (event.is_error()) ++stats_.line_errors;
         if (!event.is_frame()) return 0;
         const auto pdu = event.frame.pdu;
-        const bool ours = event.frame.header.unit == unit && !pdu.empty() &&
-                          (pdu[0] & ~protocol::kExceptionBit) == function;
-        if (!ours || pdu.size() > response.size()) {
+        if (pdu.size() > response.size() ||
+            master_.on_frame(event.frame.header.unit, pdu, LineClock::now()) != Verdict::Answer) {
             ++stats_.line_errors;
             return 0;
         }
@@ -211,13 +211,15 @@ long SerialGateway::await_answer(std::uint8_t unit, std::uint8_t function,
             if (const long size = take(receiver_.on_timeout(now))) return size;
             continue;
         }
-        if (now >= deadline) return 0;
-        if (!wait_ready(fd, POLLIN, std::min(deadline, receiver_.deadline()))) continue;
+        if (master_.on_time(now) == transport::SerialMaster::Timeout::NoAnswer) return 0;
+        if (!wait_ready(fd, POLLIN, std::min(master_.deadline(), receiver_.deadline()))) continue;
         const auto n = ::read(fd, input_.data(), input_.size());
         if (n < 0 && (errno == EAGAIN || errno == EINTR)) continue;
         if (n <= 0) return -1;
+        now = LineClock::now();
+        master_.heard(now);
         receiver_.receive(std::span<const std::uint8_t>(input_.data(), static_cast<std::size_t>(n)),
-                          LineClock::now());
+                          now);
         for (LineEvent event = receiver_.next(); !event.empty(); event = receiver_.next()) {
             if (const long size = take(event)) return size;
         }

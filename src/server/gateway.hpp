@@ -21,6 +21,7 @@
 #include "protocol/limits.hpp"
 #include "protocol/result.hpp"
 #include "server/serial_line_receiver.hpp"
+#include "transport/serial_master.hpp"
 #include "transport/serial_url.hpp"
 
 // A Modbus/TCP to serial gateway as a RequestHandler: put it behind a TcpServer and each
@@ -88,7 +89,7 @@ class SerialGateway final : public device::RequestHandler {
                           std::span<std::uint8_t> response);
     bool send_frame(std::uint8_t unit, std::span<const std::uint8_t> request);
     // The device's answer PDU size in `response`, 0 when none came in time, -1 on a line error.
-    long await_answer(std::uint8_t unit, std::uint8_t function, std::span<std::uint8_t> response);
+    long await_answer(std::span<std::uint8_t> response);
     static device::Reply exception(std::uint8_t function, std::uint8_t code,
                                    std::span<std::uint8_t> response);
     // Exception 0A, counted: no route to the unit, the line failed, or the gateway is stopping.
@@ -97,11 +98,10 @@ class SerialGateway final : public device::RequestHandler {
     asio::io_context io_;  // owns the port; never run, the gateway's I/O is blocking
     asio::serial_port port_;
     LineFraming framing_;
-    std::chrono::microseconds inter_frame_;  // RTU t3.5 between frames
     SerialLineReceiver receiver_;
+    transport::SerialMaster master_;
     std::bitset<256> units_;
-    std::chrono::milliseconds response_timeout_;
-    LineClock::time_point line_free_at_{};
+    std::chrono::milliseconds response_timeout_;  // also bounds writing a request
     GatewayStats stats_;
     std::mutex mutex_;  // the line: one transaction at a time
 

@@ -1,74 +1,34 @@
 #include "server/serial_session.hpp"
 
-#include <algorithm>
-#include <asio/co_spawn.hpp>
-#include <asio/detached.hpp>
-#include <asio/experimental/as_tuple.hpp>
-#include <asio/use_awaitable.hpp>
 #include <asio/write.hpp>
 #include <type_traits>
-
-#include "protocol/adu.hpp"
-#include "protocol/function_code.hpp"
 
 namespace mblab::server {
 
 namespace {
 
-constexpr auto use_tuple = asio::experimental::as_tuple(asio::use_awaitable);
-// [SER] 2.5.2.1: an ASCII frame may pause up to 1 s between characters.
-constexpr std::chrono::seconds kAsciiCharTimeout{1};
-
 template <class Stream>
 constexpr bool kIsSerialPort = std::is_same_v<Stream, asio::serial_port>;
 
-}  // namespace
+template <class Stream>
+constexpr LineCarrier kCarrier = kIsSerialPort<Stream> ? LineCarrier::SerialPort : LineCarrier::Tcp;
 
-SerialLineHooks device_line_hooks(device::ReferenceDevice& device) {
-    SerialLineHooks hooks;
-    hooks.on_frame_error = [&device](LineError error) {
-        if (error == LineError::ShortFrame) {
-            device.count_short_frame();
-        } else if (error == LineError::Checksum) {
-            device.count_crc_error();
-        }
-    };
-    hooks.on_overrun = [&device] { device.count_overrun(); };
-    hooks.on_parity_error = [&device] { device.count_parity_error(); };
-    hooks.ascii_delimiter = [&device](std::uint8_t unit) { return device.ascii_delimiter(unit); };
-    return hooks;
-}
+}  // namespace
 
 std::string line_failure_text(const asio::error_code& ec) {
     if (ec == asio::error::eof || ec == std::errc::io_error) return "the line hung up";
     return ec.message();
 }
 
-LineSetup serial_line_setup(const transport::SerialUrl& url, SerialLineHooks hooks) {
-    LineSetup setup;
-    setup.hooks = std::move(hooks);
-    if (url.kind == transport::SerialUrl::Kind::Ascii) {
-        setup.framing = LineFraming::Ascii;
-        setup.timing.silence = kAsciiCharTimeout;
-        return setup;
-    }
-    const auto times = transport::rtu_char_times(url.line.baud);
-    setup.framing = LineFraming::Rtu;
-    setup.timing.silence = times.t35;
-    if (url.strict_timing) setup.timing.char_gap = times.t15;
-    setup.turnaround = times.t35;
-    return setup;
-}
-
 template <class Stream>
 LineSession<Stream>::LineSession(Stream stream, std::shared_ptr<ServerCore> core, LineSetup setup)
     : stream_(std::move(stream)),
       core_(std::move(core)),
-      setup_(std::move(setup)),
-      receiver_(setup_.framing, setup_.timing, protocol::Direction::Request, setup_.unknown_length),
-      watchdog_timer_(stream_.get_executor()),
-      delay_timer_(stream_.get_executor()),
-      last_activity_(LineClock::now()) {
+      on_failure_(std::move(setup.on_failure)),
+      line_(core_->handler, setup, kCarrier<Stream>,
+            {core_->options.partial_frame_timeout, core_->options.frame_limit}, core_->stats,
+            LineClock::now()),
+      timer_(stream_.get_executor()) {
     if constexpr (kIsSerialPort<Stream>) faults_.emplace(stream_.native_handle());
 }
 
@@ -92,21 +52,12 @@ void LineSession<Stream>::start() {
         in_table_ = true;
         ServerStats::bump(core_->stats.connections_open);
     }
-    auto executor = stream_.get_executor();
-    asio::co_spawn(executor, read_loop(this->shared_from_this()), asio::detached);
-    asio::co_spawn(executor, watchdog_loop(this->shared_from_this()), asio::detached);
+    settle();
 }
 
 template <class Stream>
 transport::Standing LineSession<Stream>::standing(LineClock::time_point now) const {
-    using transport::Standing;
-    // Not reading: answering a request, which is never the client's delay.
-    if (closed_ || !reading_) return Standing::Busy;
-    // Waiting for a request's first byte: nothing received to lose, nothing owed.
-    if (!receiver_.has_partial()) return Standing::Idle;
-    // Bytes without a whole request for long: a client that trickles holds the place unused.
-    return now - last_activity_ >= core_->options.partial_frame_timeout ? Standing::Stalled
-                                                                        : Standing::Busy;
+    return closed_ ? transport::Standing::Busy : line_.standing(now);
 }
 
 template <class Stream>
@@ -115,161 +66,93 @@ void LineSession<Stream>::close() {
     closed_ = true;
     asio::error_code ignored;
     stream_.close(ignored);
-    // Its place is free now, not once its coroutines have ended.
+    // Its place is free now, not once its pending operations have ended.
     leave_table();
-    watchdog_timer_.cancel();
-    delay_timer_.cancel();
+    timer_.cancel();
 }
 
 template <class Stream>
 void LineSession<Stream>::fail(const std::string& why) {
-    if (!closed_ && setup_.on_failure) setup_.on_failure(why);
+    if (!closed_ && on_failure_) on_failure_(why);
     close();
 }
 
 template <class Stream>
-LineClock::time_point LineSession<Stream>::next_deadline() const {
-    auto deadline = receiver_.deadline();
-    if (setup_.idle_timeout.count() > 0) {
-        deadline = std::min(deadline, last_activity_ + setup_.idle_timeout);
+void LineSession<Stream>::settle() {
+    if (closed_) return;
+    const auto now = LineClock::now();
+    line_.on_time(now);
+    if (line_.ending()) {
+        close();
+        return;
     }
-    if (frame_open_) deadline = std::min(deadline, frame_started_ + core_->options.frame_limit);
-    return deadline;
+    if (!writing_) {
+        if (const auto answer = line_.output(now); !answer.empty()) write(answer);
+    }
+    if (!reading_ && line_.wants_input()) read();
+    arm_timer(line_.deadline());
+}
+
+template <class Stream>
+void LineSession<Stream>::read() {
+    reading_ = true;
+    const auto space = line_.input_space();
+    stream_.async_read_some(
+        asio::buffer(space.data(), space.size()),
+        [self = this->shared_from_this()](const asio::error_code& ec, std::size_t size) {
+            self->reading_ = false;
+            if (self->closed_ || ec == asio::error::operation_aborted) return;
+            if (ec == asio::error::eof && !kIsSerialPort<Stream>) {
+                self->line_.end_of_input();
+            } else if (ec) {
+                self->fail(line_failure_text(ec));
+                return;
+            } else {
+                self->count_line_faults();
+                self->line_.received(size, LineClock::now());
+            }
+            self->settle();
+        });
+}
+
+template <class Stream>
+void LineSession<Stream>::write(std::span<const std::uint8_t> answer) {
+    writing_ = true;
+    asio::async_write(
+        stream_, asio::buffer(answer.data(), answer.size()),
+        [self = this->shared_from_this()](const asio::error_code& ec, std::size_t /*written*/) {
+            self->writing_ = false;
+            if (self->closed_) return;
+            if (ec) {
+                self->fail(kIsSerialPort<Stream> ? line_failure_text(ec) : ec.message());
+                return;
+            }
+            self->line_.sent(LineClock::now());
+            self->settle();
+        });
+}
+
+template <class Stream>
+void LineSession<Stream>::arm_timer(LineClock::time_point at) {
+    if (at == timer_at_) return;
+    timer_at_ = at;
+    if (at == LineClock::time_point::max()) {
+        timer_.cancel();
+        return;
+    }
+    timer_.expires_at(at);
+    timer_.async_wait([self = this->shared_from_this()](const asio::error_code& ec) {
+        if (ec) return;  // set again or closed
+        self->timer_at_ = LineClock::time_point::max();
+        self->settle();
+    });
 }
 
 template <class Stream>
 void LineSession<Stream>::count_line_faults() {
     if (!faults_) return;
     const auto faults = faults_->poll();
-    for (std::uint32_t i = 0; i < faults.overruns && setup_.hooks.on_overrun; ++i)
-        setup_.hooks.on_overrun();
-    for (std::uint32_t i = 0; i < faults.parity_errors && setup_.hooks.on_parity_error; ++i)
-        setup_.hooks.on_parity_error();
-}
-
-template <class Stream>
-asio::awaitable<void> LineSession<Stream>::read_loop(Self /*self*/) {
-    while (!closed_) {
-        auto now = LineClock::now();
-        if (now >= receiver_.deadline()) {
-            const LineEvent event = receiver_.on_timeout(now);
-            co_await handle(event);
-            continue;
-        }
-        if (setup_.idle_timeout.count() > 0 && now >= last_activity_ + setup_.idle_timeout) {
-            ServerStats::bump(core_->stats.closed_idle);
-            close();
-            break;
-        }
-        if (frame_open_ && now >= frame_started_ + core_->options.frame_limit) {
-            // A client that trickles a frame: the rest of it would be read out of step.
-            ServerStats::bump(core_->stats.closed_slow_frame);
-            close();
-            break;
-        }
-        reading_ = true;
-        watchdog_timer_.cancel();  // rearm it for the deadline of this read
-        auto [ec, size] = co_await stream_.async_read_some(asio::buffer(input_), use_tuple);
-        reading_ = false;
-        if (closed_) break;
-        if (ec == asio::error::operation_aborted) continue;  // a deadline passed
-        if (ec == asio::error::eof && !kIsSerialPort<Stream>) {
-            // The peer finished sending: what it left unfinished can no longer complete.
-            receiver_.reset();
-            close();
-            break;
-        }
-        if (ec) {
-            fail(line_failure_text(ec));
-            break;
-        }
-        count_line_faults();
-        receiver_.receive(std::span<const std::uint8_t>(input_.data(), size), LineClock::now());
-        for (LineEvent event = receiver_.next(); !event.empty() && !closed_;
-             event = receiver_.next()) {
-            co_await handle(event);
-        }
-        // Over TCP, a whole frame is bounded in time (ServerOptions::frame_limit); a serial line
-        // paces its bytes itself, and a long frame at a low baud rate takes seconds.
-        const bool open = !kIsSerialPort<Stream> && receiver_.has_partial();
-        if (open && !frame_open_) frame_started_ = LineClock::now();
-        frame_open_ = open;
-    }
-}
-
-template <class Stream>
-asio::awaitable<void> LineSession<Stream>::watchdog_loop(Self /*self*/) {
-    while (!closed_) {
-        // While the reader is busy it checks deadlines itself, and wakes this loop as it reads.
-        watchdog_timer_.expires_at(reading_ ? next_deadline() : LineClock::time_point::max());
-        co_await watchdog_timer_.async_wait(use_tuple);
-        if (closed_) break;
-        if (reading_ && LineClock::now() >= next_deadline()) {
-            // Cancelling a read that already took bytes still delivers them.
-            asio::error_code ignored;
-            stream_.cancel(ignored);
-            reading_ = false;
-        }
-    }
-}
-
-template <class Stream>
-asio::awaitable<void> LineSession<Stream>::handle(const LineEvent& event) {
-    if (event.is_error()) {
-        ServerStats::bump(core_->stats.frames_dropped);
-        if (event.error != LineError::None && setup_.hooks.on_frame_error) {
-            setup_.hooks.on_frame_error(event.error);
-        }
-        co_return;
-    }
-    if (!event.is_frame()) co_return;
-    const auto received_at = LineClock::now();
-    last_activity_ = received_at;
-    ServerStats::bump(core_->stats.requests);
-    const std::uint8_t unit = event.frame.header.unit;
-    const auto reply = core_->handler.handle({unit, device::Link::Serial}, event.frame.pdu,
-                                             std::span(response_).first(protocol::limits::kMaxPdu));
-    switch (reply.action) {
-        case device::ReplyAction::NoAnswer:
-            co_return;
-        case device::ReplyAction::Close:
-            // A serial line cannot be hung up on; a TCP connection can.
-            if constexpr (!kIsSerialPort<Stream>) close();
-            co_return;
-        case device::ReplyAction::Answer:
-            break;
-    }
-    const auto ready_at =
-        std::max(received_at + reply.delay, receiver_.last_byte_time() + setup_.turnaround);
-    co_await answer(unit, std::min(reply.size, protocol::limits::kMaxPdu), ready_at);
-}
-
-template <class Stream>
-asio::awaitable<void> LineSession<Stream>::answer(std::uint8_t unit, std::size_t pdu_size,
-                                                  LineClock::time_point ready_at) {
-    const auto pdu = std::span<const std::uint8_t>(response_.data(), pdu_size);
-    if (pdu_size > 0 && (pdu.front() & protocol::kExceptionBit)) {
-        ServerStats::bump(core_->stats.exceptions);
-    }
-    const std::size_t size =
-        protocol::write_adu({setup_.framing, unit}, pdu, output_, receiver_.ascii_delimiter());
-    // FC 08 sub 03 changes the ASCII delimiter for the frames after its own answer.
-    if (setup_.framing == LineFraming::Ascii && setup_.hooks.ascii_delimiter) {
-        receiver_.set_ascii_delimiter(setup_.hooks.ascii_delimiter(unit));
-    }
-    if (LineClock::now() < ready_at) {
-        delay_timer_.expires_at(ready_at);
-        co_await delay_timer_.async_wait(use_tuple);
-        if (closed_) co_return;
-    }
-    auto [ec, written] =
-        co_await asio::async_write(stream_, asio::buffer(output_.data(), size), use_tuple);
-    (void)written;
-    if (ec) {
-        fail(kIsSerialPort<Stream> ? line_failure_text(ec) : ec.message());
-        co_return;
-    }
-    last_activity_ = LineClock::now();
+    line_.line_faults(faults.overruns, faults.parity_errors);
 }
 
 template class LineSession<asio::serial_port>;
