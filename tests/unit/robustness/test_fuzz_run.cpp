@@ -20,21 +20,9 @@ using protocol::Framing;
 using test::hex;
 using test::to_hex;
 
-constexpr std::string_view kProfile = R"(name = "memory"
-
-[[unit]]
-id = 1
-
-[[unit.holding_registers]]
-start = 0
-count = 100
-)";
-
-std::unique_ptr<device::ReferenceDevice> make_device() {
-    auto loaded = device::load_profile_text(kProfile, "memory.toml");
-    EXPECT_TRUE(loaded) << loaded.error();
-    return std::move(loaded.value());
-}
+// Unit 1 with holding registers 0-99.
+constexpr std::string_view kProfile =
+    "name = \"memory\"\nunit = [{ id = 1, holding_registers = [{ start = 0, count = 100 }] }]\n";
 
 // A reference device behind memory links of one framing, and the clock they share with the run.
 struct MemoryTarget {
@@ -81,9 +69,29 @@ struct MemoryTarget {
     }
 
     test::ManualClock clock;
-    std::unique_ptr<device::ReferenceDevice> reference = make_device();
+    std::unique_ptr<device::ReferenceDevice> reference =
+        std::move(device::load_profile_text(kProfile, "memory.toml").value());
     test::MemoryDevice memory;
 };
+
+// The oracle on the links of a memory target, asking for register 5 of unit 1.
+struct OracleTarget : MemoryTarget {
+    OracleTarget(Framing framing, std::chrono::milliseconds timeout)
+        : MemoryTarget(framing),
+          links(make_case_links(framing, dial(), {}, run_clock())),
+          oracle(*links, 1, 5, timeout, run_clock()) {}
+
+    std::unique_ptr<CaseLinks> links;
+    LivenessOracle oracle;
+};
+
+// The check after the device died on whatever came next.
+Liveness check_dead(OracleTarget& target) {
+    target.memory.die_on([](const client::Received&) { return true; });
+    auto liveness = target.oracle.check();
+    EXPECT_FALSE(liveness.alive);
+    return liveness;
+}
 
 // The last `count` requests the device took.
 std::vector<std::string> last(const test::MemoryDevice& memory, std::size_t count) {
@@ -92,13 +100,11 @@ std::vector<std::string> last(const test::MemoryDevice& memory, std::size_t coun
 }
 
 TEST(LivenessOracle, AsksOnAFreshConnectionThenOnTheOneOpenedBefore) {
-    MemoryTarget target(Framing::Mbap);
-    auto links = make_case_links(Framing::Mbap, target.dial(), {}, target.run_clock());
-    LivenessOracle oracle(*links, 1, 5, 1000ms, target.run_clock());
-    EXPECT_TRUE(oracle.check().alive);
+    OracleTarget target(Framing::Mbap, 1000ms);
+    EXPECT_TRUE(target.oracle.check().alive);
     EXPECT_EQ(target.memory.requests(),
               (std::vector<std::string>{"70 01 00 00 00 06 01 03 00 05 00 01"}));
-    const auto second = oracle.check();
+    const auto second = target.oracle.check();
     EXPECT_TRUE(second.alive) << second.reason;
     EXPECT_EQ(last(target.memory, 2),
               (std::vector<std::string>{"70 02 00 00 00 06 01 03 00 05 00 01",
@@ -109,12 +115,8 @@ TEST(LivenessOracle, AsksOnAFreshConnectionThenOnTheOneOpenedBefore) {
 }
 
 TEST(LivenessOracle, ADeadDeviceIsSilentOnAFreshConnection) {
-    MemoryTarget target(Framing::Mbap);
-    auto links = make_case_links(Framing::Mbap, target.dial(), {}, target.run_clock());
-    LivenessOracle oracle(*links, 1, 5, 1000ms, target.run_clock());
-    target.memory.die_on([](const client::Received&) { return true; });
-    const auto liveness = oracle.check();
-    EXPECT_FALSE(liveness.alive);
+    OracleTarget target(Framing::Mbap, 1000ms);
+    const auto liveness = check_dead(target);
     EXPECT_EQ(liveness.reason,
               "does not answer the known-good read (FC 03, register 5, address 1) on a fresh "
               "connection within 1000 ms");
@@ -122,13 +124,11 @@ TEST(LivenessOracle, ADeadDeviceIsSilentOnAFreshConnection) {
 }
 
 TEST(LivenessOracle, OnALineReadsPastALateAnswerThenAsksOnTheQuietLine) {
-    MemoryTarget target(Framing::Rtu);
-    auto links = make_case_links(Framing::Rtu, target.dial(), {}, target.run_clock());
-    LivenessOracle oracle(*links, 1, 5, 300ms, target.run_clock());
+    OracleTarget target(Framing::Rtu, 300ms);
     // A case's read whose answer is still on the line when the check begins.
     client::LinkError error;
-    ASSERT_TRUE(links->carry(0, true)->send(hex("01 03 00 00 00 01 84 0A"), error));
-    const auto liveness = oracle.check();
+    ASSERT_TRUE(target.links->carry(0, true)->send(hex("01 03 00 00 00 01 84 0A"), error));
+    const auto liveness = target.oracle.check();
     EXPECT_TRUE(liveness.alive) << liveness.reason;
     EXPECT_EQ(target.memory.requests(),
               (std::vector<std::string>{"01 03 00 00 00 01 84 0A", "01 03 00 05 00 01 94 0B"}));
@@ -136,12 +136,8 @@ TEST(LivenessOracle, OnALineReadsPastALateAnswerThenAsksOnTheQuietLine) {
 }
 
 TEST(LivenessOracle, OnALineSilenceCountsOnceAskedTwice) {
-    MemoryTarget target(Framing::Rtu);
-    auto links = make_case_links(Framing::Rtu, target.dial(), {}, target.run_clock());
-    LivenessOracle oracle(*links, 1, 5, 300ms, target.run_clock());
-    target.memory.die_on([](const client::Received&) { return true; });
-    const auto liveness = oracle.check();
-    EXPECT_FALSE(liveness.alive);
+    OracleTarget target(Framing::Rtu, 300ms);
+    const auto liveness = check_dead(target);
     EXPECT_EQ(liveness.reason,
               "does not answer the known-good read (FC 03, register 5, address 1) on the link "
               "within 300 ms, asked twice");
