@@ -20,6 +20,7 @@
 #include "conformance/dut.hpp"
 #include "conformance/provenance.hpp"
 #include "conformance/reports.hpp"
+#include "conformance/session.hpp"
 #include "robustness/case_generator.hpp"
 #include "robustness/fuzz_report.hpp"
 #include "robustness/fuzz_run.hpp"

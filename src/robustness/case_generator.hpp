@@ -62,8 +62,12 @@ class CaseGenerator {
     // Counts the frame as withheld when the policy does not let it out.
     bool withhold(BadInput kind, std::span<const std::uint8_t> pdu);
     void add_frame(BadInput kind, std::string name, std::span<const std::uint8_t> pdu);
+    // The class's reads of a quantity at an address, named "FC 0x03 address 0xFFFF quantity 2".
+    void add_ranged(BadInput kind);
     std::uint16_t next_transaction() { return ++transaction_; }
+    // The cases of one frame (robustness/frame_cases.cpp).
     void fixed_frames();
+    // The cases of several steps or connections (robustness/stream_cases.cpp).
     void fixed_streams();
     void resource_cases();
     void pairwise();

@@ -13,14 +13,15 @@
 #include "client/link.hpp"
 #include "client/target.hpp"
 #include "robustness/case_generator.hpp"
+#include "robustness/case_links.hpp"
 #include "robustness/fuzz_case.hpp"
-#include "robustness/line_liveness.hpp"
 #include "robustness/liveness.hpp"
 #include "robustness/recon.hpp"
+#include "robustness/run_clock.hpp"
 
 // A robustness run: cases from the generator, the liveness oracle after each (or every N), and a
-// finding minimised by replaying from a restarted device. Over Modbus/TCP every case has its own
-// connections; on a serial line (or RTU over TCP) one link carries the whole run.
+// finding minimised by replaying from a restarted device. How the cases and the check reach the
+// device over the target's framing is the run's links' business (robustness/case_links.hpp).
 namespace mblab::robustness {
 
 struct FuzzOptions {
@@ -38,6 +39,10 @@ struct FuzzOptions {
     // Restarts the device (the user's --restart command); empty when none was given.
     std::function<bool()> restart;
     std::chrono::milliseconds restart_patience{10000};
+    // How links to the device open: client::open_link on the target when unset (tests give a
+    // memory link); the target still names the run and its framing.
+    Dial dial;
+    RunClock clock;
 };
 
 struct ClassTally {
@@ -113,32 +118,21 @@ class FuzzRunner {
 
   private:
     void pace();
+    // The steps of a case or a replay, each on its connection's link.
     void send_steps(const std::vector<Step>& steps, bool hold,
                     const std::optional<WriteLedger>& ledger = std::nullopt);
-    // A flood: written as the device takes it while its answers are read; returns the highest
-    // value of the ledger's register that an answer acknowledged (0 when none).
-    std::uint16_t stream(client::Link& link, const Step& step,
-                         const std::optional<WriteLedger>& ledger);
     // After a flood with a ledger: why the register read back betrays a lost write, or "".
     std::string check_ledger(const WriteLedger& ledger, std::uint16_t acknowledged,
                              std::uint16_t highest_sent, FuzzResult& result);
-    void close_all();
     void minimise_finding(Finding& finding);
-    Liveness check();
-    Liveness wait_alive();
-    // On a line: the answers to the case, read until the line is quiet.
-    void drain_line();
 
     FuzzOptions options_;
     Recon recon_;
-    client::LinkObserver* observer_;
-    bool line_;
+    client::Framing framing_;
+    std::unique_ptr<CaseLinks> links_;
     LivenessOracle oracle_;
-    LineOracle line_oracle_;
-    std::vector<std::unique_ptr<client::Link>> links_;
-    std::vector<bool> unread_;        // per link: its answers are left for the device to hold
     std::uint16_t acknowledged_ = 0;  // by the last case's flood
-    std::chrono::steady_clock::time_point next_send_{};
+    Clock::time_point next_send_{};
     std::size_t sends_ = 0;
 };
 

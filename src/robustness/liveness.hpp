@@ -8,13 +8,15 @@
 #include <string>
 
 #include "client/link.hpp"
-#include "client/target.hpp"
-#include "conformance/session.hpp"
+#include "robustness/case_links.hpp"
+#include "robustness/run_clock.hpp"
 
 // The liveness oracle: is the device still serving after a case? A known-good read (FC 03 of one
-// register that answered during reconnaissance) on a fresh connection, and the same on a
-// connection opened before the case. Closing a connection is the device's right; not answering,
-// refusing every connection or answering the known-good read wrongly is not.
+// register that answered during reconnaissance) on the link the run's links give the check (a
+// fresh connection over Modbus/TCP, the quiet line on a serial line), and the same on a link
+// opened before the case where there is one. Closing a connection is the device's right; not
+// answering, refusing every connection or answering the known-good read wrongly is not. Unit 0 is
+// broadcast and never answered on a line [SER 2.1], so it is never the address asked.
 namespace mblab::robustness {
 
 // The known-good read: FC 03 of one register at `address`.
@@ -30,29 +32,32 @@ struct Liveness {
 
 class LivenessOracle {
   public:
-    LivenessOracle(const client::Target& target, std::uint8_t unit, std::uint16_t address,
-                   std::chrono::milliseconds timeout, client::LinkObserver* observer);
+    LivenessOracle(CaseLinks& links, std::uint8_t unit, std::uint16_t address,
+                   std::chrono::milliseconds timeout, RunClock clock = {});
 
     Liveness check();
     // check() until the device is alive or `patience` has passed: after a restart.
     Liveness wait_alive(std::chrono::milliseconds patience);
-    // Opens the connection that the next check asks on as an already-open one.
+    // Opens the link that the next check asks on as an already-open one, where there is one.
     void open_bystander();
-    // Holding register `address` read on a fresh connection; nullopt when it is not answered
+    // Holding register `address` read on the check's link; nullopt when it is not answered
     // with its value.
     std::optional<std::uint16_t> read_register(std::uint16_t address);
-    void close();
     // The device served a fresh connection only once the bystander was closed: it serves one
     // connection at a time, and the bystander is no longer kept.
     bool one_at_a_time() const { return one_at_a_time_; }
 
   private:
     enum class Outcome : std::uint8_t { Good, Closed, Silent, Wrong };
-    Outcome ask(conformance::Session& session, std::string& detail);
+    // The known-good read of `address` on `link`; its value in `value` when Good.
+    Outcome ask(client::Link& link, std::uint16_t address, std::string& detail,
+                std::uint16_t* value = nullptr);
+    // The check's link, opening tried again over about a second and a half: a device with one
+    // connection slot may still be freeing it.
+    client::Link* reach(client::LinkError& error);
 
-    conformance::Session fresh_;
-    conformance::Session bystander_;
-    bool bystander_open_ = false;
+    CaseLinks& links_;
+    RunClock clock_;
     bool one_at_a_time_ = false;
     std::uint8_t unit_;
     std::uint16_t address_;
