@@ -21,6 +21,7 @@
 #include <utility>
 #include <vector>
 
+#include "cli/catalogue_listing.hpp"
 #include "cli/commands.hpp"
 #include "cli/conform_reports.hpp"
 #include "cli/profile_lookup.hpp"
@@ -103,20 +104,6 @@ void catch_stop_signals() {
     sigemptyset(&action.sa_mask);
     ::sigaction(SIGINT, &action, nullptr);
     ::sigaction(SIGTERM, &action, nullptr);
-}
-
-void print_catalogue(const std::vector<conf::Suite>& suites) {
-    for (const auto& suite : suites) {
-        fmt::print("{} ({}){}\n", suite.name, suite.file,
-                   suite.title.empty() ? "" : ": " + suite.title);
-        std::size_t width = 0;
-        for (const auto& c : suite.cases)
-            width = std::max(width, c.id.size());
-        for (const auto& c : suite.cases) {
-            std::string kind = c.procedure.empty() ? "" : fmt::format(" [{}]", c.procedure);
-            fmt::print("  {:<{}}  {}{}  ({})\n", c.id, width, c.title, kind, c.source);
-        }
-    }
 }
 
 // The built-in device's profile: the default one, a file, or a shipped profile by name.
@@ -385,21 +372,21 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
                     "TOML file declaring the device under test (keys as the flags below)")
         ->check(CLI::ExistingFile);
     cmd->add_option("--unit", options->unit,
-                    "unit identifier of the DUT (seed 000 6.4; default 1, as every mblab command)")
+                    "unit identifier of the DUT (CTP 6.4; default 1, as every mblab command)")
         ->check(CLI::Range(0, 255));
     cmd->add_option("--registers", options->registers,
-                    "number of holding registers of the DUT (seed 000 6.6)")
+                    "number of holding registers of the DUT (CTP 6.6)")
         ->check(CLI::Range(1, 65536));
     cmd->add_option("--max-read", options->max_read,
-                    "most registers one FC 03 request may read (seed 000 6.6)")
+                    "most registers one FC 03 request may read (CTP 6.6)")
         ->check(CLI::Range(1, 125));
     cmd->add_flag("--object-messaging", options->object_messaging,
-                  "the DUT supports function code 0x5B (seed 000 6.5)");
+                  "the DUT supports function code 0x5B (CTP 6.5)");
     cmd->add_flag("--alternate-encoding", options->alternate_encoding,
-                  "the DUT supports the 0x5B alternate encoding (seed 000 6.5)");
+                  "the DUT supports the 0x5B alternate encoding (CTP 6.5)");
     cmd->add_option("--profile", options->profile,
                     "profile of the built-in reference device (no target only): a TOML file or a "
-                    "shipped profile's name (reference, instrument-seed001, ...)");
+                    "shipped profile's name (reference, rs485-instrument, ...)");
     cmd->add_option("--catalogue", options->catalogue, "directory of the shipped suites");
     cmd->add_option("--timeout", options->timeout_ms, "milliseconds to wait for each answer")
         ->check(CLI::Range(1, 60000));

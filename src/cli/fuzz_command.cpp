@@ -367,8 +367,9 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     options->invocation = &invocation;
     CLI::App* cmd = app.add_subcommand(
         "fuzz",
-        "Robustness test: bad input of every class PROTOCOL.md lists, then seeded mutations, with "
-        "a liveness check after each case; a finding is minimised to a reproducer");
+        "Robustness test: bad input of every class docs/robustness.md lists, then random "
+        "mutations, "
+        "with a liveness check after each case; a finding is minimised to a reproducer");
     cmd->footer(
         "Exit status: 0 no finding, 1 a finding (the device stopped serving), 2 usage error,\n"
         "a file that cannot be read or written, or a target unreachable at start.\n"

@@ -35,7 +35,7 @@
 #include "web/load_metrics.hpp"
 #include "web/metrics_text.hpp"
 
-// `mblab load TARGET...`: the interoperability test of seed 000 section 8. The protocol tests
+// `mblab load TARGET...`: the interoperability test of CTP 8. The protocol tests
 // run in a loop on every node at once while a traffic generator loads them; any failure
 // anywhere fails the run. Also a load generator for Modbus/TCP servers.
 namespace mblab::cli {
@@ -142,8 +142,8 @@ protocol::Result<load::LoadTarget, std::string> make_target(const std::string& t
     load::LoadTarget target;
     target.url = parsed->name;
     target.tls = parsed->tcp->tls;
-    // The load test loads devices that work (Conformance Test Policy 2.1, 8.3); one that cannot
-    // be reached is a setup error. Every connection goes to the first address that answered.
+    // CTP 8.3 loads devices that work; one that cannot be reached is a setup error. Every
+    // connection goes to the first address that answered.
     std::string why;
     for (const auto& endpoint : *endpoints) {
         client::Endpoint one = *parsed->tcp;
@@ -333,7 +333,7 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
     auto options = std::make_shared<LoadOptions>();
     CLI::App* cmd = app.add_subcommand(
         "load",
-        "Interoperability test (seed 000 section 8): the protocol tests in a loop on every "
+        "Interoperability test (CTP 8): the protocol tests in a loop on every "
         "node at once under generated traffic, counting every failure; also a load generator");
     cmd->footer(
         "Exit status: 0 PASS, 1 FAIL or INCOMPLETE (stopped early), 2 usage error, a file that\n"
@@ -363,15 +363,14 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_option("--pipeline", options->pipeline, "requests in flight per generator connection")
         ->check(CLI::Range(1, 1024))
         ->capture_default_str();
-    cmd->add_option(
-           "--unit", options->unit,
-           "unit identifier of the nodes (seed 000 6.4; default 1, as every mblab command)")
+    cmd->add_option("--unit", options->unit,
+                    "unit identifier of the nodes (CTP 6.4; default 1, as every mblab command)")
         ->check(CLI::Range(0, 255));
     cmd->add_option("--registers", options->registers,
-                    "holding registers of the nodes (seed 000 6.6; the 9.1.2 read goes past them)")
+                    "holding registers of the nodes (CTP 6.6; the 9.1.2 read goes past them)")
         ->check(CLI::Range(1, 65536));
     cmd->add_flag("--object-messaging", options->object_messaging,
-                  "the nodes support function code 0x5B (seed 000 6.5)");
+                  "the nodes support function code 0x5B (CTP 6.5)");
     cmd->add_option("--dut", options->dut_file, "TOML file declaring the nodes (as mblab conform)")
         ->check(CLI::ExistingFile);
     accept_duration_units(cmd->add_option("--timeout", options->timeout_ms,

@@ -77,14 +77,6 @@ int usage_error(const std::string& message) {
     return kExitUsage;
 }
 
-std::string describe_units(const device::ReferenceDevice& device) {
-    auto ids = device.unit_ids();
-    std::string text = ids.size() == 1 ? "unit " : "units ";
-    for (std::size_t i = 0; i < ids.size(); ++i)
-        text += (i ? "," : "") + std::to_string(ids[i]);
-    return text + fmt::format(" (0 and 255 answer as {})", ids.front());
-}
-
 // A duration option given in seconds. 0 means `zero_means`; anything else must be a finite
 // number from a millisecond (a shorter one would round to 0, which means something else) to a
 // year (longer ones overflow the clock's arithmetic).
@@ -286,11 +278,12 @@ int run_serve(const ServeOptions& options) {
     if (gateway) {
         fmt::print("mblab serve: gateway on {} to {}; stop with Ctrl-C\n", where, options.gateway);
     } else {
-        fmt::print("mblab serve: {} {} on {}, {}; stop with Ctrl-C\n",
-                   devices.size() > 1
-                       ? fmt::format("{} {}", devices.size(), first_device.profile().name)
-                       : first_device.profile().name,
-                   devices.size() > 1 ? "devices" : "profile", where, describe_units(first_device));
+        fmt::print(
+            "mblab serve: {} {} on {}, {}; stop with Ctrl-C\n",
+            devices.size() > 1 ? fmt::format("{} {}", devices.size(), first_device.profile().name)
+                               : first_device.profile().name,
+            devices.size() > 1 ? "devices" : "profile", where,
+            first_device.addressing(rtu_over_tcp ? device::Link::Serial : device::Link::Tcp));
     }
     std::fflush(stdout);
     const auto connections = [&servers] {

@@ -32,10 +32,8 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
         status = kExitFailed;
         io.stop();
     });
-    // Serial addressing: 0 is a broadcast; addresses without a unit are not answered.
-    fmt::print("mblab serve: {} profile on {}, addresses {}; stop with Ctrl-C\n",
-               device.profile().name, transport::format_serial_url(url),
-               fmt::join(device.unit_ids(), ","));
+    fmt::print("mblab serve: {} profile on {}, {}; stop with Ctrl-C\n", device.profile().name,
+               transport::format_serial_url(url), device.addressing(device::Link::Serial));
     std::fflush(stdout);
     std::string error;
     if (live && !live->start(

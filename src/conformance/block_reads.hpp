@@ -28,7 +28,7 @@ struct BlockRun {
     std::string how;                 // "one request at a time", "pipelined 16 deep", ...
 };
 
-// Sends the reads and checks every answer is "{tid} 00 00 {len} {unit} 03 {2n} XX*2n" (seed 000
+// Sends the reads and checks every answer is "{tid} 00 00 {len} {unit} 03 {2n} XX*2n" (CTP
 // 7.5.2.6). With the session's pipeline depth at 1 (the default) the reads go as the policy
 // writes them: transaction id 0, one outstanding. Deeper, they are numbered, answers are paired
 // by transaction id in whatever order they come ([TCPG]), and an exception 06 (busy) answer is

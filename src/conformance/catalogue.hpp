@@ -33,7 +33,7 @@ struct Step {
 
 struct Case {
     std::string id;
-    std::string source;  // "seed 000 7.3.1", "PROTOCOL.md bad input 6", ...
+    std::string source;  // "CTP 7.3.1", "APP 6.11; CVE-2019-14462": docs/references.md
     std::string title;
     std::string procedure;  // empty for request/expect cases
     std::map<std::string, std::int64_t> params;

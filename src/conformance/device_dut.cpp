@@ -36,8 +36,8 @@ bool writable(const device::UnitSpec& spec, device::BankKind kind, std::uint32_t
     return false;
 }
 
-// A read-only address whose writes the unit refuses with an exception (seed 002); lenient units
-// accept and ignore such writes, so they declare none.
+// A read-only address whose writes the unit refuses with an exception [EPS Access to Variables];
+// lenient units accept and ignore such writes, so they declare none.
 std::optional<std::uint16_t> refused_read_only(const device::UnitSpec& spec,
                                                device::BankKind kind) {
     if (!spec.access_policy.write_read_only) return std::nullopt;

@@ -14,7 +14,7 @@ namespace mblab::conformance {
 namespace {
 
 constexpr std::uint32_t kAddressSpace = 65536;
-constexpr std::uint16_t kPolicyOutOfRange = 0x8001;  // seed 000 9.1.2.2
+constexpr std::uint16_t kPolicyOutOfRange = 0x8001;  // CTP 9.1.2.2
 
 std::vector<std::uint8_t> be16(std::uint32_t value) {
     return {static_cast<std::uint8_t>(value >> 8), static_cast<std::uint8_t>(value & 0xFF)};
@@ -54,7 +54,7 @@ std::optional<std::int64_t> number_of(const Dut& dut, std::string_view name) {
     return std::nullopt;
 }
 
-// Seed 000 9.1.2: 0x8001 unless that offset is valid; then the first offset past the end, or,
+// CTP 9.1.2: 0x8001 unless that offset is valid; then the first offset past the end, or,
 // when all 65536 offsets are valid, a two-register read from the last one.
 std::vector<std::uint8_t> out_of_range_read(const Dut& dut) {
     std::uint32_t offset = kPolicyOutOfRange;

@@ -10,7 +10,7 @@
 #include "protocol/result.hpp"
 #include "security/tls_context.hpp"
 
-// What is declared about the device under test (seed 000 section 6, plus the facts extended
+// What is declared about the device under test (CTP section 6, plus the facts extended
 // suites need). Anything not declared stays empty, and cases that need it are N/A.
 namespace mblab::conformance {
 
@@ -48,7 +48,7 @@ struct Dut {
     std::optional<std::uint16_t> fifo_address;
     bool fifo_count_writable = false;  // FC 06 may set the FIFO's count register (fc18.2)
     std::optional<std::uint16_t> file_number;
-    std::optional<std::uint16_t> echo_max_words;  // FC 08/00 data limit (seed 001: 100)
+    std::optional<std::uint16_t> echo_max_words;  // FC 08/00 data limit (INSTR 5.7.1: 100)
 
     // Empty over Modbus/TCP; "RTU", "ASCII" or "RTU over TCP" when the tester reaches the device
     // over a serial framing, where cases that require "mbap" are N/A.
@@ -71,7 +71,7 @@ const std::vector<std::string_view>& dut_keys();
 protocol::Result<Dut, std::string> load_dut_file(const std::string& path);
 
 // Facts as placeholders see them: {unit} (1 byte) and 16-bit values, plus computed ones:
-//   {out_of_range_registers}  offset and count for seed 000 9.1.2 (4 bytes)
+//   {out_of_range_registers}  offset and count for CTP 9.1.2 (4 bytes)
 //   {echo_max_data} / {echo_over_data}  FC 08 data words at and one past the echo limit
 class DutFacts : public FactSource {
   public:

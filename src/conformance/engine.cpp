@@ -573,6 +573,13 @@ Outcome Engine::run_steps(const Case& c, bool& fresh) {
             } else {
                 reason = describe_failure(exchange);
                 if (silent && !step.silence) reason += session_.no_answer_hint(resolved.request);
+                // 01 where the case's document asks for an answer: a function the device lacks,
+                // which that section requires (unless the device serves it after all).
+                if (is_exception(exchange, protocol::ExceptionCode::IllegalFunction) &&
+                    !served_anyway(asked)) {
+                    reason += fmt::format(": the device does not serve {}, which {} requires",
+                                          service_name(asked), c.source);
+                }
             }
             fail_step(i, std::move(reason), judgement.exchange);
             break;

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "conformance/evidence_text.hpp"
+#include "conformance/references.hpp"
 #include "conformance/reports.hpp"
 
 namespace mblab::conformance {
@@ -28,6 +29,9 @@ std::string testcase(const std::string& suite, const CaseResult& c) {
                                      xml_escape(outcome.reason));
         case Verdict::Fail: {
             std::string body = fmt::format("{} ({})\n", c.source, outcome.reason);
+            // A CI page has no docs/references.md beside it: the documents by name.
+            if (const auto full = cited_in_full(c.source); full != c.source)
+                body += fmt::format("cites {}\n", full);
             for (const auto& exchange : outcome.evidence) {
                 for (const auto& line : evidence_lines(exchange))
                     body += line + "\n";

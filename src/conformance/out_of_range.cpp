@@ -5,7 +5,7 @@
 #include "conformance/procedures.hpp"
 #include "conformance/session.hpp"
 
-// Seed 000 9.1.2: a read at 0x8001 answers exception 02, unless 0x8001 is a register of the
+// CTP 9.1.2: a read at 0x8001 answers exception 02, unless 0x8001 is a register of the
 // device; then (the policy's note) a read past the highest register is used. With the register
 // count declared that offset is known before the run. Without it, the policy's request goes
 // first, and only when 0x8001 answers data does a read of two registers from 0xFFFF, past the
@@ -17,7 +17,7 @@ namespace {
 constexpr std::uint8_t kReadHolding = 0x03;
 constexpr std::uint8_t kIllegalDataAddress = 0x02;
 constexpr std::uint32_t kAddressSpace = 65536;
-constexpr std::uint16_t kPolicyOffset = 0x8001;  // seed 000 9.1.2.2
+constexpr std::uint16_t kPolicyOffset = 0x8001;  // CTP 9.1.2.2
 
 struct Read {
     std::uint16_t offset = 0;

@@ -18,7 +18,7 @@
 #include "conformance/procedures.hpp"
 #include "conformance/session.hpp"
 
-// Seed 000 7.2: ten 32-byte ICMP echo requests must all be answered, over ICMPv6 when the device
+// CTP 7.2: ten 32-byte ICMP echo requests must all be answered, over ICMPv6 when the device
 // is reached over IPv6. An unprivileged ICMP datagram socket works where
 // net.ipv4.ping_group_range includes our group (it governs ICMPv6 datagram sockets too); a raw
 // socket needs root or CAP_NET_RAW. With neither, the case is NOT RUN rather than guessed.

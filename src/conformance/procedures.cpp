@@ -9,7 +9,7 @@ namespace mblab::conformance {
 const std::vector<ProcedureInfo>& procedures() {
     static const std::vector<ProcedureInfo> list = {
         {"ping",
-         "ICMP echo requests to the device's host; all must be answered (seed 000 7.2)",
+         "ICMP echo requests to the device's host; all must be answered (CTP 7.2)",
          {{"count", 10}, {"payload", 32}, {"timeout_ms", 1000}},
          {},
          false,
@@ -17,14 +17,14 @@ const std::vector<ProcedureInfo>& procedures() {
          nullptr},
         {"register_sweep",
          "FC 03 reads of every size from 0, then in maximal blocks, then shrinking to the last "
-         "register; checks length field, byte count and register count (seed 000 7.5.2)",
+         "register; checks length field, byte count and register count (CTP 7.5.2)",
          {},
          {"registers"},
          true,
          &run_register_sweep,
          nullptr},
         {"semi_signature_scan",
-         "FC 03 reads in blocks until 5345 4D49 5F72 appear in consecutive registers (seed 000 "
+         "FC 03 reads in blocks until 5345 4D49 5F72 appear in consecutive registers (CTP "
          "7.13.2)",
          {{"block", 125}},
          {},
@@ -33,7 +33,7 @@ const std::vector<ProcedureInfo>& procedures() {
          nullptr},
         {"out_of_range_read",
          "FC 03 at 0x8001 answers 02; when 0x8001 is a register, a read past the highest one "
-         "(declared count, else 2 registers from 0xFFFF) decides (seed 000 9.1.2 and its note)",
+         "(declared count, else 2 registers from 0xFFFF) decides (CTP 9.1.2 and its note)",
          {},
          {},
          true,

@@ -6,7 +6,7 @@
 #include "conformance/catalogue.hpp"
 #include "conformance/procedures.hpp"
 
-// Seed 000 7.5.2: read every count from offset 0, then the whole memory in maximal blocks, then
+// CTP 7.5.2: read every count from offset 0, then the whole memory in maximal blocks, then
 // shrinking reads that end at the last register. Every answer must carry the right length field,
 // byte count and number of registers, and none may be an exception.
 namespace mblab::conformance {

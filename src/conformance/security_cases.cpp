@@ -131,7 +131,7 @@ Bytes read_register_zero(std::uint16_t transaction, std::uint8_t unit) {
 }
 
 // The role cases read and write holding register 0x0010, where the policy's write cases write
-// (seed 000 7.8.1): a device that passes the policy has it writable.
+// (CTP 7.8.1): a device that passes the policy has it writable.
 constexpr std::uint8_t kRoleRegister = 0x10;
 
 Bytes read_role_register(std::uint16_t transaction, std::uint8_t unit) {

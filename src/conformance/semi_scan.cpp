@@ -7,7 +7,7 @@
 #include "conformance/catalogue.hpp"
 #include "conformance/procedures.hpp"
 
-// Seed 000 7.13.2: read the register memory in blocks of up to 125 until 0x5345 0x4D49 0x5F72
+// CTP 7.13.2: read the register memory in blocks of up to 125 until 0x5345 0x4D49 0x5F72
 // ("SE", "MI" and their zero-sum checksum) are found in consecutive registers.
 namespace mblab::conformance {
 

@@ -8,7 +8,7 @@
 #include "device/profile.hpp"
 #include "protocol/request.hpp"
 
-// FC 5B SEMI object messaging (seed 000 7.13): "get attribute" on the profile's objects. Every
+// FC 5B SEMI object messaging (CTP 7.13): "get attribute" on the profile's objects. Every
 // request the function can carry gets a service response: data, or a service error code with
 // the request's parameters echoed, answered with service code + 1.
 namespace mblab::device {

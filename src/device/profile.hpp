@@ -55,13 +55,13 @@ struct IdentitySpec {
     std::vector<IdentityObject> objects;  // sorted by id, ids unique, values <= 244 bytes
     std::array<bool, 5> read_codes{false, true, true, true, true};  // index = read device id code
     // Stream access (codes 01..03) naming an object the device lacks: restart at object 0 as
-    // [APP] says, or answer exception 02 as seed 001's instrument does.
+    // [APP] says, or answer exception 02 as the instrument of [INSTR 5.7.1] does.
     bool unknown_object_restarts = true;
 };
 
 struct DiagnosticsSpec {
     std::vector<std::uint16_t> sub_functions;  // supported, sorted; others answer exception 01
-    // Sub-function 00 data length in 16-bit words; outside: exception 03 (seed 001: 1..100).
+    // Sub-function 00 data length in 16-bit words; outside: exception 03 (INSTR 5.7.1: 1..100).
     std::optional<std::uint16_t> echo_min_words;
     std::optional<std::uint16_t> echo_max_words;
     std::uint16_t diagnostic_register = 0;
@@ -134,7 +134,7 @@ struct Profile {
     std::vector<UnitSpec> units;  // at least one, unique ids inside [min_address, max_address]
     std::uint64_t fault_seed = 1;
     std::uint64_t behaviour_seed = 1;  // random and random-walk behaviours draw from it
-    UnmatchedUnit unmatched_unit = UnmatchedUnit::FirstUnit;
+    UnmatchedUnit unmatched_unit = UnmatchedUnit::Ignore;
     std::uint8_t min_address = 1;
     std::uint8_t max_address = 247;
     // [[role]] tables: what each Modbus/TCP Security role may do (mbaps:// only).

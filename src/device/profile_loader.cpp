@@ -14,7 +14,7 @@ namespace {
 constexpr std::array<std::string_view, kBankKinds> kBankKeys = {
     "coils", "discrete_inputs", "holding_registers", "input_registers"};
 
-// The SEMI alternate encoding ([TCPG] appendix A, seed 000 7.13.2): "SE", "MI", zero-sum.
+// The SEMI alternate encoding (CTP 7.13.2): "SE", "MI", zero-sum.
 constexpr std::array<std::uint16_t, 3> kSemiSignature = {0x5345, 0x4D49, 0x5F72};
 
 struct PlacedRange {

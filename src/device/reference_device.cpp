@@ -314,6 +314,33 @@ void ReferenceDevice::count_busy_reply(std::uint8_t id) {
     }
 }
 
+std::string ReferenceDevice::addressing(Link link) const {
+    const auto ids = unit_ids();
+    std::string list;
+    for (std::size_t i = 0; i < ids.size(); ++i)
+        list += (i ? "," : "") + std::to_string(ids[i]);
+    if (link == Link::Serial) {
+        return (ids.size() == 1 ? "address " : "addresses ") + list +
+               " (0 is a broadcast; other addresses are not answered)";
+    }
+    const std::string units = (ids.size() == 1 ? "unit " : "units ") + list;
+    const std::string first = std::to_string(ids.front());
+    std::string others = "other unit ids are not answered";
+    switch (profile_.unmatched_unit) {
+        case UnmatchedUnit::FirstUnit:
+            return units + " (0, 255 and every other unit id answer as " + first + ")";
+        case UnmatchedUnit::Ignore:
+            break;
+        case UnmatchedUnit::PathUnavailable:
+            others = "other unit ids are answered exception 0A, as by a gateway";
+            break;
+        case UnmatchedUnit::TargetFailed:
+            others = "other unit ids are answered exception 0B, as by a gateway";
+            break;
+    }
+    return units + " (0 and 255 answer as " + first + "; " + others + ")";
+}
+
 std::vector<std::uint8_t> ReferenceDevice::unit_ids() const {
     std::vector<std::uint8_t> ids;
     for (const auto& unit : units_)

@@ -33,7 +33,7 @@ struct UnitStats {
     bool listen_only = false;
 };
 
-// What a tester is told about a unit before it runs (seed 000 6.4-6.6).
+// What a tester is told about a unit before it runs (CTP 6.4-6.6).
 struct UnitDeclaration {
     std::uint8_t unit = 0;
     std::uint16_t max_read_registers = 125;
@@ -82,6 +82,9 @@ class ReferenceDevice final : public RequestHandler {
 
     const Profile& profile() const { return profile_; }
     std::vector<std::uint8_t> unit_ids() const;
+    // Which unit ids (TCP) or addresses (a line) are answered, as route() decides it: "unit 1
+    // (0 and 255 answer as 1; other unit ids are not answered)". For `mblab serve`'s banner.
+    std::string addressing(Link link) const;
     // nullopt when the profile has no such unit.
     std::optional<UnitDeclaration> declaration(std::uint8_t unit) const;
     UnitDeclaration declaration() const;  // of the first unit

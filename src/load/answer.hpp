@@ -13,7 +13,7 @@
 // built afterwards with judge(), from the same patterns.
 namespace mblab::load {
 
-// The kinds of failure a load run counts (seed 000 8.4: "no detected failures anywhere").
+// The kinds of failure a load run counts (CTP 8.4: "no detected failures anywhere").
 enum class FailureKind : std::uint8_t {
     Timeout,              // no whole answer before --timeout
     Malformed,            // an answer that is not a valid Modbus/TCP response

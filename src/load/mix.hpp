@@ -12,7 +12,7 @@
 //   fc3:125=70,fc16:10=20,fc1:100@512=10
 // Each entry is fcCODE[:QUANTITY][@ADDRESS][=WEIGHT]. CODE is decimal (fc16 is 0x10) or hex
 // with 0x; QUANTITY is registers or bits (default 1); ADDRESS defaults to 0 for reads and to
-// 0x0010 for writes (seed 000 7.8.1.1 keeps writes off the first registers, where a SEMI
+// 0x0010 for writes (CTP 7.8.1.1 keeps writes off the first registers, where a SEMI
 // signature may sit); WEIGHT is the entry's share of requests (default 1).
 namespace mblab::load {
 

@@ -19,7 +19,7 @@
 #include "protocol/mbap_header.hpp"
 #include "protocol/result.hpp"
 
-// What a load run (`mblab load`, seed 000 section 8) repeats, against which nodes, how hard.
+// What a load run (`mblab load`, CTP section 8) repeats, against which nodes, how hard.
 namespace mblab::load {
 
 inline constexpr std::size_t kNoCase = std::numeric_limits<std::size_t>::max();
@@ -28,7 +28,7 @@ inline constexpr std::size_t kNoCase = std::numeric_limits<std::size_t>::max();
 // transaction id 00 00; the runner writes its own id over it on the wire.
 struct LoadExchange {
     std::string name;                   // "7.3.1", "fc16.3 step 2", "fc3:125"
-    std::string source;                 // "seed 000 7.3.1", "--mix"
+    std::string source;                 // "CTP 7.3.1", "--mix"
     std::vector<std::uint8_t> request;  // the whole ADU
     std::vector<conformance::ResolvedPattern>
         expect;                          // alternatives, for the evidence of a failure
@@ -66,7 +66,7 @@ struct LoadTarget {
 };
 
 struct LoadSettings {
-    std::chrono::milliseconds duration{std::chrono::hours(1)};  // seed 000 8.4
+    std::chrono::milliseconds duration{std::chrono::hours(1)};  // CTP 8.4
     std::size_t connections = 8;  // traffic generator connections, spread over the nodes
     double rate = 0;              // requests/s over every connection; 0: as fast as answered
     std::size_t pipeline = 1;     // requests in flight per generator connection

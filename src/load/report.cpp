@@ -147,7 +147,7 @@ json node_json(const LoadPlan& plan, const LoadResult& result, const NodeResult&
 
 std::string load_header(const LoadPlan& plan) {
     const auto& s = plan.settings;
-    std::string out = fmt::format("mblab load: {} for {} (seed 000 section 8: interoperability)\n",
+    std::string out = fmt::format("mblab load: {} for {} (CTP 8: interoperability)\n",
                                   plural(plan.targets.size(), "node", "nodes"),
                                   format_duration_words(s.duration));
     if (s.tests && plan.test_exchanges > 0) {
@@ -254,7 +254,7 @@ std::string load_summary(const LoadPlan& plan, const LoadResult& result) {
                        result.answered(), elapsed, rate(result.answered(), result.elapsed));
     switch (result.verdict()) {
         case LoadVerdict::Pass:
-            out += fmt::format("PASS: no failure on {} in {} under load (seed 000 8.4)\n",
+            out += fmt::format("PASS: no failure on {} in {} under load (CTP 8.4)\n",
                                plural(result.nodes.size(), "node", "nodes"),
                                format_duration_words(plan.settings.duration));
             break;
@@ -273,7 +273,7 @@ std::string load_summary(const LoadPlan& plan, const LoadResult& result) {
         }
         case LoadVerdict::Incomplete:
             out += fmt::format(
-                "INCOMPLETE: stopped after {:.1f} s of {}; no failure so far, but seed 000 8.4 "
+                "INCOMPLETE: stopped after {:.1f} s of {}; no failure so far, but CTP 8.4 "
                 "asks for the whole duration\n",
                 elapsed, format_duration_words(plan.settings.duration));
             break;
@@ -287,12 +287,11 @@ conformance::RunResult load_as_run(const LoadPlan& plan, const LoadResult& resul
                                           : plural(result.nodes.size(), "node", "nodes");
     run.elapsed = result.elapsed;
     run.requests = result.sent();
-    conformance::SuiteResult suite{
-        "load", "Interoperability test under load (seed 000 section 8)", "", {}};
+    conformance::SuiteResult suite{"load", "Interoperability test under load (CTP 8)", "", {}};
     for (const auto& node : result.nodes) {
         conformance::CaseResult c;
         c.id = node.target;
-        c.source = "seed 000 8.4";
+        c.source = "CTP 8.4";
         c.title = fmt::format("no failure for {} under load",
                               format_duration_words(plan.settings.duration));
         c.elapsed = result.elapsed;

@@ -15,7 +15,7 @@
 
 namespace mblab::load {
 
-// Seed 000 8.4: PASS only with no failure anywhere for the whole duration. A run stopped early
+// CTP 8.4: PASS only with no failure anywhere for the whole duration. A run stopped early
 // without failures is INCOMPLETE: it did not show what the policy asks.
 enum class LoadVerdict : std::uint8_t { Pass, Fail, Incomplete };
 

@@ -5,7 +5,7 @@
 
 namespace mblab::protocol {
 
-// Public function codes of [APP] plus 0x5B (SEMI object messaging, seed 000 7.13). Each has a
+// Public function codes of [APP] plus 0x5B (SEMI object messaging, CTP 7.13). Each has a
 // row in kFunctionTable (function_table.hpp) that holds what mblab knows about it.
 enum class FunctionCode : std::uint8_t {
     ReadCoils = 0x01,

@@ -49,7 +49,7 @@ constexpr PduLayout shaped(PduShape shape) {
 
 // What a unit does with a request to serial address 0.
 enum class Broadcast : std::uint8_t {
-    Ignore,   // seed 001: reads and self-diagnostics do not run on broadcast
+    Ignore,   // INSTR 5.7.1: reads and self-diagnostics do not run on broadcast
     Execute,  // [SER]: a broadcast carries a write
 };
 

@@ -3,7 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 
-// Limits of [APP] and [TCPG] as PROTOCOL.md lists them.
+// Limits of [APP] and [TCPG] (docs/references.md).
 namespace mblab::protocol::limits {
 
 inline constexpr std::size_t kMaxPdu = 253;
@@ -36,7 +36,7 @@ inline constexpr std::uint8_t kMaxWriteFileRecordByteCount = 0xFB;
 inline constexpr std::uint8_t kMinReadDeviceIdCode = 0x01;
 inline constexpr std::uint8_t kMaxReadDeviceIdCode = 0x04;
 inline constexpr std::uint8_t kReadDeviceIdIndividual = 0x04;
-// FC 5B: protocol, class, instance and service code follow the fragment byte count (seed 000
+// FC 5B: protocol, class, instance and service code follow the fragment byte count (CTP
 // 7.13.1.4); a response adds the service error code (7.13.1.5).
 inline constexpr std::size_t kMinObjectMessagingRequestFragment = 7;
 inline constexpr std::size_t kMinObjectMessagingResponseFragment = 9;

@@ -78,7 +78,7 @@ Result<Variant> decode_fixed(FieldReader& reader, void (*read)(FieldReader&, Mes
     return finish<Variant>(reader, message);
 }
 
-// FC 5B, request or response: the fragment byte count counts every byte after it (seed 000
+// FC 5B, request or response: the fragment byte count counts every byte after it (CTP
 // 7.13.1.4) and must cover at least the fields both directions carry.
 template <class Message>
 void read_object_messaging_header(FieldReader& reader, Message& message, std::size_t min_fragment,

@@ -119,7 +119,7 @@ struct EncapsulatedRequest {  // 2B with MEI 0D (CANopen), carried as opaque byt
     std::span<const std::uint8_t> data;
 };
 
-struct ObjectMessagingRequest {  // 5B, seed 000 7.13.1.4
+struct ObjectMessagingRequest {  // 5B, CTP 7.13.1.4
     std::uint8_t fragment_byte_count = 0;
     std::uint8_t fragment_protocol = 0;
     std::uint16_t class_id = 0;

@@ -123,7 +123,7 @@ struct EncapsulatedResponse {  // 2B with MEI 0D, opaque
     std::span<const std::uint8_t> data;
 };
 
-struct ObjectMessagingResponse {  // 5B, seed 000 7.13.1.5
+struct ObjectMessagingResponse {  // 5B, CTP 7.13.1.5
     std::uint8_t fragment_byte_count = 0;
     std::uint8_t fragment_protocol = 0;
     std::uint16_t class_id = 0;

@@ -14,7 +14,7 @@
 // connections. A step is the unit that minimisation removes and that a reproducer line holds.
 namespace mblab::robustness {
 
-// The bad-input classes of PROTOCOL.md "Bad input a server must survive" that a tester can try
+// The bad-input classes (docs/robustness.md, "What is tried") that a tester can try
 // over Modbus/TCP or a serial line, plus the seeded mutation that follows them.
 enum class BadInput : std::uint8_t {
     ProtocolId,       // 1: protocol id other than 0

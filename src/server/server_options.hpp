@@ -20,7 +20,7 @@ struct ServerOptions {
     // ends slowloris clients that send part of a header and go quiet. 0: never.
     std::chrono::milliseconds idle_timeout{60'000};
     // How long an unfinished frame may wait for its missing bytes before it is answered with
-    // exception 03 (seed 000 9.1.3) and dropped, so the stream stays in step. A connection that
+    // exception 03 (CTP 9.1.3) and dropped, so the stream stays in step. A connection that
     // has completed no request and sent no answer for this long while it is not idle counts as
     // stalled: a full server closes it first to admit a newcomer.
     std::chrono::milliseconds partial_frame_timeout{250};

@@ -20,7 +20,7 @@ void UnfinishedMbapFrame::add(std::span<const std::uint8_t> bytes,
 
 void UnfinishedMbapFrame::begin_overlong(const protocol::MbapHeader& header,
                                          Clock::time_point started) {
-    // Seed 000 9.1.3 sends length 0xFF with a 6-byte body: it waits for the body like any
+    // CTP 9.1.3 sends length 0xFF with a 6-byte body: it waits for the body like any
     // unfinished frame, then is answered 03 and the stream carries on.
     clear();
     header_ = header;

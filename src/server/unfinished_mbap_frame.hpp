@@ -12,7 +12,7 @@
 namespace mblab::server {
 
 // The start of a Modbus/TCP frame whose bytes have not all come, remembered so that it can be
-// answered 03 [seed 000 9.1.3] once its wait runs out: the framer holds the bytes, this keeps
+// answered 03 [CTP 9.1.3] once its wait runs out: the framer holds the bytes, this keeps
 // the header, the function code and when the frame began. It also stands in for the framer while
 // the body of an overlong header (MBAP length over 254, which the framer gives up on) is skipped.
 class UnfinishedMbapFrame {

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "conformance/evidence_text.hpp"
+#include "conformance/references.hpp"
 #include "web/page.hpp"
 
 namespace mblab::web {
@@ -33,6 +34,20 @@ std::string marked_line(const std::string& line, const std::vector<std::size_t>&
         if (marked[i] && (i == 0 || !marked[i - 1])) out += "<mark class=\"diff\">";
         out += html_escape(std::string_view(&line[i], 1));
         if (marked[i] && (i + 1 == line.size() || !marked[i + 1])) out += "</mark>";
+    }
+    return out;
+}
+
+// Each citation of a case's source links to its document, the section in the link's title (the
+// documents are PDFs without anchors; RFCs have them).
+std::string source_html(std::string_view source) {
+    std::string out;
+    for (const auto& citation : conf::citations(source)) {
+        if (!out.empty()) out += "; ";
+        out += citation.url.empty()
+                   ? html_escape(citation.text)
+                   : fmt::format("<a href=\"{}\" title=\"{}\">{}</a>", html_escape(citation.url),
+                                 html_escape(citation.title), html_escape(citation.text));
     }
     return out;
 }
@@ -86,7 +101,7 @@ std::string case_table(const conf::SuiteResult& suite) {
             "<td class=\"{}\">{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
             html_escape(conf::verdict_label(outcome.verdict)), html_escape(c.id), html_escape(c.id),
             verdict_class(outcome.verdict), html_escape(conf::verdict_label(outcome.verdict)),
-            html_escape(c.title), html_escape(outcome.reason), html_escape(c.source));
+            html_escape(c.title), html_escape(outcome.reason), source_html(c.source));
         if (!outcome.evidence.empty()) {
             out += "<tr><td></td><td colspan=\"4\">";
             for (const auto& exchange : outcome.evidence)

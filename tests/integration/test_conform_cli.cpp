@@ -189,12 +189,12 @@ TEST(ConformCli, AUserSuiteRunsAgainstTheReferenceDevice) {
 TEST(ConformCli, ListPrintsTheCatalogue) {
     auto ran = mblab({"conform", "--list", "--suite", "policy-2.1"});
     EXPECT_EQ(ran.status, 0);
-    EXPECT_NE(ran.out.find("  9.1.3   Improper message length answers exception 03  (seed 000 "
+    EXPECT_NE(ran.out.find("  9.1.3   Improper message length answers exception 03  (CTP "
                            "9.1.3)\n"),
               std::string::npos)
         << ran.out;
     EXPECT_NE(ran.out.find("  7.5.2   Multiple register test: the register sweep "
-                           "[register_sweep]  (seed 000 7.5.2)\n"),
+                           "[register_sweep]  (CTP 7.5.2)\n"),
               std::string::npos);
 }
 

@@ -164,7 +164,7 @@ TEST(ConformReportsCli, CaseRunsOnlyTheMatchingCasesAndWhatTheyDependOn) {
 TEST(ConformReportsCli, ACaseBringsTheCasesItDependsOn) {
     auto ran = mblab({"conform", "--list", "--suite", "policy-2.1", "--case", "7.13.2"});
     EXPECT_EQ(ran.status, 0) << ran.err;
-    EXPECT_NE(ran.out.find("\n  7.5.1   Function 0x03 read multiple registers  (seed 000 7.5.1)\n"
+    EXPECT_NE(ran.out.find("\n  7.5.1   Function 0x03 read multiple registers  (CTP 7.5.1)\n"
                            "  7.13.2  Alternate encoding"),
               std::string::npos)
         << ran.out;
@@ -194,8 +194,8 @@ TEST(ConformReportsCli, AnUnknownProfileNameListsTheShippedOnes) {
     EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.err,
               "mblab conform: --profile: no profile file or shipped profile named "
-              "'no-such-profile' (shipped: access-ranges, instrument-seed001, moving, "
-              "multi-unit, reference)\n");
+              "'no-such-profile' (shipped: access-ranges, moving, multi-unit, "
+              "reference, rs485-instrument)\n");
     EXPECT_EQ(ran.out, "");
 }
 

@@ -90,12 +90,12 @@ TEST(ConformSerial, PingIsNotApplicableOnASerialLine) {
         << ran.out;
 }
 
-TEST(ConformSerial, TheSeed001InstrumentAnswersItsDiagnosticsOverRtu) {
+TEST(ConformSerial, TheRs485InstrumentAnswersItsDiagnosticsOverRtu) {
     DeviceOnLine line;
-    ASSERT_EQ(line.start("instrument-seed001", "rtu", 19200, false), "");
-    const std::string dut = temp_path("seed001.toml");
+    ASSERT_EQ(line.start("rs485-instrument", "rtu", 19200, false), "");
+    const std::string dut = temp_path("rs485-instrument.toml");
     std::ofstream(dut) << "unit = 1\necho_max_words = 100\n";
-    const std::string json = temp_path("seed001.json");
+    const std::string json = temp_path("rs485-instrument.json");
     auto ran = run_mblab({"conform", line_url("rtu", line.pty(), 19200), "--dut", dut, "--suite",
                           "diagnostics", "--suite", "device-id", "--json", json});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;

@@ -68,11 +68,62 @@ TEST(ServeCommand, PrintsWhereItListensAndExitsZeroOnSigterm) {
     EXPECT_TRUE(std::regex_match(serve.line(),
                                  std::regex("mblab serve: reference profile on "
                                             "tcp://127\\.0\\.0\\.1:[0-9]+, unit 1 \\(0 and 255 "
-                                            "answer as 1\\); stop with Ctrl-C")))
+                                            "answer as 1; other unit ids are not answered\\); "
+                                            "stop with Ctrl-C")))
         << serve.line();
     auto client = serve.connect();
     EXPECT_EQ(client.transact("00 01 00 00 00 06 01 03 00 00 00 01"),
               "00 01 00 00 00 05 01 03 02 53 45");
+    EXPECT_EQ(serve.terminate(), 0);
+}
+
+// A single device reached directly [TCPG 4.4.1.2]: its own unit, and 0 and 255 as itself. Any
+// other unit id gets no answer (a gateway would answer 0B), so a client's wrong --unit shows.
+TEST(ServeCommand, AnswersItsUnitAnd0And255AndLeavesOtherUnitIdsUnanswered) {
+    Serve serve({"--listen", "tcp://127.0.0.1:0"});
+    ASSERT_EQ(serve.ports().size(), 1U) << serve.line();
+    auto client = serve.connect();
+    for (const std::string unit : {"01", "00", "FF"}) {
+        EXPECT_EQ(client.transact("00 01 00 00 00 06 " + unit + " 03 00 00 00 01"),
+                  "00 01 00 00 00 05 " + unit + " 03 02 53 45")
+            << unit;
+    }
+    for (const std::string unit : {"09", "02", "F7", "FE"})
+        EXPECT_EQ(client.transact("00 02 00 00 00 06 " + unit + " 03 00 00 00 01", 300ms), "");
+    // Unanswered, not out of step: the connection serves the next request.
+    EXPECT_EQ(client.transact("00 03 00 00 00 06 01 03 00 00 00 01"),
+              "00 03 00 00 00 05 01 03 02 53 45");
+    const std::string target = tcp_target(serve.ports().front());
+    const Ran nine =
+        run_mblab({"read", target, "holding", "0", "--unit", "9", "--timeout", "300ms"});
+    EXPECT_NE(nine.status, 0) << nine.out;
+    for (const char* unit : {"1", "0", "255"}) {
+        const Ran ran =
+            run_mblab({"read", target, "holding", "0", "--unit", unit, "--timeout", "300ms"});
+        EXPECT_EQ(ran.status, 0) << unit << ": " << ran.err;
+    }
+    EXPECT_EQ(serve.terminate(), 0);
+}
+
+// A profile of several units answers each of them; its other unit ids follow its
+// unmatched_unit (multi-unit: exception 0A, as a gateway).
+TEST(ServeCommand, AProfileOfSeveralUnitsAnswersEachOfThem) {
+    Serve serve({"multi-unit", "--listen", "tcp://127.0.0.1:0"});
+    ASSERT_EQ(serve.ports().size(), 1U) << serve.line();
+    EXPECT_NE(serve.line().find("units 1,2,17 (0 and 255 answer as 1; other unit ids are "
+                                "answered exception 0A, as by a gateway)"),
+              std::string::npos)
+        << serve.line();
+    auto client = serve.connect();
+    for (const std::string unit : {"01", "02", "11", "00", "FF"}) {
+        // Each unit has a map of its own: register 0 may be data or exception 02, never 0A.
+        const auto answer = client.transact("00 01 00 00 00 06 " + unit + " 03 00 00 00 01");
+        ASSERT_GE(answer.size(), 20U) << unit;
+        EXPECT_EQ(answer.substr(0, 20), "00 01 00 00 00 0" + answer.substr(16, 1) + " " + unit)
+            << unit << ": " << answer;
+        EXPECT_EQ(answer.find(" 83 0A"), std::string::npos) << unit;
+    }
+    EXPECT_EQ(client.transact("00 02 00 00 00 06 09 03 00 00 00 01"), "00 02 00 00 00 03 09 83 0A");
     EXPECT_EQ(serve.terminate(), 0);
 }
 

@@ -25,7 +25,7 @@ TEST(CatalogueLoader, LoadsShorthandStepsAlternativesAndProcedures) {
     auto suite = load_suite_text(std::string(kHeader) + R"(
 [[case]]
 id = "a"
-source = "seed 000 9.1.4"
+source = "CTP 9.1.4"
 title = "alternatives"
 request = "00 00 00 00 {len} {unit} 03 00 00 FF FF"
 expect = "00 00 00 00 00 03 {unit} 83 03"

@@ -41,17 +41,16 @@ RunResult sample_run() {
     run.elapsed = std::chrono::microseconds(250000);
     run.requests = 12;
     SuiteResult suite{"policy-2.1", "Policy", "policy-2.1.toml", {}};
-    suite.cases.push_back({"7.3.1", "seed 000 7.3.1", "Read coils",
+    suite.cases.push_back({"7.3.1", "CTP 7.3.1", "Read coils",
                            Outcome{Verdict::Fail, "wrong transaction id", {failed_read()}},
                            std::chrono::microseconds(1500), 1});
-    suite.cases.push_back({"7.5.1", "seed 000 7.5.1", "Read <registers> & \"more\"",
+    suite.cases.push_back({"7.5.1", "CTP 7.5.1", "Read <registers> & \"more\"",
                            Outcome{Verdict::Pass, "", {}}, std::chrono::microseconds(500), 1});
     suite.cases.push_back(
-        {"7.13.1", "seed 000 7.13.1", "Object messaging",
+        {"7.13.1", "CTP 7.13.1", "Object messaging",
          Outcome{Verdict::NotApplicable, "the DUT does not declare object_messaging", {}},
          std::chrono::microseconds(0), 0});
-    suite.cases.push_back({"7.2", "seed 000 7.2", "Ping",
-                           Outcome{Verdict::NotRun, "no ICMP socket", {}},
+    suite.cases.push_back({"7.2", "CTP 7.2", "Ping", Outcome{Verdict::NotRun, "no ICMP socket", {}},
                            std::chrono::microseconds(0), 0});
     run.suites.push_back(suite);
     return run;
@@ -204,7 +203,8 @@ TEST(JunitReport, IsTheExpectedDocument) {
       <property name="device.revision" value="0.1.0"/>
     </properties>
     <testcase classname="policy-2.1" name="7.3.1 Read coils" time="0.001500">
-      <failure message="wrong transaction id" type="FAIL">seed 000 7.3.1 (wrong transaction id)
+      <failure message="wrong transaction id" type="FAIL">CTP 7.3.1 (wrong transaction id)
+cites Conformance Test Policy for the Modbus/TCP Conformance Test Laboratory, version 2.1 (University of Michigan), 7.3.1
 sent      00 00 00 00 00 06 01 01 00 00 00 01
 received  00 01 00 00 00 04 01 01 01 00
 expected  00 00 00 00 00 04 01 01 01 XX

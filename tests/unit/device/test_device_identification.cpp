@@ -71,7 +71,7 @@ TEST(ObjectMessaging, UnknownObjectAttributeAndServiceAreServiceErrors) {
 }
 
 TEST(ObjectMessaging, DeviceWithoutFunction5BAnswersIllegalFunction) {
-    auto device = shipped_device("instrument-seed001");
+    auto device = shipped_device("rs485-instrument");
     EXPECT_EQ(ask(*device, "5B 09 00 00 01 00 01 00 07 00 01"), "DB 01");
 }
 

@@ -86,7 +86,7 @@ TEST(ProfileFiles, MissingFileNamesThePath) {
 
 TEST(ProfileFiles, EveryShippedProfileLoads) {
     for (const char* name :
-         {"reference", "instrument-seed001", "access-ranges", "multi-unit", "moving"}) {
+         {"reference", "rs485-instrument", "access-ranges", "multi-unit", "moving"}) {
         EXPECT_NE(shipped_device(name), nullptr) << name;
     }
 }

@@ -39,12 +39,37 @@ TEST(TcpRules, UnitZeroAndFFAreAnsweredByADirectServer) {
     auto device = shipped_device("reference");
     EXPECT_EQ(ask(*device, "03 00 00 00 01", 0), "03 02 53 45");
     EXPECT_EQ(ask(*device, "03 00 00 00 01", 0xFF), "03 02 53 45");
-    EXPECT_EQ(ask(*device, "03 00 00 00 01", 7), "03 02 53 45");
+}
+
+// A single device answers its own unit, 0 and 0xFF [TCPG 4.4.1.2]; other unit ids get nothing,
+// so a client's wrong unit id shows.
+TEST(TcpRules, OtherUnitIdsAreNotAnsweredByDefault) {
+    auto device = shipped_device("reference");
+    for (std::uint8_t unit : {2, 7, 9, 0xF7, 0xFE})
+        EXPECT_EQ(ask(*device, "03 00 00 00 01", unit), "NO ANSWER") << int{unit};
+    auto plain =
+        device_from("[[unit]]\nid = 5\n[[unit.holding_registers]]\nstart = 0\ncount = 4\n");
+    ASSERT_TRUE(plain);
+    EXPECT_EQ(ask(*plain, "03 00 00 00 01", 5), "03 02 00 00");
+    EXPECT_EQ(ask(*plain, "03 00 00 00 01", 6), "NO ANSWER");
+    EXPECT_EQ(plain->addressing(Link::Tcp),
+              "unit 5 (0 and 255 answer as 5; other unit ids are not answered)");
+    EXPECT_EQ(plain->addressing(Link::Serial),
+              "address 5 (0 is a broadcast; other addresses are not answered)");
+}
+
+TEST(TcpRules, FirstUnitAnswersEveryUnitIdWhenTheProfileAsks) {
+    auto device = device_from(
+        "unmatched_unit = \"first-unit\"\n[[unit]]\nid = 5\n"
+        "[[unit.holding_registers]]\nstart = 0\ncount = 4\n");
+    ASSERT_TRUE(device);
+    EXPECT_EQ(ask(*device, "03 00 00 00 01", 7), "03 02 00 00");
+    EXPECT_EQ(device->addressing(Link::Tcp), "unit 5 (0, 255 and every other unit id answer as 5)");
 }
 
 TEST(TcpRules, DiagnosticsAreServedOnTcp) {
     auto device = shipped_device("reference");
-    EXPECT_EQ(ask(*device, "08 00 00 12 34", 0xFF), "08 00 00 12 34");  // seed 000 7.10
+    EXPECT_EQ(ask(*device, "08 00 00 12 34", 0xFF), "08 00 00 12 34");  // CTP 7.10
 }
 
 class MultiUnit : public ::testing::Test {

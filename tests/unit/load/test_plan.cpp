@@ -46,7 +46,7 @@ TEST(LoadPlan, PolicyRequestResponseCasesLoop) {
                         {"9.1.3", "needs a connection of its own"}}));
     const LoadExchange& read = plan.exchanges[2];
     EXPECT_EQ(read.name, "7.5.1");
-    EXPECT_EQ(read.source, "seed 000 7.5.1");
+    EXPECT_EQ(read.source, "CTP 7.5.1");
     EXPECT_EQ(read.request, hex("00 00 00 00 00 06 01 03 00 00 00 01"));
     ASSERT_EQ(read.answers.size(), 1U);
     EXPECT_TRUE(read.answers[0].matches(hex("AB CD 00 00 00 05 01 03 02 00 00")));

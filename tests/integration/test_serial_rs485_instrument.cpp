@@ -1,5 +1,5 @@
-// Seed 001's instrument (profiles/instrument-seed001.toml) on a serial line, RTU and ASCII:
-// the FC 08 echo and FC 2B/0E limits it documents, and the addresses it ignores. The test is
+// The RS-485 instrument of [INSTR 5.7] (profiles/rs485-instrument.toml) on a serial line, RTU and
+// ASCII: the FC 08 echo and FC 2B/0E limits it documents, and the addresses it ignores. The test is
 // the serial master, writing frames byte by byte.
 #include <gtest/gtest.h>
 
@@ -21,27 +21,27 @@ std::string counting_words(int words) {
     return out;
 }
 
-class Seed001Line : public ::testing::TestWithParam<const char*> {
+class Rs485InstrumentLine : public ::testing::TestWithParam<const char*> {
   protected:
     void SetUp() override {
-        auto error = line_.start("instrument-seed001", GetParam());
+        auto error = line_.start("rs485-instrument", GetParam());
         ASSERT_EQ(error, "");
     }
     DeviceOnLine line_;
 };
 
-TEST_P(Seed001Line, EchoesOneAndOneHundredDataWords) {
+TEST_P(Rs485InstrumentLine, EchoesOneAndOneHundredDataWords) {
     EXPECT_EQ(line_.ask("01 08 00 00 12 34"), line_.wire("01 08 00 00 12 34"));
     const auto hundred = "01 08 00 00" + counting_words(100);
     EXPECT_EQ(line_.ask(hundred), line_.wire(hundred));
 }
 
-TEST_P(Seed001Line, RefusesEchoOfNoWordsOrOverOneHundredWithException03) {
+TEST_P(Rs485InstrumentLine, RefusesEchoOfNoWordsOrOverOneHundredWithException03) {
     EXPECT_EQ(line_.ask("01 08 00 00"), line_.wire("01 88 03"));
     EXPECT_EQ(line_.ask("01 08 00 00" + counting_words(101)), line_.wire("01 88 03"));
 }
 
-TEST_P(Seed001Line, ReadsBasicIdentificationAsAStreamAndObjectByObject) {
+TEST_P(Rs485InstrumentLine, ReadsBasicIdentificationAsAStreamAndObjectByObject) {
     // vendor "mblab", product code "INSTR-001", revision "1.00"; conformity 81: basic
     // identification, stream and individual access.
     EXPECT_EQ(line_.ask("01 2B 0E 01 00"), line_.wire("01 2B 0E 01 81 00 00 03"
@@ -55,7 +55,7 @@ TEST_P(Seed001Line, ReadsBasicIdentificationAsAStreamAndObjectByObject) {
     EXPECT_EQ(line_.ask("01 2B 0E 04 02"), line_.wire("01 2B 0E 04 81 00 00 01 02 04 31 2E 30 30"));
 }
 
-TEST_P(Seed001Line, RefusesOtherObjectsWith02AndOtherReadCodesWith03) {
+TEST_P(Rs485InstrumentLine, RefusesOtherObjectsWith02AndOtherReadCodesWith03) {
     EXPECT_EQ(line_.ask("01 2B 0E 04 03"), line_.wire("01 AB 02"));
     EXPECT_EQ(line_.ask("01 2B 0E 04 80"), line_.wire("01 AB 02"));
     EXPECT_EQ(line_.ask("01 2B 0E 01 03"), line_.wire("01 AB 02"));
@@ -65,13 +65,13 @@ TEST_P(Seed001Line, RefusesOtherObjectsWith02AndOtherReadCodesWith03) {
 }
 
 // Seed 001: a wrong MEI type ("sub-function") is answered AB 01.
-TEST_P(Seed001Line, RefusesOtherMeiTypeWith01) {
+TEST_P(Rs485InstrumentLine, RefusesOtherMeiTypeWith01) {
     EXPECT_EQ(line_.ask("01 2B 0F 01 00"), line_.wire("01 AB 01"));
 }
 
 // Address 0 is a broadcast, which self-diagnostics ignore; 96 is outside 1..95. Neither is
 // answered, and the line stays in step: the next request gets exactly its own answer.
-TEST_P(Seed001Line, AnswersNeitherBroadcastNorAddressOutsideItsRange) {
+TEST_P(Rs485InstrumentLine, AnswersNeitherBroadcastNorAddressOutsideItsRange) {
     EXPECT_EQ(line_.ask("00 08 00 00 12 34", 300ms), "");
     EXPECT_EQ(line_.ask("60 08 00 00 12 34", 300ms), "");
     EXPECT_EQ(line_.ask("00 2B 0E 01 00", 300ms), "");
@@ -79,7 +79,7 @@ TEST_P(Seed001Line, AnswersNeitherBroadcastNorAddressOutsideItsRange) {
     EXPECT_EQ(line_.ask("01 08 00 00 AB CD"), line_.wire("01 08 00 00 AB CD"));
 }
 
-INSTANTIATE_TEST_SUITE_P(Framing, Seed001Line, ::testing::Values("rtu", "ascii"),
+INSTANTIATE_TEST_SUITE_P(Framing, Rs485InstrumentLine, ::testing::Values("rtu", "ascii"),
                          [](const auto& info) { return std::string(info.param); });
 
 }  // namespace
