@@ -3,7 +3,7 @@
 #include <fmt/core.h>
 
 #include "cli/pdu_text.hpp"
-#include "client/adu_codec.hpp"
+#include "protocol/framer.hpp"
 
 namespace mblab::cli {
 
@@ -19,24 +19,26 @@ void FrameLog::on_frame(client::FrameDirection direction, client::Framing framin
     const bool sent = direction == client::FrameDirection::Sent;
     const char* mark = sent ? ">" : "<";
     if (depth_ == DecodeDepth::Bytes) fmt::print(out_, "{} {}\n", mark, hex_bytes(adu));
-    auto parts = client::unwrap_frame(framing, adu);
-    if (!parts) {
-        fmt::print(out_, "{}   not a frame: {}\n", mark, parts.error());
+    protocol::Framer framer({framing});
+    const auto frame = framer.whole_frame(adu);
+    if (!frame) {
+        fmt::print(out_, "{}   not a frame: {}\n", mark, frame.error());
         return;
     }
+    const auto& header = frame->header;
     if (depth_ != DecodeDepth::App) {
-        if (const auto& mbap = parts->mbap) {
+        if (header.has_transaction()) {
             fmt::print(
                 out_,
                 "{}   MBAP transaction id {} (0x{:04X}), protocol id {}, length {}, unit id {}\n",
-                mark, mbap->transaction_id, mbap->transaction_id, mbap->protocol_id, mbap->length,
-                mbap->unit_id);
+                mark, header.transaction_id, header.transaction_id, header.protocol_id,
+                header.length, header.unit);
         } else {
-            fmt::print(out_, "{}   address {}\n", mark, parts->unit);
+            fmt::print(out_, "{}   address {}\n", mark, header.unit);
         }
     }
     fmt::print(out_, "{}   {}\n", mark,
-               sent ? describe_request_pdu(parts->pdu) : describe_response_pdu(parts->pdu));
+               sent ? describe_request_pdu(frame->pdu) : describe_response_pdu(frame->pdu));
     std::fflush(out_);
 }
 

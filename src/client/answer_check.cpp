@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <variant>
 
-#include "client/adu_codec.hpp"
+#include "client/hex_text.hpp"
 #include "protocol/limits.hpp"
 
 namespace mblab::client {

@@ -3,8 +3,8 @@
 #include <array>
 #include <utility>
 
-#include "client/adu_codec.hpp"
 #include "client/answer_check.hpp"
+#include "client/hex_text.hpp"
 #include "protocol/limits.hpp"
 
 namespace mblab::client {

@@ -2,6 +2,8 @@
 
 #include <utility>
 
+#include "protocol/mbap_header.hpp"
+
 namespace mblab::client {
 
 protocol::Result<std::unique_ptr<Link>, LinkError> TcpLink::open(const Endpoint& endpoint,
@@ -19,10 +21,11 @@ bool TcpLink::send(std::span<const std::uint8_t> adu, LinkError& error) {
 
 Received TcpLink::receive_frame(std::chrono::milliseconds timeout) {
     Received received = raw_.receive_frame(timeout);
-    if (received.status == ReceiveStatus::Malformed && received.bytes.size() >= 6) {
-        const unsigned length = (received.bytes[4] << 8) | received.bytes[5];
-        received.detail =
-            "MBAP length " + std::to_string(length) + " cannot describe a frame (must be 2..254)";
+    // The link's lenient framer lets every header through but one whose length no frame has.
+    const auto header = protocol::read_mbap_frame(received.bytes);
+    if (received.status == ReceiveStatus::Malformed && header) {
+        received.detail = "MBAP length " + std::to_string(header->header.length) +
+                          " cannot describe a frame (must be 2..254)";
     }
     return received;
 }

@@ -4,8 +4,10 @@
 #include <array>
 #include <utility>
 
-#include "client/adu_codec.hpp"
+#include "client/hex_text.hpp"
 #include "client/unit_probe.hpp"
+#include "protocol/adu.hpp"
+#include "protocol/framer.hpp"
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
 
@@ -109,7 +111,7 @@ protocol::Result<std::uint16_t, Transactor::Failure> Transactor::send(
     const std::uint16_t transaction_id = next_transaction_id_++;
     std::array<std::uint8_t, kAduBuffer> adu{};
     const std::size_t size =
-        wrap_pdu(link_->framing(), options_.unit, transaction_id, request, adu);
+        protocol::write_adu({link_->framing(), options_.unit, transaction_id}, request, adu);
     if (request.empty() || size == 0) {
         return Failure{
             {ErrorKind::Invalid,
@@ -231,32 +233,35 @@ Transactor::Attempt Transactor::await_answer(std::uint16_t transaction_id, std::
 std::optional<Transactor::Attempt> Transactor::judge(std::span<const std::uint8_t> frame,
                                                      std::uint16_t transaction_id,
                                                      std::uint8_t function) {
-    auto parts = unwrap_frame(link_->framing(), frame);
-    if (!parts) return Attempt(bad_answer(parts.error()));
-    if (parts->mbap && parts->mbap->transaction_id != transaction_id) {
-        auto late = std::find(unanswered_.begin(), unanswered_.end(), parts->mbap->transaction_id);
+    protocol::Framer framer({link_->framing()});
+    const auto adu = framer.whole_frame(frame);
+    if (!adu) return Attempt(bad_answer(adu.error()));
+    const auto& header = adu->header;
+    if (header.has_transaction() && header.transaction_id != transaction_id) {
+        auto late = std::find(unanswered_.begin(), unanswered_.end(), header.transaction_id);
         if (late != unanswered_.end()) {
             unanswered_.erase(late);
-            note("skipped a late answer to transaction " + hex16(parts->mbap->transaction_id));
+            note("skipped a late answer to transaction " + hex16(header.transaction_id));
             return std::nullopt;
         }
-        return Attempt(bad_answer("transaction id is " + hex16(parts->mbap->transaction_id) +
+        return Attempt(bad_answer("transaction id is " + hex16(header.transaction_id) +
                                   ", expected " + hex16(transaction_id)));
     }
-    if (parts->unit != options_.unit) {
-        return Attempt(bad_answer("unit id is " + std::to_string(parts->unit) + ", expected " +
+    if (header.unit != options_.unit) {
+        return Attempt(bad_answer("unit id is " + std::to_string(header.unit) + ", expected " +
                                   std::to_string(options_.unit)));
     }
-    if (parts->pdu.empty()) {
-        return Attempt(bad_answer(parts->mbap ? "MBAP length 1 leaves no room for a function code"
-                                              : "the frame holds no function code"));
+    if (adu->pdu.empty()) {
+        return Attempt(bad_answer(header.has_transaction()
+                                      ? "MBAP length 1 leaves no room for a function code"
+                                      : "the frame holds no function code"));
     }
-    const std::uint8_t answered = parts->pdu.front();
+    const std::uint8_t answered = adu->pdu.front();
     if (answered != function && answered != (function | protocol::kExceptionBit)) {
         return Attempt(bad_answer("function code is " + function_text(answered) + ", expected " +
                                   function_text(function)));
     }
-    return Attempt(std::move(parts->pdu));
+    return Attempt(std::vector<std::uint8_t>(adu->pdu.begin(), adu->pdu.end()));
 }
 
 }  // namespace mblab::client

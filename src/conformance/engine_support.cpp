@@ -112,7 +112,7 @@ std::optional<Outcome> follow_device_id_stream(Session& session, const Exchange&
         } else if (!got_frame || got_frame->pdu.size() < 2 ||
                    got_frame->header.transaction_id != asked_header.transaction_id ||
                    got_frame->header.protocol_id != asked_header.protocol_id ||
-                   got_frame->header.unit_id != asked_header.unit_id) {
+                   got_frame->header.unit != asked_header.unit) {
             broken = "wrong transaction id, protocol id or unit id";
         } else {
             broken = spec_failure(exchange);

@@ -148,7 +148,7 @@ namespace {
 std::string from_unit(const Exchange& exchange) {
     const auto sent = protocol::read_mbap_frame(exchange.sent);
     if (!sent) return {};
-    return fmt::format(" from unit {}", sent->header.unit_id);
+    return fmt::format(" from unit {}", sent->header.unit);
 }
 
 // " (request 57 on this connection)": a device that stops after N requests shows here.

@@ -5,8 +5,12 @@
 
 #include <array>
 #include <ctime>
+#include <span>
 
 #include "conformance/session.hpp"
+#include "protocol/adu.hpp"
+#include "protocol/limits.hpp"
+#include "protocol/mbap_header.hpp"
 #include "protocol/response.hpp"
 
 namespace mblab::conformance {
@@ -151,11 +155,11 @@ DeviceIdentity ask_device_identity(Session& session) {
     // Three answers at most: each must move forward through objects 00-02.
     for (std::uint16_t asked = 0; asked < 3; ++asked) {
         const std::uint16_t transaction = 0x2B00 + asked;
-        // MBAP header (transaction, protocol 0, length 5), unit, 2B / 0E, read code 01, object.
-        std::vector<std::uint8_t> request = {0,    0,    0,    0,   0, 5, session.dut().unit,
-                                             0x2B, 0x0E, 0x01, next};
-        request[0] = static_cast<std::uint8_t>(transaction >> 8);
-        request[1] = static_cast<std::uint8_t>(transaction);
+        // 2B / 0E, read code 01 (basic), from object `next`.
+        const std::array<std::uint8_t, 4> pdu = {0x2B, 0x0E, 0x01, next};
+        std::array<std::uint8_t, protocol::limits::kMaxTcpAdu> adu{};
+        const auto request = std::span(adu).first(protocol::write_adu(
+            {protocol::Framing::Mbap, session.dut().unit, transaction}, pdu, adu));
         client::LinkError error;
         if (!session.send(request, 1, error)) {
             identity.reason = error.message.empty()
@@ -168,13 +172,12 @@ DeviceIdentity ask_device_identity(Session& session) {
             identity.reason = not_answered_reason(received, timeout);
             break;
         }
-        constexpr std::size_t kMbap = 7;
-        if (received.bytes.size() <= kMbap || received.bytes[0] != request[0] ||
-            received.bytes[1] != request[1]) {
+        const auto frame = protocol::read_mbap_frame(received.bytes);
+        if (!frame || frame->pdu.empty() || frame->header.transaction_id != transaction) {
             identity.reason = "the answer does not belong to the request";
             break;
         }
-        const auto decoded = protocol::decode_response(std::span(received.bytes).subspan(kMbap));
+        const auto decoded = protocol::decode_response(frame->pdu);
         if (!decoded) {
             identity.reason = fmt::format("undecodable answer: {} ({})", decoded.error().reason,
                                           decoded.error().field);

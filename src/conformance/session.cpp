@@ -5,11 +5,12 @@
 #include <array>
 #include <thread>
 
-#include "client/adu_codec.hpp"
 #include "client/target.hpp"
 #include "client/unit_probe.hpp"
 #include "protocol/adu.hpp"
+#include "protocol/framer.hpp"
 #include "protocol/limits.hpp"
+#include "protocol/mbap_header.hpp"
 
 namespace mblab::conformance {
 
@@ -126,14 +127,16 @@ bool Session::send(std::span<const std::uint8_t> bytes, std::size_t count, clien
 }
 
 bool Session::send_on_line(std::span<const std::uint8_t> bytes, client::LinkError& error) {
-    auto parts = client::unwrap_frame(client::Framing::Mbap, bytes);
-    if (!parts) {
-        error.message = "not a plain Modbus/TCP request: " + parts.error();
+    protocol::Framer framer({client::Framing::Mbap});
+    const auto request = framer.whole_frame(bytes);
+    if (!request) {
+        error.message = std::string("not a plain Modbus/TCP request: ") + request.error();
         return false;
     }
-    line_transaction_ = parts->mbap ? parts->mbap->transaction_id : 0;
+    line_transaction_ = request->header.transaction_id;
     std::array<std::uint8_t, protocol::limits::kMaxAsciiChars> adu{};
-    const std::size_t size = protocol::write_adu({link_->framing(), parts->unit}, parts->pdu, adu);
+    const std::size_t size =
+        protocol::write_adu({link_->framing(), request->header.unit}, request->pdu, adu);
     if (size == 0) {
         error.message = "the request does not fit in one serial frame";
         return false;
@@ -170,20 +173,21 @@ client::Received Session::take_unasked(std::chrono::milliseconds wait) {
 }
 
 std::string Session::no_answer_hint(std::span<const std::uint8_t> request) {
-    constexpr std::size_t kUnitAt = 6;
-    if (probed_ || request.size() <= kUnitAt) return {};
+    const auto asked = protocol::read_mbap_frame(request);
+    if (probed_ || !asked) return {};
     probed_ = true;
-    auto hint = client::probe_units(framing(), request[kUnitAt], [this](std::uint8_t unit) {
+    auto hint = client::probe_units(framing(), asked->header.unit, [this](std::uint8_t unit) {
         // A fresh connection each time, so a late answer to an earlier request is not taken for
         // this one.
         close();
-        std::vector<std::uint8_t> probe = {0, 0, 0, 0, 0, 6, unit};
-        probe.insert(probe.end(), client::kUnitProbePdu.begin(), client::kUnitProbePdu.end());
+        std::array<std::uint8_t, protocol::limits::kMaxTcpAdu> probe{};
+        const std::size_t size =
+            protocol::write_adu({client::Framing::Mbap, unit}, client::kUnitProbePdu, probe);
         client::LinkError error;
-        if (!send(probe, 1, error)) return false;
-        auto got = receive_frame(options_.timeout);
-        return got.status == client::ReceiveStatus::Frame && got.bytes.size() > kUnitAt &&
-               got.bytes[kUnitAt] == unit;
+        if (!send(std::span(probe).first(size), 1, error)) return false;
+        const auto got = receive_frame(options_.timeout);
+        const auto answer = protocol::read_mbap_frame(got.bytes);
+        return got.status == client::ReceiveStatus::Frame && answer && answer->header.unit == unit;
     });
     close();
     return hint;
@@ -205,9 +209,10 @@ std::optional<std::string> mbap_only_reason(const Session& session, bool pipelin
                            over);
     }
     if (split) return fmt::format("a request split over TCP segments cannot be sent over {}", over);
-    auto parts = client::unwrap_frame(client::Framing::Mbap, request);
-    if (!parts)
-        return fmt::format("a Modbus/TCP header test ({}); not sent over {}", parts.error(), over);
+    protocol::Framer framer({client::Framing::Mbap});
+    const auto plain = framer.whole_frame(request);
+    if (!plain)
+        return fmt::format("a Modbus/TCP header test ({}); not sent over {}", plain.error(), over);
     return std::nullopt;
 }
 

@@ -3,6 +3,7 @@
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
+#include "protocol/mbap_header.hpp"
 #include "protocol/response.hpp"
 
 namespace mblab::load {
@@ -100,9 +101,10 @@ std::optional<FailureKind> judge_answer(std::span<const AnswerPattern> alternati
         if (alternative.matches(frame)) return std::nullopt;
         exception_expected = exception_expected || alternative.expects_exception();
     }
-    const auto pdu = frame.subspan(kFunctionAt);
-    if (be16(frame, 2) != 0 || !protocol::decode_response(pdu).ok()) return FailureKind::Malformed;
-    if ((pdu[0] & protocol::kExceptionBit) != 0 && !exception_expected) {
+    const auto answer = protocol::read_mbap_frame(frame);
+    if (!answer || answer->header.protocol_id != 0 || !protocol::decode_response(answer->pdu).ok())
+        return FailureKind::Malformed;
+    if ((answer->pdu[0] & protocol::kExceptionBit) != 0 && !exception_expected) {
         return FailureKind::UnexpectedException;
     }
     return FailureKind::WrongAnswer;

@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include "protocol/adu_writer.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/mbap_header.hpp"
 
@@ -48,11 +49,6 @@ const char* socket_error_text(int code) {
 // Level-triggered: a connection reads once per wake-up and is woken again while bytes remain.
 std::uint32_t interest(bool want_write) {
     return EPOLLIN | (want_write ? std::uint32_t{EPOLLOUT} : 0U);
-}
-
-void put_tid(std::span<std::uint8_t> adu, std::uint16_t tid) {
-    adu[0] = static_cast<std::uint8_t>(tid >> 8);
-    adu[1] = static_cast<std::uint8_t>(tid & 0xFF);
 }
 
 }  // namespace
@@ -350,7 +346,7 @@ void LoadConnection::fill(LoadClock::time_point now) {
         slot.sent_at = now;
         earliest_deadline_ = std::min(earliest_deadline_, now + timeout);
         std::memcpy(out_.data() + out_end_, request.data(), request.size());
-        put_tid({out_.data() + out_end_, request.size()}, slot.tid);
+        protocol::put_mbap_transaction_id({out_.data() + out_end_, request.size()}, slot.tid);
         out_end_ += request.size();
         tally_.sent.add();
         tally_.exchange(index).sent.add();

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "conformance/judge.hpp"
+#include "protocol/adu_writer.hpp"
 
 namespace mblab::load {
 
@@ -13,11 +14,6 @@ namespace {
 
 using std::chrono::duration_cast;
 using std::chrono::microseconds;
-
-void put_tid(std::span<std::uint8_t> adu, std::uint16_t tid) {
-    adu[0] = static_cast<std::uint8_t>(tid >> 8);
-    adu[1] = static_cast<std::uint8_t>(tid & 0xFF);
-}
 
 // The expected answers as they apply to one request on the wire: with its transaction id in
 // place of the catalogue's, so the evidence marks only bytes that really differ.
@@ -90,7 +86,7 @@ void count_failure(NodeTally& tally, const LoadPlan& plan, LoadClock::time_point
     if (sent != nullptr) {
         const LoadExchange& exchange = plan.exchanges[sent->exchange];
         std::vector<std::uint8_t> request = exchange.request;
-        put_tid(request, sent->tid);
+        protocol::put_mbap_transaction_id(request, sent->tid);
         record.exchange = exchange.name;
         record.evidence = conformance::judge(request, std::move(received), timeout,
                                              with_transaction_id(exchange.expect, sent->tid))

@@ -24,6 +24,9 @@ struct AduHeader {
     std::uint16_t transaction_id = 0;
     // MBAP only: 0 is Modbus. A lenient framer lets other values through for the tester to judge.
     std::uint16_t protocol_id = 0;
+    // MBAP only: the length field as received (unit id and PDU bytes), so that a reader can judge
+    // a frame's header fields without going back to its bytes. write_adu() computes its own.
+    std::uint16_t length = 0;
 
     bool has_transaction() const { return framing == Framing::Mbap; }
     friend bool operator==(const AduHeader&, const AduHeader&) = default;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <span>
 
+#include "protocol/limits.hpp"
 #include "protocol/mbap_header.hpp"
 
 // Writers that wrap a PDU into a whole ADU in a caller buffer. They return the bytes written, or
@@ -16,6 +17,16 @@ namespace mblab::protocol {
 // server can write the response PDU in place and add the header afterwards.
 std::size_t write_mbap_adu(const MbapHeader& header, std::span<const std::uint8_t> pdu,
                            std::span<std::uint8_t> out);
+// Sets the transaction id of the MBAP frame in `adu`: the load generator sends one frame many
+// times under fresh ids.
+inline void put_mbap_transaction_id(std::span<std::uint8_t> adu, std::uint16_t id) {
+    adu[0] = static_cast<std::uint8_t>(id >> 8);
+    adu[1] = static_cast<std::uint8_t>(id & 0xFF);
+}
+// Where write_mbap_adu() puts the PDU in `out`, for an answer written in place.
+inline std::span<std::uint8_t> mbap_pdu_room(std::span<std::uint8_t> out) {
+    return out.subspan(limits::kMbapHeader);
+}
 
 // Address + PDU + CRC-16 (low byte first). `pdu` may already sit at out[1..].
 std::size_t write_rtu_adu(std::uint8_t address, std::span<const std::uint8_t> pdu,

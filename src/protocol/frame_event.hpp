@@ -4,7 +4,6 @@
 #include <span>
 
 #include "protocol/adu.hpp"
-#include "protocol/mbap_header.hpp"
 
 namespace mblab::protocol {
 
@@ -21,9 +20,9 @@ struct FrameEvent {
     std::span<const std::uint8_t> adu;
     // The PDU inside it, function code first (for ASCII: decoded from hex).
     std::span<const std::uint8_t> pdu;
-    // Framing, unit, transaction: set for frames and for errors about a whole received frame.
+    // Framing, unit and, for MBAP, the header's fields as received (length included): set for
+    // frames and for errors about a received header or frame.
     AduHeader header{};
-    MbapHeader mbap{};  // MBAP only: the header as received, length field included
     // When status == Error: why, e.g. "MBAP length 300 exceeds 254". Owned by the framer.
     const char* error = "";
     // Lenient framers only: why a strict framer would have refused this Frame (a protocol id

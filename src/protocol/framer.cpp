@@ -1,8 +1,13 @@
 #include "protocol/framer.hpp"
 
+#include "protocol/crc16.hpp"
+#include "protocol/mbap_header.hpp"
+
 namespace mblab::protocol {
 
 namespace {
+
+constexpr std::size_t kRtuOverhead = 3;  // address + CRC
 
 std::variant<MbapFramer, RtuFramer, AsciiFramer> make(const FramerOptions& options) {
     switch (options.framing) {
@@ -36,12 +41,62 @@ void Framer::reset() {
     std::visit([](auto& framer) { framer.reset(); }, impl_);
 }
 
+Result<Adu, const char*> Framer::whole_frame(std::span<const std::uint8_t> frame) {
+    reset();
+    switch (framing_) {
+        case Framing::Mbap: {
+            const auto read = read_mbap_frame(frame);
+            if (!read) {
+                return error_.format(
+                    "the frame is %zu bytes long, shorter than an MBAP header (%zu)", frame.size(),
+                    limits::kMbapHeader);
+            }
+            const auto& header = read->header;
+            if (header.protocol_id != 0) {
+                return error_.format("MBAP protocol id is 0x%04X, expected 0x0000 (Modbus)",
+                                     unsigned{header.protocol_id});
+            }
+            if (header.length != read->pdu.size() + 1) {
+                return error_.format("MBAP length %u disagrees with the %zu bytes after it",
+                                     unsigned{header.length}, read->pdu.size() + 1);
+            }
+            return *read;
+        }
+        case Framing::Rtu:
+            if (frame.size() < kRtuOverhead) {
+                return error_.format("the frame is %zu bytes long, too short for RTU",
+                                     frame.size());
+            }
+            if (crc16(frame) != 0) return "the RTU frame's CRC does not match";
+            return Adu{{Framing::Rtu, frame.front()},
+                       frame.subspan(1, frame.size() - kRtuOverhead)};
+        case Framing::Ascii:
+            return whole_ascii_frame(frame);
+    }
+    return "unknown framing";
+}
+
+Result<Adu, const char*> Framer::whole_ascii_frame(std::span<const std::uint8_t> frame) {
+    std::size_t consumed = 0;  // the frame's extent is event.adu: characters around it count
+    const FrameEvent event = std::get<AsciiFramer>(impl_).feed(frame, consumed);
+    const char* broken = event.is_error() ? event.error : event.violation;
+    if (*broken != '\0') {
+        reset();
+        return error_.format("the ASCII frame is broken: %s", broken);
+    }
+    if (!event.is_frame() || event.adu.size() != frame.size()) {
+        reset();
+        return "the bytes are not one whole ASCII frame";
+    }
+    return Adu{event.header, event.pdu};
+}
+
 bool Framer::has_partial() const {
     return std::visit([](const auto& framer) { return framer.has_partial(); }, impl_);
 }
 
-std::optional<MbapHeader> Framer::partial_header() const {
-    if (const auto* mbap = std::get_if<MbapFramer>(&impl_)) return mbap->partial_header();
+std::optional<Adu> Framer::partial_frame() const {
+    if (const auto* mbap = std::get_if<MbapFramer>(&impl_)) return mbap->partial_frame();
     return std::nullopt;
 }
 

@@ -8,8 +8,10 @@
 
 #include "protocol/adu.hpp"
 #include "protocol/ascii_framer.hpp"
+#include "protocol/frame_error_text.hpp"
 #include "protocol/frame_event.hpp"
 #include "protocol/mbap_framer.hpp"
+#include "protocol/result.hpp"
 #include "protocol/rtu_framer.hpp"
 
 namespace mblab::protocol {
@@ -47,17 +49,28 @@ class Framer {
     // Forgets a partial frame (after an error, or before a new transaction).
     void reset();
 
+    // The one frame that `frame` holds from its first byte to its last: bytes a reader already
+    // cut, a frame sent or logged. Its header and PDU, or why the bytes are not one whole frame
+    // (shorter than any frame, an MBAP protocol id other than 0 or a length field that disagrees
+    // with the bytes, a bad CRC or LRC, an ASCII frame that ends early). An empty PDU (MBAP
+    // length 1, an RTU address and CRC alone) is no error here: the caller judges it. A partial
+    // frame is forgotten; the PDU and the error stay valid as event spans do.
+    Result<Adu, const char*> whole_frame(std::span<const std::uint8_t> frame);
+
     bool has_partial() const;
     Framing framing() const { return framing_; }
-    // MBAP: the header of an unfinished frame once its 7 bytes came.
-    std::optional<MbapHeader> partial_header() const;
+    // MBAP: an unfinished frame once its 7 header bytes came, with the PDU bytes so far.
+    std::optional<Adu> partial_frame() const;
     // ASCII: the character after CR that ends a frame (FC 08 sub-function 03 changes it).
     void set_ascii_delimiter(std::uint8_t end);
     std::uint8_t ascii_delimiter() const;
 
   private:
+    Result<Adu, const char*> whole_ascii_frame(std::span<const std::uint8_t> frame);
+
     Framing framing_;
     std::variant<MbapFramer, RtuFramer, AsciiFramer> impl_;
+    FrameErrorText error_;
 };
 
 }  // namespace mblab::protocol

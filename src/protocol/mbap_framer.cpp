@@ -18,9 +18,10 @@ std::size_t adu_size(const MbapHeader& header) {
 
 }  // namespace
 
-std::optional<MbapHeader> MbapFramer::partial_header() const {
+std::optional<Adu> MbapFramer::partial_frame() const {
     if (held_ < kHeader) return std::nullopt;
-    return read_mbap_header(buffer_);
+    return Adu{to_adu_header(read_mbap_header(buffer_)),
+               {buffer_.data() + kHeader, held_ - kHeader}};
 }
 
 std::optional<FrameEvent> MbapFramer::check_length(const MbapHeader& header) {
@@ -34,33 +35,30 @@ std::optional<FrameEvent> MbapFramer::check_length(const MbapHeader& header) {
     } else {
         return std::nullopt;
     }
-    event.mbap = header;
-    event.header = {Framing::Mbap, header.unit_id, header.transaction_id, header.protocol_id};
+    event.header = to_adu_header(header);
     return event;
 }
 
 FrameEvent MbapFramer::finish(std::span<const std::uint8_t> adu) {
     FrameEvent event;
-    event.mbap = read_mbap_header(adu);
+    event.header = to_adu_header(read_mbap_header(adu));
     event.adu = adu;
     event.pdu = adu.subspan(kHeader);
-    event.header = {Framing::Mbap, event.mbap.unit_id, event.mbap.transaction_id,
-                    event.mbap.protocol_id};
-    if (event.mbap.protocol_id == 0 && event.mbap.length >= kMinLength) {
+    if (event.header.protocol_id == 0 && event.header.length >= kMinLength) {
         event.status = FrameStatus::Frame;
     } else if (lenient_) {
         event.status = FrameStatus::Frame;
         event.violation =
-            event.mbap.protocol_id != 0
+            event.header.protocol_id != 0
                 ? error_.format("MBAP protocol id 0x%04X is not 0 (Modbus)",
-                                unsigned{event.mbap.protocol_id})
+                                unsigned{event.header.protocol_id})
                 : error_.format("MBAP length %u is under %u (unit id and function code)",
-                                unsigned{event.mbap.length}, kMinLength);
+                                unsigned{event.header.length}, kMinLength);
     } else {
         event.status = FrameStatus::Error;
         event.error =
             error_.format("MBAP protocol id 0x%04X is not 0 (Modbus); %zu-byte frame skipped",
-                          unsigned{event.mbap.protocol_id}, adu.size());
+                          unsigned{event.header.protocol_id}, adu.size());
     }
     return event;
 }

@@ -20,7 +20,7 @@ namespace mblab::protocol {
 // - length < 2 or > 254 (an ADU over 260 bytes): Error after the 7 header bytes; the framer
 //   resets. The stream cannot be trusted after this, so a server closes the connection.
 // - protocol id != 0 with a sane length: the framer takes the frame's declared bytes and then
-//   reports Error (with adu, pdu, unit and mbap filled, so a caller can log what it dropped). The
+//   reports Error (with adu, pdu and header filled, so a caller can log what it dropped). The
 //   stream stays in step, so a server keeps serving [TCPG 4.4.2.2].
 //
 // Lenient (the tester's mode): a protocol id other than 0 and a length of 1 (a unit id and no
@@ -38,8 +38,9 @@ class MbapFramer {
 
     // Some bytes of an unfinished frame are held (a server's idle timer wants to know).
     bool has_partial() const { return held_ > 0; }
-    // The header of the unfinished frame, once its 7 bytes arrived.
-    std::optional<MbapHeader> partial_header() const;
+    // The unfinished frame once its 7 header bytes arrived: its header and the PDU bytes so far
+    // (a server answers a frame that never completes by its function code).
+    std::optional<Adu> partial_frame() const;
     void reset() { held_ = 0; }
 
   private:

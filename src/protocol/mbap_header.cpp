@@ -12,10 +12,10 @@ MbapHeader read_mbap_header(std::span<const std::uint8_t> bytes) {
     return MbapHeader{be16(bytes, 0), be16(bytes, 2), be16(bytes, 4), bytes[6]};
 }
 
-std::optional<MbapFrame> read_mbap_frame(std::span<const std::uint8_t> bytes) {
+std::optional<Adu> read_mbap_frame(std::span<const std::uint8_t> bytes) {
     constexpr std::size_t kHeader = 7;
     if (bytes.size() < kHeader) return std::nullopt;
-    return MbapFrame{read_mbap_header(bytes), bytes.subspan(kHeader)};
+    return Adu{to_adu_header(read_mbap_header(bytes)), bytes.subspan(kHeader)};
 }
 
 }  // namespace mblab::protocol

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "protocol/crc16.hpp"
+#include "protocol/framer.hpp"
 #include "protocol/lrc.hpp"
 #include "robustness/liveness.hpp"
 
@@ -154,13 +155,13 @@ std::optional<std::string_view> not_applicable(BadInput kind, Framing framing) {
 std::optional<FuzzCase> on_line(const FuzzCase& c, Framing framing) {
     if (not_applicable(c.kind, framing)) return std::nullopt;
     FuzzCase out{c.kind, c.name, {}, false};
+    protocol::Framer mbap({Framing::Mbap});
     for (const auto& step : c.steps) {
-        const auto& bytes = step.bytes;
-        if (step.connection != 0 || bytes.size() < 8 || bytes[2] != 0 || bytes[3] != 0 ||
-            ((bytes[4] << 8) | bytes[5]) != static_cast<int>(bytes.size() - 6))
-            return std::nullopt;
+        // Only whole, plain Modbus/TCP requests carry over: the rest test the MBAP header.
+        const auto request = mbap.whole_frame(step.bytes);
+        if (step.connection != 0 || !request || request->pdu.empty()) return std::nullopt;
         out.steps.push_back(
-            {0, line_frame(framing, bytes[6], std::span(bytes).subspan(7)), step.pause});
+            {0, line_frame(framing, request->header.unit, request->pdu), step.pause});
     }
     return out;
 }

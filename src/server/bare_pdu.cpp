@@ -1,7 +1,7 @@
 #include "server/bare_pdu.hpp"
 
 #include "protocol/function_table.hpp"
-#include "protocol/limits.hpp"
+#include "protocol/mbap_header.hpp"
 #include "protocol/request.hpp"
 
 namespace mblab::server {
@@ -11,10 +11,9 @@ namespace {
 // A header whose length field accounts for exactly the bytes that came: MBAP, whatever else
 // those bytes could also be read as.
 bool is_whole_mbap(std::span<const std::uint8_t> bytes) {
-    if (bytes.size() < protocol::limits::kMbapHeader + 1) return false;
-    const unsigned protocol_id = bytes[2] << 8 | bytes[3];
-    const std::size_t length = static_cast<std::size_t>(bytes[4] << 8 | bytes[5]);
-    return protocol_id == 0 && length + 6 <= bytes.size();
+    const auto frame = protocol::read_mbap_frame(bytes);
+    return frame && !frame->pdu.empty() && frame->header.protocol_id == 0 &&
+           frame->header.length <= frame->pdu.size() + 1;
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "protocol/adu_writer.hpp"
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
+#include "protocol/mbap_header.hpp"
 
 namespace mblab::server {
 
@@ -97,7 +98,7 @@ void MbapSession::process_input(Clock::time_point now) {
         input_begin_ += consumed;
         switch (event.status) {
             case protocol::FrameStatus::NeedMore:
-                unfinished_.add(input.first(consumed), framer_.partial_header(), now);
+                unfinished_.add(consumed, framer_.partial_frame(), now);
                 partial_deadline_ = now + limits_.partial_frame_timeout;
                 break;
             case protocol::FrameStatus::Frame:
@@ -126,26 +127,25 @@ bool MbapSession::must_pause(Clock::time_point now) const {
 
 void MbapSession::on_frame(const protocol::FrameEvent& frame, Clock::time_point now) {
     last_activity_ = now;
+    const auto request = protocol::to_mbap_header(frame.header);
     ServerStats::bump(stats_.requests);
     if (replies_.size() >= outstanding_limit(limits_)) {
         ServerStats::bump(stats_.busy);
         host_.on_busy_reply(frame.header.unit);
-        queue_exception(frame.mbap, frame.pdu.front(), protocol::ExceptionCode::ServerDeviceBusy,
-                        now);
+        queue_exception(request, frame.pdu.front(), protocol::ExceptionCode::ServerDeviceBusy, now);
         return;
     }
     if (rules_ && !rules_->permits(role_, frame.header.unit, frame.pdu)) {
         // [SEC]: a request the role does not allow is refused as an illegal function.
         ServerStats::bump(stats_.denied);
-        queue_exception(frame.mbap, frame.pdu.front(), protocol::ExceptionCode::IllegalFunction,
-                        now);
+        queue_exception(request, frame.pdu.front(), protocol::ExceptionCode::IllegalFunction, now);
         return;
     }
     auto* slot = replies_.push_back();
     if (!slot) return;  // must_pause() keeps room; never reached
-    const auto response = std::span(slot->adu).subspan(protocol::limits::kMbapHeader);
+    const auto response = protocol::mbap_pdu_room(slot->adu);
     const auto ticket = ++last_ticket_;
-    SessionDeferral deferral(host_, ticket, frame.mbap);
+    SessionDeferral deferral(host_, ticket, request);
     const auto reply = handler_.handle_or_defer({frame.header.unit, device::Link::Tcp}, frame.pdu,
                                                 response, deferral);
     if (!reply) {
@@ -158,7 +158,7 @@ void MbapSession::on_frame(const protocol::FrameEvent& frame, Clock::time_point 
         replies_.pop_back();
         return;
     }
-    fill(*slot, frame.mbap, *reply, response, now);
+    fill(*slot, request, *reply, response, now);
 }
 
 void MbapSession::fill(PendingReply& slot, const protocol::MbapHeader& request,
@@ -200,7 +200,7 @@ void MbapSession::answer_deferred(std::uint32_t ticket, const protocol::MbapHead
 
 void MbapSession::on_frame_error(const protocol::FrameEvent& frame, Clock::time_point started,
                                  Clock::time_point now) {
-    const auto& header = frame.mbap;
+    const auto& header = frame.header;
     const bool length_ok = header.length >= 2 && header.length <= protocol::limits::kMaxPdu + 1;
     if (length_ok) {
         // Protocol id != 0: the framer skipped the frame, the stream is in step [TCPG 4.4.2.2].
@@ -208,7 +208,7 @@ void MbapSession::on_frame_error(const protocol::FrameEvent& frame, Clock::time_
         return;
     }
     if (header.length > protocol::limits::kMaxPdu + 1 && header.protocol_id == 0) {
-        unfinished_.begin_overlong(header, started);
+        unfinished_.begin_overlong(protocol::to_mbap_header(header), started);
         partial_deadline_ = now + limits_.partial_frame_timeout;
         return;
     }

@@ -7,15 +7,13 @@
 
 namespace mblab::server {
 
-void UnfinishedMbapFrame::add(std::span<const std::uint8_t> bytes,
-                              std::optional<protocol::MbapHeader> header, Clock::time_point now) {
+void UnfinishedMbapFrame::add(std::size_t count, const std::optional<protocol::Adu>& frame,
+                              Clock::time_point now) {
     if (bytes_ == 0) started_ = now;
-    constexpr auto function_at = protocol::limits::kMbapHeader;
-    if (bytes_ <= function_at && function_at < bytes_ + bytes.size()) {
-        function_ = bytes[function_at - bytes_];
-    }
-    bytes_ += bytes.size();
-    header_ = header;
+    bytes_ += count;
+    if (!frame) return;
+    header_ = protocol::to_mbap_header(frame->header);
+    if (!frame->pdu.empty()) function_ = frame->pdu.front();
 }
 
 void UnfinishedMbapFrame::begin_overlong(const protocol::MbapHeader& header,

@@ -23,9 +23,8 @@ class UnfinishedMbapFrame {
     // Its first byte, for ServerOptions::frame_limit.
     Clock::time_point started() const { return started_; }
 
-    // More bytes of it came; `header` is what the framer read of it so far.
-    void add(std::span<const std::uint8_t> bytes, std::optional<protocol::MbapHeader> header,
-             Clock::time_point now);
+    // `count` more bytes of it came; `frame` is what the framer read of it so far.
+    void add(std::size_t count, const std::optional<protocol::Adu>& frame, Clock::time_point now);
     // The framer refused `header` for its length: the body is skipped here instead.
     void begin_overlong(const protocol::MbapHeader& header, Clock::time_point started);
     // Bytes that followed an overlong header; false once they exceed any PDU (a flood, not a

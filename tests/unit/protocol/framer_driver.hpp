@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "protocol/frame_event.hpp"
+#include "protocol/mbap_header.hpp"
 #include "support/hex.hpp"
 
 // Drives any framer (MbapFramer, RtuFramer, AsciiFramer) the way a transport does: chunks of a
@@ -23,7 +24,7 @@ struct Seen {
     std::string adu;  // hex
     std::string pdu;  // hex
     unsigned unit = 0;
-    protocol::MbapHeader mbap{};
+    protocol::MbapHeader mbap{};  // MBAP events only: the header's fields
     std::string error;
 
     friend bool operator==(const Seen&, const Seen&) = default;
@@ -37,8 +38,13 @@ inline void PrintTo(const Seen& seen, std::ostream* os) {
 }
 
 inline Seen seen(const protocol::FrameEvent& event) {
-    return Seen{event.status,      to_hex(event.adu), to_hex(event.pdu),
-                event.header.unit, event.mbap,        event.error};
+    const bool mbap = event.header.framing == protocol::Framing::Mbap;
+    return Seen{event.status,
+                to_hex(event.adu),
+                to_hex(event.pdu),
+                event.header.unit,
+                mbap ? protocol::to_mbap_header(event.header) : protocol::MbapHeader{},
+                event.error};
 }
 
 inline Seen frame(std::string_view adu_hex, std::string_view pdu_hex, unsigned unit) {

@@ -36,6 +36,22 @@ TEST(WriteMbapAdu, PduAlreadyInPlace) {
     EXPECT_EQ(to_hex(std::span(out).first(size)), "00 02 00 00 00 06 01 03 00 6B 00 03");
 }
 
+TEST(WriteMbapAdu, AnAnswerWrittenInItsRoomGetsItsHeaderAround) {
+    std::array<std::uint8_t, 32> out{};
+    const auto room = mbap_pdu_room(out);
+    EXPECT_EQ(room.size(), 25U);
+    std::copy(kPdu.begin(), kPdu.end(), room.begin());
+    const std::size_t size = write_mbap_adu(MbapHeader{3, 0, 0, 9}, room.first(kPdu.size()), out);
+    EXPECT_EQ(to_hex(std::span(out).first(size)), "00 03 00 00 00 06 09 03 00 6B 00 03");
+}
+
+TEST(WriteMbapAdu, ATransactionIdPutIntoAWrittenFrame) {
+    std::array<std::uint8_t, 16> out{};
+    const std::size_t size = write_mbap_adu(MbapHeader{1, 0, 0, 0x11}, hex("07"), out);
+    put_mbap_transaction_id(std::span(out).first(size), 0xBEEF);
+    EXPECT_EQ(to_hex(std::span(out).first(size)), "BE EF 00 00 00 02 11 07");
+}
+
 TEST(WriteMbapAdu, NoSpaceWritesNothing) {
     std::array<std::uint8_t, 11> out{};
     EXPECT_EQ(write_mbap_adu(MbapHeader{}, kPdu, out), 0U);

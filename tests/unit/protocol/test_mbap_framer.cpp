@@ -61,16 +61,22 @@ TEST(MbapFramer, PartialHeaderAndPartialFrameAreVisible) {
               FrameStatus::NeedMore);
     EXPECT_EQ(consumed, 3U);
     EXPECT_TRUE(framer.has_partial());
-    EXPECT_FALSE(framer.partial_header().has_value());
+    EXPECT_FALSE(framer.partial_frame().has_value());
 
-    EXPECT_EQ(framer.feed(std::span(kReadRequest).subspan(3, 5), consumed).status,
+    EXPECT_EQ(framer.feed(std::span(kReadRequest).subspan(3, 4), consumed).status,
               FrameStatus::NeedMore);
-    ASSERT_TRUE(framer.partial_header().has_value());
-    EXPECT_EQ(*framer.partial_header(), (MbapHeader{1, 0, 6, 0x11}));
+    ASSERT_TRUE(framer.partial_frame().has_value());
+    EXPECT_EQ(to_mbap_header(framer.partial_frame()->header), (MbapHeader{1, 0, 6, 0x11}));
+    EXPECT_TRUE(framer.partial_frame()->pdu.empty());
 
-    EXPECT_EQ(framer.feed(std::span(kReadRequest).subspan(8), consumed).status, FrameStatus::Frame);
+    EXPECT_EQ(framer.feed(std::span(kReadRequest).subspan(7, 2), consumed).status,
+              FrameStatus::NeedMore);
+    ASSERT_TRUE(framer.partial_frame().has_value());
+    EXPECT_EQ(test::to_hex(framer.partial_frame()->pdu), "03 00") << "the PDU bytes so far";
+
+    EXPECT_EQ(framer.feed(std::span(kReadRequest).subspan(9), consumed).status, FrameStatus::Frame);
     EXPECT_FALSE(framer.has_partial());
-    EXPECT_FALSE(framer.partial_header().has_value());
+    EXPECT_FALSE(framer.partial_frame().has_value());
 }
 
 TEST(MbapFramer, ResetDropsThePartialFrame) {
