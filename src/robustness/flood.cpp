@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <span>
 
+#include "protocol/limits.hpp"
+#include "protocol/mbap_header.hpp"
+
 namespace mblab::robustness {
 
 namespace {
@@ -13,11 +16,12 @@ constexpr std::size_t kStreamChunk = 16 * 1024;
 template <class Visit>
 std::size_t each_frame(std::span<const std::uint8_t> bytes, Visit&& visit) {
     std::size_t count = 0;
-    for (std::size_t at = 0; at + 7 <= bytes.size(); ++count) {
-        const std::size_t length = bytes[at + 4] << 8 | bytes[at + 5];
-        if (length < 2 || at + 6 + length > bytes.size()) break;
-        visit(bytes.subspan(at + 7, length - 1));
-        at += 6 + length;
+    while (const auto frame = protocol::read_mbap_frame(bytes)) {
+        const std::size_t size = protocol::limits::kMbapHeader + frame->header.length - 1;
+        if (frame->header.length < 2 || size > bytes.size()) break;
+        visit(frame->pdu.first(frame->header.length - 1));
+        bytes = bytes.subspan(size);
+        ++count;
     }
     return count;
 }
