@@ -1,6 +1,5 @@
 #include "client/raw_link.hpp"
 
-#include <arpa/inet.h>
 #include <fcntl.h>
 #include <fmt/core.h>
 #include <netdb.h>
@@ -12,83 +11,20 @@
 
 #include <array>
 #include <cerrno>
-#include <cstring>
 #include <optional>
 #include <string>
 #include <utility>
 
-#include "protocol/limits.hpp"
+#include "client/socket_wait.hpp"
+#include "transport/socket_channel.hpp"
 
 namespace mblab::client {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-std::string errno_text(int code) {
-    switch (code) {
-        case ECONNREFUSED:
-            return "connection refused";
-        case ETIMEDOUT:
-            return "connection timed out";
-        case EHOSTUNREACH:
-            return "host unreachable";
-        case ENETUNREACH:
-            return "network unreachable";
-        case ECONNRESET:
-            return "connection reset by peer";
-        case EPIPE:
-            return "connection closed by peer";
-        default:
-            return std::strerror(code);
-    }
-}
-
-int remaining_ms(Clock::time_point deadline) {
-    auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
-    return left.count() < 0 ? 0 : static_cast<int>(left.count());
-}
-
-// Non-blocking connect bounded by the deadline; returns the socket or -1 with `error` set.
-int connect_one(const addrinfo& info, Clock::time_point deadline, std::string& error) {
-    int fd =
-        ::socket(info.ai_family, info.ai_socktype | SOCK_CLOEXEC | SOCK_NONBLOCK, info.ai_protocol);
-    if (fd < 0) {
-        error = errno_text(errno);
-        return -1;
-    }
-    if (::connect(fd, info.ai_addr, info.ai_addrlen) != 0 && errno != EINPROGRESS) {
-        error = errno_text(errno);
-        ::close(fd);
-        return -1;
-    }
-    pollfd pfd{fd, POLLOUT, 0};
-    int ready = ::poll(&pfd, 1, remaining_ms(deadline));
-    int so_error = 0;
-    socklen_t len = sizeof so_error;
-    if (ready <= 0) {
-        error = ready == 0 ? "connection timed out" : errno_text(errno);
-    } else if (::getsockopt(fd, SOL_SOCKET, SO_ERROR, &so_error, &len) != 0 || so_error != 0) {
-        error = errno_text(so_error != 0 ? so_error : errno);
-    } else {
-        return fd;
-    }
-    ::close(fd);
-    return -1;
-}
-
-void describe(const sockaddr_storage& address, std::array<std::uint8_t, 16>& ip,
-              std::uint16_t& port) {
-    if (address.ss_family == AF_INET) {
-        const auto* v4 = reinterpret_cast<const sockaddr_in*>(&address);
-        std::memcpy(ip.data(), &v4->sin_addr, 4);
-        port = ntohs(v4->sin_port);
-    } else if (address.ss_family == AF_INET6) {
-        const auto* v6 = reinterpret_cast<const sockaddr_in6*>(&address);
-        std::memcpy(ip.data(), &v6->sin6_addr, 16);
-        port = ntohs(v6->sin6_port);
-    }
-}
+using Status = transport::Io::Status;
+using TlsState = security::TlsChannel::State;
 
 }  // namespace
 
@@ -141,64 +77,68 @@ protocol::Result<RawLink, LinkError> RawLink::connect(const Endpoint& endpoint,
 }
 
 std::string RawLink::handshake(const TlsSetup& setup, Clock::time_point deadline) {
-    tls_ = std::make_unique<security::TlsChannel>(setup.context, security::TlsChannel::Side::Client,
-                                                  setup.server_name);
-    tls_->start();
-    std::string error;
-    std::array<std::uint8_t, 4096> chunk;
-    while (tls_->state() == security::TlsChannel::State::Handshaking) {
-        if (!send_cipher(error)) return "TLS handshake: " + error;
-        pollfd pfd{fd_, POLLIN, 0};
-        const int ready = ::poll(&pfd, 1, remaining_ms(deadline));
-        if (ready < 0 && errno == EINTR) continue;
-        if (ready <= 0) return "TLS handshake timed out";
-        const ssize_t n = ::recv(fd_, chunk.data(), chunk.size(), 0);
-        handshake_heard_ = true;
-        if (n <= 0) {
+    auto stream = std::make_unique<transport::TlsStream>(
+        std::move(channel_), setup.context, transport::TlsStream::Side::Client, setup.server_name);
+    tls_ = stream.get();
+    channel_ = std::move(stream);
+    auto io = tls_->start();
+    while (io.status != Status::Failed && tls_->handshaking()) {
+        io = tls_->handshake();
+        if (io.status != Status::WouldBlock) break;
+        const short events = POLLIN | (tls_->wants_write() ? POLLOUT : 0);
+        if (!wait_ready(fd_, events, deadline)) return "TLS handshake timed out";
+    }
+    handshake_heard_ = tls_->heard_peer();
+    switch (io.status) {
+        case Status::Done:
+            return {};
+        case Status::WouldBlock:
+            return "TLS handshake timed out";
+        case Status::EndOfInput:
             // A server that refuses our certificate may close before its alert is read.
-            return "TLS handshake: the server closed the connection" +
-                   std::string(n == 0 ? "" : " (" + errno_text(errno) + ")");
-        }
-        tls_->received(std::span(chunk).first(static_cast<std::size_t>(n)));
-        tls_->read({});
+            return "TLS handshake: the server closed the connection";
+        case Status::Failed:
+            break;
     }
-    send_cipher(error);  // the client's last flight, or the alert that says why it failed
-    if (tls_->state() != security::TlsChannel::State::Open) {
-        return "TLS handshake: " + tls_->error();
+    if (io.code == 0) return "TLS handshake: " + tls_->error();
+    if (handshake_heard_) {
+        return "TLS handshake: the server closed the connection (" + errno_text(io.code) + ")";
     }
-    return {};
+    return "TLS handshake: " + errno_text(io.code);
 }
 
 bool RawLink::send_all(std::span<const std::uint8_t> bytes, std::string& error) {
     std::size_t sent = 0;
-    while (sent < bytes.size()) {
-        ssize_t n = ::send(fd_, bytes.data() + sent, bytes.size() - sent, MSG_NOSIGNAL);
-        if (n < 0) {
-            if (errno == EINTR) continue;
-            error = errno_text(errno);
+    for (;;) {
+        transport::Io io;
+        if (sent < bytes.size()) {
+            io = channel_->write(bytes.subspan(sent));
+            sent += io.bytes;
+        } else if (channel_->wants_write()) {
+            io = channel_->flush();  // TLS records held back
+        } else {
+            return true;
+        }
+        if (io.status == Status::Failed) {
+            error = io.code != 0 ? errno_text(io.code) : "TLS: " + channel_->error();
             return false;
         }
-        sent += static_cast<std::size_t>(n);
+        if (io.bytes == 0) wait_ready(fd_, POLLOUT, Clock::time_point::max());
     }
-    return true;
-}
-
-bool RawLink::send_cipher(std::string& error) {
-    const auto out = tls_->output();
-    if (out.empty()) return true;
-    const bool sent = send_all(out, error);
-    tls_->sent(out.size());
-    return sent;
 }
 
 RawLink::RawLink(int fd, const LinkAddresses& addresses, LinkObserver* observer)
-    : fd_(fd), addresses_(addresses), observer_(observer) {}
+    : fd_(fd),
+      channel_(std::make_unique<transport::SocketChannel>(fd)),
+      addresses_(addresses),
+      observer_(observer) {}
 
 RawLink::RawLink(RawLink&& other) noexcept
     : fd_(std::exchange(other.fd_, -1)),
+      channel_(std::move(other.channel_)),
+      tls_(std::exchange(other.tls_, nullptr)),
       addresses_(other.addresses_),
       observer_(other.observer_),
-      tls_(std::move(other.tls_)),
       alert_(std::move(other.alert_)),
       reader_(std::move(other.reader_)) {}
 
@@ -206,9 +146,10 @@ RawLink& RawLink::operator=(RawLink&& other) noexcept {
     if (this != &other) {
         close();
         fd_ = std::exchange(other.fd_, -1);
+        channel_ = std::move(other.channel_);
+        tls_ = std::exchange(other.tls_, nullptr);
         addresses_ = other.addresses_;
         observer_ = other.observer_;
-        tls_ = std::move(other.tls_);
         alert_ = std::move(other.alert_);
         reader_ = std::move(other.reader_);
     }
@@ -221,34 +162,34 @@ RawLink::~RawLink() {
 
 void RawLink::close() {
     if (fd_ < 0) return;
-    if (tls_ && tls_->state() == security::TlsChannel::State::Open) {
+    if (tls_ && tls_->session().state() == TlsState::Open) {
         // close_notify, so the server sees an orderly end rather than a truncation.
-        tls_->close();
+        tls_->close_notify();
         std::string ignored;
-        send_cipher(ignored);
+        send_all({}, ignored);
     }
     drop(false);
 }
 
 void RawLink::drop(bool by_peer) {
-    if (tls_) alert_ = tls_->alert_received();
-    ::close(fd_);
+    if (tls_) alert_ = tls_->session().alert_received();
+    tls_ = nullptr;
+    channel_.reset();  // closes the socket
     fd_ = -1;
-    tls_.reset();
     reader_.reset();
     if (observer_ != nullptr) observer_->on_close(by_peer);
 }
 
 bool RawLink::renegotiate(LinkError& error) {
-    if (!tls_ || tls_->state() != security::TlsChannel::State::Open) {
+    if (!tls_ || tls_->session().state() != TlsState::Open) {
         error.message = "no open TLS session";
         return false;
     }
-    if (!tls_->request_renegotiation()) {
+    if (!tls_->session().request_renegotiation()) {
         error.message = "TLS: this side could not start a renegotiation";
         return false;
     }
-    if (!send_cipher(error.message)) {
+    if (!send_all({}, error.message)) {
         drop(true);
         return false;
     }
@@ -256,13 +197,13 @@ bool RawLink::renegotiate(LinkError& error) {
 }
 
 bool RawLink::close_notify(std::chrono::milliseconds timeout, std::string& how) {
-    if (!tls_ || tls_->state() != security::TlsChannel::State::Open) {
+    if (!tls_ || tls_->session().state() != TlsState::Open) {
         how = "no open TLS session";
         return false;
     }
-    tls_->close();
+    tls_->close_notify();
     std::string error;
-    if (!send_cipher(error)) {
+    if (!send_all({}, error)) {
         how = "the connection was gone before close_notify could be sent: " + error;
         drop(true);
         return true;
@@ -279,7 +220,7 @@ bool RawLink::close_notify(std::chrono::milliseconds timeout, std::string& how) 
             return false;
         }
         if (fill == Fill::Closed) {
-            how = tls_ && tls_->state() == security::TlsChannel::State::Closed
+            how = tls_ && tls_->session().state() == TlsState::Closed
                       ? "the server answered with its close_notify"
                       : "the server closed the connection";
             drop(true);
@@ -295,10 +236,7 @@ bool RawLink::send(std::span<const std::uint8_t> bytes, LinkError& error) {
         error.message = "connection closed";
         return false;
     }
-    const bool sent =
-        tls_ ? tls_->write(bytes) && send_cipher(error.message) : send_all(bytes, error.message);
-    if (!sent) {
-        if (error.message.empty()) error.message = "TLS: " + tls_->error();
+    if (!send_all(bytes, error.message)) {
         drop(true);
         return false;
     }
@@ -315,33 +253,18 @@ std::size_t RawLink::send_for(std::span<const std::uint8_t> bytes,
     const auto deadline = Clock::now() + timeout;
     // Over TLS the channel takes the plaintext whole, and its records go out as the peer takes
     // them; what is left waits in the channel for the next write.
-    if (tls_ && !tls_->write(bytes)) {
-        error.message = "TLS: " + tls_->error();
-        drop(true);
-        return 0;
-    }
-    auto wire = [&] { return tls_ ? tls_->output() : bytes; };
-    std::size_t sent = 0;
-    while (sent < wire().size()) {
-        pollfd pfd{fd_, POLLOUT, 0};
-        const int ready = ::poll(&pfd, 1, remaining_ms(deadline));
-        if (ready < 0 && errno == EINTR) continue;
-        if (ready <= 0) break;
-        const auto pending = wire().subspan(tls_ ? 0 : sent);
-        const ssize_t n = ::send(fd_, pending.data(), pending.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-        if (n < 0) {
-            if (errno == EINTR || errno == EAGAIN || errno == EWOULDBLOCK) continue;
-            error.message = errno_text(errno);
+    std::size_t taken = 0;
+    while (taken < bytes.size() || channel_->wants_write()) {
+        if (!wait_ready(fd_, POLLOUT, deadline)) break;
+        const auto io =
+            taken < bytes.size() ? channel_->write(bytes.subspan(taken)) : channel_->flush();
+        if (io.status == Status::Failed) {
+            error.message = io.code != 0 ? errno_text(io.code) : "TLS: " + channel_->error();
             drop(true);
             break;
         }
-        if (tls_) {
-            tls_->sent(static_cast<std::size_t>(n));
-        } else {
-            sent += static_cast<std::size_t>(n);
-        }
+        if (taken < bytes.size()) taken += io.bytes;
     }
-    const std::size_t taken = tls_ ? bytes.size() : sent;
     if (observer_ != nullptr && taken > 0) observer_->on_sent(bytes.first(taken));
     return taken;
 }
@@ -351,9 +274,9 @@ bool RawLink::vanish() {
     const int on = 1;
     if (::setsockopt(fd_, IPPROTO_TCP, TCP_REPAIR, &on, sizeof on) != 0) return false;
     // In repair mode close() frees the socket silently; the capture shows no close either.
-    ::close(fd_);
+    tls_ = nullptr;
+    channel_.reset();
     fd_ = -1;
-    tls_.reset();
     reader_.reset();
     return true;
 }
@@ -374,13 +297,9 @@ RawLink::Fill RawLink::read_some(Clock::time_point deadline, std::string& detail
         detail = "connection closed";
         return Fill::Closed;
     }
-    // Records already decrypted need no wait for the socket.
-    if (!(tls_ && tls_->has_input())) {
-        pollfd pfd{fd_, POLLIN, 0};
-        int ready = ::poll(&pfd, 1, remaining_ms(deadline));
-        if (ready < 0 && errno == EINTR) return Fill::Data;  // caller loops, re-checks the deadline
-        if (ready <= 0) return Fill::Timeout;
-    }
+    // Records already decrypted need no wait for the socket; an interrupted wait returns Data
+    // with nothing, and the caller loops and checks the deadline again.
+    if (!channel_->has_input() && !wait_ready(fd_, POLLIN, deadline)) return Fill::Timeout;
     const Fill fill = read_plain(detail, chunk, got);
     if (got > 0 && observer_ != nullptr) observer_->on_received(chunk.first(got));
     return fill;
@@ -388,38 +307,26 @@ RawLink::Fill RawLink::read_some(Clock::time_point deadline, std::string& detail
 
 RawLink::Fill RawLink::read_plain(std::string& detail, std::span<std::uint8_t> chunk,
                                   std::size_t& got) {
-    if (!tls_) {
-        ssize_t n = ::recv(fd_, chunk.data(), chunk.size(), 0);
-        if (n <= 0) {
-            detail = n == 0 ? "connection closed by peer" : errno_text(errno);
+    const auto io = channel_->read(chunk);
+    switch (io.status) {
+        case Status::Done:
+            got = io.bytes;
+            return Fill::Data;
+        case Status::WouldBlock:  // a record not whole yet
+            return Fill::Data;
+        case Status::EndOfInput:
+            if (!tls_) {
+                detail = "connection closed by peer";
+            } else if (tls_->session().state() == TlsState::Closed) {
+                detail = "the server closed the TLS session (close_notify)";
+            } else {
+                detail = "connection closed by peer (without TLS close_notify)";
+            }
             return Fill::Closed;
-        }
-        got = static_cast<std::size_t>(n);
-        return Fill::Data;
+        case Status::Failed:
+            break;
     }
-    got = tls_->read(chunk);
-    if (got > 0) return Fill::Data;
-    using State = security::TlsChannel::State;
-    if (tls_->state() == State::Open) {
-        std::array<std::uint8_t, 4096> cipher;
-        ssize_t n = ::recv(fd_, cipher.data(), cipher.size(), MSG_DONTWAIT);
-        if (n == 0) {
-            detail = "connection closed by peer (without TLS close_notify)";
-            return Fill::Closed;
-        }
-        if (n < 0) {
-            if (errno == EAGAIN || errno == EWOULDBLOCK || errno == EINTR) return Fill::Data;
-            detail = errno_text(errno);
-            return Fill::Closed;
-        }
-        tls_->received(std::span(cipher).first(static_cast<std::size_t>(n)));
-        got = tls_->read(chunk);
-        std::string ignored;
-        send_cipher(ignored);  // a key update's answer, a close_notify's
-        if (got > 0 || tls_->state() == State::Open) return Fill::Data;
-    }
-    detail = tls_->state() == State::Closed ? "the server closed the TLS session (close_notify)"
-                                            : "TLS: " + tls_->error();
+    detail = io.code != 0 ? errno_text(io.code) : "TLS: " + channel_->error();
     return Fill::Closed;
 }
 

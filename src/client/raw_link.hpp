@@ -13,6 +13,8 @@
 #include "client/link_types.hpp"
 #include "protocol/result.hpp"
 #include "security/tls_channel.hpp"
+#include "transport/channel.hpp"
+#include "transport/tls_stream.hpp"
 
 // A blocking TCP link that puts any bytes on the wire and takes whole MBAP frames off it. The
 // conformance tester judges what devices send, so its framer is lenient: a wrong protocol id or
@@ -46,7 +48,7 @@ class RawLink {
 
     bool is_open() const { return fd_ >= 0; }
     // The TLS session of an mbaps:// link (nullptr on plain TCP): version, cipher, peer.
-    const security::TlsChannel* tls() const { return tls_.get(); }
+    const security::TlsChannel* tls() const { return tls_ ? &tls_->session() : nullptr; }
     // The last alert the server sent, kept after the link closed on it.
     const security::TlsAlert& tls_alert() const { return alert_; }
     // Asks for a TLS renegotiation (a key update on TLS 1.3) and sends the request; false when
@@ -89,13 +91,13 @@ class RawLink {
     RawLink(int fd, const LinkAddresses& addresses, LinkObserver* observer);
     // The TLS handshake on a connected socket, bounded by the deadline; "" when it succeeded.
     std::string handshake(const TlsSetup& setup, std::chrono::steady_clock::time_point deadline);
-    // Sends what the TLS channel has for the network; false when the socket is gone.
-    bool send_cipher(std::string& error);
+    // Writes every byte, and the TLS records held back, waiting for room as long as it takes;
+    // false with `error` set when the connection is gone.
     bool send_all(std::span<const std::uint8_t> bytes, std::string& error);
 
     // Reads once from the socket into the buffer.
     enum class Fill : std::uint8_t { Data, Timeout, Closed };
-    // One read of the socket (through TLS when there is a channel) into `chunk`.
+    // One read of the channel (through TLS on mbaps://) into `chunk`.
     Fill read_plain(std::string& detail, std::span<std::uint8_t> chunk, std::size_t& got);
     // Waits for bytes until the deadline and reads once into `chunk` (`got` bytes).
     Fill read_some(std::chrono::steady_clock::time_point deadline, std::string& detail,
@@ -106,10 +108,12 @@ class RawLink {
     std::optional<Received> wait(std::chrono::steady_clock::time_point deadline);
     void drop(bool by_peer);
 
-    int fd_ = -1;
+    int fd_ = -1;  // the socket, for poll(); the channel owns it
+    // The socket, or TLS over it (then tls_ points into it).
+    std::unique_ptr<transport::Channel> channel_;
+    transport::TlsStream* tls_ = nullptr;
     LinkAddresses addresses_;
     LinkObserver* observer_ = nullptr;
-    std::unique_ptr<security::TlsChannel> tls_;
     security::TlsAlert alert_;
     bool handshake_heard_ = false;  // the server sent bytes or closed during the handshake
     FrameReader reader_{{.framing = Framing::Mbap, .lenient = true}};

@@ -13,23 +13,22 @@
 #include <cerrno>
 #include <cstring>
 
-#include "protocol/adu_writer.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/mbap_header.hpp"
+#include "transport/socket_channel.hpp"
 
 namespace mblab::load {
 
 namespace {
 
 namespace limits = protocol::limits;
-using std::chrono::duration_cast;
-using std::chrono::microseconds;
+using Status = transport::Io::Status;
+using TlsState = security::TlsChannel::State;
 
 // A refused or dropped connection is tried again after this; long enough not to spin on a
 // device that is down, short enough to keep loading one that closes connections on purpose.
 constexpr std::chrono::milliseconds kReconnectDelay{100};
 constexpr std::size_t kMinInput = 4096;
-constexpr std::chrono::milliseconds kMaxSendDebt{50};
 
 const char* socket_error_text(int code) {
     switch (code) {
@@ -71,7 +70,6 @@ LoadConnection::LoadConnection(WorkerContext& context, NodeTally& tally, std::si
 }
 
 LoadConnection::~LoadConnection() {
-    if (fd_ >= 0) ::close(fd_);
     SSL_SESSION_free(session_);
 }
 
@@ -90,6 +88,7 @@ void LoadConnection::connect(LoadClock::time_point now) {
         retry_at_ = now + kReconnectDelay;
         return;
     }
+    channel_ = std::make_unique<transport::SocketChannel>(fd_);
     int one = 1;
     ::setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
     state_ = State::Connecting;
@@ -139,55 +138,45 @@ void LoadConnection::opened(LoadClock::time_point now) {
 
 void LoadConnection::start_tls(LoadClock::time_point now) {
     state_ = State::Handshaking;
-    tls_ = std::make_unique<security::TlsChannel>(
-        target_.tls->context, security::TlsChannel::Side::Client, target_.tls->server_name);
-    tls_->offer_session(session_);
-    tls_->start();
-    send_cipher(now);
+    auto stream = std::make_unique<transport::TlsStream>(std::move(channel_), target_.tls->context,
+                                                         transport::TlsStream::Side::Client,
+                                                         target_.tls->server_name);
+    stream->session().offer_session(session_);
+    tls_ = stream.get();
+    channel_ = std::move(stream);
+    if (const auto io = tls_->start(); io.status == Status::Failed) {
+        lost(now, socket_error_text(io.code));
+        return;
+    }
+    set_write_interest(tls_->wants_write());
 }
 
 void LoadConnection::handshake(LoadClock::time_point now) {
-    if (!receive(now) || state_ != State::Handshaking) return;
-    using TlsState = security::TlsChannel::State;
-    switch (tls_->state()) {
-        case TlsState::Handshaking:
-            send_cipher(now);
+    const auto io = tls_->handshake();
+    switch (io.status) {
+        case Status::WouldBlock:
+            set_write_interest(tls_->wants_write());
             return;
-        case TlsState::Open:
-            if (!send_cipher(now)) return;
+        case Status::Done:
+            set_write_interest(tls_->wants_write());
             tally_.handshakes.add();
-            if (tls_->peer().resumed) tally_.resumed.add();
+            if (tls_->session().peer().resumed) tally_.resumed.add();
             start_traffic(now);
             return;
-        case TlsState::Closed:
-        case TlsState::Failed: {
-            const std::string why = "TLS handshake: " + tls_->error();
-            send_cipher(now);
-            disconnect(now);
-            fail(FailureKind::Refused, nullptr, {client::ReceiveStatus::Closed, {}, why}, now,
-                 "cannot connect: ");
+        case Status::EndOfInput:
+            lost(now, "connection closed by the device");
             return;
-        }
+        case Status::Failed:
+            break;
     }
-}
-
-bool LoadConnection::send_cipher(LoadClock::time_point now) {
-    for (auto out = tls_->output(); !out.empty(); out = tls_->output()) {
-        const ssize_t n = ::send(fd_, out.data(), out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-        if (n > 0) {
-            tls_->sent(static_cast<std::size_t>(n));
-            continue;
-        }
-        if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
-            set_write_interest(true);
-            return true;
-        }
-        if (n < 0 && errno == EINTR) continue;
-        lost(now, socket_error_text(n < 0 ? errno : EPIPE));
-        return false;
+    if (io.code != 0) {
+        lost(now, socket_error_text(io.code));
+        return;
     }
-    set_write_interest(false);
-    return true;
+    const std::string why = "TLS handshake: " + tls_->error();
+    disconnect(now);
+    fail(FailureKind::Refused, nullptr, {client::ReceiveStatus::Closed, {}, why}, now,
+         "cannot connect: ");
 }
 
 void LoadConnection::start_traffic(LoadClock::time_point now) {
@@ -202,23 +191,19 @@ void LoadConnection::start_traffic(LoadClock::time_point now) {
 
 void LoadConnection::disconnect(LoadClock::time_point now) {
     if (tls_) {
-        if (tls_->state() == security::TlsChannel::State::Open && fd_ >= 0) {
-            // close_notify keeps the session resumable, and the device sees an orderly end.
-            tls_->close();
-            const auto out = tls_->output();
-            if (!out.empty()) ::send(fd_, out.data(), out.size(), MSG_NOSIGNAL | MSG_DONTWAIT);
-        }
-        if (SSL_SESSION* session = tls_->take_session()) {
+        // close_notify keeps the session resumable, and the device sees an orderly end.
+        if (tls_->session().state() == TlsState::Open && fd_ >= 0) tls_->close_notify();
+        if (SSL_SESSION* session = tls_->session().take_session()) {
             SSL_SESSION_free(session_);
             session_ = session;
         }
-        tls_.reset();
+        tls_ = nullptr;
     }
     if (fd_ >= 0) {
         context_.epoll.remove(fd_);
-        ::close(fd_);
         fd_ = -1;
     }
+    channel_.reset();  // closes the socket
     for (auto& slot : slots_) {
         if (slot.active) release(slot);
         slot.has_expired = false;
@@ -241,8 +226,7 @@ void LoadConnection::on_event(std::uint32_t events, LoadClock::time_point now) {
         return;
     }
     if (state_ == State::Handshaking) {
-        if ((events & EPOLLOUT) != 0 && !send_cipher(now)) return;
-        if ((events & (EPOLLIN | EPOLLERR | EPOLLHUP)) != 0) handshake(now);
+        handshake(now);  // sends what waits for room, then reads
         return;
     }
     if (state_ != State::Open) return;
@@ -279,106 +263,23 @@ void LoadConnection::tick(LoadClock::time_point now) {
     }
 }
 
-bool LoadConnection::next_exchange(std::uint32_t& out) {
-    if (role_ == Role::Traffic) {
-        out = next_mix_exchange(context_.plan, prng_);
-        return true;
-    }
-    return next_test_exchange(context_.plan, tally_, test_cursor_, out);
-}
-
-LoadConnection::Slot& LoadConnection::take_slot() {
-    const std::uint16_t index = free_slots_.back();
-    free_slots_.pop_back();
-    Slot& slot = slots_[index];
-    ++slot.generation;
-    const unsigned generation_bits = 16 - slot_bits_;
-    const auto generation = static_cast<std::uint16_t>(
-        generation_bits >= 16 ? slot.generation : slot.generation & ((1U << generation_bits) - 1));
-    slot.tid = static_cast<std::uint16_t>((generation << slot_bits_) | index);
-    slot.active = true;
-    ++outstanding_;
-    return slot;
-}
-
-void LoadConnection::release(Slot& slot) {
-    slot.active = false;
-    --outstanding_;
-    free_slots_.push_back(static_cast<std::uint16_t>(&slot - slots_.data()));
-}
-
-LoadConnection::Slot* LoadConnection::find_slot(std::uint16_t tid) {
-    const std::size_t index = tid & ((1U << slot_bits_) - 1);
-    if (index >= slots_.size()) return nullptr;
-    Slot& slot = slots_[index];
-    return slot.active && slot.tid == tid ? &slot : nullptr;
-}
-
-LoadConnection::Slot* LoadConnection::oldest_slot() {
-    Slot* oldest = nullptr;
-    for (auto& slot : slots_) {
-        if (slot.active && (oldest == nullptr || slot.sent_at < oldest->sent_at)) oldest = &slot;
-    }
-    return oldest;
-}
-
-void LoadConnection::fill(LoadClock::time_point now) {
-    if (!context_.running || state_ != State::Open) return;
-    const auto interval = context_.send_interval;
-    const auto timeout = context_.plan.settings.timeout;
-    while (outstanding_ < window_) {
-        if (interval.count() > 0) {
-            if (now < next_send_) break;
-            // Sends wait for the next tick (a millisecond or more on a busy machine), so some
-            // lag is made up later; but after a real stall the debt is forgiven rather than
-            // paid back as a burst.
-            const auto debt = std::max<std::chrono::nanoseconds>(
-                interval * static_cast<long>(window_), kMaxSendDebt);
-            if (next_send_ + debt < now) next_send_ = now - debt;
-            next_send_ += interval;
-        }
-        std::uint32_t index = 0;
-        if (!next_exchange(index)) break;
-        const auto& request = context_.plan.exchanges[index].request;
-        if (out_end_ + request.size() > out_.size()) break;
-        Slot& slot = take_slot();
-        slot.exchange = index;
-        slot.sent_at = now;
-        earliest_deadline_ = std::min(earliest_deadline_, now + timeout);
-        std::memcpy(out_.data() + out_end_, request.data(), request.size());
-        protocol::put_mbap_transaction_id({out_.data() + out_end_, request.size()}, slot.tid);
-        out_end_ += request.size();
-        tally_.sent.add();
-        tally_.exchange(index).sent.add();
-    }
-    flush(now);
-}
-
 void LoadConnection::flush(LoadClock::time_point now) {
-    if (tls_) {
-        if (out_begin_ < out_end_ &&
-            !tls_->write({out_.data() + out_begin_, out_end_ - out_begin_})) {
-            lost(now, "the TLS session failed");
+    // Over TLS the requests are taken whole, as one record; its bytes go out as the device
+    // takes them.
+    while (out_begin_ < out_end_ || channel_->wants_write()) {
+        const bool requests = out_begin_ < out_end_;
+        const auto io = requests
+                            ? channel_->write({out_.data() + out_begin_, out_end_ - out_begin_})
+                            : channel_->flush();
+        if (io.status == Status::Failed) {
+            lost(now, io.code != 0 ? socket_error_text(io.code) : "the TLS session failed");
             return;
         }
-        out_begin_ = out_end_ = 0;
-        send_cipher(now);
-        return;
-    }
-    while (out_begin_ < out_end_) {
-        const ssize_t n = ::send(fd_, out_.data() + out_begin_, out_end_ - out_begin_,
-                                 MSG_NOSIGNAL | MSG_DONTWAIT);
-        if (n > 0) {
-            out_begin_ += static_cast<std::size_t>(n);
-            continue;
-        }
-        if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+        if (io.bytes == 0) {
             set_write_interest(true);
             return;
         }
-        if (n < 0 && errno == EINTR) continue;
-        lost(now, socket_error_text(n < 0 ? errno : EPIPE));
-        return;
+        if (requests) out_begin_ += io.bytes;
     }
     out_begin_ = out_end_ = 0;
     set_write_interest(false);
@@ -396,31 +297,18 @@ bool LoadConnection::receive(LoadClock::time_point now) {
         in_end_ -= in_begin_;
         in_begin_ = 0;
     }
-    std::array<std::uint8_t, 16 * 1024 + 512> cipher;
-    const auto into = tls_ ? std::span<std::uint8_t>(cipher)
-                           : std::span<std::uint8_t>(in_.data() + in_end_, in_.size() - in_end_);
-    const ssize_t n = ::recv(fd_, into.data(), into.size(), MSG_DONTWAIT);
-    if (n == 0) {
-        lost(now, "connection closed by the device");
-        return false;
+    bool got = false;
+    auto io = channel_->read({in_.data() + in_end_, in_.size() - in_end_});
+    // Records decrypted past the first read are taken now: no socket event would bring them.
+    while (io.status == Status::Done) {
+        got = true;
+        in_end_ += io.bytes;
+        if (!channel_->has_input() || in_end_ == in_.size()) break;
+        io = channel_->read({in_.data() + in_end_, in_.size() - in_end_});
     }
-    if (n < 0) {
-        if (errno != EAGAIN && errno != EWOULDBLOCK && errno != EINTR) {
-            lost(now, socket_error_text(errno));
-        }
-        return false;
-    }
-    if (!tls_) {
-        in_end_ += static_cast<std::size_t>(n);
-        return true;
-    }
-    tls_->received(into.first(static_cast<std::size_t>(n)));
-    while (std::size_t got = tls_->read({in_.data() + in_end_, in_.size() - in_end_})) {
-        in_end_ += got;
-    }
-    if (state_ == State::Open && tls_->state() != security::TlsChannel::State::Open) {
+    if (tls_ && tls_->session().state() != TlsState::Open) {
         // A device that refuses the certificate after a TLS 1.3 handshake says so only now.
-        const std::string why = tls_->state() == security::TlsChannel::State::Closed
+        const std::string why = tls_->session().state() == TlsState::Closed
                                     ? "the device ended the TLS session"
                                     : "TLS: " + tls_->error();
         fail(FailureKind::Dropped, oldest_slot(), {client::ReceiveStatus::Closed, held(), why},
@@ -428,7 +316,11 @@ bool LoadConnection::receive(LoadClock::time_point now) {
         disconnect(now);
         return false;
     }
-    return true;
+    // What came before an end is judged first; the end is read again at the next wake-up.
+    if (got || io.status == Status::WouldBlock) return got;
+    lost(now, io.status == Status::EndOfInput ? "connection closed by the device"
+                                              : socket_error_text(io.code));
+    return false;
 }
 
 void LoadConnection::read(LoadClock::time_point now) {
@@ -465,64 +357,6 @@ void LoadConnection::read(LoadClock::time_point now) {
         in_begin_ = 0;
     }
     fill(now);
-}
-
-void LoadConnection::answer(std::span<const std::uint8_t> frame, LoadClock::time_point now) {
-    const std::uint16_t tid = protocol::read_mbap_header(frame).transaction_id;
-    Slot* slot = find_slot(tid);
-    bool tid_matches = slot != nullptr;
-    if (slot == nullptr) {
-        const std::size_t index = tid & ((1U << slot_bits_) - 1);
-        if (index < slots_.size() && slots_[index].has_expired &&
-            slots_[index].expired_tid == tid) {
-            slots_[index].has_expired = false;
-            tally_.late.add();
-            return;
-        }
-        // Modbus/TCP servers answer in order: take it as the answer to the oldest request.
-        slot = oldest_slot();
-    }
-    tally_.answered.add();
-    if (slot == nullptr) {
-        fail(FailureKind::WrongAnswer, nullptr, {client::ReceiveStatus::Frame, frame, {}}, now,
-             "an answer that no request asked for");
-        return;
-    }
-    tally_.latency.record(
-        static_cast<std::uint64_t>(duration_cast<microseconds>(now - slot->sent_at).count()));
-    std::optional<FailureKind> failure =
-        tid_matches
-            ? judge_load_answer(context_.plan, tally_, role_ == Role::Tests, slot->exchange, frame)
-            : FailureKind::WrongAnswer;
-    if (failure) fail(*failure, slot, {client::ReceiveStatus::Frame, frame, {}}, now);
-    release(*slot);
-}
-
-void LoadConnection::expire(LoadClock::time_point now) {
-    const auto timeout = context_.plan.settings.timeout;
-    earliest_deadline_ = LoadClock::time_point::max();
-    for (auto& slot : slots_) {
-        if (!slot.active) continue;
-        const auto deadline = slot.sent_at + timeout;
-        if (deadline > now) {
-            earliest_deadline_ = std::min(earliest_deadline_, deadline);
-            continue;
-        }
-        fail(FailureKind::Timeout, &slot, {client::ReceiveStatus::Timeout, held(), {}}, now);
-        slot.expired_tid = slot.tid;
-        slot.has_expired = true;
-        release(slot);
-    }
-}
-
-void LoadConnection::fail(FailureKind kind, const Slot* slot, const LoadSeen& seen,
-                          LoadClock::time_point now, std::string_view reason) {
-    if (slot == nullptr) {
-        count_failure(tally_, context_.plan, context_.start, kind, nullptr, seen, now, reason);
-        return;
-    }
-    const LoadSent sent{slot->exchange, slot->tid};
-    count_failure(tally_, context_.plan, context_.start, kind, &sent, seen, now, reason);
 }
 
 }  // namespace mblab::load

@@ -17,7 +17,9 @@
 #include "protocol/framer.hpp"
 #include "security/tls_channel.hpp"
 #include "support/prng.hpp"
+#include "transport/channel.hpp"
 #include "transport/epoll_set.hpp"
+#include "transport/tls_stream.hpp"
 
 namespace mblab::load {
 
@@ -72,12 +74,11 @@ class LoadConnection {
     void finish_connect(LoadClock::time_point now);
     void opened(LoadClock::time_point now);
     void start_traffic(LoadClock::time_point now);
-    // mbaps://: the TLS session between the socket and in_/out_.
+    // mbaps://: TLS between the socket and in_/out_.
     void start_tls(LoadClock::time_point now);
+    // Moves the handshake on at each wake-up; traffic starts once it is over.
     void handshake(LoadClock::time_point now);
-    // Sends what TLS has for the network; false when the connection was lost.
-    bool send_cipher(LoadClock::time_point now);
-    // Reads the socket into in_ (through TLS on mbaps://); false when nothing more can be read.
+    // Reads the channel into in_; false when nothing came or the connection was lost.
     bool receive(LoadClock::time_point now);
     void disconnect(LoadClock::time_point now);
     void lost(LoadClock::time_point now, const char* detail);
@@ -132,7 +133,9 @@ class LoadConnection {
     std::size_t out_begin_ = 0;
     std::size_t out_end_ = 0;
 
-    std::unique_ptr<security::TlsChannel> tls_;
+    // The socket, or TLS over it (then tls_ points into it); fd_ is kept for epoll.
+    std::unique_ptr<transport::Channel> channel_;
+    transport::TlsStream* tls_ = nullptr;
     // The last session, offered again at a reconnect so the device can resume it.
     SSL_SESSION* session_ = nullptr;
 };

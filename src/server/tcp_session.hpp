@@ -6,18 +6,20 @@
 #include <cstdint>
 #include <memory>
 
-#include "security/tls_channel.hpp"
+#include "server/mbap_driver.hpp"
 #include "server/mbap_session.hpp"
 #include "server/server_core.hpp"
+#include "transport/channel.hpp"
 #include "transport/connection_table.hpp"
 #include "transport/socket_poller.hpp"
 
 namespace mblab::server {
 
-// One Modbus/TCP connection: the descriptor and its I/O around an MbapSession, which holds the
+// One Modbus/TCP connection: the descriptor, its channel (the socket, or TLS over it) and an
+// MbapDriver that moves bytes and time between the channel and an MbapSession, which holds the
 // protocol. The socket is read once each time the server's SocketPoller says it has data, the
 // answers the session has ready go out in one send() or sendmsg(), output is watched only while
-// the client leaves answers untaken, and one timer wakes the session at its deadline.
+// the client leaves answers untaken, and one timer wakes the driver at its deadline.
 class TcpSession final : public std::enable_shared_from_this<TcpSession>,
                          public transport::TrackedConnection,
                          public transport::SocketPoller::Watcher,
@@ -40,30 +42,11 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
                                         const protocol::MbapHeader& request) override;
     void on_busy_reply(std::uint8_t unit) override;
 
-    void read_ready(Clock::time_point now);
-    bool wants_read() const;
-
-    // Modbus/TCP Security: the socket carries a TLS session and the MBAP session sees plaintext.
-    void read_tls(Clock::time_point now);
-    // Moves the handshake on and hands decrypted bytes to the session while it takes input;
-    // returns how many plaintext bytes it handed over.
-    std::size_t pump_tls(Clock::time_point now);
-    void on_handshake();
-    void refuse_handshake(const std::string& reason);
-    // Counts and logs a client refused after its handshake, then ends its session.
-    void refuse_client(const std::string& reason);
-    // What TLS has for the network; false when the socket is full (or gone).
-    bool send_cipher();
-    void flush_tls(Clock::time_point now);
-    void end_input(Clock::time_point now);
-    // Sends what the session has ready until the socket is full or nothing is ready, then
-    // closes if the session is done.
-    void flush(Clock::time_point now);
-    // After an event: the watched events and the timer brought up to date.
+    // After an event: the connection closed if the driver is done, else the watched events and
+    // the timer brought up to date.
     void settle();
     void arm_timer();
     void on_timer();
-    void shutdown_and_close();
     // Gives the connection's place in the listener's table back (once).
     void leave_table();
     // Stops watching the socket and closes it (once).
@@ -72,7 +55,10 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     asio::any_io_executor executor_;
     int fd_ = -1;
     std::shared_ptr<ServerCore> core_;
+    // The socket, or TLS over it: the driver's only way to the client.
+    std::unique_ptr<transport::Channel> channel_;
     MbapSession session_;
+    MbapDriver driver_;
     asio::steady_timer timer_;
     // When the timer wakes; a later session deadline waits for that wake-up, which costs less
     // than setting the timer again on every request.
@@ -80,11 +66,6 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     bool timer_pending_ = false;
     bool closed_ = false;
     bool in_table_ = false;
-    bool write_blocked_ = false;   // the socket took less than it was given
-    bool input_ended_ = false;     // the session was told the client sends nothing more
-    bool seen_plaintext_ = false;  // the first plaintext was checked for a bare PDU
-    std::unique_ptr<security::TlsChannel> tls_;
-    Clock::time_point handshake_deadline_ = Clock::time_point::max();
 };
 
 }  // namespace mblab::server

@@ -1,7 +1,6 @@
 #include "mbap_session_trace.hpp"
 
 #include <gtest/gtest.h>
-#include <sys/uio.h>
 
 #include <algorithm>
 #include <array>
@@ -12,8 +11,6 @@
 namespace mblab::test {
 
 namespace {
-
-using Ending = server::MbapSession::Ending;
 
 device::Reply exception(std::uint8_t function, std::uint8_t code,
                         std::span<std::uint8_t> response) {
@@ -91,14 +88,68 @@ void TraceDevice::line_answers() {
     job.done(reply, std::span(response).first(reply.size));
 }
 
-SessionTrace::SessionTrace(server::MbapSessionLimits limits)
-    : session_(device_, limits, stats_, *this, clock_.now()) {}
+namespace {
+
+// The server's side of the pair: TLS over its end when the trace speaks TLS.
+transport::Channel& server_channel(transport::MemoryPair& stream,
+                                   const std::unique_ptr<transport::TlsStream>& tls) {
+    if (tls) return *tls;
+    return stream.server();
+}
+
+server::ServerOptions options_for(const TraceTls& tls, std::vector<std::string>& refusals) {
+    server::ServerOptions options;
+    options.tls = tls.server;
+    options.roles = tls.roles;
+    options.on_tls_refused = [&refusals](const std::string& why) { refusals.push_back(why); };
+    return options;
+}
+
+}  // namespace
+
+SessionTrace::SessionTrace(server::MbapSessionLimits limits) : SessionTrace(TraceTls{}, limits) {}
+
+SessionTrace::SessionTrace(const TraceTls& tls, server::MbapSessionLimits limits)
+    : options_(options_for(tls, refusals_)),
+      server_tls_(tls.server ? std::make_unique<transport::TlsStream>(
+                                   stream_.server(), tls.server, transport::TlsStream::Side::Server)
+                             : nullptr),
+      client_tls_(tls.client ? std::make_unique<transport::TlsStream>(
+                                   stream_.client(), tls.client, transport::TlsStream::Side::Client,
+                                   "localhost")
+                             : nullptr),
+      session_(device_, limits, stats_, *this, clock_.now()),
+      driver_(server_channel(stream_, server_tls_), session_, options_, stats_, clock_.now()) {
+    if (client_tls_) {
+        client_tls_->start();
+        if (tls.handshake) {
+            EXPECT_TRUE(client_handshakes()) << client_tls_->error();
+        }
+    }
+}
+
+transport::Channel& SessionTrace::client_channel() {
+    if (client_tls_) return *client_tls_;
+    return stream_.client();
+}
+
+bool SessionTrace::client_handshakes() {
+    for (int round = 0; round < 20 && client_tls_->handshaking(); ++round) {
+        run();
+        const auto io = client_tls_->handshake();
+        if (io.status != transport::Io::Status::Done &&
+            io.status != transport::Io::Status::WouldBlock) {
+            break;
+        }
+    }
+    run();
+    return client_tls_->session().state() == security::TlsChannel::State::Open;
+}
 
 device::DeferredDone SessionTrace::route_deferred(std::uint32_t ticket,
                                                   const protocol::MbapHeader& request) {
     return [this, ticket, request](const device::Reply& reply, std::span<const std::uint8_t> pdu) {
-        if (closed_) return;
-        session_.answer_deferred(ticket, request, reply, pdu, clock_.now());
+        driver_.answer_deferred(ticket, request, reply, pdu, clock_.now());
         run();
     };
 }
@@ -109,63 +160,24 @@ void SessionTrace::on_busy_reply(std::uint8_t /*unit*/) {
 
 void SessionTrace::run() {
     auto& server = stream_.server();
-    while (!closed_) {
-        flush();
-        if (closed_ || !session_.wants_input()) return;
-        const auto io = server.read(session_.input_space());
-        switch (io.status) {
-            case StreamIo::Status::Done:
-                session_.received(io.bytes, clock_.now());
-                break;
-            case StreamIo::Status::EndOfInput:
-                session_.end_of_input(clock_.now());
-                break;
-            case StreamIo::Status::WouldBlock:
-                return;
-            case StreamIo::Status::Reset:
-                close(false);
-                return;
+    for (int round = 0; round < 100'000; ++round) {
+        if (driver_.closed()) {
+            server.close();
+            return;
         }
-    }
-}
-
-void SessionTrace::flush() {
-    auto& server = stream_.server();
-    if (write_blocked_ && server.writable()) write_blocked_ = false;
-    std::array<iovec, server::MbapSession::kMaxGather> gathered;
-    std::array<std::span<const std::uint8_t>, server::MbapSession::kMaxGather> buffers;
-    while (!closed_ && !write_blocked_) {
         const auto now = clock_.now();
-        const auto count = session_.output(now, gathered);
-        if (count == 0) {
-            const auto ending = session_.ending(now);
-            if (ending != Ending::Open) close(ending == Ending::AfterAnswers);
-            return;
-        }
-        std::size_t wanted = 0;
-        for (std::size_t i = 0; i < count; ++i) {
-            buffers[i] = {static_cast<const std::uint8_t*>(gathered[i].iov_base),
-                          gathered[i].iov_len};
-            wanted += gathered[i].iov_len;
-        }
-        const auto io = server.write(std::span(buffers).first(count));
-        if (io.status == StreamIo::Status::Reset) {
-            close(false);
-            return;
-        }
-        session_.sent(io.bytes, now);
-        if (io.bytes < wanted) write_blocked_ = true;
+        const bool out = driver_.wants_write() && server.writable();
+        const bool in = driver_.wants_read() && server.readable();
+        if (!out && !in) return;
+        if (out) driver_.writable(now);
+        if (in) driver_.readable(now);
     }
-}
-
-void SessionTrace::close(bool /*after_answers*/) {
-    closed_ = true;
-    if (!stream_.server().is_reset()) stream_.server().shutdown_write();
+    ADD_FAILURE() << "the driver is never done with what its channel is ready for";
 }
 
 void SessionTrace::client_sends(std::string_view hex_bytes) {
     const auto bytes = hex(hex_bytes);
-    const auto io = client().write(bytes);
+    const auto io = client_channel().write(bytes);
     EXPECT_EQ(io.bytes, bytes.size()) << "the stream refused bytes the client sent";
     run();
 }
@@ -175,13 +187,13 @@ void SessionTrace::client_sends_byte_by_byte(std::string_view hex_bytes,
     const auto bytes = hex(hex_bytes);
     for (std::size_t i = 0; i < bytes.size(); ++i) {
         if (i > 0) after(gap);
-        client().write(std::span(bytes).subspan(i, 1));
+        client_channel().write(std::span(bytes).subspan(i, 1));
         run();
     }
 }
 
 void SessionTrace::client_shuts_down() {
-    client().shutdown_write();
+    client_channel().shutdown_write();
     run();
 }
 
@@ -192,19 +204,15 @@ void SessionTrace::client_resets() {
 
 void SessionTrace::after(std::chrono::milliseconds time) {
     const auto until = clock_.now() + time;
-    for (int wakeups = 0; !closed_; ++wakeups) {
-        const auto at = session_.deadline();
+    for (int wakeups = 0; !closed(); ++wakeups) {
+        const auto at = driver_.deadline();
         if (at > until) break;
         if (wakeups == 10'000) {
             ADD_FAILURE() << "the session's deadline does not move on at " << clock_.elapsed();
             break;
         }
         clock_.advance_to(at);
-        session_.on_time(clock_.now());
-        if (session_.ending(clock_.now()) == Ending::Now) {
-            close(false);
-            break;
-        }
+        driver_.on_time(clock_.now());
         run();
     }
     clock_.advance_to(until);
@@ -215,8 +223,8 @@ std::string SessionTrace::client_reads() {
     std::vector<std::uint8_t> bytes;
     std::array<std::uint8_t, 4096> chunk{};
     for (;;) {
-        const auto io = client().read(chunk);
-        if (io.status != StreamIo::Status::Done) break;
+        const auto io = client_channel().read(chunk);
+        if (io.status != transport::Io::Status::Done) break;
         bytes.insert(bytes.end(), chunk.begin(), chunk.begin() + io.bytes);
     }
     run();  // the socket has room again

@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstdint>
 #include <deque>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -10,10 +11,13 @@
 #include <vector>
 
 #include "device/request_handler.hpp"
+#include "device/role_rules.hpp"
+#include "server/mbap_driver.hpp"
 #include "server/mbap_session.hpp"
 #include "server/server_stats.hpp"
 #include "support/manual_clock.hpp"
-#include "support/memory_stream.hpp"
+#include "transport/memory_channel.hpp"
+#include "transport/tls_stream.hpp"
 
 // An MbapSession driven the way TcpSession drives it, over an in-memory stream and a manual
 // clock, so that a test reads as a protocol trace: the client sends hex, time passes, the device
@@ -55,16 +59,35 @@ class TraceDevice final : public device::RequestHandler {
     std::deque<LineRequest> line_;
 };
 
+// Modbus/TCP Security in a trace: the server's TLS context and the roles it grants, and the
+// client's context. The trace's client then speaks TLS over the memory pair.
+struct TraceTls {
+    security::SharedContext server;
+    security::SharedContext client;
+    std::shared_ptr<const device::RoleRules> roles;
+    bool handshake = true;  // the client's handshake done by the constructor
+};
+
+// The real server driver (MbapDriver, as TcpSession runs it) over a memory pair and a manual
+// clock, so that a test reads as a protocol trace: the client sends hex, time passes, the device
+// answers hex.
 class SessionTrace final : private server::MbapSession::Host {
   public:
     explicit SessionTrace(server::MbapSessionLimits limits = {});
+    explicit SessionTrace(const TraceTls& tls, server::MbapSessionLimits limits = {});
 
     // The client writes these bytes; the session reads and answers what it can.
     void client_sends(std::string_view hex);
     void client_sends_byte_by_byte(std::string_view hex, std::chrono::milliseconds gap);
     void client_shuts_down();
     void client_resets();
-    // Time passes; the session is woken at each of its deadlines on the way.
+    // Over TLS: moves the client's handshake on until it is over or nothing moves; true when the
+    // session is open.
+    bool client_handshakes();
+    // What a readiness loop does: tells the driver what its end of the pair is ready for, until
+    // it is ready for nothing the driver wants.
+    void run();
+    // Time passes; the driver is woken at each of its deadlines on the way.
     void after(std::chrono::milliseconds time);
     // Everything the device sent that the client has not read yet, as "00 01 ...".
     std::string client_reads();
@@ -75,37 +98,41 @@ class SessionTrace final : private server::MbapSession::Host {
     void device_says_nothing() { device_answers(""); }
 
     // Whether the session reads its socket.
-    bool reading() const { return !closed_ && session_.wants_input(); }
-    // The session closed the connection (after its answers, or at once).
-    bool closed() const { return closed_; }
+    bool reading() const { return !closed() && session_.wants_input(); }
+    // The driver closed the connection (after its answers, or at once).
+    bool closed() const { return driver_.closed(); }
     bool client_sees_end_of_input() const { return stream_.client().at_end_of_input(); }
 
     TraceDevice& device() { return device_; }
-    StreamPair::End& client() { return stream_.client(); }
+    // The client's end of the pair (below TLS, when there is TLS).
+    transport::MemoryPair::End& client() { return stream_.client(); }
     // The session's end, for failures on its side (short writes).
-    StreamPair::End& server_end() { return stream_.server(); }
+    transport::MemoryPair::End& server_end() { return stream_.server(); }
+    // What the client reads and writes through: its TLS session, or its end of the pair.
+    transport::Channel& client_channel();
+    transport::TlsStream* client_tls() { return client_tls_.get(); }
     server::MbapSession& session() { return session_; }
     const server::ServerStats& stats() const { return stats_; }
     ManualClock& clock() { return clock_; }
     int busy_replies() const { return busy_replies_; }
+    // Why the server refused a TLS client, in order.
+    const std::vector<std::string>& refusals() const { return refusals_; }
 
   private:
     device::DeferredDone route_deferred(std::uint32_t ticket,
                                         const protocol::MbapHeader& request) override;
     void on_busy_reply(std::uint8_t unit) override;
 
-    // What a readiness loop does: read while the session wants input, send what it has.
-    void run();
-    void flush();
-    void close(bool after_answers);
-
     TraceDevice device_;
     server::ServerStats stats_;
     ManualClock clock_;
-    StreamPair stream_;
+    transport::MemoryPair stream_;
+    std::vector<std::string> refusals_;
+    server::ServerOptions options_;
+    std::unique_ptr<transport::TlsStream> server_tls_;
+    std::unique_ptr<transport::TlsStream> client_tls_;
     server::MbapSession session_;
-    bool closed_ = false;
-    bool write_blocked_ = false;
+    server::MbapDriver driver_;
     int busy_replies_ = 0;
 };
 

@@ -1,0 +1,199 @@
+#include "server/mbap_driver.hpp"
+
+#include <algorithm>
+#include <array>
+#include <optional>
+
+#include "server/bare_pdu.hpp"
+
+namespace mblab::server {
+
+namespace {
+
+using Status = transport::Io::Status;
+
+// Roles without rules: every request is refused (deny by default).
+const device::RoleRules kNoRules;
+
+}  // namespace
+
+MbapDriver::MbapDriver(transport::Channel& channel, MbapSession& session,
+                       const ServerOptions& options, ServerStats& stats, Clock::time_point now)
+    : channel_(channel),
+      session_(session),
+      options_(options),
+      stats_(stats),
+      tls_(options.tls != nullptr) {
+    if (tls_) handshake_deadline_ = now + options.handshake_limit;
+}
+
+bool MbapDriver::wants_read() const {
+    if (closed_) return false;
+    if (channel_.handshaking()) return true;
+    return session_.wants_input();
+}
+
+Clock::time_point MbapDriver::deadline() const {
+    return std::min(session_.deadline(), handshake_deadline_);
+}
+
+void MbapDriver::readable(Clock::time_point now) {
+    if (!wants_read()) return;
+    take(now);
+    flush(now);
+    drain(now);
+}
+
+void MbapDriver::writable(Clock::time_point now) {
+    write_blocked_ = false;
+    flush(now);
+    drain(now);
+}
+
+void MbapDriver::on_time(Clock::time_point now) {
+    if (closed_) return;
+    if (now >= handshake_deadline_) {
+        refuse_handshake("the TLS handshake did not finish within the handshake limit");
+        closed_ = true;
+        return;
+    }
+    session_.on_time(now);
+    if (session_.ending(now) == MbapSession::Ending::Now) {
+        closed_ = true;
+        return;
+    }
+    flush(now);
+    drain(now);
+}
+
+void MbapDriver::answer_deferred(std::uint32_t ticket, const protocol::MbapHeader& request,
+                                 const device::Reply& reply, std::span<const std::uint8_t> pdu,
+                                 Clock::time_point now) {
+    if (closed_) return;
+    session_.answer_deferred(ticket, request, reply, pdu, now);
+    flush(now);
+    drain(now);
+}
+
+void MbapDriver::drain(Clock::time_point now) {
+    while (!closed_ && session_.wants_input() && channel_.has_input() && take(now)) {
+        flush(now);
+    }
+}
+
+void MbapDriver::end_input(Clock::time_point now) {
+    if (input_ended_) return;
+    input_ended_ = true;
+    session_.end_of_input(now);
+}
+
+bool MbapDriver::take(Clock::time_point now) {
+    const bool was_handshaking = channel_.handshaking();
+    const auto space = session_.input_space();
+    const auto io = channel_.read(space);
+    if (was_handshaking && !channel_.handshaking()) {
+        if (const auto peer = channel_.peer(); peer.tls != nullptr) on_handshake(*peer.tls);
+    }
+    switch (io.status) {
+        case Status::Done:
+            break;
+        case Status::WouldBlock:
+            return false;
+        case Status::EndOfInput:
+            // A FIN without close_notify, or close_notify: the requests that came whole are
+            // still answered. Before the handshake ended nothing can come any more.
+            if (channel_.handshaking()) {
+                closed_ = true;
+            } else {
+                end_input(now);
+            }
+            return false;
+        case Status::Failed:
+            // A TLS failure (no errno) in the handshake is a refusal, its alert already sent.
+            if (handshake_deadline_ != Clock::time_point::max() && io.code == 0) {
+                refuse_handshake(channel_.error());
+            }
+            closed_ = true;
+            return false;
+    }
+    if (tls_ && !seen_plaintext_) {
+        seen_plaintext_ = true;
+        if (is_bare_pdu(space.first(io.bytes))) {
+            refuse_client(
+                "it sent a bare PDU without the MBAP header (an early draft's framing, "
+                "pymodbus's TLS framer); Modbus/TCP Security carries MBAP inside TLS");
+            return false;
+        }
+    }
+    session_.received(io.bytes, now);
+    return true;
+}
+
+void MbapDriver::flush(Clock::time_point now) {
+    std::array<iovec, MbapSession::kMaxGather> buffers;
+    while (!closed_ && !write_blocked_) {
+        if (channel_.wants_write()) {
+            if (channel_.flush().status == Status::Failed) {
+                closed_ = true;
+                return;
+            }
+            if (channel_.wants_write()) {
+                write_blocked_ = true;
+                return;
+            }
+        }
+        if (channel_.handshaking()) return;
+        const auto count = session_.output(now, buffers);
+        if (count == 0) {
+            switch (session_.ending(now)) {
+                case MbapSession::Ending::Open:
+                    return;
+                case MbapSession::Ending::AfterAnswers:
+                    channel_.shutdown_write();
+                    closed_ = true;
+                    return;
+                case MbapSession::Ending::Now:
+                    closed_ = true;
+                    return;
+            }
+        }
+        std::size_t wanted = 0;
+        for (std::size_t i = 0; i < count; ++i)
+            wanted += buffers[i].iov_len;
+        const auto io = channel_.writev(std::span(buffers).first(count));
+        if (io.status == Status::Failed) {
+            closed_ = true;
+            return;
+        }
+        session_.sent(io.bytes, now);
+        // The client is not reading fast enough: wait for room. A TLS record takes at most a
+        // batch of answers; the rest goes in the next one at once.
+        if (tls_ ? channel_.wants_write() || io.status == Status::WouldBlock : io.bytes < wanted) {
+            write_blocked_ = true;
+        }
+    }
+}
+
+void MbapDriver::on_handshake(const security::TlsPeer& peer) {
+    handshake_deadline_ = Clock::time_point::max();
+    ServerStats::bump(stats_.tls_handshakes);
+    if (peer.resumed) ServerStats::bump(stats_.tls_resumed);
+    std::optional<std::string> role;
+    if (peer.role.kind == security::RoleReading::Kind::Role) role = peer.role.role;
+    session_.authorize(options_.roles ? *options_.roles : kNoRules, std::move(role));
+}
+
+void MbapDriver::refuse_client(const std::string& reason) {
+    ServerStats::bump(stats_.tls_refused);
+    if (options_.on_tls_refused) options_.on_tls_refused(reason);
+    channel_.shutdown_write();  // close_notify
+    closed_ = true;
+}
+
+void MbapDriver::refuse_handshake(const std::string& reason) {
+    handshake_deadline_ = Clock::time_point::max();
+    ServerStats::bump(stats_.tls_refused);
+    if (options_.on_tls_refused) options_.on_tls_refused(reason);
+}
+
+}  // namespace mblab::server

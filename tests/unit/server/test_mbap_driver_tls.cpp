@@ -1,0 +1,115 @@
+// The server's real driver (MbapDriver, as TcpSession runs it) with Modbus/TCP Security over a
+// memory pair: the trace's client speaks TLS, the hex is the plaintext inside it.
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "mbap_session_trace.hpp"
+#include "support/lab_tls.hpp"
+
+namespace mblab::test {
+namespace {
+
+using server::ServerStats;
+
+TraceTls operator_may_read() {
+    return {lab_server_context(), lab_client_context("client-Operator"),
+            std::make_shared<const device::RoleRules>(
+                std::vector{device::RoleRule{"Operator", {3}, {}, {}, {}, {}}})};
+}
+
+TEST(MbapDriverTls, AnswersInsideTlsUnderTheCertificatesRole) {
+    SessionTrace t(operator_may_read());
+    EXPECT_EQ(ServerStats::read(t.stats().tls_handshakes), 1U);
+    t.client_sends(
+        "00 01 00 00 00 06 01 03 00 07 00 01"
+        "00 02 00 00 00 06 01 06 00 08 12 34");
+    t.device_answers(
+        "00 01 00 00 00 05 01 03 02 00 07"
+        "00 02 00 00 00 03 01 86 01");  // FC 06 is not the Operator's here
+    EXPECT_EQ(ServerStats::read(t.stats().denied), 1U);
+    EXPECT_FALSE(t.closed());
+}
+
+TEST(MbapDriverTls, AnswersReadyInOnePassGoOutAsOneRecord) {
+    SessionTrace t(operator_may_read());
+    t.client_sends("00 01 00 00 00 06 01 03 00 07 00 01");
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");  // the tickets went out with it
+    const auto before = t.server_end().written();
+    t.client_sends(
+        "00 02 00 00 00 06 01 03 00 07 00 01"
+        "00 03 00 00 00 06 01 03 00 08 00 01"
+        "00 04 00 00 00 06 01 03 00 09 00 01");
+    // Three answers of 11 bytes in one TLS 1.3 record: header 5, type 1, tag 16.
+    EXPECT_EQ(t.server_end().written() - before, 3U * 11U + 5U + 1U + 16U);
+    t.device_answers(
+        "00 02 00 00 00 05 01 03 02 00 07"
+        "00 03 00 00 00 05 01 03 02 00 08"
+        "00 04 00 00 00 05 01 03 02 00 09");
+}
+
+TEST(MbapDriverTls, ShortWritesOnTheServersSideLoseNothing) {
+    SessionTrace t(operator_may_read());
+    t.server_end().set_max_write(5);
+    t.client_sends(
+        "00 01 00 00 00 06 01 03 00 07 00 01"
+        "00 02 00 00 00 06 01 03 00 08 00 02");
+    EXPECT_EQ(t.client_reads_everything(),
+              "00 01 00 00 00 05 01 03 02 00 07 "
+              "00 02 00 00 00 07 01 03 04 00 08 00 09");
+}
+
+TEST(MbapDriverTls, BarePduIsRefusedWithCloseNotify) {
+    SessionTrace t(operator_may_read());
+    t.client_sends("03 00 00 00 02");
+    EXPECT_TRUE(t.closed());
+    ASSERT_EQ(t.refusals().size(), 1U);
+    EXPECT_NE(t.refusals()[0].find("bare PDU"), std::string::npos) << t.refusals()[0];
+    EXPECT_EQ(ServerStats::read(t.stats().tls_refused), 1U);
+    std::array<std::uint8_t, 16> buffer{};
+    EXPECT_EQ(t.client_channel().read(buffer).status, transport::Io::Status::EndOfInput);
+    EXPECT_EQ(t.client_tls()->session().state(), security::TlsChannel::State::Closed);
+}
+
+TEST(MbapDriverTls, HandshakeNotFinishedInTheLimitIsRefused) {
+    auto tls = operator_may_read();
+    tls.handshake = false;
+    SessionTrace t(tls);
+    EXPECT_FALSE(t.closed());
+    t.after(std::chrono::milliseconds(9'999));
+    EXPECT_FALSE(t.closed());
+    t.after(std::chrono::milliseconds(1));
+    EXPECT_TRUE(t.closed());
+    ASSERT_EQ(t.refusals().size(), 1U);
+    EXPECT_EQ(t.refusals()[0], "the TLS handshake did not finish within the handshake limit");
+}
+
+TEST(MbapDriverTls, ClientWithoutTheServersTrustIsRefusedInTheHandshake) {
+    // The server's certificate does not name example.org: the client refuses it, and the
+    // server reads the alert as a refused handshake.
+    auto tls = operator_may_read();
+    tls.client = nullptr;  // the client is this test's own
+    SessionTrace t(tls);
+    transport::TlsStream other(t.client(), lab_client_context("client-Operator"),
+                               transport::TlsStream::Side::Client, "example.org");
+    other.start();
+    for (int i = 0; i < 20 && other.handshaking(); ++i) {
+        t.run();
+        other.handshake();
+    }
+    t.run();
+    EXPECT_NE(other.error().find("hostname mismatch"), std::string::npos) << other.error();
+    EXPECT_TRUE(t.closed());
+    EXPECT_EQ(ServerStats::read(t.stats().tls_refused), 1U);
+}
+
+TEST(MbapDriverTls, CloseNotifyEndsTheSessionAfterItsAnswers) {
+    SessionTrace t(operator_may_read());
+    t.client_sends("00 01 00 00 00 06 01 03 00 07 00 01");
+    t.client_shuts_down();
+    EXPECT_TRUE(t.closed());
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+}
+
+}  // namespace
+}  // namespace mblab::test
