@@ -39,7 +39,6 @@
 #include "conformance/procedures.hpp"
 #include "conformance/provenance.hpp"
 #include "conformance/reports.hpp"
-#include "conformance/security_cases.hpp"
 #include "conformance/suite_selection.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"

@@ -11,6 +11,7 @@
 #include "cli/commands.hpp"
 #include "cli/number_text.hpp"
 #include "cli/pdu_text.hpp"
+#include "client/hex_text.hpp"
 #include "protocol/function_code.hpp"
 
 // `mblab diag TARGET SUBFUNCTION [DATA...]`: FC 08 by sub-function name or number, counters
@@ -102,7 +103,8 @@ std::string answer_text(std::uint16_t sub, const client::DiagnosticsAnswer& answ
     }
     switch (static_cast<DiagnosticSub>(sub)) {
         case DiagnosticSub::ReturnQueryData:
-            return fmt::format("echoed {} bytes: {}", answer.data.size(), hex_bytes(answer.data));
+            return fmt::format("echoed {} bytes: {}", answer.data.size(),
+                               client::hex_bytes(answer.data));
         case DiagnosticSub::RestartCommunications:
             return "communications restarted";
         case DiagnosticSub::ReturnDiagnosticRegister:
@@ -115,7 +117,7 @@ std::string answer_text(std::uint16_t sub, const client::DiagnosticsAnswer& answ
         case DiagnosticSub::ClearOverrunCounter:
             return "overrun counter and flag cleared";
         default:
-            return fmt::format("answer data: {}", hex_bytes(answer.data));
+            return fmt::format("answer data: {}", client::hex_bytes(answer.data));
     }
 }
 
@@ -174,7 +176,7 @@ int run_diag(const DiagOptions& options) {
             }
             return out.fail(error);
         }
-        document["data"] = hex_bytes(answer->data);
+        document["data"] = client::hex_bytes(answer->data);
         if (const auto* named = find_sub(*sub); named != nullptr && named->counter) {
             document["value"] = word_of(answer->data);
         }

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cli/pdu_text.hpp"
+#include "client/hex_text.hpp"
 
 namespace mblab::cli {
 
@@ -110,7 +111,8 @@ Reading event_log_reading(const client::EventLog& log) {
 
 Reading server_id_reading(const std::vector<std::uint8_t>& data) {
     Reading reading = field_reading();
-    add_field(reading, "server id data", hex_bytes(data), printable_text(data), hex_bytes(data));
+    add_field(reading, "server id data", client::hex_bytes(data), printable_text(data),
+              client::hex_bytes(data));
     reading.notes.push_back(
         "the layout (server id, run indicator 0x00/0xFF, additional data) is device specific");
     return reading;

@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include "cli/pdu_text.hpp"
+#include "client/hex_text.hpp"
 #include "protocol/framer.hpp"
 
 namespace mblab::cli {
@@ -18,7 +19,7 @@ void FrameLog::on_frame(client::FrameDirection direction, client::Framing framin
                         std::span<const std::uint8_t> adu) {
     const bool sent = direction == client::FrameDirection::Sent;
     const char* mark = sent ? ">" : "<";
-    if (depth_ == DecodeDepth::Bytes) fmt::print(out_, "{} {}\n", mark, hex_bytes(adu));
+    if (depth_ == DecodeDepth::Bytes) fmt::print(out_, "{} {}\n", mark, client::hex_bytes(adu));
     protocol::Framer framer({framing});
     const auto frame = framer.whole_frame(adu);
     if (!frame) {

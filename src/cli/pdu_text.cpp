@@ -5,6 +5,7 @@
 #include <variant>
 
 #include "cli/number_text.hpp"
+#include "client/hex_text.hpp"
 #include "protocol/request.hpp"
 #include "protocol/response.hpp"
 
@@ -30,7 +31,7 @@ std::string bits_text(BitView bits) {
 }
 
 std::string data_text(std::span<const std::uint8_t> data) {
-    return data.empty() ? "none" : hex_bytes(data);
+    return data.empty() ? "none" : client::hex_bytes(data);
 }
 
 std::string diagnostic_text(std::uint16_t sub, std::span<const std::uint8_t> data) {
@@ -254,14 +255,6 @@ std::string describe(std::span<const std::uint8_t> pdu, const Decoded& decoded, 
 }
 
 }  // namespace
-
-std::string hex_bytes(std::span<const std::uint8_t> bytes) {
-    std::string text;
-    text.reserve(bytes.size() * 3);
-    for (auto byte : bytes)
-        text += fmt::format("{}{:02X}", text.empty() ? "" : " ", byte);
-    return text;
-}
 
 std::string describe_request_pdu(std::span<const std::uint8_t> pdu) {
     return describe(pdu, decode_request(pdu), RequestFields{});

@@ -11,7 +11,4 @@ namespace mblab::cli {
 std::string describe_request_pdu(std::span<const std::uint8_t> pdu);
 std::string describe_response_pdu(std::span<const std::uint8_t> pdu);
 
-// "01 03 00 0A"
-std::string hex_bytes(std::span<const std::uint8_t> bytes);
-
 }  // namespace mblab::cli

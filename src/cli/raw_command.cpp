@@ -11,6 +11,7 @@
 #include "cli/commands.hpp"
 #include "cli/pdu_text.hpp"
 #include "client/answer_check.hpp"
+#include "client/hex_text.hpp"
 #include "protocol/request.hpp"
 #include "protocol/response.hpp"
 
@@ -93,13 +94,14 @@ int run_raw(const RawOptions& options) {
         auto answer = client.raw(*pdu);
         if (!answer) return out.fail(answer.error());
         auto& document = out.document();
-        document["request"] = hex_bytes(*pdu);
+        document["request"] = client::hex_bytes(*pdu);
         document["request_fields"] = describe_request_pdu(*pdu);
-        document["answer"] = hex_bytes(*answer);
+        document["answer"] = client::hex_bytes(*answer);
         document["answer_fields"] = describe_response_pdu(*answer);
         if (!out.json()) {
-            fmt::print("request  {}\n         {}\n", hex_bytes(*pdu), describe_request_pdu(*pdu));
-            fmt::print("answer   {}\n         {}\n", hex_bytes(*answer),
+            fmt::print("request  {}\n         {}\n", client::hex_bytes(*pdu),
+                       describe_request_pdu(*pdu));
+            fmt::print("answer   {}\n         {}\n", client::hex_bytes(*answer),
                        describe_response_pdu(*answer));
         }
         const std::string problem = answer_problem(*pdu, *answer);

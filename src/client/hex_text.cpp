@@ -16,4 +16,16 @@ std::string hex8(unsigned value) {
     return text;
 }
 
+std::string hex_bytes(std::span<const std::uint8_t> bytes) {
+    static constexpr char kDigits[] = "0123456789ABCDEF";
+    std::string out;
+    out.reserve(bytes.size() * 3);
+    for (auto byte : bytes) {
+        if (!out.empty()) out += ' ';
+        out += kDigits[byte >> 4];
+        out += kDigits[byte & 0x0F];
+    }
+    return out;
+}
+
 }  // namespace mblab::client

@@ -6,7 +6,7 @@
 #include <cerrno>
 #include <cstring>
 
-#include "conformance/security_cases.hpp"
+#include "conformance/procedures.hpp"
 #include "device/profile_loader.hpp"
 #include "security/pki.hpp"
 #include "security/tls_context.hpp"

@@ -10,6 +10,7 @@
 #include "conformance/judge.hpp"
 #include "conformance/plain_requests.hpp"
 #include "conformance/procedures.hpp"
+#include "conformance/serving_check.hpp"
 #include "protocol/adu.hpp"
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
@@ -22,6 +23,21 @@ namespace {
 
 using namespace engine_detail;
 using Clock = std::chrono::steady_clock;
+
+// The transaction id of the tester's own requests between a case's steps.
+constexpr std::uint16_t kProbeTransaction = 0x7E57;
+
+// The session as a link for the serving check: requests in the catalogue's notation, answers
+// handed back in it, whatever the framing underneath.
+struct SessionLink {
+    Session& session;
+    bool send(std::span<const std::uint8_t> bytes, client::LinkError& error) {
+        return session.send(bytes, 1, error);
+    }
+    client::Received receive_frame(std::chrono::milliseconds timeout) {
+        return session.receive_frame(timeout);
+    }
+};
 
 std::optional<Outcome> check_requirements(const Case& c, const Dut& dut) {
     for (const auto& requirement : c.requirements) {
@@ -155,7 +171,6 @@ std::optional<Outcome> Engine::check_reachable() {
 }
 
 Exchange Engine::ask(std::vector<std::uint8_t> pdu) {
-    constexpr std::uint16_t kProbeTransaction = 0x7E57;
     std::vector<std::uint8_t> request(protocol::adu_size(protocol::Framing::Mbap, pdu.size()));
     protocol::write_adu({protocol::Framing::Mbap, session_.dut().unit, kProbeTransaction, 0}, pdu,
                         request);
@@ -177,9 +192,16 @@ std::optional<std::string> Engine::no_longer_serves() {
         return "afterwards the device refused a new connection: " + error.message;
     }
     // Any whole answer shows the device alive, an exception as well as data: the read of 7.5.1.
-    Exchange e = ask({0x03, 0x00, 0x00, 0x00, 0x01});
+    SessionLink link{session_};
+    const auto timeout = session_.options().timeout;
+    const auto answer = ask_serving(
+        link, {.header = {protocol::Framing::Mbap, session_.dut().unit, kProbeTransaction, 0},
+               .timeout = timeout,
+               .any_answer = true});
+    Exchange e = answer.exchange(timeout);
+    e.on_connection = session_.connection_requests();
     session_.close();
-    if (e.status == client::ReceiveStatus::Frame) return std::nullopt;
+    if (answer.served == Served::Yes) return std::nullopt;
     return "afterwards a plain read (FC 03, 1 register at 0) on a new connection got " +
            describe_failure(e);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <map>
 
+#include "client/hex_text.hpp"
 #include "conformance/answer_rules.hpp"
 #include "conformance/engine.hpp"
 #include "conformance/engine_support.hpp"
@@ -151,7 +152,7 @@ Outcome Engine::run_steps(const Case& c, bool& fresh) {
                                       service_name(pdu_of(resolved.request)),
                                       seen ? "it answered it otherwise earlier in this run"
                                            : "its plain request was answered " +
-                                                 hex_text(served->received)),
+                                                 client::hex_bytes(served->received)),
                           std::move(failed));
                 break;
             }

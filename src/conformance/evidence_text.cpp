@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "client/hex_text.hpp"
+
 namespace mblab::conformance {
 
 namespace {
@@ -11,7 +13,7 @@ namespace {
 constexpr std::size_t kCellWidth = 3;  // "00 "
 
 std::string received_text(const Exchange& exchange) {
-    std::string bytes = hex_text(exchange.received);
+    std::string bytes = client::hex_bytes(exchange.received);
     std::string why;
     switch (exchange.status) {
         case client::ReceiveStatus::Frame:
@@ -52,7 +54,7 @@ std::string join(const std::vector<std::string>& cells) {
 
 std::vector<std::string> evidence_lines(const Exchange& exchange) {
     std::vector<std::string> lines;
-    lines.push_back("sent      " + hex_text(exchange.sent));
+    lines.push_back("sent      " + client::hex_bytes(exchange.sent));
     lines.push_back("received  " + received_text(exchange));
     if (exchange.silence_expected) {
         lines.emplace_back("expected  nothing");

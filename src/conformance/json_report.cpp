@@ -1,6 +1,7 @@
 #include <nlohmann/json.hpp>
 #include <variant>
 
+#include "client/hex_text.hpp"
 #include "conformance/reports.hpp"
 
 namespace mblab::conformance {
@@ -28,9 +29,9 @@ double millis(std::chrono::microseconds elapsed) {
 }
 
 json exchange_json(const Exchange& exchange) {
-    json out = {{"sent", hex_text(exchange.sent)},
+    json out = {{"sent", client::hex_bytes(exchange.sent)},
                 {"status", status_name(exchange.status)},
-                {"received", hex_text(exchange.received)},
+                {"received", client::hex_bytes(exchange.received)},
                 {"waited_ms", exchange.waited.count()}};
     if (!exchange.detail.empty()) out["detail"] = exchange.detail;
     if (exchange.silence_expected) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 
+#include "client/hex_text.hpp"
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
 #include "protocol/mbap_header.hpp"
@@ -79,7 +80,7 @@ std::string describe_unasked(const client::Received& got, std::string_view when,
                              std::span<const std::uint8_t> last_frame) {
     const std::size_t total = got.bytes.size() + got.discarded;
     std::string shown =
-        hex_text(std::span(got.bytes).first(std::min<std::size_t>(got.bytes.size(), 32)));
+        client::hex_bytes(std::span(got.bytes).first(std::min<std::size_t>(got.bytes.size(), 32)));
     if (total > 32) shown += fmt::format(" ... ({} bytes in all)", total);
     const bool again =
         got.discarded == 0 && !last_frame.empty() &&
@@ -110,7 +111,7 @@ std::string describe_duplicate(std::span<const std::uint8_t> frame) {
     return fmt::format(
         "duplicate answer: instead of an answer to this request came a second copy of the answer "
         "before it ({}): the device answered one request twice",
-        hex_text(frame));
+        client::hex_bytes(frame));
 }
 
 Judgement judge(std::span<const std::uint8_t> sent, client::Received received,

@@ -271,14 +271,4 @@ std::string to_text(const ResolvedPattern& pattern) {
     return out;
 }
 
-std::string hex_text(std::span<const std::uint8_t> bytes) {
-    std::string out;
-    out.reserve(bytes.size() * 3);
-    for (std::size_t i = 0; i < bytes.size(); ++i) {
-        if (i) out += ' ';
-        out += cell(bytes[i]);
-    }
-    return out;
-}
-
 }  // namespace mblab::conformance

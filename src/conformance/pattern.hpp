@@ -89,7 +89,5 @@ MatchResult match(const ResolvedPattern& pattern, std::span<const std::uint8_t> 
 
 // "00 00 00 00 00 04 01 01 01 XX" as the user wrote it, facts put in.
 std::string to_text(const ResolvedPattern& pattern);
-// "00 01 FF" (uppercase, single spaces).
-std::string hex_text(std::span<const std::uint8_t> bytes);
 
 }  // namespace mblab::conformance

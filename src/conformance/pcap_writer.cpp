@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "conformance/capture.hpp"
+#include "conformance/pcap_format.hpp"
 #include "conformance/reports.hpp"
 #include "protocol/framer.hpp"
 
@@ -12,16 +13,13 @@ namespace mblab::conformance {
 
 namespace {
 
+using namespace pcap;
+
 constexpr std::uint16_t kModbusPort = 502;
 constexpr std::array<std::uint8_t, 16> kLoopback4{127, 0, 0, 1};
 constexpr std::array<std::uint8_t, 16> kLoopback6{0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1};
-constexpr std::uint8_t kFin = 0x01;
-constexpr std::uint8_t kSyn = 0x02;
-constexpr std::uint8_t kPsh = 0x08;
-constexpr std::uint8_t kAck = 0x10;
 constexpr std::size_t kIp4Header = 20;
 constexpr std::size_t kIp6Header = 40;
-constexpr std::uint8_t kTcp = 6;
 constexpr std::size_t kTcpHeader = 20;
 
 void put16(std::vector<std::uint8_t>& out, std::size_t at, std::uint32_t value) {
@@ -71,17 +69,17 @@ class Stream {
 
     template <class Emit>
     void open(Emit&& emit) {
-        emit(packet(client_, server_, kSyn, {}, false));
+        emit(packet(client_, server_, kTcpSyn, {}, false));
         client_.next_seq += 1;
-        emit(packet(server_, client_, kSyn | kAck, {}, true));
+        emit(packet(server_, client_, kTcpSyn | kTcpAck, {}, true));
         server_.next_seq += 1;
-        emit(packet(client_, server_, kAck, {}, true));
+        emit(packet(client_, server_, kTcpAck, {}, true));
     }
 
     std::vector<std::uint8_t> data(bool from_client, std::span<const std::uint8_t> bytes) {
         Peer& from = from_client ? client_ : server_;
         Peer& to = from_client ? server_ : client_;
-        auto out = packet(from, to, kPsh | kAck, bytes, true);
+        auto out = packet(from, to, kTcpPsh | kTcpAck, bytes, true);
         from.next_seq += static_cast<std::uint32_t>(bytes.size());
         return out;
     }
@@ -90,11 +88,11 @@ class Stream {
     void close(bool by_server, Emit&& emit) {
         Peer& first = by_server ? server_ : client_;
         Peer& second = by_server ? client_ : server_;
-        emit(packet(first, second, kFin | kAck, {}, true));
+        emit(packet(first, second, kTcpFin | kTcpAck, {}, true));
         first.next_seq += 1;
-        emit(packet(second, first, kFin | kAck, {}, true));
+        emit(packet(second, first, kTcpFin | kTcpAck, {}, true));
         second.next_seq += 1;
-        emit(packet(first, second, kAck, {}, true));
+        emit(packet(first, second, kTcpAck, {}, true));
     }
 
   private:
@@ -203,16 +201,6 @@ class PcapngFile {
     const std::string& bytes() const { return out_; }
 
   private:
-    static constexpr std::uint32_t kSectionHeader = 0x0A0D0D0A;
-    static constexpr std::uint32_t kInterfaceDescription = 1;
-    static constexpr std::uint32_t kEnhancedPacket = 6;
-    static constexpr std::uint32_t kByteOrderMagic = 0x1A2B3C4D;
-    static constexpr std::uint16_t kComment = 1;
-    static constexpr std::uint16_t kShbHardware = 2;
-    static constexpr std::uint16_t kShbOs = 3;
-    static constexpr std::uint16_t kShbUserAppl = 4;
-    static constexpr std::uint16_t kEpbFlags = 2;
-
     // Writes the type and a length to be filled in; close() writes the length at both ends, as
     // pcapng has it so a reader can walk the blocks backwards too.
     class Block {
@@ -255,13 +243,14 @@ class PcapngFile {
         out_ += value;
         pad();
     }
-    void end_options() { put32(0); }  // opt_endofopt: code 0, length 0
+    void end_options() {
+        put16(kEndOfOptions);
+        put16(0);
+    }
 
     std::string out_;
 };
 
-constexpr std::uint16_t kLinktypeRaw = 101;    // raw IPv4 or IPv6, no link-layer header
-constexpr std::uint16_t kLinktypeUser0 = 147;  // private use: a serial line's frames
 constexpr std::uint32_t kSnapLength = 65535;
 
 }  // namespace
@@ -270,7 +259,7 @@ bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events
                 const Provenance& provenance, std::string& error) {
     PcapngFile file;
     file.section_header(provenance);
-    file.interface(kLinktypeRaw, kSnapLength);
+    file.interface(kLinkRaw, kSnapLength);
     std::optional<Stream> stream;
     std::uint32_t streams = 0;
     // Bytes not yet written as segments, per direction (0: tester, 1: device).
@@ -333,7 +322,7 @@ bool write_line_pcap(const std::string& path, const std::vector<CaptureEvent>& e
                      const Provenance& provenance, std::string& error) {
     PcapngFile file;
     file.section_header(provenance);
-    file.interface(kLinktypeUser0, kSnapLength);
+    file.interface(kLinkUser0, kSnapLength);
     for (const auto& e : events) {
         if (e.kind != CaptureEvent::Kind::Sent && e.kind != CaptureEvent::Kind::Received) continue;
         file.packet(

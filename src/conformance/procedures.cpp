@@ -151,6 +151,11 @@ const ProcedureInfo* find_procedure(std::string_view name) {
     return nullptr;
 }
 
+bool is_security_procedure(std::string_view procedure) {
+    const ProcedureInfo* info = find_procedure(procedure);
+    return info != nullptr && info->needs_mbaps;
+}
+
 std::int64_t param(const Case& c, std::string_view name) {
     if (auto it = c.params.find(std::string(name)); it != c.params.end()) return it->second;
     if (const ProcedureInfo* info = find_procedure(c.procedure)) {

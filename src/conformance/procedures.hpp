@@ -36,6 +36,9 @@ struct ProcedureInfo {
 
 const std::vector<ProcedureInfo>& procedures();
 const ProcedureInfo* find_procedure(std::string_view name);
+// Whether `procedure` opens TLS sessions of its own (ProcedureInfo::needs_mbaps): a run that has
+// one needs an mbaps:// port.
+bool is_security_procedure(std::string_view procedure);
 
 // A parameter of the case, or the procedure's default.
 std::int64_t param(const Case& c, std::string_view name);

@@ -13,12 +13,12 @@
 #include <variant>
 #include <vector>
 
+#include "client/hex_text.hpp"
 #include "client/raw_link.hpp"
 #include "conformance/answer_rules.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/pattern.hpp"
 #include "conformance/plain_requests.hpp"
-#include "conformance/procedures.hpp"
 #include "conformance/session.hpp"
 #include "conformance/tls_probe.hpp"
 #include "protocol/adu.hpp"
@@ -339,7 +339,7 @@ Outcome run_tls_renegotiation(Session& session, const Case&) {
     } else {
         return verdict(Verdict::Fail,
                        "the device sent an unasked frame after the renegotiation request: " +
-                           hex_text(reply.bytes));
+                           client::hex_bytes(reply.bytes));
     }
     if (auto dead = no_longer_serves(session)) {
         return verdict(Verdict::Fail, how + "; " + *dead, std::move(evidence));
@@ -369,11 +369,6 @@ Outcome run_tls_close_notify(Session& session, const Case&) {
         return verdict(Verdict::Fail, "after close_notify " + how + "; " + *dead);
     }
     return verdict(Verdict::Pass, "after close_notify " + how + "; the device serves new sessions");
-}
-
-bool is_security_procedure(std::string_view procedure) {
-    const ProcedureInfo* info = find_procedure(procedure);
-    return info != nullptr && info->needs_mbaps;
 }
 
 }  // namespace mblab::conformance

@@ -1,7 +1,5 @@
 #pragma once
 
-#include <string_view>
-
 #include "conformance/verdict.hpp"
 
 // The security suite's procedures (catalogue/security.toml, docs/security.md): Modbus/TCP
@@ -27,8 +25,5 @@ Outcome run_read_only_role(Session& session, const Case& c);
 Outcome run_write_role(Session& session, const Case& c);
 Outcome run_tls_renegotiation(Session& session, const Case& c);
 Outcome run_tls_close_notify(Session& session, const Case& c);
-
-// Whether `procedure` is one of the above: a run that has one needs an mbaps:// port.
-bool is_security_procedure(std::string_view procedure);
 
 }  // namespace mblab::conformance

@@ -5,9 +5,11 @@
 #include <filesystem>
 #include <memory>
 
+#include "client/hex_text.hpp"
 #include "conformance/answer_rules.hpp"
 #include "conformance/dut.hpp"
 #include "conformance/pattern.hpp"
+#include "conformance/serving_check.hpp"
 #include "conformance/session.hpp"
 #include "protocol/adu.hpp"
 #include "protocol/adu_writer.hpp"
@@ -79,7 +81,8 @@ Attempt open_tls(const Session& session, const security::TlsFiles& files,
 }
 
 // NOT RUN for an attempt that failed before the device could judge it; nothing when the device
-// refused the handshake (or timed it out, which `silence_refuses` accepts as a refusal).
+// refused the handshake, or let it fail (an error that names TLS, a timeout among them), which
+// the security cases judge as a refusal.
 std::optional<Outcome> not_judged(const Attempt& attempt) {
     if (attempt.local) {
         return verdict(Verdict::NotRun, "cannot make the TLS client: " + attempt.error.message);
@@ -171,13 +174,13 @@ std::string what_came(const Exchange& e) {
     switch (e.status) {
         case client::ReceiveStatus::Frame:
             if (auto code = exception_code(e)) return fmt::format("exception {:02X}", *code);
-            return "answered " + hex_text(e.received);
+            return "answered " + client::hex_bytes(e.received);
         case client::ReceiveStatus::Timeout:
             return fmt::format("no answer within {} ms", e.waited.count());
         case client::ReceiveStatus::Closed:
             return "the session ended" + (e.detail.empty() ? std::string() : " (" + e.detail + ")");
         case client::ReceiveStatus::Malformed:
-            return "bytes that are no MBAP frame: " + hex_text(e.received);
+            return "bytes that are no MBAP frame: " + client::hex_bytes(e.received);
     }
     return {};
 }
@@ -191,7 +194,8 @@ std::string refusal_text(const client::RawLink* link, const client::LinkError& e
 }
 
 // After a case that disturbed the device: a session with the tester's own certificate must still
-// be made and its read answered. The reason it failed, or nothing.
+// be made and the serving check's read answered on it (any whole answer: the register need not
+// exist). The reason it failed, or nothing.
 std::optional<std::string> no_longer_serves(const Session& session) {
     auto attempt =
         open_tls(session, session.dut().security.client, security::ClientVersions::Modern, false);
@@ -199,9 +203,12 @@ std::optional<std::string> no_longer_serves(const Session& session) {
         return "afterwards a session with the tester's own certificate failed: " +
                attempt.error.message;
     }
-    auto e = ask(*attempt.link, read_register_zero(0x5EFF, session.dut().unit),
-                 session.options().timeout);
-    if (!answered(e)) return "afterwards a read on a new session got " + what_came(e);
-    return std::nullopt;
+    const auto timeout = session.options().timeout;
+    const auto answer = ask_serving(
+        *attempt.link, {.header = {protocol::Framing::Mbap, session.dut().unit, 0x5EFF, 0},
+                        .timeout = timeout,
+                        .any_answer = true});
+    if (answer.served == Served::Yes) return std::nullopt;
+    return "afterwards a read on a new session got " + what_came(answer.exchange(timeout));
 }
 }  // namespace mblab::conformance::tls_probe

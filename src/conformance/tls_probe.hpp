@@ -57,7 +57,8 @@ Attempt open_tls(const Session& session, const security::TlsFiles& files,
                  security::ClientVersions versions, bool verify);
 
 // NOT RUN for an attempt that failed before the device could judge it; nothing when the device
-// refused the handshake (or timed it out, which `silence_refuses` accepts as a refusal).
+// refused the handshake, or let it fail (an error that names TLS, a timeout among them), which
+// the security cases judge as a refusal.
 std::optional<Outcome> not_judged(const Attempt& attempt);
 
 Bytes mbap(std::uint16_t transaction, std::uint8_t unit, const Bytes& pdu);
@@ -86,7 +87,7 @@ std::string what_came(const Exchange& e);
 // "a fatal alert handshake failure", for the reason of a refusal.
 std::string refusal_text(const client::RawLink* link, const client::LinkError& error);
 // After a case that disturbed the device: a session with the tester's own certificate must still
-// be made and its read answered. The reason it failed, or nothing.
+// be made and the serving check's read answered on it. The reason it failed, or nothing.
 std::optional<std::string> no_longer_serves(const Session& session);
 
 }  // namespace tls_probe

@@ -17,7 +17,7 @@ using Role = LoadConnection::Role;
 
 // The protocol tests get one connection per node; the generator's connections go round the
 // nodes. Threads take connections in turn, so each carries a share of every kind. Line nodes
-// have a thread of their own (line_threads).
+// have a thread of their own (add_line_threads).
 std::vector<std::vector<ConnectionSpec>> share_out(const LoadPlan& plan, std::size_t threads) {
     std::vector<ConnectionSpec> all;
     const std::size_t nodes = plan.targets.size();

@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "client/hex_text.hpp"
 #include "conformance/reports.hpp"
 #include "robustness/reproducer.hpp"
 
@@ -13,10 +14,7 @@ namespace {
 
 std::string codes(const std::vector<std::uint8_t>& functions) {
     if (functions.empty()) return "none";
-    std::string out;
-    for (auto f : functions)
-        out += fmt::format("{}{:02X}", out.empty() ? "" : " ", f);
-    return out;
+    return client::hex_bytes(functions);
 }
 
 // "holding registers 0-9, 100; coils 0-15", the tables with no range left out.
@@ -197,11 +195,8 @@ std::string json_report(const FuzzResult& result, const conformance::Provenance&
         const auto& f = *result.finding;
         nlohmann::json steps = nlohmann::json::array();
         for (const auto& step : f.reproducer) {
-            std::string hex;
-            for (auto byte : step.bytes)
-                hex += fmt::format("{}{:02X}", hex.empty() ? "" : " ", byte);
             steps.push_back({{"connection", step.connection},
-                             {"hex", hex},
+                             {"hex", client::hex_bytes(step.bytes)},
                              {"pause_ms", step.pause.count()},
                              {"unread", step.unread},
                              {"vanish", step.vanish}});

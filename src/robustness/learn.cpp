@@ -9,6 +9,7 @@
 #include <set>
 #include <tuple>
 
+#include "conformance/pcap_format.hpp"
 #include "protocol/framer.hpp"
 
 namespace mblab::robustness {
@@ -134,7 +135,7 @@ std::vector<Exchange> exchanges(const PcapContents& capture, std::uint16_t port)
         const bool to_server = segment.dst_port == port;
         if (!to_server && segment.src_port != port) continue;
         const auto key = to_server ? std::pair(src, dst) : std::pair(dst, src);
-        const bool syn = (segment.flags & kTcpSyn) != 0;
+        const bool syn = (segment.flags & conformance::pcap::kTcpSyn) != 0;
         auto found = current.find(key);
         // A SYN with another initial sequence number is a new connection on the same ports; with
         // the same one, the SYN again.

@@ -168,7 +168,7 @@ std::optional<FuzzCase> on_line(const FuzzCase& c, Framing framing) {
 
 std::vector<FuzzCase> line_cases(Framing framing, std::uint8_t address, std::uint16_t reg,
                                  std::chrono::milliseconds gap) {
-    const auto read = known_good_read(reg);
+    const auto read = conformance::known_good_read(reg);
     // Spelled out rather than inserted: g++ 12 takes the insert for an out-of-bounds copy.
     const Bytes body = {address, read[0], read[1], read[2], read[3], read[4]};
     const auto good = line_frame(framing, address, read);

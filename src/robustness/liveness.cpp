@@ -9,74 +9,17 @@
 
 namespace mblab::robustness {
 
-namespace {
-
-std::string hex(const std::vector<std::uint8_t>& bytes) {
-    std::string out;
-    for (auto byte : bytes)
-        out += fmt::format("{}{:02X}", out.empty() ? "" : " ", byte);
-    return out;
-}
-
-// Whether `answer` answers `sent` by its header: the same transaction id and protocol id 0 where
-// the framing numbers requests; on a line, which pairs answers by order, the address asked.
-bool paired(const protocol::AduHeader& sent, const protocol::AduHeader& answer) {
-    if (sent.has_transaction())
-        return answer.transaction_id == sent.transaction_id && answer.protocol_id == 0;
-    return answer.unit == sent.unit;
-}
-
-}  // namespace
-
-std::array<std::uint8_t, 5> known_good_read(std::uint16_t address) {
-    return {0x03, static_cast<std::uint8_t>(address >> 8), static_cast<std::uint8_t>(address), 0x00,
-            0x01};
-}
-
-bool answers_known_good(std::span<const std::uint8_t> pdu) {
-    return pdu.size() == 4 && pdu[0] == 0x03 && pdu[1] == 0x02;
-}
+using conformance::Served;
 
 LivenessOracle::LivenessOracle(CaseLinks& links, std::uint8_t unit, std::uint16_t address,
                                std::chrono::milliseconds timeout, RunClock clock)
     : links_(links), clock_(std::move(clock)), unit_(unit), address_(address), timeout_(timeout) {}
 
-LivenessOracle::Outcome LivenessOracle::ask(client::Link& link, std::uint16_t address,
-                                            std::string& detail, std::uint16_t* value) {
-    protocol::AduHeader sent{link.framing(), unit_};
-    if (sent.has_transaction()) sent.transaction_id = ++transaction_;
-    const auto pdu = known_good_read(address);
-    std::vector<std::uint8_t> frame(protocol::adu_size(sent.framing, pdu.size()));
-    frame.resize(protocol::write_adu(sent, pdu, frame));
-    client::LinkError error;
-    if (!link.send(frame, error)) {
-        detail = error.message;
-        return Outcome::Closed;
-    }
-    const auto deadline = clock_.now() + timeout_;
-    while (true) {
-        const auto left =
-            std::chrono::duration_cast<std::chrono::milliseconds>(deadline - clock_.now());
-        if (left.count() <= 0) return Outcome::Silent;
-        const auto answer = link.receive_frame(left);
-        if (answer.status == client::ReceiveStatus::Timeout) return Outcome::Silent;
-        if (answer.status == client::ReceiveStatus::Closed) {
-            detail = answer.detail.empty() ? "closed" : answer.detail;
-            return Outcome::Closed;
-        }
-        if (answer.status == client::ReceiveStatus::Frame && paired(sent, answer.header) &&
-            answers_known_good(answer.pdu)) {
-            if (value != nullptr)
-                *value = static_cast<std::uint16_t>(answer.pdu[2] << 8 | answer.pdu[3]);
-            return Outcome::Good;
-        }
-        // Without a transaction id, a frame that is not the answer may be a late answer to the
-        // case: read past it.
-        if (sent.has_transaction()) {
-            detail = hex(answer.bytes);
-            return Outcome::Wrong;
-        }
-    }
+conformance::ServingAnswer LivenessOracle::ask(client::Link& link, std::uint16_t address) {
+    protocol::AduHeader header{link.framing(), unit_};
+    if (header.has_transaction()) header.transaction_id = ++transaction_;
+    return conformance::ask_serving(
+        link, {.header = header, .address = address, .timeout = timeout_, .now = clock_.now});
 }
 
 client::Link* LivenessOracle::reach(client::LinkError& error) {
@@ -102,8 +45,8 @@ Liveness LivenessOracle::check() {
         links_.done_asking();
         return out;
     };
-    std::string detail;
-    Outcome outcome = Outcome::Closed;
+    conformance::ServingAnswer answer;
+    answer.served = Served::Closed;
     int silences = 0;
     // A device that closed the connection the case used may be slow to free its slot, and may
     // close a fresh one it cannot serve yet (its slots still busy with the case's connections):
@@ -117,50 +60,53 @@ Liveness LivenessOracle::check() {
             return dead(fmt::format("{} ({}) after trying for {} ms", links_.unreachable(),
                                     error.message, clock_.since(start).count()));
         }
-        outcome = ask(*link, address_, detail);
-        if (outcome == Outcome::Silent && links_.bystander() != nullptr && attempt == 0) {
+        answer = ask(*link, address_);
+        if (answer.served == Served::Silent && links_.bystander() != nullptr && attempt == 0) {
             // A device that serves one connection at a time is busy with the bystander.
             links_.close_bystander();
             one_at_a_time_ = true;
-            outcome = Outcome::Closed;
+            answer.served = Served::Closed;
         }
-        if (outcome == Outcome::Silent && ++silences < links_.asks()) continue;
-        if (outcome != Outcome::Closed || (attempt >= 1 && clock_.since(start) >= timeout_)) break;
+        if (answer.served == Served::Silent && ++silences < links_.asks()) continue;
+        if (answer.served != Served::Closed || (attempt >= 1 && clock_.since(start) >= timeout_))
+            break;
     }
     links_.done_asking();
-    switch (outcome) {
-        case Outcome::Good:
+    switch (answer.served) {
+        case Served::Yes:
             break;
-        case Outcome::Closed:
-            return dead(fmt::format("closes {} before answering ({})", links_.asked_on(), detail));
-        case Outcome::Silent:
+        case Served::Closed:
+            return dead(
+                fmt::format("closes {} before answering ({})", links_.asked_on(), answer.detail()));
+        case Served::Silent:
             return dead(fmt::format(
                 "does not answer the known-good read (FC 03, register {}, address {}) on {} "
                 "within {} ms{}",
                 address_, unit_, links_.asked_on(), timeout_.count(),
                 links_.asks() > 1 ? ", asked twice" : ""));
-        case Outcome::Wrong:
+        case Served::Wrong:
             return dead(fmt::format("answers the known-good read (FC 03, register {}) wrongly: {}",
-                                    address_, detail));
+                                    address_, answer.detail()));
     }
     if (auto* bystander = links_.bystander()) {
-        switch (ask(*bystander, address_, detail)) {
-            case Outcome::Good:
+        const auto on_bystander = ask(*bystander, address_);
+        switch (on_bystander.served) {
+            case Served::Yes:
                 break;
-            case Outcome::Closed:
+            case Served::Closed:
                 // Closing an idle connection is the device's right.
                 links_.close_bystander();
                 break;
-            case Outcome::Silent:
+            case Served::Silent:
                 return dead(
                     fmt::format("stopped answering a connection opened before the case "
                                 "(no answer within {} ms) while fresh ones are served",
                                 timeout_.count()));
-            case Outcome::Wrong:
+            case Served::Wrong:
                 return dead(
                     fmt::format("answers the known-good read wrongly on a connection "
                                 "opened before the case: {}",
-                                detail));
+                                on_bystander.detail()));
         }
     }
     if (links_.bystander() == nullptr) open_bystander();
@@ -189,12 +135,10 @@ void LivenessOracle::open_bystander() {
 std::optional<std::uint16_t> LivenessOracle::read_register(std::uint16_t address) {
     client::LinkError error;
     auto* link = reach(error);
-    std::string detail;
-    std::uint16_t value = 0;
-    const auto outcome = link != nullptr ? ask(*link, address, detail, &value) : Outcome::Closed;
+    const auto answer = link != nullptr ? ask(*link, address) : conformance::ServingAnswer{};
     links_.done_asking();
-    if (outcome != Outcome::Good) return std::nullopt;
-    return value;
+    if (link == nullptr || answer.served != Served::Yes) return std::nullopt;
+    return answer.value;
 }
 
 }  // namespace mblab::robustness

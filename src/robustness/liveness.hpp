@@ -8,21 +8,18 @@
 #include <string>
 
 #include "client/link.hpp"
+#include "conformance/serving_check.hpp"
 #include "robustness/case_links.hpp"
 #include "robustness/run_clock.hpp"
 
-// The liveness oracle: is the device still serving after a case? A known-good read (FC 03 of one
-// register that answered during reconnaissance) on the link the run's links give the check (a
-// fresh connection over Modbus/TCP, the quiet line on a serial line), and the same on a link
-// opened before the case where there is one. Closing a connection is the device's right; not
+// The liveness oracle: is the device still serving after a case? The known-good read of
+// conformance/serving_check (FC 03 of one register that answered during reconnaissance, its data
+// answer required) on the link the run's links give the check (a fresh connection over
+// Modbus/TCP, the quiet line on a serial line), and the same on a link opened before the case
+// where there is one. Closing a connection is the device's right; not
 // answering, refusing every connection or answering the known-good read wrongly is not. Unit 0 is
 // broadcast and never answered on a line [SER 2.1], so it is never the address asked.
 namespace mblab::robustness {
-
-// The known-good read: FC 03 of one register at `address`.
-std::array<std::uint8_t, 5> known_good_read(std::uint16_t address);
-// Whether `pdu` is its answer: FC 03 with the one register.
-bool answers_known_good(std::span<const std::uint8_t> pdu);
 
 struct Liveness {
     bool alive = true;
@@ -48,10 +45,8 @@ class LivenessOracle {
     bool one_at_a_time() const { return one_at_a_time_; }
 
   private:
-    enum class Outcome : std::uint8_t { Good, Closed, Silent, Wrong };
-    // The known-good read of `address` on `link`; its value in `value` when Good.
-    Outcome ask(client::Link& link, std::uint16_t address, std::string& detail,
-                std::uint16_t* value = nullptr);
+    // The known-good read of `address` on `link`, asked by the one serving check.
+    conformance::ServingAnswer ask(client::Link& link, std::uint16_t address);
     // The check's link, opening tried again over about a second and a half: a device with one
     // connection slot may still be freeing it.
     client::Link* reach(client::LinkError& error);

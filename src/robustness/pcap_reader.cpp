@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <optional>
 
+#include "conformance/pcap_format.hpp"
+
 namespace mblab::robustness {
 
 namespace {
@@ -12,25 +14,10 @@ namespace {
 using Bytes = std::span<const std::uint8_t>;
 using Error = std::string;
 
-constexpr std::uint32_t kPcapMicro = 0xA1B2C3D4;
-constexpr std::uint32_t kPcapNano = 0xA1B23C4D;
-constexpr std::uint32_t kSectionHeader = 0x0A0D0D0A;
-constexpr std::uint32_t kByteOrderMagic = 0x1A2B3C4D;
-constexpr std::uint32_t kInterfaceDescription = 1;
-constexpr std::uint32_t kSimplePacket = 3;
-constexpr std::uint32_t kEnhancedPacket = 6;
-
-constexpr std::uint16_t kLinkNull = 0;
-constexpr std::uint16_t kLinkEthernet = 1;
-constexpr std::uint16_t kLinkRaw = 101;
-constexpr std::uint16_t kLinkSll = 113;
-constexpr std::uint16_t kLinkIpv4 = 228;
-constexpr std::uint16_t kLinkIpv6 = 229;
-constexpr std::uint16_t kLinkSll2 = 276;
+using namespace conformance::pcap;
 
 constexpr std::uint16_t kEtherIpv4 = 0x0800;
 constexpr std::uint16_t kEtherIpv6 = 0x86DD;
-constexpr std::uint8_t kTcp = 6;
 
 std::uint16_t be16(Bytes b, std::size_t at) {
     return static_cast<std::uint16_t>(b[at] << 8 | b[at + 1]);
@@ -188,7 +175,7 @@ std::optional<Error> read_pcapng(Bytes file, PcapContents& out) {
         if (section) {
             // A new section may change the byte order; its interfaces are its own.
             const std::uint32_t magic = be32(file, at + 8);
-            if (magic != kByteOrderMagic && magic != 0x4D3C2B1A)
+            if (magic != kByteOrderMagic && magic != kByteOrderMagicSwapped)
                 return fmt::format("pcapng section header at offset {} has no byte-order magic",
                                    at);
             order.big = magic == kByteOrderMagic;
@@ -245,9 +232,9 @@ protocol::Result<PcapContents, std::string> read_pcap(std::span<const std::uint8
     PcapContents out;
     std::optional<Error> failed;
     const std::uint32_t magic = be32(bytes, 0);
-    if (magic == kPcapMicro || magic == kPcapNano) {
+    if (magic == kClassicMicro || magic == kClassicNano) {
         failed = read_classic(bytes, {true}, out);
-    } else if (magic == 0xD4C3B2A1 || magic == 0x4D3CB2A1) {
+    } else if (magic == kClassicMicroSwapped || magic == kClassicNanoSwapped) {
         failed = read_classic(bytes, {false}, out);
     } else if (magic == kSectionHeader) {
         failed = read_pcapng(bytes, out);

@@ -28,8 +28,6 @@ struct TcpSegment {
     std::vector<std::uint8_t> payload;
 };
 
-inline constexpr std::uint8_t kTcpSyn = 0x02;
-
 struct PcapContents {
     std::size_t packets = 0;  // packet records, TCP or not
     std::vector<TcpSegment> segments;

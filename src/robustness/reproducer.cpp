@@ -8,6 +8,8 @@
 #include <cstring>
 #include <sstream>
 
+#include "client/hex_text.hpp"
+
 namespace mblab::robustness {
 
 std::string reproducer_text(const std::vector<Step>& steps, const std::string& comment) {
@@ -17,8 +19,7 @@ std::string reproducer_text(const std::vector<Step>& steps, const std::string& c
         out += "# " + line + "\n";
     for (const auto& step : steps) {
         std::string line = step.connection == 0 ? "" : fmt::format("@{} ", step.connection);
-        for (std::size_t i = 0; i < step.bytes.size(); ++i)
-            line += fmt::format("{}{:02X}", i == 0 ? "" : " ", step.bytes[i]);
+        line += client::hex_bytes(step.bytes);
         if (step.pause.count() > 0) line += fmt::format(" +{}ms", step.pause.count());
         if (step.unread) line += " unread";
         if (step.vanish) line += " vanish";

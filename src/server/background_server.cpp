@@ -24,8 +24,8 @@ protocol::Result<std::uint16_t, std::string> BackgroundServer::start(
 
 void BackgroundServer::stop() {
     if (!thread_.joinable()) return;
-    // Closing sockets and timers on the server's thread ends every session's coroutines, after
-    // which run() returns by itself.
+    // Closing the listener, sockets and timers on the server's thread leaves the io_context
+    // nothing to wait for, after which run() returns by itself.
     asio::post(io_, [this] {
         server_.stop();
         work_.reset();

@@ -13,9 +13,9 @@
 #include "server/server_stats.hpp"
 #include "transport/tcp_listener.hpp"
 
-// A Modbus/TCP server on a caller's io_context: one coroutine set per connection, the handler
-// called on the io_context's thread only (a device need not be thread-safe). Run the io_context
-// on one thread.
+// A Modbus/TCP server on a caller's io_context: the listener accepts, and each connection is a
+// TcpSession the SocketPoller wakes when its socket is ready; the handler is called on the
+// io_context's thread only (a device need not be thread-safe). Run the io_context on one thread.
 namespace mblab::server {
 
 struct ServerCore;

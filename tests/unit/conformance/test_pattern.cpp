@@ -115,9 +115,5 @@ TEST(Match, RestAcceptsNothingMore) {
     EXPECT_FALSE(match(resolved("01 02 XX ..."), hex("01 02")).matched);
 }
 
-TEST(HexText, UppercaseSpaced) {
-    EXPECT_EQ(hex_text(hex("0a ff 00")), "0A FF 00");
-}
-
 }  // namespace
 }  // namespace mblab::conformance
