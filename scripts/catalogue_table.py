@@ -33,6 +33,28 @@ PROCEDURES = {
                           "declared, 2 registers from FFFF answer `83 02` (with a count: the "
                           "read past it)",
                           "the deciding read answers data, another exception or nothing"),
+    # The serial suite ([SER]): each asks on the line in its own framing.
+    "other_address_read": ("stays silent to FC 03 sent to another address",
+                           "anything comes back"),
+    "other_address_write": ("stays silent to FC 06 sent to another address, and the register "
+                            "read back at its own address is unchanged",
+                            "anything comes back, or the write was executed"),
+    "broadcast_write": ("executes FC 06 sent to address 0 without answering, and answers a read "
+                        "once the turnaround delay (`turnaround_ms`, 200) is over",
+                        "an answer to the broadcast, the value not written, or no answer to the "
+                        "read after the delay"),
+    "broadcast_unanswered": ("stays silent to the request sent to address 0",
+                             "anything comes back"),
+    "wrong_checksum": ("stays silent to FC 06 with a wrong CRC (RTU) or LRC (ASCII), does not "
+                       "execute it, and counts it in FC 08 sub-function 0C when served",
+                       "an answer, the write executed, or the counter not one up"),
+    "answer_frame": ("answers FC 03 with its own address, CRC low byte first (RTU) or ':', "
+                     "upper-case hex, right LRC, CR LF (ASCII), and nothing after the frame",
+                     "another address, a swapped or wrong CRC, a wrong LRC, lower-case hex, a "
+                     "missing LF, bytes after the frame, or no answer"),
+    "ascii_lower_case": ("stays silent to FC 06 written in lower-case hex, and does not execute "
+                         "it",
+                         "an answer, or the write executed"),
     # The security suite ([SEC]): each opens TLS sessions of its own to the mbaps:// port.
     "tls_handshake": ("completes a TLS 1.2+ handshake with the tester's certificate, presents a "
                       "certificate the CA verifies, and answers an FC 03 read inside TLS",
@@ -134,7 +156,14 @@ def step_fail(step: dict) -> str:
 def case_row(case: dict) -> tuple[str, str, str, str]:
     na = []
     for need in case.get("requires", []):
-        na.append("over a serial line" if need == "mbap" else f"`{need}` not declared")
+        if need == "mbap":
+            na.append("over a serial line")
+        elif need == "line":
+            na.append("over Modbus/TCP")
+        elif need == "ascii":
+            na.append("not over ASCII")
+        else:
+            na.append(f"`{need}` not declared")
     if case.get("unsupported_is_na"):
         na.append("the function is not served: 01 to a step and to the function's plain "
                   "request")
@@ -147,6 +176,8 @@ def case_row(case: dict) -> tuple[str, str, str, str]:
         if case["procedure"] in SECURITY_NEEDS:
             na.append("the target is not mbaps://")
             na.extend(SECURITY_NEEDS[case["procedure"]])
+        if case["procedure"] == "broadcast_write":
+            na.append("the register does not take FC 06 at the device's address")
         if case["procedure"] == "semi_signature_scan":
             na.append("7.5.1 did not pass (NOT RUN)")
         return case["id"], passes, fails, "; ".join(na) or "-"

@@ -88,6 +88,9 @@ constexpr std::array kComputedFacts = {std::string_view("out_of_range_registers"
                                        std::string_view("echo_over_data")};
 
 constexpr std::string_view kMbapRequirement = "mbap";
+// The serial-line suite's cases: "line" needs a serial framing, "ascii" the ASCII one.
+constexpr std::string_view kLineRequirement = "line";
+constexpr std::string_view kAsciiRequirement = "ascii";
 
 }  // namespace
 
@@ -191,7 +194,8 @@ protocol::Result<Requirement, std::string> parse_requirement(std::string_view te
     while (i < text.size() && (std::islower(static_cast<unsigned char>(text[i])) || text[i] == '_'))
         ++i;
     out.fact = std::string(text.substr(start, i - start));
-    if (!is_known_fact(out.fact) && out.fact != kMbapRequirement) {
+    if (!is_known_fact(out.fact) && out.fact != kMbapRequirement && out.fact != kLineRequirement &&
+        out.fact != kAsciiRequirement) {
         return fmt::format("requirement '{}' names no DUT fact", text);
     }
     skip_space();
@@ -220,6 +224,14 @@ std::optional<std::string> unmet(const Requirement& requirement, const Dut& dut)
         return fmt::format("a Modbus/TCP (MBAP) test; the device is reached over {}",
                            dut.serial_framing);
     }
+    if (requirement.fact == kLineRequirement && dut.serial_framing.empty())
+        return std::string("a serial-line test; the device is reached over Modbus/TCP");
+    if (requirement.fact == kAsciiRequirement && dut.serial_framing != "ASCII") {
+        return fmt::format("an ASCII framing test; the device is reached over {}",
+                           dut.serial_framing.empty() ? "Modbus/TCP" : dut.serial_framing);
+    }
+    if (requirement.fact == kLineRequirement || requirement.fact == kAsciiRequirement)
+        return std::nullopt;
     auto value = number_of(dut, requirement.fact);
     if (!value) {
         return fmt::format("the DUT does not declare {}", requirement.fact);

@@ -85,7 +85,8 @@ class DutFacts : public FactSource {
 bool is_known_fact(std::string_view name);
 
 // A `requires` entry: a fact name, optionally compared with a number ("coils >= 2000"), or
-// "mbap": the case tests the MBAP header or the TCP stream and needs a Modbus/TCP device.
+// "mbap": the case tests the MBAP header or the TCP stream and needs a Modbus/TCP device; "line":
+// it tests a serial line's rules and needs RTU, ASCII or RTU over TCP; "ascii": ASCII framing.
 struct Requirement {
     std::string fact;
     std::string op;  // "", ">=", "<=", ">", "<", "==", "!="

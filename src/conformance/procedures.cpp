@@ -2,6 +2,7 @@
 
 #include "conformance/catalogue.hpp"
 #include "conformance/security_cases.hpp"
+#include "conformance/serial_line_cases.hpp"
 #include "conformance/verdict.hpp"
 
 namespace mblab::conformance {
@@ -39,6 +40,59 @@ const std::vector<ProcedureInfo>& procedures() {
          true,
          &run_out_of_range,
          &out_of_range_steps},
+        {"other_address_read",
+         "FC 03 to another address on the line is not answered (SER 2.2)",
+         {{"register", 0x0010}, {"other_address", 0}},
+         {},
+         true,
+         &run_other_address_read,
+         nullptr},
+        {"other_address_write",
+         "FC 06 to another address is neither answered nor executed: the register read back at the "
+         "device's own address is unchanged (SER 2.2)",
+         {{"register", 0x0010}, {"other_address", 0}},
+         {},
+         true,
+         &run_other_address_write,
+         nullptr},
+        {"broadcast_write",
+         "FC 06 to address 0 is executed and not answered; the device answers a read once the "
+         "turnaround delay is over, and the value is put back (SER 2.2, 2.4.1)",
+         {{"register", 0x0010}, {"turnaround_ms", 200}},
+         {},
+         true,
+         &run_broadcast_write,
+         nullptr},
+        {"broadcast_unanswered",
+         "a request to address 0 (FC 03, or FC 08 with function = 8) is never answered (SER 2.2)",
+         {{"register", 0x0010}, {"function", 3}},
+         {},
+         true,
+         &run_broadcast_unanswered,
+         nullptr},
+        {"wrong_checksum",
+         "FC 06 with a wrong CRC (RTU) or LRC (ASCII) is neither answered nor executed; FC 08 "
+         "sub-function 0C counts it where served (SER 2.4.1, 6.1)",
+         {{"register", 0x0010}},
+         {},
+         true,
+         &run_wrong_checksum,
+         nullptr},
+        {"answer_frame",
+         "the answer to FC 03 carries the device's own address, its CRC low byte first or ':', "
+         "upper-case hex, LRC and CR LF, and nothing after it (SER 2.5.1, 2.5.2)",
+         {{"register", 0x0010}},
+         {},
+         true,
+         &run_answer_frame,
+         nullptr},
+        {"ascii_lower_case",
+         "ASCII: FC 06 in lower-case hex is neither answered nor executed (SER 2.5.2)",
+         {{"register", 0x0010}},
+         {},
+         true,
+         &run_ascii_lower_case,
+         nullptr},
         {"tls_handshake",
          "[SEC] handshake with the tester's certificate (TLS 1.2+, mutual authentication, the "
          "device's certificate verified against the CA), then an FC 03 read answered inside TLS",

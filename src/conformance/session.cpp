@@ -144,6 +144,24 @@ bool Session::send_on_line(std::span<const std::uint8_t> bytes, client::LinkErro
     return link_->send(std::span(adu).first(size), error);
 }
 
+bool Session::send_on_wire(std::span<const std::uint8_t> wire, client::LinkError& error) {
+    if (!connect(error)) return false;
+    if (link_->framing() == client::Framing::Mbap) {
+        error.message = "raw line frames are for serial framings only";
+        return false;
+    }
+    ++requests_;
+    ++connection_requests_;
+    return link_->send(wire, error);
+}
+
+client::Received Session::receive_from_wire(std::chrono::milliseconds timeout) {
+    if (!link_) return {client::ReceiveStatus::Closed, {}, "connection closed"};
+    auto got = link_->receive_frame(timeout);
+    if (!got.bytes.empty()) heard_ = true;
+    return got;
+}
+
 client::Received Session::in_case_notation(client::Received received) const {
     if (received.status != client::ReceiveStatus::Frame ||
         received.header.framing == client::Framing::Mbap) {

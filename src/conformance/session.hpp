@@ -84,6 +84,13 @@ class Session {
     client::Received receive_frame(std::chrono::milliseconds timeout);
     client::Received receive_any(std::chrono::milliseconds timeout);
 
+    // The serial suite's seam on a line: `wire` goes out exactly as given (a wrong CRC, lower-case
+    // hex), past the framing send() applies; refused over Modbus/TCP.
+    bool send_on_wire(std::span<const std::uint8_t> wire, client::LinkError& error);
+    // The next frame or framing error as it crossed the line (wire bytes; the header as the
+    // link's framer read it), not in the catalogue's notation.
+    client::Received receive_from_wire(std::chrono::milliseconds timeout);
+
     std::size_t requests() const { return requests_; }
     // Whether the device ever sent a byte on any connection of this session.
     bool heard() const { return heard_; }

@@ -11,8 +11,11 @@ constexpr std::size_t kMinBytes = 3;  // address, function code, LRC
 int hex_value(std::uint8_t c) {
     if (c >= '0' && c <= '9') return c - '0';
     if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
     return -1;
+}
+
+bool lower_case_hex(std::uint8_t c) {
+    return c >= 'a' && c <= 'f';
 }
 
 }  // namespace
@@ -23,6 +26,7 @@ void AsciiFramer::start_frame() {
     char_count_ = 1;
     byte_count_ = 0;
     high_nibble_ = -1;
+    lower_case_at_ = 0;
 }
 
 FrameEvent AsciiFramer::fail(FrameEvent event) {
@@ -83,7 +87,19 @@ bool AsciiFramer::frame_char(std::uint8_t c, FrameEvent& event) {
 }
 
 bool AsciiFramer::hex_digit(std::uint8_t c, FrameEvent& event) {
-    const int value = hex_value(c);
+    int value = hex_value(c);
+    // [SER 2.5.2]: the hex digits of a frame are 0-9 and A-F; a lower-case digit is a framing
+    // error a strict reader drops the frame for, which the tester names rather than decodes.
+    if (value < 0 && lower_case_hex(c)) {
+        if (!lenient_) {
+            event = fail(frame_error(error_.format(
+                "lower-case hex digit '%c' at position %zu (only 0-9 and A-F are allowed)", c,
+                char_count_ - 1)));
+            return true;
+        }
+        if (lower_case_at_ == 0) lower_case_at_ = char_count_ - 1;
+        value = c - 'a' + 10;
+    }
     if (value < 0) {
         event = fail(frame_error(error_.format("non-hex character 0x%02X at position %zu",
                                                unsigned{c}, char_count_ - 1)));
@@ -121,6 +137,11 @@ FrameEvent AsciiFramer::finish() {
             } else {
                 event = frame_error(why);
             }
+        } else if (lower_case_at_ != 0) {
+            event.status = FrameStatus::Frame;
+            event.violation =
+                error_.format("lower-case hex digit at position %zu (only 0-9 and A-F are allowed)",
+                              lower_case_at_);
         } else {
             event.status = FrameStatus::Frame;
         }

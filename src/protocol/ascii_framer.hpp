@@ -12,7 +12,8 @@
 namespace mblab::protocol {
 
 // Splits a Modbus ASCII character stream into frames: ':' then hex of address, PDU and LRC, then
-// CR LF [SER 2.5.2]. Uppercase and lowercase hex are accepted. Characters outside a frame are
+// CR LF [SER 2.5.2]. Hex digits are upper case: a lower-case one is a framing error (lenient: a
+// violation of a frame otherwise read). Characters outside a frame are
 // skipped; ':' always starts a new frame, so after any error the next good frame is found.
 //
 // The event's adu is the frame's characters (':' .. LF); pdu and unit are decoded from the hex.
@@ -58,6 +59,7 @@ class AsciiFramer {
     std::array<std::uint8_t, (limits::kMaxAsciiChars - 1) / 2> bytes_{};
     std::size_t byte_count_ = 0;
     int high_nibble_ = -1;
+    std::size_t lower_case_at_ = 0;  // position of the first lower-case digit (lenient); 0: none
     bool lenient_ = false;
     FrameErrorText error_;
 };

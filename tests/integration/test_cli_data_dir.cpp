@@ -48,7 +48,7 @@ TEST_F(CopiedBinary, ListsTheBuiltInSuites) {
     auto ran = run("conform --list");
     EXPECT_EQ(ran.status, 0) << ran.err;
     for (const char* suite : {"policy-2.1 (", "device-id (", "diagnostics (", "exceptions (",
-                              "function-codes (", "mbap ("}) {
+                              "function-codes (", "mbap (", "serial ("}) {
         EXPECT_NE(("\n" + ran.out).find(std::string("\n") + suite), std::string::npos)
             << suite << " missing from:\n"
             << ran.out;

@@ -101,7 +101,10 @@ TEST(CatalogueLoader, RefusesMalformedSuitesWithFileLineAndReason) {
          "bad.toml:3: case x: a step gives either 'expect' or 'silence_ms'"},
         {case_head + "procedure = \"sweep\"\n",
          "bad.toml:7: unknown procedure 'sweep' (known: ping, register_sweep, "
-         "semi_signature_scan, out_of_range_read, tls_handshake, tls10_refused, tls11_refused, "
+         "semi_signature_scan, out_of_range_read, other_address_read, "
+         "other_address_write, broadcast_write, broadcast_unanswered, wrong_checksum, "
+         "answer_frame, "
+         "ascii_lower_case, tls_handshake, tls10_refused, tls11_refused, "
          "no_certificate_refused, expired_certificate_refused, foreign_ca_certificate_refused, "
          "self_signed_certificate_refused, null_role_denied, read_only_role, write_role, "
          "tls_renegotiation, tls_close_notify)"},
@@ -160,8 +163,8 @@ TEST(ShippedCatalogue, EverySuiteLoadsAndCitesItsSources) {
             EXPECT_FALSE(c.title.empty()) << c.id;
         }
     }
-    for (const char* name :
-         {"policy-2.1", "mbap", "exceptions", "diagnostics", "device-id", "function-codes"}) {
+    for (const char* name : {"policy-2.1", "mbap", "exceptions", "diagnostics", "device-id",
+                             "function-codes", "serial"}) {
         EXPECT_TRUE(names.count(name)) << name;
     }
 }

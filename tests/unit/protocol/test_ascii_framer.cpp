@@ -41,10 +41,25 @@ TEST(AsciiFramer, ExampleOfTheSerialSpec) {
     EXPECT_EQ(events[0], ascii_frame(kSpecFrame, "03 00 6B 00 03", 0x11));
 }
 
-TEST(AsciiFramer, LowercaseHexIsAccepted) {
-    const auto events = run(":1103006b00037e\r\n");
-    ASSERT_EQ(events.size(), 1U);
-    EXPECT_EQ(events[0], ascii_frame(":1103006b00037e\r\n", "03 00 6B 00 03", 0x11));
+// [SER 2.5.2]: hex digits are 0-9 and A-F; the rest of a frame with a lower-case one is lost.
+TEST(AsciiFramer, LowercaseHexIsAFramingError) {
+    const auto events = run(std::string(":1103006b00037e\r\n") + std::string(kSpecFrame));
+    ASSERT_EQ(events.size(), 2U);
+    EXPECT_EQ(events[0],
+              error("lower-case hex digit 'b' at position 8 (only 0-9 and A-F are allowed)"));
+    EXPECT_EQ(events[1], ascii_frame(kSpecFrame, "03 00 6B 00 03", 0x11));
+}
+
+// The tester reads such a frame and says what was wrong with it.
+TEST(AsciiFramer, LenientReadsLowercaseHexAsAViolation) {
+    AsciiFramer framer(true);
+    const auto bytes = chars(":1103006b00037e\r\n");
+    std::size_t consumed = 0;
+    const auto event = framer.feed(bytes, consumed);
+    ASSERT_TRUE(event.is_frame());
+    EXPECT_EQ(to_hex(event.pdu), "03 00 6B 00 03");
+    EXPECT_STREQ(event.violation,
+                 "lower-case hex digit at position 8 (only 0-9 and A-F are allowed)");
 }
 
 TEST(AsciiFramer, GarbageBetweenFramesIsSkipped) {

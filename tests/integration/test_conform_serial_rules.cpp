@@ -1,0 +1,174 @@
+// The serial suite [SER]: mblab's reference device passes it over RTU, ASCII and RTU over TCP,
+// and slaves built wrong on purpose, each breaking one rule of the line on a pty pair, fail the
+// case about that rule with a reason that names the fault.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "serial_test_support.hpp"
+#include "support/temp_path.hpp"
+#include "test_client_support.hpp"
+#include "wrong_serial_slave.hpp"
+
+namespace mblab::test {
+namespace {
+
+struct Verdict {
+    std::string verdict;
+    std::string reason;
+};
+
+struct SerialRun {
+    std::map<std::string, Verdict> cases;
+    std::string out;
+};
+
+SerialRun run_suite(const std::string& url, const std::vector<std::string>& choice) {
+    const std::string json = temp_path("serial.json");
+    std::vector<std::string> args{"conform", url, "--timeout", "600", "--json", json};
+    args.insert(args.end(), choice.begin(), choice.end());
+    auto ran = run_mblab(args);
+    SerialRun run{{}, ran.out + ran.err};
+    std::ifstream file(json);
+    std::stringstream text;
+    text << file.rdbuf();
+    const auto report = nlohmann::json::parse(text.str(), nullptr, false);
+    if (report.is_discarded()) return run;
+    for (const auto& suite : report["suites"]) {
+        for (const auto& c : suite["cases"]) {
+            run.cases[c["id"]] = {c["verdict"], c.value("reason", std::string())};
+        }
+    }
+    return run;
+}
+
+std::string line_url(const std::string& scheme, const PtyPair& pty) {
+    return scheme + "://" + pty.client_end() + "?baud=19200&data=8";
+}
+
+SerialRun run_serial_suite(const std::string& url) {
+    return run_suite(url, {"--suite", "serial"});
+}
+
+void passes_every_case(const SerialRun& run, bool ascii) {
+    ASSERT_EQ(run.cases.size(), 8U) << run.out;
+    for (const auto& [id, v] : run.cases) {
+        if (id == "ser.8" && !ascii) {
+            EXPECT_EQ(v.verdict, "N/A") << id;
+            continue;
+        }
+        EXPECT_EQ(v.verdict, "PASS") << id << ": " << v.reason << "\n" << run.out;
+    }
+}
+
+TEST(ConformSerialRules, ReferenceDevicePassesOverRtu) {
+    DeviceOnLine line;
+    ASSERT_EQ(line.start("reference", "rtu", 19200, false), "");
+    auto run = run_serial_suite(line_url("rtu", line.pty()));
+    passes_every_case(run, false);
+    // The wrong CRC was counted by FC 08 sub-function 0C.
+    EXPECT_NE(run.cases["ser.6"].reason.find("counted (1 bus communication errors)"),
+              std::string::npos)
+        << run.cases["ser.6"].reason;
+}
+
+TEST(ConformSerialRules, ReferenceDevicePassesOverAscii) {
+    DeviceOnLine line;
+    ASSERT_EQ(line.start("reference", "ascii", 19200, false), "");
+    passes_every_case(run_serial_suite(line_url("ascii", line.pty())), true);
+}
+
+TEST(ConformSerialRules, ReferenceDevicePassesOverRtuOverTcp) {
+    DeviceOnRtuTcp device;
+    ASSERT_EQ(device.start(), "");
+    passes_every_case(run_serial_suite("rtu+tcp://127.0.0.1:" + std::to_string(device.port())),
+                      false);
+}
+
+// The case about the fault fails, with a reason that says what went wrong.
+void fails_with(SlaveFault fault, bool ascii, const std::string& id, const std::string& words) {
+    PtyPair pty;
+    ASSERT_TRUE(pty.ok()) << pty.error();
+    WrongSerialSlave slave;
+    ASSERT_EQ(slave.start(pty, ascii, fault), "");
+    auto run = run_serial_suite(line_url(ascii ? "ascii" : "rtu", pty));
+    ASSERT_TRUE(run.cases.contains(id)) << run.out;
+    EXPECT_EQ(run.cases[id].verdict, "FAIL") << run.out;
+    EXPECT_NE(run.cases[id].reason.find(words), std::string::npos)
+        << id << ": " << run.cases[id].reason;
+}
+
+TEST(ConformSerialRules, TheSlaveKeepingTheRulesPasses) {
+    PtyPair pty;
+    ASSERT_TRUE(pty.ok()) << pty.error();
+    WrongSerialSlave slave;
+    ASSERT_EQ(slave.start(pty, false, SlaveFault::None), "");
+    const auto run = run_serial_suite(line_url("rtu", pty));
+    for (const auto& [id, v] : run.cases) {
+        if (id == "ser.8") continue;
+        EXPECT_EQ(v.verdict, "PASS") << id << ": " << v.reason;
+    }
+}
+
+TEST(ConformSerialRules, ASlaveAnsweringAnotherAddressFails) {
+    fails_with(SlaveFault::AnswersOtherAddress, false, "ser.1",
+               "FC 03 to address 2 (not the device's 1) was answered");
+    fails_with(SlaveFault::AnswersOtherAddress, false, "ser.2",
+               "FC 06 to address 2 (not the device's 1) was answered");
+}
+
+TEST(ConformSerialRules, ASlaveAnsweringABroadcastFails) {
+    fails_with(SlaveFault::AnswersBroadcast, false, "ser.3", "FC 06 to address 0 was answered");
+    fails_with(SlaveFault::AnswersBroadcast, false, "ser.4", "FC 03 to address 0 was answered");
+    fails_with(SlaveFault::AnswersBroadcast, true, "ser.5",
+               "FC 08 (return query data) to address 0 was answered");
+}
+
+TEST(ConformSerialRules, ASlaveExecutingABadCrcFails) {
+    fails_with(SlaveFault::ExecutesBadChecksum, false, "ser.6",
+               "FC 06 with a wrong CRC was answered");
+    fails_with(SlaveFault::ExecutesBadChecksum, true, "ser.6",
+               "FC 06 with a wrong LRC was answered");
+}
+
+TEST(ConformSerialRules, AnAsciiSlaveAnsweringInLowerCaseFailsForThat) {
+    fails_with(SlaveFault::LowerCaseAnswer, true, "ser.7", "lower-case hex digit");
+}
+
+TEST(ConformSerialRules, AnAsciiSlaveWithAWrongLrcFailsForThat) {
+    fails_with(SlaveFault::WrongLrc, true, "ser.7", "LRC mismatch");
+}
+
+// Any case's answer is judged as it came: a malformed frame is named, never "no answer".
+TEST(ConformSerialRules, AMalformedAsciiAnswerIsNamedInEveryCase) {
+    for (const auto& [fault, words] : {std::pair{SlaveFault::LowerCaseAnswer, "lower-case hex"},
+                                       std::pair{SlaveFault::WrongLrc, "LRC mismatch"}}) {
+        PtyPair pty;
+        ASSERT_TRUE(pty.ok()) << pty.error();
+        WrongSerialSlave slave;
+        ASSERT_EQ(slave.start(pty, true, fault), "");
+        // The answer to 7.3.1 (FC 01, one coil) has letters among its hex digits.
+        auto run = run_suite(line_url("ascii", pty), {"--suite", "policy-2.1", "--case", "7.3.1"});
+        for (const char* id : {"7.3.1"}) {
+            EXPECT_EQ(run.cases[id].verdict, "FAIL") << run.out;
+            EXPECT_NE(run.cases[id].reason.find(std::string("malformed answer: ") + words),
+                      std::string::npos)
+                << id << ": " << run.cases[id].reason;
+        }
+    }
+}
+
+TEST(ConformSerialRules, AnRtuSlaveSendingTheCrcHighByteFirstFails) {
+    fails_with(SlaveFault::CrcHighByteFirst, false, "ser.7", "is sent high byte first");
+}
+
+TEST(ConformSerialRules, ASlaveAnsweringWithAnotherAddressFails) {
+    fails_with(SlaveFault::ForeignAddressInAnswer, false, "ser.7",
+               "an answer carrying address 2 where the device's is 1");
+}
+
+}  // namespace
+}  // namespace mblab::test

@@ -1,0 +1,125 @@
+#include "wrong_serial_slave.hpp"
+
+#include <array>
+#include <cctype>
+
+#include "device/profile_paths.hpp"
+#include "protocol/adu.hpp"
+#include "protocol/crc16.hpp"
+#include "protocol/limits.hpp"
+#include "protocol/lrc.hpp"
+
+namespace mblab::test {
+
+namespace {
+
+constexpr std::uint8_t kOwnAddress = 1;
+
+int hex_value(std::uint8_t c) {
+    if (c >= '0' && c <= '9') return c - '0';
+    const int lower = std::tolower(c);
+    if (lower >= 'a' && lower <= 'f') return lower - 'a' + 10;
+    return -1;
+}
+
+}  // namespace
+
+std::string WrongSerialSlave::start(const PtyPair& pty, bool ascii, SlaveFault fault) {
+    ascii_ = ascii;
+    fault_ = fault;
+    auto loaded = device::load_profile(device::default_profile_path());
+    if (!loaded) return loaded.error();
+    device_ = std::move(loaded.value());
+    port_ = std::make_unique<RawSerialMaster>(pty.server_end());
+    if (!port_->ok()) return "cannot open " + pty.server_end();
+    thread_ = std::thread([this] { serve(); });
+    return {};
+}
+
+WrongSerialSlave::~WrongSerialSlave() {
+    stop_ = true;
+    if (thread_.joinable()) thread_.join();
+}
+
+std::optional<WrongSerialSlave::Request> WrongSerialSlave::decode(
+    const std::vector<std::uint8_t>& bytes) const {
+    Request request;
+    std::vector<std::uint8_t> body;  // address, PDU and checksum
+    if (!ascii_) {
+        if (bytes.size() < 4) return std::nullopt;
+        body = bytes;
+        const auto crc = protocol::crc16(std::span(body).first(body.size() - 2));
+        request.checksum_ok = body[body.size() - 2] == (crc & 0xFF) && body.back() == (crc >> 8);
+        body.resize(body.size() - 2);
+    } else {
+        if (bytes.size() < 9 || bytes.front() != ':' || bytes[bytes.size() - 2] != '\r' ||
+            bytes.back() != '\n' || bytes.size() % 2 == 0) {
+            return std::nullopt;
+        }
+        for (std::size_t i = 1; i + 2 < bytes.size(); i += 2) {
+            const int high = hex_value(bytes[i]);
+            const int low = hex_value(bytes[i + 1]);
+            if (high < 0 || low < 0) return std::nullopt;
+            request.lower_case |= std::islower(bytes[i]) != 0 || std::islower(bytes[i + 1]) != 0;
+            body.push_back(static_cast<std::uint8_t>(high << 4 | low));
+        }
+        const std::uint8_t lrc = body.back();
+        body.pop_back();
+        request.checksum_ok = protocol::lrc(body) == lrc;
+    }
+    request.address = body.front();
+    request.pdu.assign(body.begin() + 1, body.end());
+    return request;
+}
+
+std::vector<std::uint8_t> WrongSerialSlave::encode(std::uint8_t address,
+                                                   std::span<const std::uint8_t> pdu) const {
+    std::array<std::uint8_t, protocol::limits::kMaxAsciiChars> out{};
+    const auto framing = ascii_ ? protocol::Framing::Ascii : protocol::Framing::Rtu;
+    const std::size_t size = protocol::write_adu({framing, address}, pdu, out);
+    std::vector<std::uint8_t> wire(out.begin(), out.begin() + static_cast<long>(size));
+    if (fault_ == SlaveFault::LowerCaseAnswer) {
+        for (auto& c : wire)
+            c = static_cast<std::uint8_t>(std::tolower(c));
+    } else if (fault_ == SlaveFault::WrongLrc) {
+        // The LRC's two digits sit before CR LF; '0'..'9' and 'A'..'E' plus one stay hex digits.
+        auto& digit = wire[wire.size() - 3];
+        digit = digit == '9' ? 'A' : digit == 'F' ? '0' : static_cast<std::uint8_t>(digit + 1);
+    } else if (fault_ == SlaveFault::CrcHighByteFirst) {
+        std::swap(wire[wire.size() - 2], wire[wire.size() - 1]);
+    }
+    return wire;
+}
+
+void WrongSerialSlave::take(const Request& request) {
+    const bool broadcast = request.address == 0;
+    bool serve = request.address == kOwnAddress || broadcast;
+    if (fault_ == SlaveFault::AnswersOtherAddress && request.address != 0) serve = true;
+    // A frame with a wrong checksum is counted (FC 08 sub-function 0C) whatever is done with it.
+    if (!request.checksum_ok) device_->count_crc_error();
+    if (!request.checksum_ok && fault_ != SlaveFault::ExecutesBadChecksum) serve = false;
+    if (request.lower_case) serve = false;
+    if (!serve) return;
+    // Executed as its own (a broadcast too, when it answers one).
+    const bool answer_broadcast = fault_ == SlaveFault::AnswersBroadcast;
+    const std::uint8_t unit = broadcast && !answer_broadcast ? 0 : kOwnAddress;
+    std::array<std::uint8_t, protocol::limits::kMaxPdu> response{};
+    const auto reply =
+        device_->handle({unit, device::Link::Serial}, request.pdu, std::span(response));
+    if (reply.action != device::ReplyAction::Answer) return;
+    std::uint8_t address = broadcast ? kOwnAddress : request.address;
+    if (fault_ == SlaveFault::ForeignAddressInAnswer) address = kOwnAddress + 1;
+    port_->send(encode(address, std::span(response).first(reply.size)));
+}
+
+void WrongSerialSlave::serve() {
+    while (!stop_) {
+        // The tester sends one request and waits: a burst is one frame.
+        const auto bytes =
+            port_->receive(std::chrono::milliseconds(100), std::chrono::milliseconds(15));
+        if (bytes.empty()) continue;
+        if (auto request = decode(bytes)) take(*request);
+    }
+}
+
+}  // namespace mblab::test
