@@ -72,7 +72,7 @@ const std::vector<ProcedureInfo>& procedures() {
          nullptr},
         {"wrong_checksum",
          "FC 06 with a wrong CRC (RTU) or LRC (ASCII) is neither answered nor executed; FC 08 "
-         "sub-function 0C counts it where served (SER 2.4.1, 6.1)",
+         "sub-function 0C counts it where served (SER 2.4.2, 6.1)",
          {{"register", 0x0010}},
          {},
          true,

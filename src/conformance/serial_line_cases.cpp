@@ -10,7 +10,7 @@
 #include "conformance/session.hpp"
 #include "protocol/crc16.hpp"
 
-// The rules that make a multi-drop line work ([SER 2.2], [SER 2.4.1], [SER 2.5]): who answers
+// The rules that make a multi-drop line work ([SER 2.2], [SER 2.4], [SER 2.5]): who answers
 // what, what a broadcast does, what a spoiled frame does. Each case asks on the line in its own
 // framing and judges the bytes that came back.
 namespace mblab::conformance {

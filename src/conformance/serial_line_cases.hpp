@@ -19,7 +19,7 @@ Outcome run_broadcast_write(Session& session, const Case& c);
 // A read (`function` 3) or FC 08 (`function` 8) to address 0 is never answered [SER 2.2].
 Outcome run_broadcast_unanswered(Session& session, const Case& c);
 // A write with a wrong CRC or LRC is neither answered nor executed, and FC 08 sub-function 0C
-// counts it where it is served [SER 2.4.1, 2.5.1.2, 2.5.2.2, 6.1].
+// counts it where it is served [SER 2.4.2, 2.5.1.2, 2.5.2.2, 6.1].
 Outcome run_wrong_checksum(Session& session, const Case& c);
 // The answer carries the device's own address, its checksum laid out as the framing says, and
 // nothing after it [SER 2.5.1, 2.5.2].
