@@ -1,8 +1,8 @@
-#include "protocol/function_code.hpp"
-
 #include <gtest/gtest.h>
 
 #include <string>
+
+#include "protocol/function_code.hpp"
 
 namespace mblab::protocol {
 namespace {
