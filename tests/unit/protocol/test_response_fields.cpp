@@ -2,7 +2,7 @@
 // describe, and a message built from those fields encodes to the example bytes.
 #include <gtest/gtest.h>
 
-#include "pdu_test_support.hpp"
+#include "pdu_fields_text.hpp"
 
 namespace mblab::protocol {
 namespace {
@@ -11,99 +11,44 @@ using test::hex;
 using test::to_hex;
 using testing::ascii_hex;
 using testing::encoded;
+using testing::PduFields;
 
-template <class Message>
-Message decoded_as(const std::vector<std::uint8_t>& pdu) {
-    return testing::decoded_as<Message>(pdu, decode_response);
+// One example a line.
+// clang-format off
+const testing::FieldsCase kExamples[] = {
+    {"ReadCoils",                   "01 03 CD 6B 05",                               "ReadBitsResponse function=1 packed=[CD 6B 05]"},
+    {"ReadHoldingRegisters",        "03 06 02 2B 00 00 00 64",                      "ReadRegistersResponse function=3 values=[022B 0000 0064]"},
+    {"ReadInputRegisters",          "04 02 00 0A",                                  "ReadRegistersResponse function=4 values=[000A]"},
+    {"WriteSingleCoilEcho",         "05 00 AC FF 00",                               "WriteSingleCoilResponse address=172 value=65280"},
+    {"WriteSingleRegisterEcho",     "06 00 01 00 03",                               "WriteSingleRegisterResponse address=1 value=3"},
+    {"ReadExceptionStatus",         "07 6D",                                        "ReadExceptionStatusResponse status=109"},
+    {"DiagnosticsCounter",          "08 00 0B 01 08",                               "DiagnosticsResponse sub_function=11 data=[01 08]"},
+    {"GetCommEventCounter",         "0B FF FF 01 08",                               "GetCommEventCounterResponse status=65535 event_count=264"},
+    {"GetCommEventLog",             "0C 08 00 00 01 08 01 21 20 00",                "GetCommEventLogResponse status=0 event_count=264 message_count=289 events=[20 00]"},
+    {"WriteMultipleCoilsEcho",      "0F 00 13 00 0A",                               "WriteMultipleCoilsResponse address=19 quantity=10"},
+    {"WriteMultipleRegistersEcho",  "10 00 01 00 02",                               "WriteMultipleRegistersResponse address=1 quantity=2"},
+    {"ReportServerId",              "11 03 2A FF 01",                               "ReportServerIdResponse data=[2A FF 01]"},
+    {"WriteFileRecordEcho",         "15 0D 06 00 04 00 07 00 03 06 AF 04 BE 10 0D", "WriteFileRecordResponse sub_requests=[06 00 04 00 07 00 03 06 AF 04 BE 10 0D]"},
+    {"MaskWriteRegisterEcho",       "16 00 04 00 F2 00 25",                         "MaskWriteRegisterResponse address=4 and_mask=242 or_mask=37"},
+    {"ReadWriteMultipleRegisters",  "17 0C 00 FE 0A CD 00 01 00 03 00 0D 00 FF",    "ReadWriteMultipleRegistersResponse values=[00FE 0ACD 0001 0003 000D 00FF]"},
+    {"ReadFifoQueue",               "18 00 06 00 02 01 B8 12 84",                   "ReadFifoQueueResponse values=[01B8 1284]"},
+    {"ObjectMessagingSeed000",      "5B 0B 00 00 01 00 01 00 08 00 16 00 01",       "ObjectMessagingResponse fragment_byte_count=11 fragment_protocol=0 class_id=1 instance_id=1 service_code=8 error_code=22 parameters=[00 01]"},
+    {"Exception",                   "83 02",                                        "ExceptionResponse function=3 code=2"},
+    {"UnknownFunctionIsCarriedRaw", "41 01 02",                                     "RawResponse function=65 data=[01 02]"},
+};
+// clang-format on
+
+// The test is test_request_fields.cpp's, run on responses.
+INSTANTIATE_TEST_SUITE_P(Response, PduFields, ::testing::ValuesIn(testing::as_responses(kExamples)),
+                         testing::fields_case_name);
+
+TEST(ResponseFunction, ExceptionSetsTheHighBit) {
+    EXPECT_EQ(function_of(Response{ExceptionResponse{0x2B, ExceptionCode::IllegalFunction}}), 0xAB);
 }
 
-TEST(ResponseFields, ReadCoils) {
-    const auto pdu = hex("01 03 CD 6B 05");
-    const auto response = decoded_as<ReadBitsResponse>(pdu);
-    EXPECT_EQ(response.function, FunctionCode::ReadCoils);
-    EXPECT_EQ(to_hex(response.packed), "CD 6B 05");
-    const auto packed = hex("CD 6B 05");
-    EXPECT_EQ(encoded(ReadBitsResponse{FunctionCode::ReadCoils, packed}), pdu);
-}
-
-TEST(ResponseFields, ReadHoldingRegisters) {
-    const auto pdu = hex("03 06 02 2B 00 00 00 64");
-    const auto response = decoded_as<ReadRegistersResponse>(pdu);
-    EXPECT_EQ(response.function, FunctionCode::ReadHoldingRegisters);
-    ASSERT_EQ(response.values.size(), 3u);
-    EXPECT_EQ(response.values[0], 555);
-    EXPECT_EQ(response.values[1], 0);
-    EXPECT_EQ(response.values[2], 100);
-    const auto values = hex("02 2B 00 00 00 64");
-    EXPECT_EQ(
-        encoded(ReadRegistersResponse{FunctionCode::ReadHoldingRegisters, RegisterView(values)}),
-        pdu);
-}
-
-TEST(ResponseFields, ReadInputRegisters) {
-    const auto pdu = hex("04 02 00 0A");
-    const auto response = decoded_as<ReadRegistersResponse>(pdu);
-    EXPECT_EQ(response.function, FunctionCode::ReadInputRegisters);
-    EXPECT_EQ(response.values[0], 10);
-}
-
-TEST(ResponseFields, WriteEchoes) {
-    EXPECT_EQ(decoded_as<WriteSingleCoilResponse>(hex("05 00 AC FF 00")).value, 0xFF00);
-    EXPECT_EQ(encoded(WriteSingleCoilResponse{0xAC, 0xFF00}), hex("05 00 AC FF 00"));
-    EXPECT_EQ(decoded_as<WriteSingleRegisterResponse>(hex("06 00 01 00 03")).value, 3);
-    EXPECT_EQ(encoded(WriteSingleRegisterResponse{1, 3}), hex("06 00 01 00 03"));
-    EXPECT_EQ(decoded_as<WriteMultipleCoilsResponse>(hex("0F 00 13 00 0A")).quantity, 10);
-    EXPECT_EQ(encoded(WriteMultipleCoilsResponse{0x13, 10}), hex("0F 00 13 00 0A"));
-    EXPECT_EQ(decoded_as<WriteMultipleRegistersResponse>(hex("10 00 01 00 02")).address, 1);
-    EXPECT_EQ(encoded(WriteMultipleRegistersResponse{1, 2}), hex("10 00 01 00 02"));
-    const auto mask = decoded_as<MaskWriteRegisterResponse>(hex("16 00 04 00 F2 00 25"));
-    EXPECT_EQ(mask.and_mask, 0xF2);
-    EXPECT_EQ(mask.or_mask, 0x25);
-    EXPECT_EQ(encoded(MaskWriteRegisterResponse{4, 0xF2, 0x25}), hex("16 00 04 00 F2 00 25"));
-}
-
-TEST(ResponseFields, ReadExceptionStatus) {
-    EXPECT_EQ(decoded_as<ReadExceptionStatusResponse>(hex("07 6D")).status, 0x6D);
-    EXPECT_EQ(encoded(ReadExceptionStatusResponse{0x6D}), hex("07 6D"));
-}
-
-TEST(ResponseFields, DiagnosticsCounter) {
-    const auto pdu = hex("08 00 0B 01 08");
-    const auto response = decoded_as<DiagnosticsResponse>(pdu);
-    EXPECT_EQ(response.sub_function, 0x0B);
-    EXPECT_EQ(to_hex(response.data), "01 08");
-    const auto data = hex("01 08");
-    EXPECT_EQ(encoded(DiagnosticsResponse{0x0B, data}), pdu);
-}
-
-TEST(ResponseFields, GetCommEventCounter) {
-    const auto response = decoded_as<GetCommEventCounterResponse>(hex("0B FF FF 01 08"));
-    EXPECT_EQ(response.status, 0xFFFF);
-    EXPECT_EQ(response.event_count, 264);
-    EXPECT_EQ(encoded(GetCommEventCounterResponse{0xFFFF, 264}), hex("0B FF FF 01 08"));
-}
-
-TEST(ResponseFields, GetCommEventLog) {
-    const auto pdu = hex("0C 08 00 00 01 08 01 21 20 00");
-    const auto response = decoded_as<GetCommEventLogResponse>(pdu);
-    EXPECT_EQ(response.status, 0);
-    EXPECT_EQ(response.event_count, 264);
-    EXPECT_EQ(response.message_count, 289);
-    EXPECT_EQ(to_hex(response.events), "20 00");
-    const auto events = hex("20 00");
-    EXPECT_EQ(encoded(GetCommEventLogResponse{0, 264, 289, events}), pdu);
-}
-
-TEST(ResponseFields, ReportServerId) {
-    const auto pdu = hex("11 03 2A FF 01");
-    EXPECT_EQ(to_hex(decoded_as<ReportServerIdResponse>(pdu).data), "2A FF 01");
-    const auto data = hex("2A FF 01");
-    EXPECT_EQ(encoded(ReportServerIdResponse{data}), pdu);
-}
-
-TEST(ResponseFields, ReadFileRecord) {
+TEST(ResponseWalks, ReadFileRecord) {
     const auto pdu = hex("14 0C 05 06 0D FE 00 20 05 06 33 CD 00 40");
-    const auto response = decoded_as<ReadFileRecordResponse>(pdu);
+    const auto response = testing::decoded_as<ReadFileRecordResponse>(pdu, decode_response);
     std::size_t offset = 0;
     RegisterView group;
     ASSERT_TRUE(response.next(offset, group));
@@ -125,37 +70,10 @@ TEST(ResponseFields, ReadFileRecord) {
     EXPECT_EQ(encoded(ReadFileRecordResponse{subs.written()}), pdu);
 }
 
-TEST(ResponseFields, WriteFileRecordEcho) {
-    const auto pdu = hex("15 0D 06 00 04 00 07 00 03 06 AF 04 BE 10 0D");
-    const auto response = decoded_as<WriteFileRecordResponse>(pdu);
-    EXPECT_EQ(response.sub_requests.size(), 13u);
-    EXPECT_EQ(encoded(WriteFileRecordResponse{response.sub_requests}), pdu);
-}
-
-TEST(ResponseFields, ReadWriteMultipleRegisters) {
-    const auto pdu = hex("17 0C 00 FE 0A CD 00 01 00 03 00 0D 00 FF");
-    const auto response = decoded_as<ReadWriteMultipleRegistersResponse>(pdu);
-    ASSERT_EQ(response.values.size(), 6u);
-    EXPECT_EQ(response.values[0], 0x00FE);
-    EXPECT_EQ(response.values[5], 0x00FF);
-    const auto values = hex("00 FE 0A CD 00 01 00 03 00 0D 00 FF");
-    EXPECT_EQ(encoded(ReadWriteMultipleRegistersResponse{RegisterView(values)}), pdu);
-}
-
-TEST(ResponseFields, ReadFifoQueue) {
-    const auto pdu = hex("18 00 06 00 02 01 B8 12 84");
-    const auto response = decoded_as<ReadFifoQueueResponse>(pdu);
-    ASSERT_EQ(response.values.size(), 2u);
-    EXPECT_EQ(response.values[0], 440);
-    EXPECT_EQ(response.values[1], 4740);
-    const auto values = hex("01 B8 12 84");
-    EXPECT_EQ(encoded(ReadFifoQueueResponse{RegisterView(values)}), pdu);
-}
-
-TEST(ResponseFields, ReadDeviceIdentification) {
+TEST(ResponseWalks, ReadDeviceIdentification) {
     const auto pdu = hex("2B 0E 01 01 00 00 03 00 16" + ascii_hex("Company identification") +
                          "01 0F" + ascii_hex("Product code XX") + "02 05" + ascii_hex("V2.11"));
-    const auto response = decoded_as<ReadDeviceIdResponse>(pdu);
+    const auto response = testing::decoded_as<ReadDeviceIdResponse>(pdu, decode_response);
     EXPECT_EQ(response.read_code, 1);
     EXPECT_EQ(response.conformity_level, 1);
     EXPECT_EQ(response.more_follows, 0);
@@ -182,48 +100,20 @@ TEST(ResponseFields, ReadDeviceIdentification) {
     EXPECT_EQ(encoded(ReadDeviceIdResponse{1, 1, 0, 0, 3, objects.written()}), pdu);
 }
 
-TEST(ResponseFields, DeviceIdObjectLongerThan255BytesIsRefused) {
+TEST(ResponseWalks, DeviceIdObjectLongerThan255BytesIsRefused) {
     const std::vector<std::uint8_t> value(256, 'x');
     std::array<std::uint8_t, 300> scratch{};
     WriteCursor out(scratch);
     EXPECT_FALSE(encode_device_id_object(out, 0x80, value));
 }
 
-TEST(ResponseFields, ObjectMessagingSeed000) {
-    const auto pdu = hex("5B 0B 00 00 01 00 01 00 08 00 16 00 01");
-    const auto response = decoded_as<ObjectMessagingResponse>(pdu);
-    EXPECT_EQ(response.fragment_byte_count, 0x0B);
-    EXPECT_EQ(response.class_id, 1);
-    EXPECT_EQ(response.instance_id, 1);
-    EXPECT_EQ(response.service_code, 8);
-    EXPECT_EQ(response.error_code, 0x16);
-    EXPECT_EQ(to_hex(response.parameters), "00 01");
-    const auto parameters = hex("00 01");
-    EXPECT_EQ(encoded(ObjectMessagingResponse{0, 0, 1, 1, 8, 0x16, parameters}), pdu);
-}
-
-TEST(ResponseFields, Exception) {
-    const auto response = decoded_as<ExceptionResponse>(hex("83 02"));
-    EXPECT_EQ(response.function, 0x03);
-    EXPECT_EQ(response.code, ExceptionCode::IllegalDataAddress);
-    EXPECT_EQ(encoded(ExceptionResponse{0x03, ExceptionCode::IllegalDataAddress}), hex("83 02"));
-    EXPECT_EQ(function_of(Response{ExceptionResponse{0x2B, ExceptionCode::IllegalFunction}}), 0xAB);
-}
-
-TEST(ResponseFields, EncodeExceptionSetsTheHighBit) {
+TEST(ResponseWalks, EncodeExceptionSetsTheHighBit) {
     std::array<std::uint8_t, 2> buffer{};
     WriteCursor out(buffer);
     ASSERT_TRUE(encode_exception(0x25, ExceptionCode::IllegalFunction, out));
     EXPECT_EQ(to_hex(out.written()), "A5 01");
     WriteCursor too_small(std::span<std::uint8_t>(buffer).first(1));
     EXPECT_FALSE(encode_exception(0x25, ExceptionCode::IllegalFunction, too_small));
-}
-
-TEST(ResponseFields, UnknownFunctionIsCarriedRaw) {
-    const auto pdu = hex("41 01 02");
-    const auto response = decoded_as<RawResponse>(pdu);
-    EXPECT_EQ(response.function, 0x41);
-    EXPECT_EQ(to_hex(response.data), "01 02");
 }
 
 }  // namespace
