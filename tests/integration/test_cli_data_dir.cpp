@@ -32,14 +32,7 @@ class CopiedBinary : public ::testing::Test {
                                    "' && exec env -u MBLAB_DATA_DIR -u MBLAB_CATALOGUE_DIR "
                                    "-u MBLAB_PROFILES_DIR " +
                                    env + " ./mblab " + args;
-        std::vector<std::string> argv = {"/bin/sh", "-c", script};
-        ChildProcess child(argv);
-        Ran ran;
-        while (auto line = child.read_stdout_line(std::chrono::seconds(60)))
-            ran.out += *line + "\n";
-        ran.status = child.wait_exit(std::chrono::seconds(60)).value_or(-1);
-        ran.err = child.drain_stderr();
-        return ran;
+        return run_program({"/bin/sh", "-c", script}, std::chrono::seconds(60));
     }
     fs::path dir_;
 };

@@ -32,16 +32,15 @@ TEST_F(CliGuides, RawTakesASingleDigitAsOneByte) {
 // An odd run of digits is neither a byte nor whole bytes: refused before anything is sent.
 TEST_F(CliGuides, RawRefusesAnOddRunOfDigits) {
     auto ran = mblab("raw", {"03", "0", "123", "1"});
-    EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.out, "");
-    EXPECT_EQ(ran.err,
-              "mblab raw: PDU token 3 '123' has an odd number of hex digits: give each byte as 1 "
-              "or 2 digits, or whole bytes run together (03 00 00 00 0A or 030000000A)\n");
+    expect_failed(
+        ran, 2,
+        "mblab raw: PDU token 3 '123' has an odd number of hex digits: give each byte as 1 "
+        "or 2 digits, or whole bytes run together (03 00 00 00 0A or 030000000A)\n");
     auto not_hex = mblab("raw", {"03", "zz"});
-    EXPECT_EQ(not_hex.status, 2);
-    EXPECT_EQ(not_hex.err,
-              "mblab raw: 'zz' is not hex: give the PDU as hex bytes, e.g. 03 00 00 00 "
-              "0A\n");
+    expect_failed(not_hex, 2,
+                  "mblab raw: 'zz' is not hex: give the PDU as hex bytes, e.g. 03 00 00 00 "
+                  "0A\n");
 }
 
 // Durations take a unit wherever a duration is asked for; a bare number keeps the option's unit.
@@ -55,34 +54,33 @@ TEST_F(CliGuides, DurationsTakeUnits) {
     // The unit is converted into the option's own before its limits are checked: 11m is
     // 660000 ms, over --timeout's 600000.
     auto over = mblab("read", {"holding", "0", "--timeout", "11m"});
-    EXPECT_EQ(over.status, 2);
-    EXPECT_EQ(over.err,
-              "mblab read: --timeout: Value 660000 not in range 1 to 600000 (run 'mblab read "
-              "--help' for usage)\n");
+    expect_failed(over, 2,
+                  "mblab read: --timeout: Value 660000 not in range 1 to 600000 (run 'mblab read "
+                  "--help' for usage)\n");
 }
 
 TEST(CliGuidesUsage, AnUnknownDurationUnitIsOneLine) {
     auto ran = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "0", "--timeout", "1x"});
-    EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.out, "");
-    EXPECT_EQ(ran.err,
-              "mblab read: --timeout: '1x' is not a duration: give e.g. 250ms, 1s, 1.5s or 2m (a "
-              "number alone is milliseconds) (run 'mblab read --help' for usage)\n");
+    expect_failed(
+        ran, 2,
+        "mblab read: --timeout: '1x' is not a duration: give e.g. 250ms, 1s, 1.5s or 2m (a "
+        "number alone is milliseconds) (run 'mblab read --help' for usage)\n");
     auto half = run_mblab({"watch", "tcp://127.0.0.1:1", "holding", "0", "--interval", "1.5ms"});
-    EXPECT_EQ(half.status, 2);
-    EXPECT_EQ(half.err,
-              "mblab watch: --interval: '1.5ms' is not a whole number of milliseconds (run 'mblab "
-              "watch --help' for usage)\n");
+    expect_failed(
+        half, 2,
+        "mblab watch: --interval: '1.5ms' is not a whole number of milliseconds (run 'mblab "
+        "watch --help' for usage)\n");
     auto serve = run_mblab({"serve", "--idle-timeout", "5x"});
-    EXPECT_EQ(serve.status, 2);
-    EXPECT_EQ(serve.err,
-              "mblab serve: --idle-timeout: '5x' is not a duration: give e.g. 250ms, 1s, 1.5s or "
-              "2m (a number alone is seconds) (run 'mblab serve --help' for usage)\n");
+    expect_failed(
+        serve, 2,
+        "mblab serve: --idle-timeout: '5x' is not a duration: give e.g. 250ms, 1s, 1.5s or "
+        "2m (a number alone is seconds) (run 'mblab serve --help' for usage)\n");
     auto conform = run_mblab({"conform", "tcp://127.0.0.1:1", "--settle", "-1s"});
-    EXPECT_EQ(conform.status, 2);
-    EXPECT_EQ(conform.err,
-              "mblab conform: --settle: '-1s' is not a duration: give e.g. 250ms, 1s, 1.5s or 2m "
-              "(a number alone is milliseconds) (run 'mblab conform --help' for usage)\n");
+    expect_failed(
+        conform, 2,
+        "mblab conform: --settle: '-1s' is not a duration: give e.g. 250ms, 1s, 1.5s or 2m "
+        "(a number alone is milliseconds) (run 'mblab conform --help' for usage)\n");
 }
 
 TEST(CliGuidesUsage, AMistypedCommandGetsTheNearestOne) {
@@ -171,19 +169,17 @@ TEST_F(CliGuides, AddressesTakeModiconReferencesAndBaseOne) {
 
 TEST(CliGuidesUsage, AddressUsageErrorsAreOneLine) {
     auto zero = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "0", "--base", "1"});
-    EXPECT_EQ(zero.status, 2);
     EXPECT_EQ(zero.out, "");
-    EXPECT_EQ(zero.err, "mblab read: ADDR 0 with --base 1: 1-based addresses start at 1\n");
+    expect_failed(zero, 2, "mblab read: ADDR 0 with --base 1: 1-based addresses start at 1\n");
     auto other = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "300001"});
-    EXPECT_EQ(other.status, 2);
-    EXPECT_EQ(other.err,
-              "mblab read: ADDR 300001 is a reference to input registers (3x), not to holding "
-              "registers (4x)\n");
+    expect_failed(other, 2,
+                  "mblab read: ADDR 300001 is a reference to input registers (3x), not to holding "
+                  "registers (4x)\n");
     auto coil = run_mblab({"write", "tcp://127.0.0.1:1", "coil", "4x00001", "1"});
-    EXPECT_EQ(coil.status, 2);
-    EXPECT_EQ(coil.err,
-              "mblab write: ADDR 4x00001 is a reference to holding registers (4x), not to coils "
-              "(0x)\n");
+    expect_failed(
+        coil, 2,
+        "mblab write: ADDR 4x00001 is a reference to holding registers (4x), not to coils "
+        "(0x)\n");
     auto rw = run_mblab({"write", "tcp://127.0.0.1:1", "readwrite", "400001", "1", "300001", "5"});
     EXPECT_EQ(rw.err,
               "mblab write: WRITE_ADDR 300001 is a reference to input registers (3x), not to "
@@ -313,10 +309,10 @@ TEST_F(CliGuides, WatchFlushesEveryPoll) {
 
 TEST(CliGuidesUsage, WatchFormatUsageErrors) {
     auto fifo = run_mblab({"watch", "tcp://127.0.0.1:1", "fifo", "0x04DE", "--format", "csv"});
-    EXPECT_EQ(fifo.status, 2);
-    EXPECT_EQ(fifo.err,
-              "mblab watch: --format csv takes coils, discretes, holding or input, whose columns "
-              "are known before the first answer: use --format ndjson\n");
+    expect_failed(
+        fifo, 2,
+        "mblab watch: --format csv takes coils, discretes, holding or input, whose columns "
+        "are known before the first answer: use --format ndjson\n");
     auto both =
         run_mblab({"watch", "tcp://127.0.0.1:1", "holding", "0", "--format", "ndjson", "--json"});
     EXPECT_EQ(both.status, 2);
@@ -385,8 +381,7 @@ TEST(CliGuidesUsage, JsonUsageErrorsAreDocuments) {
     auto json = run_mblab(with_json);
     EXPECT_EQ(text.status, 2);
     EXPECT_EQ(text.out, "");
-    EXPECT_EQ(json.status, 2);
-    EXPECT_EQ(json.err, text.err);
+    expect_failed(json, 2, text.err);
     auto document = nlohmann::json::parse(json.out);
     EXPECT_EQ(document["command"], "read");
     EXPECT_EQ(document["ok"], false);
@@ -432,11 +427,10 @@ TEST_F(CliGuides, DoubleDashLetsValuesBeNegative) {
     EXPECT_NE(read.out.find("-0.5"), std::string::npos) << read.out;
     EXPECT_NE(read.out.find("-inf"), std::string::npos) << read.out;
     auto without = mblab("write", {"registers", "8", "--type", "f32", "-.5"});
-    EXPECT_EQ(without.status, 2);
     EXPECT_EQ(without.out, "");
-    EXPECT_EQ(without.err,
-              "mblab write: -.5 was taken for an option: put -- before negative values, after "
-              "the options (... -- -.5) (run 'mblab write --help' for usage)\n");
+    expect_failed(without, 2,
+                  "mblab write: -.5 was taken for an option: put -- before negative values, after "
+                  "the options (... -- -.5) (run 'mblab write --help' for usage)\n");
 }
 
 // Every command's help has its summary, an example and its exit statuses.

@@ -25,11 +25,7 @@
 namespace mblab::conformance {
 namespace {
 
-struct Ran {
-    int status = -1;
-    std::string out;
-    std::string err;
-};
+using test::Ran;
 
 std::string slurp(const std::string& path) {
     std::ifstream file(path);
@@ -45,13 +41,7 @@ std::string temp(const std::string& name) {
 // Runs build/mblab with `args`; every wait is bounded.
 Ran mblab(std::vector<std::string> args) {
     args.insert(args.begin(), MBLAB_BINARY);
-    test::ChildProcess child(args);
-    Ran ran;
-    while (auto line = child.read_stdout_line(std::chrono::seconds(60)))
-        ran.out += *line + "\n";
-    ran.status = child.wait_exit(std::chrono::seconds(60)).value_or(-1);
-    ran.err = child.drain_stderr();
-    return ran;
+    return test::run_program(args, std::chrono::seconds(60));
 }
 
 TEST(ConformCli, TheReferenceDevicePassesEveryApplicableCase) {
@@ -94,9 +84,9 @@ TEST(ConformCli, TheReferenceDevicePassesEveryApplicableCase) {
 TEST(ConformCli, AnUnreachableTargetIsAUsageErrorOnOneLine) {
     const auto port = test::closed_port();
     auto ran = mblab({"conform", "tcp://127.0.0.1:" + std::to_string(port)});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: cannot connect to tcp://127.0.0.1:" + std::to_string(port) +
-                           ": connection refused\n");
+    expect_failed(ran, 2,
+                  "mblab conform: cannot connect to tcp://127.0.0.1:" + std::to_string(port) +
+                      ": connection refused\n");
     EXPECT_EQ(ran.out, "");
 }
 
@@ -168,10 +158,10 @@ TEST(ConformCli, AMalformedUserSuiteIsRefusedWithFileAndLine) {
                             "title = \"t\"\nrequest = \"00 00 00 00 {len} {unit} 03 00 00 00 ZZ\"\n"
                             "expect = \"00\"\n";
     auto ran = mblab({"conform", "--suite", suite});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: " + suite +
-                           ":8: request: column 38: 'ZZ': expected hex bytes, XX, {placeholder} "
-                           "or ...\n");
+    expect_failed(ran, 2,
+                  "mblab conform: " + suite +
+                      ":8: request: column 38: 'ZZ': expected hex bytes, XX, {placeholder} "
+                      "or ...\n");
 }
 
 TEST(ConformCli, AUserSuiteRunsAgainstTheReferenceDevice) {

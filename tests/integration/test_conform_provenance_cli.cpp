@@ -28,13 +28,7 @@ using test::Ran;
 
 // Runs any program to its end and collects its output.
 Ran run(const std::vector<std::string>& argv) {
-    test::ChildProcess child(argv);
-    Ran ran;
-    while (auto line = child.read_stdout_line(std::chrono::seconds(60)))
-        ran.out += *line + "\n";
-    ran.status = child.wait_exit(std::chrono::seconds(60)).value_or(-1);
-    ran.err = child.drain_stderr();
-    return ran;
+    return test::run_program(argv, std::chrono::seconds(60));
 }
 
 // "mblab 0.1.0 (commit abc1234)" as `mblab --version` prints it: {version, commit}.

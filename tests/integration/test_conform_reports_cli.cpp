@@ -37,9 +37,9 @@ TEST(ConformReportsCli, AReportInAMissingDirectoryIsRefusedBeforeConnecting) {
     test::TempDir dir;
     const std::string json = (dir / "no-such-dir" / "report.json").string();
     auto ran = mblab({"conform", unreachable(), "--json", json});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: --json " + json + ": cannot write the report: directory " +
-                           (dir / "no-such-dir").string() + " does not exist\n");
+    expect_failed(ran, 2,
+                  "mblab conform: --json " + json + ": cannot write the report: directory " +
+                      (dir / "no-such-dir").string() + " does not exist\n");
     EXPECT_EQ(ran.out, "");
     EXPECT_FALSE(fs::exists(dir / "no-such-dir"));
 }
@@ -64,8 +64,7 @@ TEST(ConformReportsCli, AReportToStandardOutput) {
     EXPECT_EQ(ran.status, 0);
     EXPECT_EQ(ran.out.rfind("<?xml", 0), 0U) << ran.out;
     ran = in_dir("--case 7.3.1 --json - --html -");
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: only one report can go to standard output (-)\n");
+    expect_failed(ran, 2, "mblab conform: only one report can go to standard output (-)\n");
     ran = in_dir("--case 7.3.1 --pcap -");
     EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.err,
@@ -80,14 +79,14 @@ TEST(ConformReportsCli, AReportUnderAFileOrOnADirectoryIsRefused) {
     std::ofstream(file) << "x";
     const std::string pcap = file + "/capture.pcap";
     auto ran = mblab({"conform", unreachable(), "--pcap", pcap});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: --pcap " + pcap + ": cannot write the report: " + file +
-                           " is not a directory\n");
+    expect_failed(ran, 2,
+                  "mblab conform: --pcap " + pcap + ": cannot write the report: " + file +
+                      " is not a directory\n");
 
     ran = mblab({"conform", unreachable(), "--junit", dir.path().string()});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: --junit " + dir.path().string() +
-                           ": cannot write the report: it is a directory\n");
+    expect_failed(ran, 2,
+                  "mblab conform: --junit " + dir.path().string() +
+                      ": cannot write the report: it is a directory\n");
     EXPECT_EQ(ran.out, "");
 }
 
@@ -100,9 +99,9 @@ TEST(ConformReportsCli, AReportInADirectoryWithoutWritePermissionIsRefused) {
     const std::string junit = (locked / "report.xml").string();
     auto ran = mblab({"conform", unreachable(), "--junit", junit});
     ::chmod(locked.c_str(), 0755);
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab conform: --junit " + junit + ": cannot write the report: permission denied\n");
+    expect_failed(
+        ran, 2,
+        "mblab conform: --junit " + junit + ": cannot write the report: permission denied\n");
 }
 
 TEST(ConformReportsCli, TwoReportsInOneFileAreRefused) {
@@ -122,8 +121,7 @@ TEST(ConformReportsCli, ARunThatFailsToStartLeavesNoEmptyReportAndKeepsAnOldOne)
     std::ofstream(junit) << "<old/>\n";
     const std::string target = unreachable();
     auto ran = mblab({"conform", target, "--json", json, "--junit", junit});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: cannot connect to " + target + ": connection refused\n");
+    expect_failed(ran, 2, "mblab conform: cannot connect to " + target + ": connection refused\n");
     EXPECT_FALSE(fs::exists(json));
     EXPECT_EQ(test::file_text(junit), "<old/>\n");
 }
@@ -191,11 +189,10 @@ TEST(ConformReportsCli, ProfileTakesAShippedProfileByName) {
 
 TEST(ConformReportsCli, AnUnknownProfileNameListsTheShippedOnes) {
     auto ran = mblab({"conform", "--profile", "no-such-profile"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab conform: --profile: no profile file or shipped profile named "
-              "'no-such-profile' (shipped: access-ranges, moving, multi-unit, "
-              "reference, rs485-instrument)\n");
+    expect_failed(ran, 2,
+                  "mblab conform: --profile: no profile file or shipped profile named "
+                  "'no-such-profile' (shipped: access-ranges, moving, multi-unit, "
+                  "reference, rs485-instrument)\n");
     EXPECT_EQ(ran.out, "");
 }
 

@@ -122,19 +122,17 @@ TEST(ServeHttp, ATokenGuardsWritesButNotReads) {
 TEST(ServeHttp, RefusesAnOpenAddressWithoutAToken) {
     auto ran = run_mblab(
         {"serve", "--listen", "tcp://127.0.0.1:0", "--http", "0.0.0.0:0", "--http-no-token"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab serve: --http 0.0.0.0:0: not a loopback address, so changes need a token "
-              "(--http-no-token is for loopback only)\n");
+    expect_failed(ran, 2,
+                  "mblab serve: --http 0.0.0.0:0: not a loopback address, so changes need a token "
+                  "(--http-no-token is for loopback only)\n");
     ran = run_mblab({"serve", "--http", "127.0.0.1:0", "--http-token", "a", "--http-no-token"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab serve: give one of --http-token, --http-token-file and --http-no-token\n");
+    expect_failed(ran, 2,
+                  "mblab serve: give one of --http-token, --http-token-file and --http-no-token\n");
     ran = run_mblab({"serve", "--http", "localhost"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab serve: --http 'localhost': expected HOST:PORT, e.g. 127.0.0.1:8080 (port 0: "
-              "any free port)\n");
+    expect_failed(
+        ran, 2,
+        "mblab serve: --http 'localhost': expected HOST:PORT, e.g. 127.0.0.1:8080 (port 0: "
+        "any free port)\n");
     ran = run_mblab({"serve", "--http", "127.0.0.1:0", "--devices", "2"});
     EXPECT_EQ(ran.err, "mblab serve: --http shows one device: not with --gateway or --devices\n");
 }

@@ -331,8 +331,7 @@ TEST(LoadCli, UnreachableNodeIsASetupError) {
     const RefusingPort port;
     const std::string url = port.url();
     auto run = mblab_load("unreachable", {url, "--duration", "1s"});
-    EXPECT_EQ(run.status, 2);
-    EXPECT_EQ(run.err, "mblab load: cannot connect to " + url + ": connection refused\n");
+    expect_failed(run, 2, "mblab load: cannot connect to " + url + ": connection refused\n");
     EXPECT_EQ(run.out, "");
     EXPECT_TRUE(run.report.is_null());
 }
@@ -340,18 +339,16 @@ TEST(LoadCli, UnreachableNodeIsASetupError) {
 TEST(LoadCli, BadArgumentsAreUsageErrors) {
     Device device;
     auto mix = mblab_load("usage", {device.url(), "--mix", "fc9:1"});
-    EXPECT_EQ(mix.status, 2);
-    EXPECT_EQ(mix.err,
-              "mblab load: --mix entry 'fc9:1': function 9 is not one the generator sends (1, 2, "
-              "3, 4, 5, 6, 15, 16) (expected fcCODE[:QUANTITY][@ADDRESS][=WEIGHT], e.g. "
-              "fc3:125=70)\n");
+    expect_failed(
+        mix, 2,
+        "mblab load: --mix entry 'fc9:1': function 9 is not one the generator sends (1, 2, "
+        "3, 4, 5, 6, 15, 16) (expected fcCODE[:QUANTITY][@ADDRESS][=WEIGHT], e.g. "
+        "fc3:125=70)\n");
     auto duration = mblab_load("usage", {device.url(), "--duration", "5x"});
-    EXPECT_EQ(duration.status, 2);
-    EXPECT_EQ(duration.err,
-              "mblab load: bad duration '5x' (expected e.g. 1h, 10m, 30s, 1500ms or 1h30m)\n");
+    expect_failed(duration, 2,
+                  "mblab load: bad duration '5x' (expected e.g. 1h, 10m, 30s, 1500ms or 1h30m)\n");
     auto unknown_case = mblab_load("usage", {device.url(), "--case", "7.99"});
-    EXPECT_EQ(unknown_case.status, 2);
-    EXPECT_EQ(unknown_case.err, "mblab load: no case 7.99 in the chosen suites\n");
+    expect_failed(unknown_case, 2, "mblab load: no case 7.99 in the chosen suites\n");
     auto twice = mblab_load("usage", {device.url(), device.url()});
     EXPECT_EQ(twice.status, 2);
     EXPECT_EQ(twice.err,

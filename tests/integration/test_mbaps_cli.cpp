@@ -152,8 +152,7 @@ TEST_F(MbapsCli, ConformWithoutTheRolesOrThePkiSaysWhatIsMissing) {
         << ran.out;
     EXPECT_NE(ran.out.find("PASS     sec.4 "), std::string::npos) << ran.out;
     auto plain = run_mblab({"conform", "tcp://127.0.0.1:1", "--pki", pki_->dir().string()});
-    EXPECT_EQ(plain.status, 2);
-    EXPECT_EQ(plain.err, "mblab conform: --pki is for mbaps:// targets only\n");
+    expect_failed(plain, 2, "mblab conform: --pki is for mbaps:// targets only\n");
     auto builtin = run_mblab({"conform", "--cert", "x.pem"});
     EXPECT_EQ(builtin.status, 2);
     EXPECT_EQ(builtin.err,
@@ -189,11 +188,9 @@ TEST_F(MbapsCli, MissingOrMisplacedFilesAreUsageErrors) {
     EXPECT_NE(none.err.find("--cert FILE is required for mbaps://"), std::string::npos) << none.err;
     auto missing = run_mblab({"read", target_, "holding", "0", "1", "--cert", "/nonexistent.pem",
                               "--key", file("client-Operator.key"), "--ca", file("ca.pem")});
-    EXPECT_EQ(missing.status, 2);
-    EXPECT_EQ(missing.err, "mblab read: --cert /nonexistent.pem: No such file or directory\n");
+    expect_failed(missing, 2, "mblab read: --cert /nonexistent.pem: No such file or directory\n");
     auto plain = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "0", "1", "--cert", "x"});
-    EXPECT_EQ(plain.status, 2);
-    EXPECT_EQ(plain.err, "mblab read: --cert, --key and --ca are for mbaps:// targets only\n");
+    expect_failed(plain, 2, "mblab read: --cert, --key and --ca are for mbaps:// targets only\n");
 }
 
 TEST_F(MbapsCli, LoadOverTlsCountsHandshakesAndPasses) {
@@ -285,11 +282,9 @@ TEST_F(MbapsCli, UnfinishedHandshakesDoNotEvictAnAuthenticatedSession) {
 
 TEST(MbapsServe, ServesTlsFromTheCommandLineAndRefusesBadFiles) {
     auto no_files = run_mblab({"serve", "--listen", "mbaps://127.0.0.1:0"});
-    EXPECT_EQ(no_files.status, 2);
-    EXPECT_EQ(no_files.err, "mblab serve: --cert FILE is required\n");
+    expect_failed(no_files, 2, "mblab serve: --cert FILE is required\n");
     auto plain = run_mblab({"serve", "--listen", "tcp://127.0.0.1:0", "--ca", "x"});
-    EXPECT_EQ(plain.status, 2);
-    EXPECT_EQ(plain.err, "mblab serve: --cert, --key and --ca are for an mbaps:// --listen\n");
+    expect_failed(plain, 2, "mblab serve: --cert, --key and --ca are for an mbaps:// --listen\n");
 }
 
 }  // namespace

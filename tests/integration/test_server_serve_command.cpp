@@ -326,9 +326,8 @@ TEST(ServeCommand, MbapsTakesItsFilesFromTheProfilesTlsTable) {
 
     auto missing = run_mblab({"serve", "--listen", "mbaps://127.0.0.1:0", "--key",
                               pki + "/nothing.key", (dir / "lab.toml").string()});
-    EXPECT_EQ(missing.status, 2);
-    EXPECT_EQ(missing.err,
-              "mblab serve: --key " + pki + "/nothing.key: No such file or directory\n");
+    expect_failed(missing, 2,
+                  "mblab serve: --key " + pki + "/nothing.key: No such file or directory\n");
 }
 
 TEST(ServeCommand, BadUrlIsOneLineAndExitTwo) {
