@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <string_view>
+#include <utility>
 
 #include "protocol/function_code.hpp"
 
@@ -17,19 +19,21 @@ TEST(FunctionCode, PublicCodesAreTheOnesMblabDecodes) {
     EXPECT_EQ(listed, std::string(std::begin(expected), std::end(expected)));
 }
 
-TEST(FunctionCode, NamesKnownCodes) {
-    EXPECT_EQ(function_name(0x03), "read holding registers");
-    EXPECT_EQ(function_name(0x17), "read/write multiple registers");
-    EXPECT_EQ(function_name(0x2B), "encapsulated interface transport");
-    EXPECT_EQ(function_name(0x5B), "object messaging");
-}
-
-TEST(FunctionCode, NamesUnknownCodesByNumber) {
-    EXPECT_EQ(function_name(0x00), "function 0x00");
-    EXPECT_EQ(function_name(0x25), "function 0x25");
-    EXPECT_EQ(function_name(0x41), "function 0x41");
-    EXPECT_EQ(function_name(0xAB), "function 0xAB");
-    EXPECT_EQ(function_name(0xFF), "function 0xFF");
+// Known codes by their [APP] name, any other by its number.
+TEST(FunctionCode, Names) {
+    const std::pair<std::uint8_t, std::string_view> names[] = {
+        {0x03, "read holding registers"},
+        {0x17, "read/write multiple registers"},
+        {0x2B, "encapsulated interface transport"},
+        {0x5B, "object messaging"},
+        {0x00, "function 0x00"},
+        {0x25, "function 0x25"},
+        {0x41, "function 0x41"},
+        {0xAB, "function 0xAB"},
+        {0xFF, "function 0xFF"},
+    };
+    for (const auto& [code, name] : names)
+        EXPECT_EQ(function_name(code), name) << "code " << int{code};
 }
 
 TEST(DiagnosticSub, KnownSubFunctionsAreThoseOfApp681) {
@@ -42,11 +46,15 @@ TEST(DiagnosticSub, KnownSubFunctionsAreThoseOfApp681) {
 }
 
 TEST(DiagnosticSub, Names) {
-    EXPECT_EQ(diagnostic_sub_name(0x00), "return query data");
-    EXPECT_EQ(diagnostic_sub_name(0x04), "force listen only mode");
-    EXPECT_EQ(diagnostic_sub_name(0x14), "clear overrun counter and flag");
-    EXPECT_EQ(diagnostic_sub_name(0x13), "reserved sub-function");
-    EXPECT_EQ(diagnostic_sub_name(0xFFFF), "reserved sub-function");
+    const std::pair<std::uint16_t, std::string_view> names[] = {
+        {0x00, "return query data"},
+        {0x04, "force listen only mode"},
+        {0x14, "clear overrun counter and flag"},
+        {0x13, "reserved sub-function"},
+        {0xFFFF, "reserved sub-function"},
+    };
+    for (const auto& [sub, name] : names)
+        EXPECT_EQ(diagnostic_sub_name(sub), name) << "sub-function " << sub;
 }
 
 }  // namespace
