@@ -63,17 +63,20 @@ TEST_F(AccessRanges, AdjacentRangesReadAsOne) {
     )");
 }
 
+// Unit 1 with `holding` registers and the profile's answers to writes of read-only and reads
+// of write-only registers.
+std::unique_ptr<device::ReferenceDevice> with_policy(std::string_view write_read_only,
+                                                     std::string_view read_write_only,
+                                                     std::string_view holding) {
+    return device_from("[[unit]]\nid = 1\nwrite_read_only = \"" + std::string(write_read_only) +
+                       "\"\nread_write_only = \"" + std::string(read_write_only) +
+                       "\"\nholding_registers = " + std::string(holding) + "\n");
+}
+
 TEST(AccessPolicy, LenientProfileIgnoresWritesAndReadsZeros) {
-    auto device = device_from(R"(
-[[unit]]
-id = 1
-write_read_only = "ignore"
-read_write_only = "zeros"
-holding_registers = [
-    {start = 0, count = 2, access = "ro", values = [7, 8]},
-    {start = 2, count = 2, access = "wo", values = [9, 10]},
-]
-)");
+    auto device = with_policy("ignore", "zeros",
+                              R"([{start = 0, count = 2, access = "ro", values = [7, 8]},
+                                  {start = 2, count = 2, access = "wo", values = [9, 10]}])");
     expect_dialogue(*device, R"(
         10 00 00 00 04 08 00 01 00 02 00 03 00 04 -> 10 00 00 00 04
         03 00 00 00 04                            -> 03 08 00 07 00 08 00 00 00 00
@@ -82,13 +85,8 @@ holding_registers = [
 }
 
 TEST(AccessPolicy, ProfileChoosesTheExceptionCode) {
-    auto device = device_from(R"(
-[[unit]]
-id = 1
-write_read_only = "exception-04"
-read_write_only = "exception-03"
-holding_registers = [{start = 0, access = "ro"}, {start = 1, access = "wo"}]
-)");
+    auto device = with_policy("exception-04", "exception-03",
+                              R"([{start = 0, access = "ro"}, {start = 1, access = "wo"}])");
     expect_dialogue(*device, R"(
         06 00 00 00 01 -> 86 04
         03 00 01 00 01 -> 83 03
