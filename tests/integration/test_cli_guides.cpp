@@ -1,6 +1,7 @@
 // What issue #14's "A CLI that guides" promises, checked as a user sees it: exit status and the
 // exact lines printed.
 #include <fmt/core.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -14,10 +15,9 @@
 namespace mblab::test {
 namespace {
 
-class CliGuides : public ClientCliTest {
-  protected:
-    void SetUp() override { start_reference_server(); }
-};
+using ::testing::HasSubstr;
+
+using CliGuides = ReferenceCliTest;
 
 // One hex digit is one byte, so `03 0 0 0 1` is the five bytes it reads as.
 TEST_F(CliGuides, RawTakesASingleDigitAsOneByte) {
@@ -119,7 +119,7 @@ TEST(CliGuidesUsage, HelpCommandPrintsTheCommandsHelp) {
     auto overview = run_mblab({"help"});
     EXPECT_EQ(overview.status, 0);
     EXPECT_EQ(overview.out, run_mblab({"--help"}).out);
-    EXPECT_NE(overview.out.find("Run 'mblab help COMMAND'"), std::string::npos);
+    EXPECT_THAT(overview.out, HasSubstr("Run 'mblab help COMMAND'"));
     auto unknown = run_mblab({"help", "confrom"});
     EXPECT_EQ(unknown.status, 2);
     EXPECT_EQ(unknown.err, "mblab: unknown command 'confrom'; did you mean 'conform'?\n");
@@ -193,9 +193,9 @@ TEST(CliGuidesUsage, AddressUsageErrorsAreOneLine) {
 TEST(CliGuidesUsage, ClientHelpSaysAddressesAreZeroBased) {
     for (const char* command : {"read", "write", "watch"}) {
         auto help = run_mblab({command, "--help"});
-        EXPECT_NE(help.out.find("0-based PDU offset"), std::string::npos) << command;
-        EXPECT_NE(help.out.find("--base"), std::string::npos) << command;
-        EXPECT_NE(help.out.find("4x00001"), std::string::npos) << command;
+        EXPECT_THAT(help.out, HasSubstr("0-based PDU offset")) << command;
+        EXPECT_THAT(help.out, HasSubstr("--base")) << command;
+        EXPECT_THAT(help.out, HasSubstr("4x00001")) << command;
     }
 }
 
@@ -231,10 +231,9 @@ TEST_F(CliGuidesSmallDevice, ExceptionTwoAtAOneBasedLookingAddressGetsAHint) {
               "mblab read: exception 02 illegal data address: 0x0032 is not on this device\n");
     auto write = mblab("write", {"register", "40001", "1"});
     EXPECT_EQ(write.status, 1);
-    EXPECT_NE(write.err.find("; 40001 looks like a Modicon reference: try 4x00001 or --base 1 "
-                             "with 1\n"),
-              std::string::npos)
-        << write.err;
+    EXPECT_THAT(write.err,
+                HasSubstr("; 40001 looks like a Modicon reference: try 4x00001 or --base 1 "
+                          "with 1\n"));
     auto json = mblab("read", {"holding", "40001", "--json"});
     auto document = nlohmann::json::parse(json.out);
     EXPECT_EQ(document["status"], 1);
@@ -327,7 +326,7 @@ TEST_F(CliGuides, WatchHighlightsChangesOnATerminal) {
     if (::access("/usr/bin/script", X_OK) != 0) GTEST_SKIP() << "no script(1)";
     auto colour = run_program({"/usr/bin/script", "-qec", "env -u NO_COLOR " + watch, "/dev/null"});
     EXPECT_EQ(colour.status, 0) << colour.err;
-    EXPECT_NE(colour.out.find("\x1b[7m"), std::string::npos) << colour.out;
+    EXPECT_THAT(colour.out, HasSubstr("\x1b[7m"));
     auto plain = run_program({"/usr/bin/script", "-qec", "env NO_COLOR=1 " + watch, "/dev/null"});
     EXPECT_EQ(plain.status, 0) << plain.err;
     EXPECT_EQ(plain.out.find("\x1b[7m"), std::string::npos) << plain.out;
@@ -339,16 +338,13 @@ TEST_F(CliGuides, WatchHighlightsChangesOnATerminal) {
 TEST(CliGuidesUsage, AMistypedSuiteOrProfileGetsTheNearestOne) {
     auto suite = run_mblab({"conform", "--suite", "polcy-2.1"});
     EXPECT_EQ(suite.status, 2);
-    EXPECT_NE(suite.err.find("mblab conform: no suite named 'polcy-2.1'; did you mean "
-                             "'policy-2.1'? (shipped suites: "),
-              std::string::npos)
-        << suite.err;
+    EXPECT_THAT(suite.err, HasSubstr("mblab conform: no suite named 'polcy-2.1'; did you mean "
+                                     "'policy-2.1'? (shipped suites: "));
     auto profile = run_mblab({"serve", "refrence"});
     EXPECT_EQ(profile.status, 2);
-    EXPECT_NE(profile.err.find("mblab serve: no profile file or shipped profile named 'refrence'; "
-                               "did you mean 'reference'? (shipped: "),
-              std::string::npos)
-        << profile.err;
+    EXPECT_THAT(profile.err,
+                HasSubstr("mblab serve: no profile file or shipped profile named 'refrence'; "
+                          "did you mean 'reference'? (shipped: "));
     auto unrelated = run_mblab({"conform", "--suite", "zzzz"});
     EXPECT_EQ(unrelated.err.find("did you mean"), std::string::npos) << unrelated.err;
 }
@@ -361,14 +357,13 @@ TEST(CliGuidesColour, ConformColoursVerdictsOnATerminalOnly) {
     auto colour =
         run_program({"/usr/bin/script", "-qec", "env -u NO_COLOR " + conform, "/dev/null"});
     EXPECT_EQ(colour.status, 0) << colour.out;
-    EXPECT_NE(colour.out.find("  \x1b[32mPASS\x1b[0m     mbap.1 "), std::string::npos)
-        << colour.out;
+    EXPECT_THAT(colour.out, HasSubstr("  \x1b[32mPASS\x1b[0m     mbap.1 "));
     auto plain = run_program({"/usr/bin/script", "-qec", "env NO_COLOR=1 " + conform, "/dev/null"});
     EXPECT_EQ(plain.status, 0) << plain.out;
     EXPECT_EQ(plain.out.find("\x1b[3"), std::string::npos) << plain.out;
     auto piped = run_mblab({"conform", "--suite", "mbap", "--case", "mbap.1"});
     EXPECT_EQ(piped.out.find('\x1b'), std::string::npos) << piped.out;
-    EXPECT_NE(piped.out.find("  PASS     mbap.1 "), std::string::npos) << piped.out;
+    EXPECT_THAT(piped.out, HasSubstr("  PASS     mbap.1 "));
 }
 
 // With --json a usage error is a document on stdout too; the stderr line stays.
@@ -424,8 +419,8 @@ TEST_F(CliGuides, DoubleDashLetsValuesBeNegative) {
     auto floats = mblab("write", {"registers", "8", "--type", "f32", "--", "-.5", "-inf"});
     EXPECT_EQ(floats.status, 0) << floats.err;
     auto read = mblab("read", {"holding", "8", "2", "--type", "f32"});
-    EXPECT_NE(read.out.find("-0.5"), std::string::npos) << read.out;
-    EXPECT_NE(read.out.find("-inf"), std::string::npos) << read.out;
+    EXPECT_THAT(read.out, HasSubstr("-0.5"));
+    EXPECT_THAT(read.out, HasSubstr("-inf"));
     auto without = mblab("write", {"registers", "8", "--type", "f32", "-.5"});
     EXPECT_EQ(without.out, "");
     expect_failed(without, 2,
@@ -439,7 +434,7 @@ TEST(CliGuidesUsage, EveryHelpHasAnExampleAndExitStatuses) {
          {"conform", "serve", "read", "write", "diag", "devid", "raw", "watch", "load", "pki"}) {
         auto help = run_mblab({command, "--help"});
         EXPECT_EQ(help.status, 0) << command;
-        EXPECT_NE(help.out.find("Exit status"), std::string::npos) << command;
+        EXPECT_THAT(help.out, HasSubstr("Exit status")) << command;
         EXPECT_NE(help.out.find(std::string("Example: mblab ") + command), std::string::npos)
             << command;
     }

@@ -9,10 +9,7 @@
 namespace mblab::test {
 namespace {
 
-class ClientCommands : public ClientCliTest {
-  protected:
-    void SetUp() override { start_reference_server(); }
-};
+using ClientCommands = ReferenceCliTest;
 
 TEST_F(ClientCommands, DiagEchoesQueryData) {
     auto ran = mblab("diag", {"query-data", "0x1234", "0xABCD"});

@@ -1,3 +1,4 @@
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include "support/hex.hpp"
@@ -8,6 +9,8 @@
 // clear line and exit status 1, asserted exactly.
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 using namespace std::chrono_literals;
 
@@ -64,8 +67,7 @@ TEST(ClientMalicious, MbapLengthLongerThanWhatComes) {
         },
         {}, "300");
     EXPECT_EQ(ran.status, 1);
-    EXPECT_NE(ran.err.find("within 300 ms (13 bytes of a frame came)\n"), std::string::npos)
-        << ran.err;
+    EXPECT_THAT(ran.err, HasSubstr("within 300 ms (13 bytes of a frame came)\n"));
 }
 
 TEST(ClientMalicious, MbapLengthsNoFrameCanHave) {
@@ -134,9 +136,8 @@ TEST(ClientMalicious, ExceptionWithTrailingBytes) {
 TEST(ClientMalicious, SilenceAndClosedConnections) {
     auto silent = read_against([](auto) { return Answer{}; }, {}, "300");
     EXPECT_EQ(silent.status, 1);
-    EXPECT_NE(silent.err.find(" (unit 1) within 300 ms; units 255 and 0 did not answer either\n"),
-              std::string::npos)
-        << silent.err;
+    EXPECT_THAT(silent.err,
+                HasSubstr(" (unit 1) within 300 ms; units 255 and 0 did not answer either\n"));
     auto closed = read_against([](auto) { return Answer{{}, 0ms, true}; });
     expect_bad(closed, "the device closed the connection without answering");
     auto half = read_against([](auto request) {
@@ -206,8 +207,7 @@ TEST(ClientMalicious, RetriesSkipTheLateAnswerOfATimedOutRequest) {
                            " (unit 1) within 1000 ms\n"),
               std::string::npos)
         << ran.err;
-    EXPECT_NE(ran.err.find("* skipped a late answer to transaction 0x0001\n"), std::string::npos)
-        << ran.err;
+    EXPECT_THAT(ran.err, HasSubstr("* skipped a late answer to transaction 0x0001\n"));
 }
 
 TEST(ClientMalicious, RetriesGiveUpAfterTheLastTry) {

@@ -34,4 +34,10 @@ class ClientCliTest : public ServerFixture {
     std::string target() const { return tcp_target(port_); }
 };
 
+// The same against the shipped reference profile.
+class ReferenceCliTest : public ClientCliTest {
+  protected:
+    void SetUp() override { start_reference_server(); }
+};
+
 }  // namespace mblab::test

@@ -1,4 +1,5 @@
 #include <fmt/core.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -19,6 +20,8 @@
 // statuses, the one line of a refusal, the files left behind.
 namespace mblab::conformance {
 namespace {
+
+using ::testing::HasSubstr;
 
 namespace fs = std::filesystem;
 
@@ -58,7 +61,7 @@ TEST(ConformReportsCli, AReportToStandardOutput) {
     const auto report = nlohmann::json::parse(ran.out, nullptr, false);
     ASSERT_FALSE(report.is_discarded()) << ran.out;
     EXPECT_EQ(report["passed"], true) << ran.out;
-    EXPECT_NE(ran.err.find("PASS     7.3.1"), std::string::npos) << ran.err;
+    EXPECT_THAT(ran.err, HasSubstr("PASS     7.3.1"));
     EXPECT_FALSE(fs::exists(dir / "-"));
     ran = in_dir("--case 7.3.1 --junit -");
     EXPECT_EQ(ran.status, 0);
@@ -156,16 +159,15 @@ TEST(ConformReportsCli, CaseRunsOnlyTheMatchingCasesAndWhatTheyDependOn) {
                                                           "mbap.6", "mbap.7", "mbap.8", "mbap.9"}));
     EXPECT_EQ(report["summary"]["total"], 12);
     EXPECT_EQ(ran.out.find("device-id"), std::string::npos) << ran.out;
-    EXPECT_NE(ran.out.find("  PASS     7.13.2  Alternate encoding"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("  PASS     7.13.2  Alternate encoding"));
 }
 
 TEST(ConformReportsCli, ACaseBringsTheCasesItDependsOn) {
     auto ran = mblab({"conform", "--list", "--suite", "policy-2.1", "--case", "7.13.2"});
     EXPECT_EQ(ran.status, 0) << ran.err;
-    EXPECT_NE(ran.out.find("\n  7.5.1   Function 0x03 read multiple registers  (CTP 7.5.1)\n"
-                           "  7.13.2  Alternate encoding"),
-              std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out,
+                HasSubstr("\n  7.5.1   Function 0x03 read multiple registers  (CTP 7.5.1)\n"
+                          "  7.13.2  Alternate encoding"));
     EXPECT_EQ(ran.out.find("9.1.1"), std::string::npos) << ran.out;
 }
 
@@ -182,9 +184,8 @@ TEST(ConformReportsCli, ACasePatternThatMatchesNothingIsRefusedBeforeConnecting)
 TEST(ConformReportsCli, ProfileTakesAShippedProfileByName) {
     auto ran = mblab({"conform", "--profile", "multi-unit", "--case", "9.1.1"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("(declared by profile multi-unit.toml)\n"), std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("  PASS     9.1.1"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("(declared by profile multi-unit.toml)\n"));
+    EXPECT_THAT(ran.out, HasSubstr("  PASS     9.1.1"));
 }
 
 TEST(ConformReportsCli, AnUnknownProfileNameListsTheShippedOnes) {
@@ -239,7 +240,7 @@ void expect_interrupted_reports(const Ran& ran, const std::string& json, const s
     EXPECT_EQ(report["provenance"]["device_identity"]["reason"],
               "not asked: the run was interrupted");
     const std::string xml = test::file_text(junit);
-    EXPECT_NE(xml.find("<skipped message=\"interrupted\"/>"), std::string::npos) << xml;
+    EXPECT_THAT(xml, HasSubstr("<skipped message=\"interrupted\"/>"));
     EXPECT_NE(test::file_text(html).find(fmt::format(
                   "INTERRUPTED: the run was interrupted after {} of {} cases", run, run + left)),
               std::string::npos);

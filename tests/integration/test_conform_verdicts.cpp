@@ -15,17 +15,21 @@
 #include "conformance/engine.hpp"
 #include "device/reference_device.hpp"
 #include "server/background_server.hpp"
+#include "support/device_profiles.hpp"
 #include "support/faulty_server.hpp"
 
 namespace mblab::conformance {
 namespace {
 
-const std::string kProfile = std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml";
-
 std::unique_ptr<device::ReferenceDevice> reference_device() {
-    auto loaded = device::load_profile(kProfile);
-    EXPECT_TRUE(loaded.ok());
-    return std::move(loaded.value());
+    return test::shipped_device("reference");
+}
+
+// One [[case]] of a suite; `more` holds any further keys, a line each.
+std::string case_toml(const std::string& id, const std::string& title, const std::string& request,
+                      const std::string& expect, const std::string& more = "") {
+    return "[[case]]\nsource = \"test\"\nid = \"" + id + "\"\ntitle = \"" + title + "\"\n" + more +
+           "request = \"" + request + "\"\nexpect = \"" + expect + "\"\n";
 }
 
 Suite suite_of(const std::string& text) {
@@ -70,22 +74,12 @@ class Rewriting : public device::RequestHandler {
     Rule rule_;
 };
 
-const std::string kCloseAllowed = R"(
-[[case]]
-source = "test"
-id = "close"
-title = "a request the device may refuse by closing"
-request = "00 01 00 00 00 06 01 04 00 00 00 01"
-expect = "00 01 00 00 00 03 01 84 03"
-accept_close = "closed the connection"
-
-[[case]]
-source = "test"
-id = "after"
-title = "a read after it"
-request = "00 02 00 00 00 06 01 03 00 00 00 01"
-expect = "00 02 00 00 00 05 01 03 02 XX XX"
-)";
+const std::string kCloseAllowed =
+    case_toml("close", "a request the device may refuse by closing",
+              "00 01 00 00 00 06 01 04 00 00 00 01", "00 01 00 00 00 03 01 84 03",
+              "accept_close = \"closed the connection\"\n") +
+    case_toml("after", "a read after it", "00 02 00 00 00 06 01 03 00 00 00 01",
+              "00 02 00 00 00 05 01 03 02 XX XX");
 
 // How the tester judges a case: the verdict, and a matcher for its reason.
 struct Judged {
@@ -173,26 +167,17 @@ const Rewriting::Rule kQuantity0Answered01 =
     return std::nullopt;
 };
 
-const std::string kQuantity0 = R"(
-[[case]]
-source = "test"
-id = "q0"
-title = "FC 03 of 0 registers answers 03"
-unsupported_is_na = true
-request = "00 03 00 00 00 06 01 03 00 00 00 00"
-expect = "00 03 00 00 00 03 01 83 03"
-)";
+const std::string kQuantity0 =
+    case_toml("q0", "FC 03 of 0 registers answers 03", "00 03 00 00 00 06 01 03 00 00 00 00",
+              "00 03 00 00 00 03 01 83 03", "unsupported_is_na = true\n");
 
 TEST(ConformVerdicts, Exception01FromAFunctionServedEarlierInTheRunFails) {
     auto device = reference_device();
-    auto result = run_rewritten(*device, kQuantity0Answered01, suite_of(R"(
-[[case]]
-source = "test"
-id = "read"
-title = "FC 03 reads"
-request = "00 01 00 00 00 06 01 03 00 00 00 01"
-expect = "00 01 00 00 00 05 01 03 02 XX XX"
-)" + kQuantity0));
+    auto result = run_rewritten(
+        *device, kQuantity0Answered01,
+        suite_of(case_toml("read", "FC 03 reads", "00 01 00 00 00 06 01 03 00 00 00 01",
+                           "00 01 00 00 00 05 01 03 02 XX XX") +
+                 kQuantity0));
     expect_judged(result, 0, {Verdict::Pass});
     expect_judged(result, 1,
                   {Verdict::Fail, Eq("exception 01 (illegal function), yet the device serves "
@@ -211,15 +196,13 @@ TEST(ConformVerdicts, Exception01FromAFunctionWhosePlainRequestIsAnsweredFails) 
 // FC 06 to register 5 is answered 01 by a device that serves FC 06. Finding that out must not
 // change the device's data: the tester writes register 0's own value back to it.
 TEST(ConformVerdicts, TellingAServedWriteFromAnUnservedOneChangesNoData) {
-    auto loaded = device::load_profile_text(R"(
+    auto device = test::device_from(R"(
 name = "ten registers"
 [[unit]]
 id = 1
 holding_registers = [{start = 0, count = 10}]
-)",
-                                            "ten.toml");
-    ASSERT_TRUE(loaded.ok());
-    auto device = std::move(loaded.value());
+)");
+    ASSERT_TRUE(device);
     const Rewriting::Rule fc06_at_5_answered_01 =
         [](std::span<const std::uint8_t> request) -> std::optional<std::vector<std::uint8_t>> {
         if (request.size() == 5 && request[0] == 0x06 && request[2] == 0x05) {
@@ -227,29 +210,16 @@ holding_registers = [{start = 0, count = 10}]
         }
         return std::nullopt;
     };
-    auto result = run_rewritten(*device, fc06_at_5_answered_01, suite_of(R"(
-[[case]]
-source = "test"
-id = "set"
-title = "FC 10 puts BEEF in register 0"
-request = "00 01 00 00 00 09 01 10 00 00 00 01 02 BE EF"
-expect = "00 01 00 00 00 06 01 10 00 00 00 01"
-
-[[case]]
-source = "test"
-id = "fc06"
-title = "FC 06 writes register 5"
-unsupported_is_na = true
-request = "00 02 00 00 00 06 01 06 00 05 12 34"
-expect = "00 02 00 00 00 06 01 06 00 05 12 34"
-
-[[case]]
-source = "test"
-id = "after"
-title = "register 0 still holds BEEF"
-request = "00 03 00 00 00 06 01 03 00 00 00 01"
-expect = "00 03 00 00 00 05 01 03 02 BE EF"
-)"));
+    auto result = run_rewritten(
+        *device, fc06_at_5_answered_01,
+        suite_of(case_toml("set", "FC 10 puts BEEF in register 0",
+                           "00 01 00 00 00 09 01 10 00 00 00 01 02 BE EF",
+                           "00 01 00 00 00 06 01 10 00 00 00 01") +
+                 case_toml("fc06", "FC 06 writes register 5", "00 02 00 00 00 06 01 06 00 05 12 34",
+                           "00 02 00 00 00 06 01 06 00 05 12 34", "unsupported_is_na = true\n") +
+                 case_toml("after", "register 0 still holds BEEF",
+                           "00 03 00 00 00 06 01 03 00 00 00 01",
+                           "00 03 00 00 00 05 01 03 02 BE EF")));
     expect_judged(result, 0, {Verdict::Pass});
     expect_judged(result, 1,
                   {Verdict::Fail, HasSubstr("yet the device serves function 06 (its plain "
