@@ -115,4 +115,14 @@ void kill_processes_naming(const std::string& text) {
     }
 }
 
+Ran run_program(const std::vector<std::string>& argv, std::chrono::seconds timeout) {
+    ChildProcess child(argv);
+    Ran ran;
+    while (auto line = child.read_stdout_line(timeout))
+        ran.out += *line + "\n";
+    ran.status = child.wait_exit(timeout).value_or(-1);
+    ran.err = child.drain_stderr();
+    return ran;
+}
+
 }  // namespace mblab::test

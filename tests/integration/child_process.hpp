@@ -1,5 +1,6 @@
 #pragma once
 
+#include <gtest/gtest.h>
 #include <sys/types.h>
 
 #include <chrono>
@@ -39,6 +40,25 @@ class ChildProcess {
     bool exited_ = false;
     long peak_rss_kb_ = 0;
 };
+
+// What a program that ran to its end printed, and how it exited.
+struct Ran {
+    int status = -1;  // -1: did not exit in time
+    std::string out;
+    std::string err;
+};
+
+// Runs `argv` to its end and collects its output; each wait is at most `timeout`.
+Ran run_program(const std::vector<std::string>& argv,
+                std::chrono::seconds timeout = std::chrono::seconds(30));
+
+// A run (Ran, or any result with `status` and `err`) that exited with `status` and printed
+// exactly `err` on stderr.
+template <class Run>
+void expect_failed(const Run& ran, int status, const std::string& err) {
+    EXPECT_EQ(ran.status, status) << ran.err;
+    EXPECT_EQ(ran.err, err);
+}
 
 // SIGKILL to every process of ours whose command line holds `text` (a test's own temporary
 // path): devices a test started through a shell, whose pids it cannot be sure of.

@@ -14,8 +14,6 @@
 #include <filesystem>
 
 #include "device/profile_paths.hpp"
-#include "protocol/crc16.hpp"
-#include "protocol/lrc.hpp"
 #include "server/rtu_tcp_server.hpp"
 #include "support/hex.hpp"
 
@@ -158,26 +156,6 @@ std::string RawSerialMaster::transact_text(std::string_view frame,
     if (!send(bytes)) return "send failed";
     auto answer = receive(timeout);
     return std::string(answer.begin(), answer.end());
-}
-
-std::string rtu(std::string_view address_and_pdu_hex) {
-    auto bytes = hex(address_and_pdu_hex);
-    auto crc = protocol::crc16(bytes);
-    bytes.push_back(static_cast<std::uint8_t>(crc & 0xFF));
-    bytes.push_back(static_cast<std::uint8_t>(crc >> 8));
-    return to_hex(bytes);
-}
-
-std::string ascii(std::string_view address_and_pdu_hex) {
-    auto bytes = hex(address_and_pdu_hex);
-    bytes.push_back(protocol::lrc(bytes));
-    std::string out = ":";
-    for (auto b : bytes) {
-        char digits[3];
-        std::snprintf(digits, sizeof digits, "%02X", unsigned{b});
-        out += digits;
-    }
-    return out + "\r\n";
 }
 
 SerialServerThread::~SerialServerThread() {

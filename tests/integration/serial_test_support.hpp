@@ -18,6 +18,7 @@
 #include "device/request_handler.hpp"
 #include "server/serial_server.hpp"
 #include "server/tcp_server.hpp"
+#include "support/serial_frames.hpp"
 #include "transport/serial_url.hpp"
 
 // What serial-line tests share: a pseudo-terminal pair from socat, a raw master on one end,
@@ -67,12 +68,6 @@ class RawSerialMaster {
   private:
     int fd_ = -1;
 };
-
-// Address + PDU (hex) with its CRC appended, as hex: rtu("01 03 00 00 00 01") is
-// "01 03 00 00 00 01 84 0A".
-std::string rtu(std::string_view address_and_pdu_hex);
-// ':' + hex + LRC + CR LF for address + PDU (hex).
-std::string ascii(std::string_view address_and_pdu_hex);
 
 // A serial server on its own io_context and thread.
 class SerialServerThread {

@@ -2,6 +2,7 @@
 // private notes ("seed 000", PROTOCOL.md, DESIGN.md), and neither do the shipped files a user
 // reads (src/ strings, catalogue/, profiles/, docs/, README.md). docs/references.md lists what
 // is cited instead.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -16,6 +17,8 @@
 
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 // "seed 000", "seed001", "Seed 0003", PROTOCOL.md, DESIGN.md: the acceptance check of issue 30.
 const std::regex& private_citation() {
@@ -65,16 +68,14 @@ TEST(Citations, TheCatalogueListingCitesSectionsAndNamesTheDocuments) {
     const Ran ran = run_mblab({"conform", "--list"});
     EXPECT_EQ(ran.status, 0) << ran.err;
     EXPECT_EQ(first_private_citation(ran.out), "");
-    EXPECT_NE(ran.out.find("Function 0x01 read coils  (CTP 7.3.1)\n"), std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("\nsources (docs/references.md):\n"), std::string::npos);
-    EXPECT_NE(ran.out.find("\n  CTP     Conformance Test Policy for the Modbus/TCP Conformance "
-                           "Test Laboratory, version 2.1"),
-              std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("\n  APP     Modbus Application Protocol Specification V1.1b3  "
-                           "https://modbus.org/docs/Modbus_Application_Protocol_V1_1b3.pdf\n"),
-              std::string::npos);
+    EXPECT_THAT(ran.out, HasSubstr("Function 0x01 read coils  (CTP 7.3.1)\n"));
+    EXPECT_THAT(ran.out, HasSubstr("\nsources (docs/references.md):\n"));
+    EXPECT_THAT(ran.out,
+                HasSubstr("\n  CTP     Conformance Test Policy for the Modbus/TCP Conformance "
+                          "Test Laboratory, version 2.1"));
+    EXPECT_THAT(ran.out,
+                HasSubstr("\n  APP     Modbus Application Protocol Specification V1.1b3  "
+                          "https://modbus.org/docs/Modbus_Application_Protocol_V1_1b3.pdf\n"));
 }
 
 // The instrument serves no coils: the policy's 7.3.1 fails, and says which section requires the
@@ -87,23 +88,21 @@ TEST(Citations, ReportsCiteDocumentsAndAMissingFunctionNamesTheSectionRequiringI
         run_mblab({"conform", "--profile", "rs485-instrument", "--suite", "policy-2.1", "--case",
                    "7.3.1", "--case", "7.5.1", "--junit", junit, "--html", html, "--json", json});
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("exception 01 (illegal function): the device does not serve "
-                           "function 01, which CTP 7.3.1 requires"),
-              std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("exception 01 (illegal function): the device does not serve "
+                                   "function 01, which CTP 7.3.1 requires"));
     for (const auto& [name, text] :
          {std::pair{"console", ran.out + ran.err}, std::pair{"junit", slurp(junit)},
           std::pair{"html", slurp(html)}, std::pair{"json", slurp(json)}}) {
         EXPECT_FALSE(text.empty()) << name;
         EXPECT_EQ(first_private_citation(text), "") << name;
     }
-    EXPECT_NE(slurp(junit).find("cites Conformance Test Policy for the Modbus/TCP Conformance "
-                                "Test Laboratory, version 2.1 (University of Michigan), 7.3.1\n"),
-              std::string::npos);
-    EXPECT_NE(slurp(html).find("<a href=\"https://modbus.org\" title=\"Conformance Test Policy "
-                               "for the Modbus/TCP Conformance Test Laboratory, version 2.1 "
-                               "(University of Michigan), 7.3.1\">CTP 7.3.1</a>"),
-              std::string::npos);
+    EXPECT_THAT(slurp(junit),
+                HasSubstr("cites Conformance Test Policy for the Modbus/TCP Conformance "
+                          "Test Laboratory, version 2.1 (University of Michigan), 7.3.1\n"));
+    EXPECT_THAT(slurp(html),
+                HasSubstr("<a href=\"https://modbus.org\" title=\"Conformance Test Policy "
+                          "for the Modbus/TCP Conformance Test Laboratory, version 2.1 "
+                          "(University of Michigan), 7.3.1\">CTP 7.3.1</a>"));
 }
 
 // The files a user reads, shipped or installed: the same check over the source tree.

@@ -1,6 +1,7 @@
 // What issue #14's "A CLI that guides" promises, checked as a user sees it: exit status and the
 // exact lines printed.
 #include <fmt/core.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -14,10 +15,9 @@
 namespace mblab::test {
 namespace {
 
-class CliGuides : public ClientCliTest {
-  protected:
-    void SetUp() override { start_reference_server(); }
-};
+using ::testing::HasSubstr;
+
+using CliGuides = ReferenceCliTest;
 
 // One hex digit is one byte, so `03 0 0 0 1` is the five bytes it reads as.
 TEST_F(CliGuides, RawTakesASingleDigitAsOneByte) {
@@ -32,16 +32,15 @@ TEST_F(CliGuides, RawTakesASingleDigitAsOneByte) {
 // An odd run of digits is neither a byte nor whole bytes: refused before anything is sent.
 TEST_F(CliGuides, RawRefusesAnOddRunOfDigits) {
     auto ran = mblab("raw", {"03", "0", "123", "1"});
-    EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.out, "");
-    EXPECT_EQ(ran.err,
-              "mblab raw: PDU token 3 '123' has an odd number of hex digits: give each byte as 1 "
-              "or 2 digits, or whole bytes run together (03 00 00 00 0A or 030000000A)\n");
+    expect_failed(
+        ran, 2,
+        "mblab raw: PDU token 3 '123' has an odd number of hex digits: give each byte as 1 "
+        "or 2 digits, or whole bytes run together (03 00 00 00 0A or 030000000A)\n");
     auto not_hex = mblab("raw", {"03", "zz"});
-    EXPECT_EQ(not_hex.status, 2);
-    EXPECT_EQ(not_hex.err,
-              "mblab raw: 'zz' is not hex: give the PDU as hex bytes, e.g. 03 00 00 00 "
-              "0A\n");
+    expect_failed(not_hex, 2,
+                  "mblab raw: 'zz' is not hex: give the PDU as hex bytes, e.g. 03 00 00 00 "
+                  "0A\n");
 }
 
 // Durations take a unit wherever a duration is asked for; a bare number keeps the option's unit.
@@ -55,34 +54,33 @@ TEST_F(CliGuides, DurationsTakeUnits) {
     // The unit is converted into the option's own before its limits are checked: 11m is
     // 660000 ms, over --timeout's 600000.
     auto over = mblab("read", {"holding", "0", "--timeout", "11m"});
-    EXPECT_EQ(over.status, 2);
-    EXPECT_EQ(over.err,
-              "mblab read: --timeout: Value 660000 not in range 1 to 600000 (run 'mblab read "
-              "--help' for usage)\n");
+    expect_failed(over, 2,
+                  "mblab read: --timeout: Value 660000 not in range 1 to 600000 (run 'mblab read "
+                  "--help' for usage)\n");
 }
 
 TEST(CliGuidesUsage, AnUnknownDurationUnitIsOneLine) {
     auto ran = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "0", "--timeout", "1x"});
-    EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.out, "");
-    EXPECT_EQ(ran.err,
-              "mblab read: --timeout: '1x' is not a duration: give e.g. 250ms, 1s, 1.5s or 2m (a "
-              "number alone is milliseconds) (run 'mblab read --help' for usage)\n");
+    expect_failed(
+        ran, 2,
+        "mblab read: --timeout: '1x' is not a duration: give e.g. 250ms, 1s, 1.5s or 2m (a "
+        "number alone is milliseconds) (run 'mblab read --help' for usage)\n");
     auto half = run_mblab({"watch", "tcp://127.0.0.1:1", "holding", "0", "--interval", "1.5ms"});
-    EXPECT_EQ(half.status, 2);
-    EXPECT_EQ(half.err,
-              "mblab watch: --interval: '1.5ms' is not a whole number of milliseconds (run 'mblab "
-              "watch --help' for usage)\n");
+    expect_failed(
+        half, 2,
+        "mblab watch: --interval: '1.5ms' is not a whole number of milliseconds (run 'mblab "
+        "watch --help' for usage)\n");
     auto serve = run_mblab({"serve", "--idle-timeout", "5x"});
-    EXPECT_EQ(serve.status, 2);
-    EXPECT_EQ(serve.err,
-              "mblab serve: --idle-timeout: '5x' is not a duration: give e.g. 250ms, 1s, 1.5s or "
-              "2m (a number alone is seconds) (run 'mblab serve --help' for usage)\n");
+    expect_failed(
+        serve, 2,
+        "mblab serve: --idle-timeout: '5x' is not a duration: give e.g. 250ms, 1s, 1.5s or "
+        "2m (a number alone is seconds) (run 'mblab serve --help' for usage)\n");
     auto conform = run_mblab({"conform", "tcp://127.0.0.1:1", "--settle", "-1s"});
-    EXPECT_EQ(conform.status, 2);
-    EXPECT_EQ(conform.err,
-              "mblab conform: --settle: '-1s' is not a duration: give e.g. 250ms, 1s, 1.5s or 2m "
-              "(a number alone is milliseconds) (run 'mblab conform --help' for usage)\n");
+    expect_failed(
+        conform, 2,
+        "mblab conform: --settle: '-1s' is not a duration: give e.g. 250ms, 1s, 1.5s or 2m "
+        "(a number alone is milliseconds) (run 'mblab conform --help' for usage)\n");
 }
 
 TEST(CliGuidesUsage, AMistypedCommandGetsTheNearestOne) {
@@ -121,7 +119,7 @@ TEST(CliGuidesUsage, HelpCommandPrintsTheCommandsHelp) {
     auto overview = run_mblab({"help"});
     EXPECT_EQ(overview.status, 0);
     EXPECT_EQ(overview.out, run_mblab({"--help"}).out);
-    EXPECT_NE(overview.out.find("Run 'mblab help COMMAND'"), std::string::npos);
+    EXPECT_THAT(overview.out, HasSubstr("Run 'mblab help COMMAND'"));
     auto unknown = run_mblab({"help", "confrom"});
     EXPECT_EQ(unknown.status, 2);
     EXPECT_EQ(unknown.err, "mblab: unknown command 'confrom'; did you mean 'conform'?\n");
@@ -171,19 +169,17 @@ TEST_F(CliGuides, AddressesTakeModiconReferencesAndBaseOne) {
 
 TEST(CliGuidesUsage, AddressUsageErrorsAreOneLine) {
     auto zero = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "0", "--base", "1"});
-    EXPECT_EQ(zero.status, 2);
     EXPECT_EQ(zero.out, "");
-    EXPECT_EQ(zero.err, "mblab read: ADDR 0 with --base 1: 1-based addresses start at 1\n");
+    expect_failed(zero, 2, "mblab read: ADDR 0 with --base 1: 1-based addresses start at 1\n");
     auto other = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "300001"});
-    EXPECT_EQ(other.status, 2);
-    EXPECT_EQ(other.err,
-              "mblab read: ADDR 300001 is a reference to input registers (3x), not to holding "
-              "registers (4x)\n");
+    expect_failed(other, 2,
+                  "mblab read: ADDR 300001 is a reference to input registers (3x), not to holding "
+                  "registers (4x)\n");
     auto coil = run_mblab({"write", "tcp://127.0.0.1:1", "coil", "4x00001", "1"});
-    EXPECT_EQ(coil.status, 2);
-    EXPECT_EQ(coil.err,
-              "mblab write: ADDR 4x00001 is a reference to holding registers (4x), not to coils "
-              "(0x)\n");
+    expect_failed(
+        coil, 2,
+        "mblab write: ADDR 4x00001 is a reference to holding registers (4x), not to coils "
+        "(0x)\n");
     auto rw = run_mblab({"write", "tcp://127.0.0.1:1", "readwrite", "400001", "1", "300001", "5"});
     EXPECT_EQ(rw.err,
               "mblab write: WRITE_ADDR 300001 is a reference to input registers (3x), not to "
@@ -197,9 +193,9 @@ TEST(CliGuidesUsage, AddressUsageErrorsAreOneLine) {
 TEST(CliGuidesUsage, ClientHelpSaysAddressesAreZeroBased) {
     for (const char* command : {"read", "write", "watch"}) {
         auto help = run_mblab({command, "--help"});
-        EXPECT_NE(help.out.find("0-based PDU offset"), std::string::npos) << command;
-        EXPECT_NE(help.out.find("--base"), std::string::npos) << command;
-        EXPECT_NE(help.out.find("4x00001"), std::string::npos) << command;
+        EXPECT_THAT(help.out, HasSubstr("0-based PDU offset")) << command;
+        EXPECT_THAT(help.out, HasSubstr("--base")) << command;
+        EXPECT_THAT(help.out, HasSubstr("4x00001")) << command;
     }
 }
 
@@ -235,10 +231,9 @@ TEST_F(CliGuidesSmallDevice, ExceptionTwoAtAOneBasedLookingAddressGetsAHint) {
               "mblab read: exception 02 illegal data address: 0x0032 is not on this device\n");
     auto write = mblab("write", {"register", "40001", "1"});
     EXPECT_EQ(write.status, 1);
-    EXPECT_NE(write.err.find("; 40001 looks like a Modicon reference: try 4x00001 or --base 1 "
-                             "with 1\n"),
-              std::string::npos)
-        << write.err;
+    EXPECT_THAT(write.err,
+                HasSubstr("; 40001 looks like a Modicon reference: try 4x00001 or --base 1 "
+                          "with 1\n"));
     auto json = mblab("read", {"holding", "40001", "--json"});
     auto document = nlohmann::json::parse(json.out);
     EXPECT_EQ(document["status"], 1);
@@ -313,10 +308,10 @@ TEST_F(CliGuides, WatchFlushesEveryPoll) {
 
 TEST(CliGuidesUsage, WatchFormatUsageErrors) {
     auto fifo = run_mblab({"watch", "tcp://127.0.0.1:1", "fifo", "0x04DE", "--format", "csv"});
-    EXPECT_EQ(fifo.status, 2);
-    EXPECT_EQ(fifo.err,
-              "mblab watch: --format csv takes coils, discretes, holding or input, whose columns "
-              "are known before the first answer: use --format ndjson\n");
+    expect_failed(
+        fifo, 2,
+        "mblab watch: --format csv takes coils, discretes, holding or input, whose columns "
+        "are known before the first answer: use --format ndjson\n");
     auto both =
         run_mblab({"watch", "tcp://127.0.0.1:1", "holding", "0", "--format", "ndjson", "--json"});
     EXPECT_EQ(both.status, 2);
@@ -331,7 +326,7 @@ TEST_F(CliGuides, WatchHighlightsChangesOnATerminal) {
     if (::access("/usr/bin/script", X_OK) != 0) GTEST_SKIP() << "no script(1)";
     auto colour = run_program({"/usr/bin/script", "-qec", "env -u NO_COLOR " + watch, "/dev/null"});
     EXPECT_EQ(colour.status, 0) << colour.err;
-    EXPECT_NE(colour.out.find("\x1b[7m"), std::string::npos) << colour.out;
+    EXPECT_THAT(colour.out, HasSubstr("\x1b[7m"));
     auto plain = run_program({"/usr/bin/script", "-qec", "env NO_COLOR=1 " + watch, "/dev/null"});
     EXPECT_EQ(plain.status, 0) << plain.err;
     EXPECT_EQ(plain.out.find("\x1b[7m"), std::string::npos) << plain.out;
@@ -343,16 +338,13 @@ TEST_F(CliGuides, WatchHighlightsChangesOnATerminal) {
 TEST(CliGuidesUsage, AMistypedSuiteOrProfileGetsTheNearestOne) {
     auto suite = run_mblab({"conform", "--suite", "polcy-2.1"});
     EXPECT_EQ(suite.status, 2);
-    EXPECT_NE(suite.err.find("mblab conform: no suite named 'polcy-2.1'; did you mean "
-                             "'policy-2.1'? (shipped suites: "),
-              std::string::npos)
-        << suite.err;
+    EXPECT_THAT(suite.err, HasSubstr("mblab conform: no suite named 'polcy-2.1'; did you mean "
+                                     "'policy-2.1'? (shipped suites: "));
     auto profile = run_mblab({"serve", "refrence"});
     EXPECT_EQ(profile.status, 2);
-    EXPECT_NE(profile.err.find("mblab serve: no profile file or shipped profile named 'refrence'; "
-                               "did you mean 'reference'? (shipped: "),
-              std::string::npos)
-        << profile.err;
+    EXPECT_THAT(profile.err,
+                HasSubstr("mblab serve: no profile file or shipped profile named 'refrence'; "
+                          "did you mean 'reference'? (shipped: "));
     auto unrelated = run_mblab({"conform", "--suite", "zzzz"});
     EXPECT_EQ(unrelated.err.find("did you mean"), std::string::npos) << unrelated.err;
 }
@@ -365,14 +357,13 @@ TEST(CliGuidesColour, ConformColoursVerdictsOnATerminalOnly) {
     auto colour =
         run_program({"/usr/bin/script", "-qec", "env -u NO_COLOR " + conform, "/dev/null"});
     EXPECT_EQ(colour.status, 0) << colour.out;
-    EXPECT_NE(colour.out.find("  \x1b[32mPASS\x1b[0m     mbap.1 "), std::string::npos)
-        << colour.out;
+    EXPECT_THAT(colour.out, HasSubstr("  \x1b[32mPASS\x1b[0m     mbap.1 "));
     auto plain = run_program({"/usr/bin/script", "-qec", "env NO_COLOR=1 " + conform, "/dev/null"});
     EXPECT_EQ(plain.status, 0) << plain.out;
     EXPECT_EQ(plain.out.find("\x1b[3"), std::string::npos) << plain.out;
     auto piped = run_mblab({"conform", "--suite", "mbap", "--case", "mbap.1"});
     EXPECT_EQ(piped.out.find('\x1b'), std::string::npos) << piped.out;
-    EXPECT_NE(piped.out.find("  PASS     mbap.1 "), std::string::npos) << piped.out;
+    EXPECT_THAT(piped.out, HasSubstr("  PASS     mbap.1 "));
 }
 
 // With --json a usage error is a document on stdout too; the stderr line stays.
@@ -385,8 +376,7 @@ TEST(CliGuidesUsage, JsonUsageErrorsAreDocuments) {
     auto json = run_mblab(with_json);
     EXPECT_EQ(text.status, 2);
     EXPECT_EQ(text.out, "");
-    EXPECT_EQ(json.status, 2);
-    EXPECT_EQ(json.err, text.err);
+    expect_failed(json, 2, text.err);
     auto document = nlohmann::json::parse(json.out);
     EXPECT_EQ(document["command"], "read");
     EXPECT_EQ(document["ok"], false);
@@ -429,14 +419,13 @@ TEST_F(CliGuides, DoubleDashLetsValuesBeNegative) {
     auto floats = mblab("write", {"registers", "8", "--type", "f32", "--", "-.5", "-inf"});
     EXPECT_EQ(floats.status, 0) << floats.err;
     auto read = mblab("read", {"holding", "8", "2", "--type", "f32"});
-    EXPECT_NE(read.out.find("-0.5"), std::string::npos) << read.out;
-    EXPECT_NE(read.out.find("-inf"), std::string::npos) << read.out;
+    EXPECT_THAT(read.out, HasSubstr("-0.5"));
+    EXPECT_THAT(read.out, HasSubstr("-inf"));
     auto without = mblab("write", {"registers", "8", "--type", "f32", "-.5"});
-    EXPECT_EQ(without.status, 2);
     EXPECT_EQ(without.out, "");
-    EXPECT_EQ(without.err,
-              "mblab write: -.5 was taken for an option: put -- before negative values, after "
-              "the options (... -- -.5) (run 'mblab write --help' for usage)\n");
+    expect_failed(without, 2,
+                  "mblab write: -.5 was taken for an option: put -- before negative values, after "
+                  "the options (... -- -.5) (run 'mblab write --help' for usage)\n");
 }
 
 // Every command's help has its summary, an example and its exit statuses.
@@ -445,7 +434,7 @@ TEST(CliGuidesUsage, EveryHelpHasAnExampleAndExitStatuses) {
          {"conform", "serve", "read", "write", "diag", "devid", "raw", "watch", "load", "pki"}) {
         auto help = run_mblab({command, "--help"});
         EXPECT_EQ(help.status, 0) << command;
-        EXPECT_NE(help.out.find("Exit status"), std::string::npos) << command;
+        EXPECT_THAT(help.out, HasSubstr("Exit status")) << command;
         EXPECT_NE(help.out.find(std::string("Example: mblab ") + command), std::string::npos)
             << command;
     }

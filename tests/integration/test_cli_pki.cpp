@@ -48,9 +48,8 @@ TEST(CliPki, BadArgumentsAreOneLineAndExit2) {
     TempDir dir;
     const std::string pki = (dir / "lab").string();
     auto slash = run_mblab({"pki", pki, "--role", "a/b"});
-    EXPECT_EQ(slash.status, 2);
-    EXPECT_EQ(slash.err,
-              "mblab pki: role 'a/b' contains '/' (it names the file client-ROLE.pem)\n");
+    expect_failed(slash, 2,
+                  "mblab pki: role 'a/b' contains '/' (it names the file client-ROLE.pem)\n");
     auto days = run_mblab({"pki", pki, "--days", "0"});
     EXPECT_EQ(days.status, 2);
     EXPECT_EQ(std::count(days.err.begin(), days.err.end(), '\n'), 1) << days.err;

@@ -68,10 +68,10 @@ TEST(ProfileImportCsv, ABadFileNamesItsLineAndColumn) {
     TempDir dir;
     const auto csv = write_file(dir, "bad.csv", "address,type\n0,u16\n1,float\n");
     auto ran = run_mblab({"profile", "import-csv", csv});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab profile import-csv: " + csv +
-                           ":3: type: expected one of u16, i16, u32, i32, u64, i64, f32, f64, got "
-                           "\"float\"\n");
+    expect_failed(ran, 2,
+                  "mblab profile import-csv: " + csv +
+                      ":3: type: expected one of u16, i16, u32, i32, u64, i64, f32, f64, got "
+                      "\"float\"\n");
     EXPECT_EQ(ran.out, "");
     auto missing = run_mblab({"profile", "import-csv", "/nonexistent/map.csv"});
     EXPECT_EQ(missing.status, 2);
@@ -84,9 +84,9 @@ TEST(ProfileImportCsv, ABadFileNamesItsLineAndColumn) {
 TEST(ProfileImportCsv, WhatIsNotACsvFileIsOneLine) {
     TempDir dir;
     auto directory = run_mblab({"profile", "import-csv", dir.path().string()});
-    EXPECT_EQ(directory.status, 2);
-    EXPECT_EQ(directory.err, "mblab profile import-csv: " + dir.path().string() +
-                                 " is a directory, not a CSV file\n");
+    expect_failed(
+        directory, 2,
+        "mblab profile import-csv: " + dir.path().string() + " is a directory, not a CSV file\n");
     const std::string too_large =
         " is larger than 128 MiB, far more than a register map of every address takes; check "
         "the file\n";
@@ -94,11 +94,9 @@ TEST(ProfileImportCsv, WhatIsNotACsvFileIsOneLine) {
     const auto huge = write_file(dir, "huge.csv", "address\n0\n");
     std::filesystem::resize_file(huge, (std::uintmax_t{128} << 20) + 1);
     auto big = run_mblab({"profile", "import-csv", huge});
-    EXPECT_EQ(big.status, 2);
-    EXPECT_EQ(big.err, "mblab profile import-csv: " + huge + too_large);
+    expect_failed(big, 2, "mblab profile import-csv: " + huge + too_large);
     auto endless = run_mblab({"profile", "import-csv", "/dev/zero"});
-    EXPECT_EQ(endless.status, 2);
-    EXPECT_EQ(endless.err, "mblab profile import-csv: /dev/zero" + too_large);
+    expect_failed(endless, 2, "mblab profile import-csv: /dev/zero" + too_large);
     EXPECT_EQ(endless.out, "");
 }
 
@@ -150,8 +148,7 @@ TEST(ProfileImportCsv, TheDocumentedExampleWorksAsPrinted) {
     auto bad = run_program(
         {"/bin/sh", "-c",
          "cd '" + dir.path().string() + "' && " + MBLAB_BINARY + " profile import-csv tank.csv"});
-    EXPECT_EQ(bad.status, 2);
-    EXPECT_EQ(bad.err, doc_line("mblab profile import-csv: tank.csv:") + "\n");
+    expect_failed(bad, 2, doc_line("mblab profile import-csv: tank.csv:") + "\n");
 }
 
 }  // namespace

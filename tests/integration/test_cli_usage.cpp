@@ -8,30 +8,27 @@ namespace {
 
 TEST(CliUsage, AMissingArgumentNamesTheCommand) {
     auto ran = run_mblab({"read"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab read: target is required (run 'mblab read --help' for usage)\n");
+    expect_failed(ran, 2, "mblab read: target is required (run 'mblab read --help' for usage)\n");
     EXPECT_EQ(ran.out, "");
 }
 
 TEST(CliUsage, AnUnknownOptionNamesTheCommand) {
     auto ran = run_mblab({"conform", "--bogus"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab conform: The following argument was not expected: --bogus (run 'mblab "
-              "conform --help' for usage)\n");
+    expect_failed(ran, 2,
+                  "mblab conform: The following argument was not expected: --bogus (run 'mblab "
+                  "conform --help' for usage)\n");
 }
 
 TEST(CliUsage, AnUnknownCommandListsTheCommands) {
     auto ran = run_mblab({"frobnicate", "x"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab: unknown command 'frobnicate' (commands: conform, serve, read, write, diag, "
-              "devid, raw, watch, load, pki, fuzz, profile)\n");
+    expect_failed(
+        ran, 2,
+        "mblab: unknown command 'frobnicate' (commands: conform, serve, read, write, diag, "
+        "devid, raw, watch, load, pki, fuzz, profile)\n");
     auto none = run_mblab({});
-    EXPECT_EQ(none.status, 2);
-    EXPECT_EQ(none.err,
-              "mblab: a command is required: conform, serve, read, write, diag, devid, raw, "
-              "watch, load, pki, fuzz, profile (run 'mblab --help' for usage)\n");
+    expect_failed(none, 2,
+                  "mblab: a command is required: conform, serve, read, write, diag, devid, raw, "
+                  "watch, load, pki, fuzz, profile (run 'mblab --help' for usage)\n");
 }
 
 }  // namespace

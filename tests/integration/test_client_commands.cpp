@@ -9,10 +9,7 @@
 namespace mblab::test {
 namespace {
 
-class ClientCommands : public ClientCliTest {
-  protected:
-    void SetUp() override { start_reference_server(); }
-};
+using ClientCommands = ReferenceCliTest;
 
 TEST_F(ClientCommands, DiagEchoesQueryData) {
     auto ran = mblab("diag", {"query-data", "0x1234", "0xABCD"});
@@ -127,10 +124,9 @@ TEST_F(ClientCommands, RawSendsAnyPduAndDecodesTheAnswer) {
               "mblab raw: exception 01 illegal function: the device does not "
               "support function 0x25\n");
     auto quantity = mblab("raw", {"03 00 00 FF FF"});
-    EXPECT_EQ(quantity.status, 1);
-    EXPECT_EQ(quantity.err,
-              "mblab raw: exception 03 illegal data value: a value or length in "
-              "the request is not allowed\n");
+    expect_failed(quantity, 1,
+                  "mblab raw: exception 03 illegal data value: a value or length in "
+                  "the request is not allowed\n");
 }
 
 TEST_F(ClientCommands, WatchPrintsEveryPollAsPlainLines) {

@@ -1,3 +1,5 @@
+#include <gmock/gmock.h>
+
 #include <nlohmann/json.hpp>
 
 #include "test_client_support.hpp"
@@ -7,10 +9,9 @@
 namespace mblab::test {
 namespace {
 
-class ClientReadWrite : public ClientCliTest {
-  protected:
-    void SetUp() override { start_reference_server(); }
-};
+using ::testing::HasSubstr;
+
+using ClientReadWrite = ReferenceCliTest;
 
 TEST_F(ClientReadWrite, ReadsHoldingRegistersAsATable) {
     auto ran = mblab("read", {"holding", "0", "3"});
@@ -35,9 +36,9 @@ TEST_F(ClientReadWrite, FloatsWrittenAreReadBackInEveryWordAndByteOrder) {
             auto read = mblab("read", {"holding", "0x100", "2", "--type", "f32", "--word-order",
                                        words, "--byte-order", bytes});
             EXPECT_EQ(read.status, 0) << read.err;
-            EXPECT_NE(read.out.find("256 (0x0100)"), std::string::npos) << read.out;
-            EXPECT_NE(read.out.find("  3.5\n"), std::string::npos) << read.out;
-            EXPECT_NE(read.out.find("  -1000\n"), std::string::npos) << read.out;
+            EXPECT_THAT(read.out, HasSubstr("256 (0x0100)"));
+            EXPECT_THAT(read.out, HasSubstr("  3.5\n"));
+            EXPECT_THAT(read.out, HasSubstr("  -1000\n"));
         }
     }
 }
@@ -167,11 +168,10 @@ TEST_F(ClientReadWrite, OtherReadFunctions) {
     EXPECT_TRUE(document["event count"].is_number());
     auto server_id = mblab("read", {"server-id"});
     EXPECT_EQ(server_id.status, 0);
-    EXPECT_NE(server_id.out.find("server id data  6D 62 6C 61 62 FF"), std::string::npos)
-        << server_id.out;
+    EXPECT_THAT(server_id.out, HasSubstr("server id data  6D 62 6C 61 62 FF"));
     auto log = mblab("read", {"event-log"});
     EXPECT_EQ(log.status, 0);
-    EXPECT_NE(log.out.find("message count"), std::string::npos) << log.out;
+    EXPECT_THAT(log.out, HasSubstr("message count"));
 }
 
 }  // namespace

@@ -1,3 +1,4 @@
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <memory>
@@ -11,6 +12,8 @@
 // the reference device served by mblab's own serial servers; and a broken RTU answer.
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 const std::string kSignature =
     "address     raw     u16\n"
@@ -116,7 +119,7 @@ TEST(ClientSerial, UnreachableSerialTargets) {
     auto refused =
         run_mblab({"read", "rtu+tcp://127.0.0.1:" + std::to_string(closed_port()), "holding", "0"});
     EXPECT_EQ(refused.status, 2);
-    EXPECT_NE(refused.err.find(": connection refused\n"), std::string::npos) << refused.err;
+    EXPECT_THAT(refused.err, HasSubstr(": connection refused\n"));
 }
 
 }  // namespace

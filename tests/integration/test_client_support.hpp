@@ -13,23 +13,6 @@
 // Shared by the test_client_*.cpp files: runs the real binary and names targets.
 namespace mblab::test {
 
-struct Ran {
-    int status = -1;  // -1: did not exit in time
-    std::string out;
-    std::string err;
-};
-
-// Runs `argv` to its end (at most 30 s) and collects its output.
-inline Ran run_program(const std::vector<std::string>& argv) {
-    ChildProcess child(argv);
-    Ran ran;
-    while (auto line = child.read_stdout_line(std::chrono::seconds(30)))
-        ran.out += *line + "\n";
-    ran.status = child.wait_exit(std::chrono::seconds(30)).value_or(-1);
-    ran.err = child.drain_stderr();
-    return ran;
-}
-
 // Runs `mblab ARGS...` to its end (at most 30 s) and collects its output.
 inline Ran run_mblab(const std::vector<std::string>& args) {
     std::vector<std::string> argv = {MBLAB_BINARY};
@@ -49,6 +32,12 @@ class ClientCliTest : public ServerFixture {
         return run_mblab(args);
     }
     std::string target() const { return tcp_target(port_); }
+};
+
+// The same against the shipped reference profile.
+class ReferenceCliTest : public ClientCliTest {
+  protected:
+    void SetUp() override { start_reference_server(); }
 };
 
 }  // namespace mblab::test

@@ -1,4 +1,5 @@
 #include <arpa/inet.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <poll.h>
@@ -25,11 +26,9 @@
 namespace mblab::conformance {
 namespace {
 
-struct Ran {
-    int status = -1;
-    std::string out;
-    std::string err;
-};
+using ::testing::HasSubstr;
+
+using test::Ran;
 
 std::string slurp(const std::string& path) {
     std::ifstream file(path);
@@ -45,13 +44,7 @@ std::string temp(const std::string& name) {
 // Runs build/mblab with `args`; every wait is bounded.
 Ran mblab(std::vector<std::string> args) {
     args.insert(args.begin(), MBLAB_BINARY);
-    test::ChildProcess child(args);
-    Ran ran;
-    while (auto line = child.read_stdout_line(std::chrono::seconds(60)))
-        ran.out += *line + "\n";
-    ran.status = child.wait_exit(std::chrono::seconds(60)).value_or(-1);
-    ran.err = child.drain_stderr();
-    return ran;
+    return test::run_program(args, std::chrono::seconds(60));
 }
 
 TEST(ConformCli, TheReferenceDevicePassesEveryApplicableCase) {
@@ -86,20 +79,19 @@ TEST(ConformCli, TheReferenceDevicePassesEveryApplicableCase) {
     EXPECT_EQ(suites,
               (std::vector<std::string>{"policy-2.1", "device-id", "diagnostics", "exceptions",
                                         "function-codes", "mbap", "security", "serial"}));
-    EXPECT_NE(
-        ran.out.find("  PASS     7.5.2   Multiple register test: the register sweep  (775 "
-                     "reads of up to 125 registers over 65536 registers, one request at a time)\n"),
-        std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("\nSummary: "), std::string::npos);
+    EXPECT_THAT(
+        ran.out,
+        HasSubstr("  PASS     7.5.2   Multiple register test: the register sweep  (775 "
+                  "reads of up to 125 registers over 65536 registers, one request at a time)\n"));
+    EXPECT_THAT(ran.out, HasSubstr("\nSummary: "));
 }
 
 TEST(ConformCli, AnUnreachableTargetIsAUsageErrorOnOneLine) {
     const auto port = test::closed_port();
     auto ran = mblab({"conform", "tcp://127.0.0.1:" + std::to_string(port)});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: cannot connect to tcp://127.0.0.1:" + std::to_string(port) +
-                           ": connection refused\n");
+    expect_failed(ran, 2,
+                  "mblab conform: cannot connect to tcp://127.0.0.1:" + std::to_string(port) +
+                      ": connection refused\n");
     EXPECT_EQ(ran.out, "");
 }
 
@@ -153,7 +145,7 @@ TEST(ConformCli, ADeviceThatAnswersNothingEndsTheRunAfterItsFirstCase) {
     EXPECT_EQ(ran.err,
               "mblab conform: no answer on unit 1, 255 or 0 to 4 requests: check the port and "
               "--unit\n");
-    EXPECT_NE(ran.out.find("units 255 and 0 did not answer either"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("units 255 and 0 did not answer either"));
     const auto report = nlohmann::json::parse(slurp(json));
     const auto& cases = report["suites"][0]["cases"];
     ASSERT_GT(cases.size(), 2U);
@@ -171,10 +163,10 @@ TEST(ConformCli, AMalformedUserSuiteIsRefusedWithFileAndLine) {
                             "title = \"t\"\nrequest = \"00 00 00 00 {len} {unit} 03 00 00 00 ZZ\"\n"
                             "expect = \"00\"\n";
     auto ran = mblab({"conform", "--suite", suite});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: " + suite +
-                           ":8: request: column 38: 'ZZ': expected hex bytes, XX, {placeholder} "
-                           "or ...\n");
+    expect_failed(ran, 2,
+                  "mblab conform: " + suite +
+                      ":8: request: column 38: 'ZZ': expected hex bytes, XX, {placeholder} "
+                      "or ...\n");
 }
 
 TEST(ConformCli, AUserSuiteRunsAgainstTheReferenceDevice) {
@@ -185,20 +177,16 @@ TEST(ConformCli, AUserSuiteRunsAgainstTheReferenceDevice) {
                             "expect = \"00 2A 00 00 {len} {unit} 03 04 XX XX XX XX\"\n";
     auto ran = mblab({"conform", "--suite", suite});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("\nmine\n  PASS     m.1  read 2 registers\n"), std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("\nmine\n  PASS     m.1  read 2 registers\n"));
 }
 
 TEST(ConformCli, ListPrintsTheCatalogue) {
     auto ran = mblab({"conform", "--list", "--suite", "policy-2.1"});
     EXPECT_EQ(ran.status, 0);
-    EXPECT_NE(ran.out.find("  9.1.3   Improper message length answers exception 03  (CTP "
-                           "9.1.3)\n"),
-              std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("  7.5.2   Multiple register test: the register sweep "
-                           "[register_sweep]  (CTP 7.5.2)\n"),
-              std::string::npos);
+    EXPECT_THAT(ran.out, HasSubstr("  9.1.3   Improper message length answers exception 03  (CTP "
+                                   "9.1.3)\n"));
+    EXPECT_THAT(ran.out, HasSubstr("  7.5.2   Multiple register test: the register sweep "
+                                   "[register_sweep]  (CTP 7.5.2)\n"));
 }
 
 class ConformCliFaultyTarget : public ::testing::Test {
@@ -228,28 +216,23 @@ TEST_F(ConformCliFaultyTarget, AFailureExitsOneAndShowsTheEvidenceInEveryReport)
                       "65536", "--object-messaging", "--alternate-encoding", "--json", json,
                       "--junit", junit, "--pcap", pcap});
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("DUT: unit 1, 65536 registers, max read 125, object messaging: yes, "
-                           "alternate encoding: yes (declared by flags)\n"),
-              std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("  FAIL     7.3.1   Function 0x01 read coils  (wrong transaction id)\n"
-                           "           sent      00 00 00 00 00 06 01 01 00 00 00 01\n"
-                           "           received  00 01 00 00 00 04 01 01 01 00\n"
-                           "           expected  00 00 00 00 00 04 01 01 01 XX\n"
-                           "                        ^^\n"),
-              std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out,
+                HasSubstr("DUT: unit 1, 65536 registers, max read 125, object messaging: yes, "
+                          "alternate encoding: yes (declared by flags)\n"));
+    EXPECT_THAT(ran.out,
+                HasSubstr("  FAIL     7.3.1   Function 0x01 read coils  (wrong transaction id)\n"
+                          "           sent      00 00 00 00 00 06 01 01 00 00 00 01\n"
+                          "           received  00 01 00 00 00 04 01 01 01 00\n"
+                          "           expected  00 00 00 00 00 04 01 01 01 XX\n"
+                          "                        ^^\n"));
     auto report = nlohmann::json::parse(slurp(json));
     // FC 01 also reads back the coil writes of 7.7.1 and 7.11.1.
     EXPECT_EQ(report["summary"]["failed"], 3);
     EXPECT_EQ(report["suites"][0]["cases"][1]["id"], "7.3.1");
     EXPECT_EQ(report["suites"][0]["cases"][1]["verdict"], "FAIL");
     const std::string xml = slurp(junit);
-    EXPECT_NE(xml.find("<testsuite name=\"policy-2.1\" tests=\"18\" failures=\"3\""),
-              std::string::npos)
-        << xml;
-    EXPECT_NE(xml.find("<failure message=\"wrong transaction id\" type=\"FAIL\">"),
-              std::string::npos);
+    EXPECT_THAT(xml, HasSubstr("<testsuite name=\"policy-2.1\" tests=\"18\" failures=\"3\""));
+    EXPECT_THAT(xml, HasSubstr("<failure message=\"wrong transaction id\" type=\"FAIL\">"));
     ASSERT_TRUE(std::filesystem::exists(pcap));
     if (std::filesystem::exists("/usr/bin/tshark")) {
         // Every exchange dissects as Modbus/TCP: the requests and answers are all there, and
@@ -277,10 +260,9 @@ TEST_F(ConformCliFaultyTarget, ADutFileDeclaresTheDevice) {
     auto ran = mblab({"conform", target(), "--suite", "policy-2.1", "--dut", dut});
     EXPECT_EQ(ran.status, 1);
     EXPECT_NE(ran.out.find("(declared by " + dut + ")\n"), std::string::npos) << ran.out;
-    EXPECT_NE(ran.out.find("  N/A      7.13.1  Function 0x5B object messaging: class 1, instance "
-                           "1, get attribute 1  (the DUT does not declare object_messaging)\n"),
-              std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out,
+                HasSubstr("  N/A      7.13.1  Function 0x5B object messaging: class 1, instance "
+                          "1, get attribute 1  (the DUT does not declare object_messaging)\n"));
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include <arpa/inet.h>
 #include <fcntl.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <poll.h>
@@ -21,6 +22,8 @@
 // instead of growing with the flood (issue 17, item 2: 5.7 GB RSS and 1.6 GB reports before).
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 class FloodingDevice {
   public:
@@ -95,7 +98,7 @@ TEST(ConformFlood, AFloodingDeviceIsReportedWithBoundedMemoryAndReports) {
         out += *line + "\n";
     EXPECT_EQ(child.wait_exit(std::chrono::seconds(60)), 1) << out << child.drain_stderr();
     // mbap.5's first step expects 300 ms of silence: the flood is counted, not kept.
-    EXPECT_NE(out.find("bytes when silence was expected"), std::string::npos) << out;
+    EXPECT_THAT(out, HasSubstr("bytes when silence was expected"));
     EXPECT_LT(out.size(), 1U << 20);
     EXPECT_LT(std::filesystem::file_size(json), 1U << 20);
     // This child's own peak: RUSAGE_CHILDREN would count the largest child any earlier test of

@@ -1,3 +1,4 @@
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <toml++/toml.h>
@@ -22,19 +23,15 @@
 namespace mblab::conformance {
 namespace {
 
+using ::testing::HasSubstr;
+
 namespace fs = std::filesystem;
 
 using test::Ran;
 
 // Runs any program to its end and collects its output.
 Ran run(const std::vector<std::string>& argv) {
-    test::ChildProcess child(argv);
-    Ran ran;
-    while (auto line = child.read_stdout_line(std::chrono::seconds(60)))
-        ran.out += *line + "\n";
-    ran.status = child.wait_exit(std::chrono::seconds(60)).value_or(-1);
-    ran.err = child.drain_stderr();
-    return ran;
+    return test::run_program(argv, std::chrono::seconds(60));
 }
 
 // "mblab 0.1.0 (commit abc1234)" as `mblab --version` prints it: {version, commit}.
@@ -187,8 +184,8 @@ TEST(ConformProvenanceCli, TheJunitReportValidatesAgainstJunit10AndCarriesThePro
     EXPECT_NE(xml.find("<property name=\"run.command_line\" value=\"" + std::string(MBLAB_BINARY) +
                        " conform --suite policy-2.1 --suite mbap --junit " + junit + "\"/>"),
               std::string::npos);
-    EXPECT_NE(xml.find("<property name=\"dut.unit.source\" value=\"profile reference.toml\"/>"),
-              std::string::npos);
+    EXPECT_THAT(xml,
+                HasSubstr("<property name=\"dut.unit.source\" value=\"profile reference.toml\"/>"));
     EXPECT_NE(xml.find("<property name=\"device.vendor_name\" value=\"" +
                        reference_identity().vendor + "\"/>"),
               std::string::npos);
@@ -211,11 +208,11 @@ TEST(ConformProvenanceCli, ThePcapngCarriesTheProvenanceAndTsharkReadsIt) {
     const Ran read = run({"/usr/bin/tshark", "-r", pcap, "-Y", "mbtcp"});
     EXPECT_EQ(read.status, 0) << read.err;
     // The identification request is in the capture too, after the case's exchanges.
-    EXPECT_NE(read.out.find("Read Device Identification"), std::string::npos) << read.out;
+    EXPECT_THAT(read.out, HasSubstr("Read Device Identification"));
 
     const Ran info = run({"/usr/bin/capinfos", "-k", "-t", pcap});
     EXPECT_EQ(info.status, 0) << info.err;
-    EXPECT_NE(info.out.find("pcapng"), std::string::npos) << info.out;
+    EXPECT_THAT(info.out, HasSubstr("pcapng"));
     const auto [version, commit] = printed_version();
     EXPECT_NE(info.out.find("mblab version: " + version), std::string::npos) << info.out;
     EXPECT_NE(info.out.find("git commit: " + commit), std::string::npos) << info.out;
@@ -223,7 +220,7 @@ TEST(ConformProvenanceCli, ThePcapngCarriesTheProvenanceAndTsharkReadsIt) {
                             " conform --suite mbap --case mbap.1 --pcap " + pcap),
               std::string::npos)
         << info.out;
-    EXPECT_NE(info.out.find("declared by: profile reference.toml"), std::string::npos);
+    EXPECT_THAT(info.out, HasSubstr("declared by: profile reference.toml"));
     EXPECT_NE(info.out.find("device identity: vendor name \"" + reference_identity().vendor),
               std::string::npos)
         << info.out;

@@ -1,4 +1,5 @@
 #include <fmt/core.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -20,6 +21,8 @@
 namespace mblab::conformance {
 namespace {
 
+using ::testing::HasSubstr;
+
 namespace fs = std::filesystem;
 
 using test::Ran;
@@ -37,9 +40,9 @@ TEST(ConformReportsCli, AReportInAMissingDirectoryIsRefusedBeforeConnecting) {
     test::TempDir dir;
     const std::string json = (dir / "no-such-dir" / "report.json").string();
     auto ran = mblab({"conform", unreachable(), "--json", json});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: --json " + json + ": cannot write the report: directory " +
-                           (dir / "no-such-dir").string() + " does not exist\n");
+    expect_failed(ran, 2,
+                  "mblab conform: --json " + json + ": cannot write the report: directory " +
+                      (dir / "no-such-dir").string() + " does not exist\n");
     EXPECT_EQ(ran.out, "");
     EXPECT_FALSE(fs::exists(dir / "no-such-dir"));
 }
@@ -58,14 +61,13 @@ TEST(ConformReportsCli, AReportToStandardOutput) {
     const auto report = nlohmann::json::parse(ran.out, nullptr, false);
     ASSERT_FALSE(report.is_discarded()) << ran.out;
     EXPECT_EQ(report["passed"], true) << ran.out;
-    EXPECT_NE(ran.err.find("PASS     7.3.1"), std::string::npos) << ran.err;
+    EXPECT_THAT(ran.err, HasSubstr("PASS     7.3.1"));
     EXPECT_FALSE(fs::exists(dir / "-"));
     ran = in_dir("--case 7.3.1 --junit -");
     EXPECT_EQ(ran.status, 0);
     EXPECT_EQ(ran.out.rfind("<?xml", 0), 0U) << ran.out;
     ran = in_dir("--case 7.3.1 --json - --html -");
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: only one report can go to standard output (-)\n");
+    expect_failed(ran, 2, "mblab conform: only one report can go to standard output (-)\n");
     ran = in_dir("--case 7.3.1 --pcap -");
     EXPECT_EQ(ran.status, 2);
     EXPECT_EQ(ran.err,
@@ -80,14 +82,14 @@ TEST(ConformReportsCli, AReportUnderAFileOrOnADirectoryIsRefused) {
     std::ofstream(file) << "x";
     const std::string pcap = file + "/capture.pcap";
     auto ran = mblab({"conform", unreachable(), "--pcap", pcap});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: --pcap " + pcap + ": cannot write the report: " + file +
-                           " is not a directory\n");
+    expect_failed(ran, 2,
+                  "mblab conform: --pcap " + pcap + ": cannot write the report: " + file +
+                      " is not a directory\n");
 
     ran = mblab({"conform", unreachable(), "--junit", dir.path().string()});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: --junit " + dir.path().string() +
-                           ": cannot write the report: it is a directory\n");
+    expect_failed(ran, 2,
+                  "mblab conform: --junit " + dir.path().string() +
+                      ": cannot write the report: it is a directory\n");
     EXPECT_EQ(ran.out, "");
 }
 
@@ -100,9 +102,9 @@ TEST(ConformReportsCli, AReportInADirectoryWithoutWritePermissionIsRefused) {
     const std::string junit = (locked / "report.xml").string();
     auto ran = mblab({"conform", unreachable(), "--junit", junit});
     ::chmod(locked.c_str(), 0755);
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab conform: --junit " + junit + ": cannot write the report: permission denied\n");
+    expect_failed(
+        ran, 2,
+        "mblab conform: --junit " + junit + ": cannot write the report: permission denied\n");
 }
 
 TEST(ConformReportsCli, TwoReportsInOneFileAreRefused) {
@@ -122,8 +124,7 @@ TEST(ConformReportsCli, ARunThatFailsToStartLeavesNoEmptyReportAndKeepsAnOldOne)
     std::ofstream(junit) << "<old/>\n";
     const std::string target = unreachable();
     auto ran = mblab({"conform", target, "--json", json, "--junit", junit});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: cannot connect to " + target + ": connection refused\n");
+    expect_failed(ran, 2, "mblab conform: cannot connect to " + target + ": connection refused\n");
     EXPECT_FALSE(fs::exists(json));
     EXPECT_EQ(test::file_text(junit), "<old/>\n");
 }
@@ -158,16 +159,15 @@ TEST(ConformReportsCli, CaseRunsOnlyTheMatchingCasesAndWhatTheyDependOn) {
                                                           "mbap.6", "mbap.7", "mbap.8", "mbap.9"}));
     EXPECT_EQ(report["summary"]["total"], 12);
     EXPECT_EQ(ran.out.find("device-id"), std::string::npos) << ran.out;
-    EXPECT_NE(ran.out.find("  PASS     7.13.2  Alternate encoding"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("  PASS     7.13.2  Alternate encoding"));
 }
 
 TEST(ConformReportsCli, ACaseBringsTheCasesItDependsOn) {
     auto ran = mblab({"conform", "--list", "--suite", "policy-2.1", "--case", "7.13.2"});
     EXPECT_EQ(ran.status, 0) << ran.err;
-    EXPECT_NE(ran.out.find("\n  7.5.1   Function 0x03 read multiple registers  (CTP 7.5.1)\n"
-                           "  7.13.2  Alternate encoding"),
-              std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out,
+                HasSubstr("\n  7.5.1   Function 0x03 read multiple registers  (CTP 7.5.1)\n"
+                          "  7.13.2  Alternate encoding"));
     EXPECT_EQ(ran.out.find("9.1.1"), std::string::npos) << ran.out;
 }
 
@@ -184,18 +184,16 @@ TEST(ConformReportsCli, ACasePatternThatMatchesNothingIsRefusedBeforeConnecting)
 TEST(ConformReportsCli, ProfileTakesAShippedProfileByName) {
     auto ran = mblab({"conform", "--profile", "multi-unit", "--case", "9.1.1"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("(declared by profile multi-unit.toml)\n"), std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("  PASS     9.1.1"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("(declared by profile multi-unit.toml)\n"));
+    EXPECT_THAT(ran.out, HasSubstr("  PASS     9.1.1"));
 }
 
 TEST(ConformReportsCli, AnUnknownProfileNameListsTheShippedOnes) {
     auto ran = mblab({"conform", "--profile", "no-such-profile"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab conform: --profile: no profile file or shipped profile named "
-              "'no-such-profile' (shipped: access-ranges, moving, multi-unit, "
-              "reference, rs485-instrument)\n");
+    expect_failed(ran, 2,
+                  "mblab conform: --profile: no profile file or shipped profile named "
+                  "'no-such-profile' (shipped: access-ranges, moving, multi-unit, "
+                  "reference, rs485-instrument)\n");
     EXPECT_EQ(ran.out, "");
 }
 
@@ -242,7 +240,7 @@ void expect_interrupted_reports(const Ran& ran, const std::string& json, const s
     EXPECT_EQ(report["provenance"]["device_identity"]["reason"],
               "not asked: the run was interrupted");
     const std::string xml = test::file_text(junit);
-    EXPECT_NE(xml.find("<skipped message=\"interrupted\"/>"), std::string::npos) << xml;
+    EXPECT_THAT(xml, HasSubstr("<skipped message=\"interrupted\"/>"));
     EXPECT_NE(test::file_text(html).find(fmt::format(
                   "INTERRUPTED: the run was interrupted after {} of {} cases", run, run + left)),
               std::string::npos);

@@ -1,6 +1,7 @@
 // `mblab conform` over RTU and ASCII lines (pseudo-terminals) and RTU over TCP, against the
 // reference device served by mblab's serial servers: every case that applies passes, the MBAP
 // cases and ping are N/A with the reason, and a serial target refuses what it cannot do.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -15,6 +16,8 @@
 
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 nlohmann::json read_json(const std::string& path) {
     std::ifstream file(path);
@@ -83,11 +86,10 @@ TEST(ConformSerial, PingIsNotApplicableOnASerialLine) {
     DeviceOnLine line;
     ASSERT_EQ(line.start("reference", "rtu", 115200, false), "");
     auto ran = run_mblab({"conform", line_url("rtu", line.pty(), 115200), "--suite", "policy-2.1"});
-    EXPECT_NE(ran.out.find("  N/A      7.2     Ping: 10 consecutive 32-byte echo requests are all "
-                           "answered  (the device is on a serial line (RTU): it has no IP "
-                           "address)\n"),
-              std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out,
+                HasSubstr("  N/A      7.2     Ping: 10 consecutive 32-byte echo requests are all "
+                          "answered  (the device is on a serial line (RTU): it has no IP "
+                          "address)\n"));
 }
 
 TEST(ConformSerial, TheRs485InstrumentAnswersItsDiagnosticsOverRtu) {

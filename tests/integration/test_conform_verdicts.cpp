@@ -1,26 +1,35 @@
 // Verdicts a device cannot game: a close the case allows does not pass when the close was a
 // crash; exception 01 makes a case N/A only when the function is truly not served; an optional
 // access refused as the spec allows is N/A, not FAIL.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
+#include <ostream>
+#include <string>
+#include <vector>
 
 #include "conformance/catalogue.hpp"
 #include "conformance/device_dut.hpp"
 #include "conformance/engine.hpp"
 #include "device/reference_device.hpp"
 #include "server/background_server.hpp"
+#include "support/device_profiles.hpp"
 #include "support/faulty_server.hpp"
 
 namespace mblab::conformance {
 namespace {
 
-const std::string kProfile = std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml";
-
 std::unique_ptr<device::ReferenceDevice> reference_device() {
-    auto loaded = device::load_profile(kProfile);
-    EXPECT_TRUE(loaded.ok());
-    return std::move(loaded.value());
+    return test::shipped_device("reference");
+}
+
+// One [[case]] of a suite; `more` holds any further keys, a line each.
+std::string case_toml(const std::string& id, const std::string& title, const std::string& request,
+                      const std::string& expect, const std::string& more = "") {
+    return "[[case]]\nsource = \"test\"\nid = \"" + id + "\"\ntitle = \"" + title + "\"\n" + more +
+           "request = \"" + request + "\"\nexpect = \"" + expect + "\"\n";
 }
 
 Suite suite_of(const std::string& text) {
@@ -65,62 +74,79 @@ class Rewriting : public device::RequestHandler {
     Rule rule_;
 };
 
-const std::string kCloseAllowed = R"(
-[[case]]
-source = "test"
-id = "close"
-title = "a request the device may refuse by closing"
-request = "00 01 00 00 00 06 01 04 00 00 00 01"
-expect = "00 01 00 00 00 03 01 84 03"
-accept_close = "closed the connection"
+const std::string kCloseAllowed =
+    case_toml("close", "a request the device may refuse by closing",
+              "00 01 00 00 00 06 01 04 00 00 00 01", "00 01 00 00 00 03 01 84 03",
+              "accept_close = \"closed the connection\"\n") +
+    case_toml("after", "a read after it", "00 02 00 00 00 06 01 03 00 00 00 01",
+              "00 02 00 00 00 05 01 03 02 XX XX");
 
-[[case]]
-source = "test"
-id = "after"
-title = "a read after it"
-request = "00 02 00 00 00 06 01 03 00 00 00 01"
-expect = "00 02 00 00 00 05 01 03 02 XX XX"
-)";
+// How the tester judges a case: the verdict, and a matcher for its reason.
+struct Judged {
+    Verdict verdict;
+    ::testing::Matcher<std::string> reason = ::testing::_;
+};
 
-TEST(ConformVerdicts, AnAllowedCloseFromADeviceThatStillServesPasses) {
-    auto device = reference_device();
-    test::FaultyServer server(*device, {test::Fault::CloseConnection, 0x04, 0});
-    const auto port = server.start();
-    auto result = run(port, suite_of(kCloseAllowed));
-    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Pass) << at(result, 0).outcome.reason;
-    EXPECT_EQ(at(result, 0).outcome.reason, "closed the connection");
-    EXPECT_EQ(at(result, 1).outcome.verdict, Verdict::Pass) << at(result, 1).outcome.reason;
+void expect_judged(const RunResult& result, std::size_t i, const Judged& expected) {
+    const auto& outcome = at(result, i).outcome;
+    EXPECT_EQ(outcome.verdict, expected.verdict) << "case " << i << ": " << outcome.reason;
+    EXPECT_THAT(outcome.reason, expected.reason) << "case " << i;
 }
 
-// A device with one connection slot that takes a moment to free it refuses the tester's next
-// connection at first; it is still serving, so neither the close nor the next case fails.
-TEST(ConformVerdicts, ADeviceSlowToTakeANewConnectionAfterAnAllowedCloseStillPasses) {
-    auto device = reference_device();
-    test::FaultyServer server(*device, {test::Fault::SlowToReopen, 0x04, 0});
-    const auto port = server.start();
-    auto result = run(port, suite_of(kCloseAllowed));
-    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Pass) << at(result, 0).outcome.reason;
-    EXPECT_EQ(at(result, 1).outcome.verdict, Verdict::Pass) << at(result, 1).outcome.reason;
+// kCloseAllowed against a device whose FC 04 answer is `fault`.
+struct CloseCase {
+    std::string name;
+    test::Fault fault;
+    Judged close;
+    Judged after;
+    bool all_passed;
+};
+
+void PrintTo(const CloseCase& row, std::ostream* out) {
+    *out << row.name;
 }
 
-TEST(ConformVerdicts, AnAllowedCloseThatWasACrashFailsAndSoDoesEveryCaseAfterIt) {
+using ::testing::Eq;
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+
+const CloseCase kCloses[] = {
+    {"AnAllowedCloseFromADeviceThatStillServesPasses",
+     test::Fault::CloseConnection,
+     {Verdict::Pass, Eq("closed the connection")},
+     {Verdict::Pass},
+     true},
+    // A device with one connection slot that takes a moment to free it refuses the tester's
+    // next connection at first; it is still serving, so neither the close nor the next case
+    // fails.
+    {"ADeviceSlowToTakeANewConnectionAfterAnAllowedCloseStillPasses",
+     test::Fault::SlowToReopen,
+     {Verdict::Pass},
+     {Verdict::Pass},
+     true},
+    {"AnAllowedCloseThatWasACrashFailsAndSoDoesEveryCaseAfterIt",
+     test::Fault::Dies,
+     {Verdict::Fail, StartsWith("closed the connection, but afterwards the device refused a new "
+                                "connection: ")},
+     {Verdict::Fail,
+      StartsWith("the device no longer accepts connections (it did earlier in the run): ")},
+     false},
+};
+
+class ConformCloseVerdicts : public ::testing::TestWithParam<CloseCase> {};
+
+TEST_P(ConformCloseVerdicts, JudgeTheCloseByWhetherTheDeviceStillServes) {
     auto device = reference_device();
-    test::FaultyServer server(*device, {test::Fault::Dies, 0x04, 0});
+    test::FaultyServer server(*device, {GetParam().fault, 0x04, 0});
     const auto port = server.start();
     auto result = run(port, suite_of(kCloseAllowed));
-    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Fail);
-    EXPECT_EQ(at(result, 0).outcome.reason.rfind("closed the connection, but afterwards the device "
-                                                 "refused a new connection: ",
-                                                 0),
-              0U)
-        << at(result, 0).outcome.reason;
-    EXPECT_EQ(at(result, 1).outcome.verdict, Verdict::Fail);
-    EXPECT_EQ(at(result, 1).outcome.reason.rfind(
-                  "the device no longer accepts connections (it did earlier in the run): ", 0),
-              0U)
-        << at(result, 1).outcome.reason;
-    EXPECT_FALSE(result.all_passed());
+    expect_judged(result, 0, GetParam().close);
+    expect_judged(result, 1, GetParam().after);
+    EXPECT_EQ(result.all_passed(), GetParam().all_passed);
 }
+
+INSTANTIATE_TEST_SUITE_P(Fault, ConformCloseVerdicts, ::testing::ValuesIn(kCloses),
+                         [](const auto& info) { return info.param.name; });
 
 // The run of `suite` against `device` served with its answers rewritten by `rule`.
 RunResult run_rewritten(device::RequestHandler& device, const Rewriting::Rule& rule,
@@ -141,57 +167,42 @@ const Rewriting::Rule kQuantity0Answered01 =
     return std::nullopt;
 };
 
-const std::string kQuantity0 = R"(
-[[case]]
-source = "test"
-id = "q0"
-title = "FC 03 of 0 registers answers 03"
-unsupported_is_na = true
-request = "00 03 00 00 00 06 01 03 00 00 00 00"
-expect = "00 03 00 00 00 03 01 83 03"
-)";
+const std::string kQuantity0 =
+    case_toml("q0", "FC 03 of 0 registers answers 03", "00 03 00 00 00 06 01 03 00 00 00 00",
+              "00 03 00 00 00 03 01 83 03", "unsupported_is_na = true\n");
 
 TEST(ConformVerdicts, Exception01FromAFunctionServedEarlierInTheRunFails) {
     auto device = reference_device();
-    auto result = run_rewritten(*device, kQuantity0Answered01, suite_of(R"(
-[[case]]
-source = "test"
-id = "read"
-title = "FC 03 reads"
-request = "00 01 00 00 00 06 01 03 00 00 00 01"
-expect = "00 01 00 00 00 05 01 03 02 XX XX"
-)" + kQuantity0));
-    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Pass);
-    EXPECT_EQ(at(result, 1).outcome.verdict, Verdict::Fail);
-    EXPECT_EQ(at(result, 1).outcome.reason,
-              "exception 01 (illegal function), yet the device serves function 03 (it answered "
-              "it otherwise earlier in this run): 01 says a function is not served");
+    auto result = run_rewritten(
+        *device, kQuantity0Answered01,
+        suite_of(case_toml("read", "FC 03 reads", "00 01 00 00 00 06 01 03 00 00 00 01",
+                           "00 01 00 00 00 05 01 03 02 XX XX") +
+                 kQuantity0));
+    expect_judged(result, 0, {Verdict::Pass});
+    expect_judged(result, 1,
+                  {Verdict::Fail, Eq("exception 01 (illegal function), yet the device serves "
+                                     "function 03 (it answered it otherwise earlier in this "
+                                     "run): 01 says a function is not served")});
 }
 
 TEST(ConformVerdicts, Exception01FromAFunctionWhosePlainRequestIsAnsweredFails) {
     auto device = reference_device();
     auto result = run_rewritten(*device, kQuantity0Answered01, suite_of(kQuantity0));
-    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Fail);
-    EXPECT_NE(at(result, 0).outcome.reason.find("yet the device serves function 03 (its plain "
-                                                "request was answered 7E 57 00 00 00 05 01 03 02"),
-              std::string::npos)
-        << at(result, 0).outcome.reason;
+    expect_judged(result, 0,
+                  {Verdict::Fail, HasSubstr("yet the device serves function 03 (its plain "
+                                            "request was answered 7E 57 00 00 00 05 01 03 02")});
 }
 
 // FC 06 to register 5 is answered 01 by a device that serves FC 06. Finding that out must not
 // change the device's data: the tester writes register 0's own value back to it.
 TEST(ConformVerdicts, TellingAServedWriteFromAnUnservedOneChangesNoData) {
-    auto loaded = device::load_profile_text(R"(
+    auto device = test::device_from(R"(
 name = "ten registers"
 [[unit]]
 id = 1
-[[unit.holding_registers]]
-start = 0
-count = 10
-)",
-                                            "ten.toml");
-    ASSERT_TRUE(loaded.ok());
-    auto device = std::move(loaded.value());
+holding_registers = [{start = 0, count = 10}]
+)");
+    ASSERT_TRUE(device);
     const Rewriting::Rule fc06_at_5_answered_01 =
         [](std::span<const std::uint8_t> request) -> std::optional<std::vector<std::uint8_t>> {
         if (request.size() == 5 && request[0] == 0x06 && request[2] == 0x05) {
@@ -199,37 +210,22 @@ count = 10
         }
         return std::nullopt;
     };
-    auto result = run_rewritten(*device, fc06_at_5_answered_01, suite_of(R"(
-[[case]]
-source = "test"
-id = "set"
-title = "FC 10 puts BEEF in register 0"
-request = "00 01 00 00 00 09 01 10 00 00 00 01 02 BE EF"
-expect = "00 01 00 00 00 06 01 10 00 00 00 01"
-
-[[case]]
-source = "test"
-id = "fc06"
-title = "FC 06 writes register 5"
-unsupported_is_na = true
-request = "00 02 00 00 00 06 01 06 00 05 12 34"
-expect = "00 02 00 00 00 06 01 06 00 05 12 34"
-
-[[case]]
-source = "test"
-id = "after"
-title = "register 0 still holds BEEF"
-request = "00 03 00 00 00 06 01 03 00 00 00 01"
-expect = "00 03 00 00 00 05 01 03 02 BE EF"
-)"));
-    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::Pass) << at(result, 0).outcome.reason;
-    EXPECT_EQ(at(result, 1).outcome.verdict, Verdict::Fail);
-    EXPECT_NE(at(result, 1).outcome.reason.find("yet the device serves function 06 (its plain "
-                                                "request was answered 7E 57 00 00 00 06 01 06 "
-                                                "00 00 BE EF"),
-              std::string::npos)
-        << at(result, 1).outcome.reason;
-    EXPECT_EQ(at(result, 2).outcome.verdict, Verdict::Pass) << at(result, 2).outcome.reason;
+    auto result = run_rewritten(
+        *device, fc06_at_5_answered_01,
+        suite_of(case_toml("set", "FC 10 puts BEEF in register 0",
+                           "00 01 00 00 00 09 01 10 00 00 00 01 02 BE EF",
+                           "00 01 00 00 00 06 01 10 00 00 00 01") +
+                 case_toml("fc06", "FC 06 writes register 5", "00 02 00 00 00 06 01 06 00 05 12 34",
+                           "00 02 00 00 00 06 01 06 00 05 12 34", "unsupported_is_na = true\n") +
+                 case_toml("after", "register 0 still holds BEEF",
+                           "00 03 00 00 00 06 01 03 00 00 00 01",
+                           "00 03 00 00 00 05 01 03 02 BE EF")));
+    expect_judged(result, 0, {Verdict::Pass});
+    expect_judged(result, 1,
+                  {Verdict::Fail, HasSubstr("yet the device serves function 06 (its plain "
+                                            "request was answered 7E 57 00 00 00 06 01 06 00 00 "
+                                            "BE EF")});
+    expect_judged(result, 2, {Verdict::Pass});
 }
 
 TEST(ConformVerdicts, Exception01FromAFunctionNotServedIsNotApplicable) {
@@ -237,9 +233,9 @@ TEST(ConformVerdicts, Exception01FromAFunctionNotServedIsNotApplicable) {
     test::FaultyServer server(*device, {test::Fault::IllegalFunction, 0x03, 0});
     const auto port = server.start();
     auto result = run(port, suite_of(kQuantity0));
-    EXPECT_EQ(at(result, 0).outcome.verdict, Verdict::NotApplicable);
-    EXPECT_EQ(at(result, 0).outcome.reason,
-              "the device answered exception 01: function 03 is not supported");
+    expect_judged(result, 0,
+                  {Verdict::NotApplicable,
+                   Eq("the device answered exception 01: function 03 is not supported")});
 }
 
 // Individual access (read code 04) answered 03, from a device whose conformity level declares
@@ -259,39 +255,54 @@ Rewriting::Rule individual_access_refused(std::uint8_t level) {
         };
 }
 
-TEST(ConformVerdicts, IndividualAccessRefusedByAStreamOnlyDeviceIsNotApplicable) {
+// The device-id cases `judged` against a device at conformity `level` that refuses individual
+// access; the other cases are not this table's concern.
+struct IndividualAccessCase {
+    std::string name;
+    std::uint8_t level;
+    std::vector<std::string> judged;
+    Judged expected;
+};
+
+void PrintTo(const IndividualAccessCase& row, std::ostream* out) {
+    *out << row.name;
+}
+
+const IndividualAccessCase kIndividualAccess[] = {
+    {"RefusedByAStreamOnlyDeviceIsNotApplicable",
+     0x01,
+     {"devid.2", "devid.5"},
+     {Verdict::NotApplicable,
+      Eq("the device answered exception 03 to individual access, and its conformity level 01 "
+         "declares stream access only")}},
+    {"RefusedByADeviceThatDeclaresItFails",
+     0x81,
+     {"devid.2"},
+     {Verdict::Fail, Eq("exception 03 (illegal data value)")}},
+};
+
+class ConformIndividualAccess : public ::testing::TestWithParam<IndividualAccessCase> {};
+
+TEST_P(ConformIndividualAccess, IsJudgedByTheDeclaredConformityLevel) {
     auto device = reference_device();
-    Rewriting handler(*device, individual_access_refused(0x01));
+    Rewriting handler(*device, individual_access_refused(GetParam().level));
     server::BackgroundServer server(handler);
     const auto port = server.start();
     ASSERT_TRUE(port.ok());
     auto suite = load_suite_file(std::string(MBLAB_SOURCE_DIR) + "/catalogue/device-id.toml");
     ASSERT_TRUE(suite.ok());
     auto result = run(*port, suite.value());
-    for (const auto& c : result.suites.at(0).cases) {
-        if (c.id != "devid.2" && c.id != "devid.5") continue;
-        EXPECT_EQ(c.outcome.verdict, Verdict::NotApplicable) << c.id << ": " << c.outcome.reason;
-        EXPECT_EQ(c.outcome.reason,
-                  "the device answered exception 03 to individual access, and its conformity "
-                  "level 01 declares stream access only");
+    const auto& cases = result.suites.at(0).cases;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        const auto& judged = GetParam().judged;
+        if (std::find(judged.begin(), judged.end(), cases[i].id) == judged.end()) continue;
+        SCOPED_TRACE(cases[i].id);
+        expect_judged(result, i, GetParam().expected);
     }
 }
 
-TEST(ConformVerdicts, IndividualAccessRefusedByADeviceThatDeclaresItFails) {
-    auto device = reference_device();
-    Rewriting handler(*device, individual_access_refused(0x81));
-    server::BackgroundServer server(handler);
-    const auto port = server.start();
-    ASSERT_TRUE(port.ok());
-    auto suite = load_suite_file(std::string(MBLAB_SOURCE_DIR) + "/catalogue/device-id.toml");
-    ASSERT_TRUE(suite.ok());
-    auto result = run(*port, suite.value());
-    for (const auto& c : result.suites.at(0).cases) {
-        if (c.id != "devid.2") continue;
-        EXPECT_EQ(c.outcome.verdict, Verdict::Fail) << c.outcome.reason;
-        EXPECT_EQ(c.outcome.reason, "exception 03 (illegal data value)");
-    }
-}
+INSTANTIATE_TEST_SUITE_P(Level, ConformIndividualAccess, ::testing::ValuesIn(kIndividualAccess),
+                         [](const auto& info) { return info.param.name; });
 
 }  // namespace
 }  // namespace mblab::conformance

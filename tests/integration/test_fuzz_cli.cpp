@@ -1,6 +1,7 @@
 // `mblab fuzz` as a user runs it: devices that die on one input each are found and minimised to
 // the killing frame; robust devices, unusual ones included, get no finding.
 #include <arpa/inet.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -30,6 +31,8 @@
 
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 // Whether this build (and so the mblab it runs) has AddressSanitizer: g++ says so with
 // __SANITIZE_ADDRESS__, clang with __has_feature.
@@ -109,9 +112,8 @@ TEST_F(FuzzFragile, ACrashOnProtocolIdIsMinimisedToTheOneFrame) {
     auto ran = fuzz({"--cases", "100", "--check-every", "10", "--restart", restart_, "--junit",
                      (dir_ / "fuzz.xml").string()});
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("FINDING: the device refuses connections"), std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("frame(s)"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("FINDING: the device refuses connections"));
+    EXPECT_THAT(ran.out, HasSubstr("frame(s)"));
     const auto steps = reproducer();
     ASSERT_EQ(steps.size(), 1U) << ran.out;
     // Transaction id, then a protocol id that is not 0.
@@ -139,17 +141,15 @@ TEST_F(FuzzFragile, ACrashOnProtocolIdIsMinimisedToTheOneFrame) {
     auto replayed =
         run_mblab({"fuzz", tcp_target(port_), "--replay", (dir_ / "finding.hex").string()});
     EXPECT_EQ(replayed.status, 1) << replayed.out << replayed.err;
-    EXPECT_NE(replayed.out.find("replayed 1 frame(s): the device refuses connections"),
-              std::string::npos)
-        << replayed.out;
+    EXPECT_THAT(replayed.out, HasSubstr("replayed 1 frame(s): the device refuses connections"));
 }
 
 TEST_F(FuzzFragile, AHangOnMbapLengthOneIsFound) {
     start("length-one");
     auto ran = fuzz({"--cases", "100", "--timeout", "300ms", "--restart", restart_});
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("does not answer the known-good read"), std::string::npos) << ran.out;
-    EXPECT_NE(ran.out.find("mbap-length: MBAP length 1 for 6 bytes"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("does not answer the known-good read"));
+    EXPECT_THAT(ran.out, HasSubstr("mbap-length: MBAP length 1 for 6 bytes"));
     const auto steps = reproducer();
     ASSERT_EQ(steps.size(), 1U) << ran.out;
     EXPECT_EQ(steps[0].substr(12, 5), "00 01") << steps[0];
@@ -169,7 +169,7 @@ TEST_F(FuzzFragile, WithoutRestartTheFindingIsNotMinimised) {
     start("protocol-id");
     auto ran = fuzz({"--cases", "100", "--check-every", "3"});
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("could not minimise (no --restart)"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("could not minimise (no --restart)"));
     EXPECT_EQ(reproducer().size(), 3U) << ran.out;
 }
 
@@ -178,7 +178,7 @@ TEST_F(FuzzFragile, NoWriteLeavesWithoutPermission) {
     start("byte-count");
     auto ran = fuzz({"--cases", "150", "--timeout", "300ms", "--check-every", "10"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("withheld (writes not allowed)"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("withheld (writes not allowed)"));
 }
 
 // Inside a declared writable range the writes go out, and the byte-count mismatch is found.
@@ -186,22 +186,21 @@ TEST_F(FuzzFragile, WritesGoOutInsideTheWritableRange) {
     start("byte-count");
     auto ran = fuzz({"--cases", "150", "--timeout", "300ms", "--writable", "0:10"});
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("byte-count: FC 0x10 byte count 0 for 1 registers"), std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("byte-count: FC 0x10 byte count 0 for 1 registers"));
 }
 
 TEST_F(FuzzFragile, ADeviceThatClosesOnGarbageIsRobust) {
     start("closes-garbage");
     auto ran = fuzz({"--cases", "200"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("no finding"));
 }
 
 TEST_F(FuzzFragile, ALateDeviceIsRobust) {
     start("late");
     auto ran = fuzz({"--cases", "40", "--check-every", "5", "--timeout", "1s"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("no finding"));
 }
 
 // A device that writes its answers with blocking sends: one client that never reads its answers
@@ -210,11 +209,10 @@ TEST_F(FuzzFragile, ASlowReaderThatStallsEveryoneIsFound) {
     start("blocking-send");
     auto ran = fuzz({"--cases", "100", "--timeout", "300ms", "--restart", restart_});
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("slow-reader: 1 connection(s), 40000 FC 03 reads of 125 each, answers "
-                           "never read"),
-              std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("does not answer the known-good read"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out,
+                HasSubstr("slow-reader: 1 connection(s), 40000 FC 03 reads of 125 each, answers "
+                          "never read"));
+    EXPECT_THAT(ran.out, HasSubstr("does not answer the known-good read"));
     // The one step, marked as never read: the replay leaves it unread too and stalls the device.
     const auto steps = reproducer();
     ASSERT_EQ(steps.size(), 1U) << ran.out;
@@ -230,15 +228,11 @@ TEST_F(FuzzFragile, AnAcknowledgedWriteThatIsLostIsFound) {
     start("loses-writes");
     auto ran = fuzz({"--cases", "120", "--timeout", "300ms", "--writable", "0:10"});
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("FINDING: the device lost an acknowledged write: register 0 reads "),
-              std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("flood: 20000 requests streamed, FC 06 of 1..10000 to register 0"),
-              std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("not minimised: a lost write is judged over the whole flood"),
-              std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out,
+                HasSubstr("FINDING: the device lost an acknowledged write: register 0 reads "));
+    EXPECT_THAT(ran.out,
+                HasSubstr("flood: 20000 requests streamed, FC 06 of 1..10000 to register 0"));
+    EXPECT_THAT(ran.out, HasSubstr("not minimised: a lost write is judged over the whole flood"));
 }
 
 // The same device without writes allowed: the flood's writes are withheld and nothing is lost.
@@ -246,8 +240,7 @@ TEST_F(FuzzFragile, WithoutAWritableRangeTheFloodWritesNothing) {
     start("loses-writes");
     auto ran = fuzz({"--cases", "120", "--timeout", "300ms"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("flood                 1 run, 1 withheld"), std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("flood                 1 run, 1 withheld"));
 }
 
 // 64 slots, and a newcomer evicts only a connection stuck in a partial frame: idle connections
@@ -256,26 +249,21 @@ TEST_F(FuzzFragile, ADeviceThatLocksNewcomersOutBehindIdleConnectionsIsFound) {
     start("few-slots");
     auto ran = fuzz({"--cases", "200", "--timeout", "300ms"});
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("connections, a request on each, held open"), std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("closes a fresh connection before answering"), std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("connections, a request on each, held open"));
+    EXPECT_THAT(ran.out, HasSubstr("closes a fresh connection before answering"));
 }
 
-class FuzzReference : public ClientCliTest {
-  protected:
-    void SetUp() override { start_reference_server(); }
-};
+using FuzzReference = ReferenceCliTest;
 
 TEST_F(FuzzReference, TheReferenceDeviceHasNoFinding) {
     TempDir dir;
     auto ran = run_mblab({"fuzz", target(), "--cases", "300", "--rate", "0", "--json",
                           (dir / "fuzz.json").string(), "--pcap", (dir / "fuzz.pcapng").string()});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("no finding"));
     const auto json = file_text(dir / "fuzz.json");
-    EXPECT_NE(json.find("\"verdict\": \"no finding\""), std::string::npos) << json;
-    EXPECT_NE(json.find("\"cases\": 300"), std::string::npos) << json;
+    EXPECT_THAT(json, HasSubstr("\"verdict\": \"no finding\""));
+    EXPECT_THAT(json, HasSubstr("\"cases\": 300"));
     EXPECT_FALSE(file_text(dir / "fuzz.pcapng").empty());
 }
 
@@ -286,8 +274,8 @@ TEST_F(FuzzReference, PairwiseCasesRunWithoutAFinding) {
     auto ran = run_mblab({"fuzz", target(), "--cases", "400", "--rate", "0", "--writable", "0:10",
                           "--json", (dir / "fuzz.json").string()});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
-    EXPECT_NE(ran.out.find("  pairwise"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("no finding"));
+    EXPECT_THAT(ran.out, HasSubstr("  pairwise"));
     const auto json = nlohmann::json::parse(file_text(dir / "fuzz.json"));
     EXPECT_EQ(json["verdict"], "no finding");
     const nlohmann::json* pairwise = nullptr;
@@ -312,8 +300,8 @@ TEST_F(FuzzReference, DeclaredFactsAndATimeBudget) {
     EXPECT_NE(ran.out.find("reconnaissance (" + (dir / "dut.toml").string() + "): unit 1"),
               std::string::npos)
         << ran.out;
-    EXPECT_NE(ran.out.find("largest FC 03 read 10;"), std::string::npos) << ran.out;
-    EXPECT_NE(ran.out.find("(time budget)"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("largest FC 03 read 10;"));
+    EXPECT_THAT(ran.out, HasSubstr("(time budget)"));
 }
 
 // One connection at a time, served in turn: the connection kept open across cases holds the
@@ -329,8 +317,7 @@ TEST(FuzzOneAtATime, ADeviceServingOneConnectionAtATimeIsNotDead) {
     auto ran =
         run_mblab({"fuzz", tcp_target(port), "--cases", "11", "--rate", "0", "--timeout", "300ms"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("the device serves one connection at a time"), std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("the device serves one connection at a time"));
 }
 
 // Our own server as a process, every class against it and the resource cases with it: two
@@ -355,7 +342,7 @@ TEST(FuzzOwnServer, ServeSurvivesEveryClassAndTheResourceCases) {
     ran.status = fuzz.wait_exit(10s).value_or(-1);
     ran.err = fuzz.drain_stderr();
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("no finding"));
     const auto report = nlohmann::json::parse(file_text(dir / "fuzz.json"));
     for (const auto& row : report["classes"]) {
         const std::string name = row["class"];
@@ -400,10 +387,9 @@ TEST_F(FuzzReference, TheProgressLineShowsOnATerminalOnly) {
         std::string(MBLAB_BINARY) + " fuzz " + target() + " --cases 3 --rate 0 2>&1";
     auto ran = run_program({"/usr/bin/script", "-qec", command, "/dev/null"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("\r\033[Kcase 1 protocol-id: protocol id 0x0001"), std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("\r\033[Kcase 3 "), std::string::npos) << ran.out;
-    EXPECT_NE(ran.out.find("\r\033[K3 cases in"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("\r\033[Kcase 1 protocol-id: protocol id 0x0001"));
+    EXPECT_THAT(ran.out, HasSubstr("\r\033[Kcase 3 "));
+    EXPECT_THAT(ran.out, HasSubstr("\r\033[K3 cases in"));
     auto piped = run_mblab({"fuzz", target(), "--cases", "3", "--rate", "0"});
     EXPECT_EQ(piped.status, 0) << piped.out << piped.err;
     EXPECT_EQ(piped.err.find("case 1"), std::string::npos) << piped.err;

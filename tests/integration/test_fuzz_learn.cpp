@@ -1,6 +1,7 @@
 // `mblab fuzz --learn`: reconnaissance learned from captures that other programs wrote (dumpcap
 // of mbpoll's traffic, editcap's conversion of mblab's own pcapng), and no probe sent.
 #include <fmt/core.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <unistd.h>
@@ -24,6 +25,8 @@
 
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
@@ -137,14 +140,10 @@ TEST(FuzzLearn, LearnsFromMbpollTrafficCapturedByDumpcap) {
                            " (3 requests, 3 answers)): unit 1, serves 01 03 04;"),
               std::string::npos)
         << ran.out;
-    EXPECT_NE(ran.out.find("liveness check: FC 03 register 100; largest FC 03 read 10;"),
-              std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("answered at: coils 0-15; holding registers 100-109; input "
-                           "registers 0-3\n"),
-              std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("liveness check: FC 03 register 100; largest FC 03 read 10;"));
+    EXPECT_THAT(ran.out, HasSubstr("answered at: coils 0-15; holding registers 100-109; input "
+                                   "registers 0-3\n"));
+    EXPECT_THAT(ran.out, HasSubstr("no finding"));
     const auto json = nlohmann::json::parse(file_text(dir / "fuzz.json"));
     EXPECT_EQ(json["recon"]["answered_ranges"]["holding_registers"],
               nlohmann::json::parse("[[100, 109]]"))
@@ -190,7 +189,7 @@ TEST(FuzzLearn, ConformPcapngAndItsClassicConversionLearnTheSame) {
     const auto& a = learned[0];
     const auto& b = learned[1];
     EXPECT_EQ(a.source, b.source);
-    EXPECT_NE(a.source.find("learned from run ("), std::string::npos);
+    EXPECT_THAT(a.source, HasSubstr("learned from run ("));
     EXPECT_EQ(a.unit, b.unit);
     EXPECT_EQ(a.served, b.served);
     EXPECT_FALSE(a.served.empty());
@@ -225,10 +224,7 @@ std::string one_read_to(std::uint16_t port) {
     return std::string(bytes.begin(), bytes.end());
 }
 
-class FuzzLearnReference : public ClientCliTest {
-  protected:
-    void SetUp() override { start_reference_server(); }
-};
+using FuzzLearnReference = ReferenceCliTest;
 
 // --dut declares unit and max_read over what was learned; the rest stays learned.
 TEST_F(FuzzLearnReference, TheDutFileStillDeclaresUnitAndMaxRead) {
@@ -238,8 +234,7 @@ TEST_F(FuzzLearnReference, TheDutFileStillDeclaresUnitAndMaxRead) {
     const auto learned = run_mblab(
         {"fuzz", target(), "--learn", (dir / "one.pcap").string(), "--cases", "20", "--rate", "0"});
     EXPECT_EQ(learned.status, 0) << learned.out << learned.err;
-    EXPECT_NE(learned.out.find("FC 03 register 5; largest FC 03 read 2;"), std::string::npos)
-        << learned.out;
+    EXPECT_THAT(learned.out, HasSubstr("FC 03 register 5; largest FC 03 read 2;"));
     const auto declared =
         run_mblab({"fuzz", target(), "--learn", (dir / "one.pcap").string(), "--dut",
                    (dir / "dut.toml").string(), "--cases", "20", "--rate", "0"});
@@ -248,10 +243,8 @@ TEST_F(FuzzLearnReference, TheDutFileStillDeclaresUnitAndMaxRead) {
                                 (dir / "dut.toml").string() + "): unit 1, serves 03;"),
               std::string::npos)
         << declared.out;
-    EXPECT_NE(declared.out.find("FC 03 register 5; largest FC 03 read 7;"), std::string::npos)
-        << declared.out;
-    EXPECT_NE(declared.out.find("answered at: holding registers 5-6\n"), std::string::npos)
-        << declared.out;
+    EXPECT_THAT(declared.out, HasSubstr("FC 03 register 5; largest FC 03 read 7;"));
+    EXPECT_THAT(declared.out, HasSubstr("answered at: holding registers 5-6\n"));
 }
 
 // A capture with no FC 03 read answered, and a file that is no capture: exit 2, one line, before

@@ -1,6 +1,7 @@
 // `mblab fuzz` against a device that floods its answers: an attack run found every byte of the
 // run kept in memory (717 MB at 600 cases) though no capture was asked for. The fuzzer's peak
 // memory is measured and printed, without --pcap and with it.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -18,6 +19,8 @@
 
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 // AddressSanitizer's shadow memory and quarantine add to any process's resident memory.
 #if defined(__SANITIZE_ADDRESS__)
@@ -61,7 +64,7 @@ TEST(FuzzMemory, AFloodOfAnswersIsNotKept) {
             out += *line + "\n";
         const auto status = fuzz.wait_exit(10s);
         EXPECT_EQ(status, 0) << out << fuzz.drain_stderr();
-        EXPECT_NE(out.find("no finding"), std::string::npos) << out;
+        EXPECT_THAT(out, HasSubstr("no finding"));
         std::printf("mblab fuzz --cases 600 against a flood of answers%s: peak resident %ld kB\n",
                     pcap ? " with --pcap" : "", fuzz.peak_rss_kb());
         EXPECT_GT(fuzz.peak_rss_kb(), 0);

@@ -2,6 +2,7 @@
 // other, in RTU and in ASCII. Our own server must show no finding; the report says which classes
 // were tried on the line and why the MBAP ones were not. A device that goes deaf on one line
 // input is found and minimised to that frame.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -21,6 +22,8 @@
 
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 using namespace std::chrono_literals;
 
@@ -48,12 +51,10 @@ void fuzz_serve_over(const std::string& scheme) {
     const auto ran = run_mblab({"fuzz", scheme + "://" + pty.client_end() + settings, "--cases",
                                 "150", "--rate", "0", "--timeout", "500", "--json", json});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("no finding: the device served every liveness check"), std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("  protocol-id         n/a an MBAP header field: a serial line has "
-                           "none\n"),
-              std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("no finding: the device served every liveness check"));
+    EXPECT_THAT(ran.out,
+                HasSubstr("  protocol-id         n/a an MBAP header field: a serial line has "
+                          "none\n"));
     const auto report = nlohmann::json::parse(file_text(json), nullptr, false);
     ASSERT_FALSE(report.is_discarded()) << ran.out;
     EXPECT_EQ(report["cases"], 150) << ran.out;
@@ -87,12 +88,9 @@ TEST(FuzzSerial, RtuOverTcpHasNoFinding) {
     const auto ran = run_mblab({"fuzz", "rtu+tcp://127.0.0.1:" + std::to_string(device.port()),
                                 "--cases", "150", "--rate", "0", "--timeout", "500"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("no finding: the device served every liveness check"), std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("  line-gap              2 run\n"), std::string::npos) << ran.out;
-    EXPECT_NE(ran.out.find("  many-connections    n/a a serial line is one connection\n"),
-              std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("no finding: the device served every liveness check"));
+    EXPECT_THAT(ran.out, HasSubstr("  line-gap              2 run\n"));
+    EXPECT_THAT(ran.out, HasSubstr("  many-connections    n/a a serial line is one connection\n"));
 }
 
 // `--pcap` on a line: every frame of the run, the tester's outbound and the device's inbound,
@@ -115,8 +113,8 @@ TEST(FuzzSerial, APcapOfALineRunHoldsItsFramesBothWays) {
               0)
         << decoded;
     // Sent (p2p_dir 0: outbound) reads and received (1: inbound) answers, unit 1, FC 03.
-    EXPECT_NE(decoded.find("0\t1\t3\n"), std::string::npos) << decoded.substr(0, 2000);
-    EXPECT_NE(decoded.find("1\t1\t3\n"), std::string::npos) << decoded.substr(0, 2000);
+    EXPECT_THAT(decoded, HasSubstr("0\t1\t3\n")) << decoded.substr(0, 2000);
+    EXPECT_THAT(decoded, HasSubstr("1\t1\t3\n")) << decoded.substr(0, 2000);
     // The command docs/robustness.md prints, as printed, in the directory of run.pcapng.
     const auto doc = file_text(std::string(MBLAB_SOURCE_DIR) + "/docs/robustness.md");
     const auto at = doc.find("tshark -o 'uat:user_dlts:");
@@ -126,7 +124,7 @@ TEST(FuzzSerial, APcapOfALineRunHoldsItsFramesBothWays) {
     EXPECT_EQ(run_command({"sh", "-c", "cd " + dir.path().string() + " && " + command}, printed), 0)
         << command << "\n"
         << printed;
-    EXPECT_NE(printed.find("Modbus RTU"), std::string::npos) << printed.substr(0, 2000);
+    EXPECT_THAT(printed, HasSubstr("Modbus RTU")) << printed.substr(0, 2000);
     serve.signal(SIGTERM);
     EXPECT_EQ(serve.wait_exit(10s), 0);
 }
@@ -141,9 +139,8 @@ TEST(FuzzSerial, ServeOverRtuTcpClosingOnAnOversizeFrameIsNotAFinding) {
         << line;
     const auto ran = run_mblab({"fuzz", match[0], "--cases", "40", "--rate", "0"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("  oversize              "), std::string::npos) << ran.out;
-    EXPECT_NE(ran.out.find("no finding: the device served every liveness check"), std::string::npos)
-        << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("  oversize              "));
+    EXPECT_THAT(ran.out, HasSubstr("no finding: the device served every liveness check"));
     serve.signal(SIGTERM);
     EXPECT_EQ(serve.wait_exit(10s), 0);
 }
@@ -171,10 +168,8 @@ TEST(FuzzSerial, ADeviceDeafAfterABadCrcIsFoundAndMinimised) {
                    "--rate", "0", "--timeout", "300", "--check-every", "10", "--restart", restart,
                    "--reproducer", reproducer});
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("frame-check: bad CRC to address 247 (the last unicast)"),
-              std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find(" to 1 frame(s) in "), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("frame-check: bad CRC to address 247 (the last unicast)"));
+    EXPECT_THAT(ran.out, HasSubstr(" to 1 frame(s) in "));
     std::vector<std::string> steps;
     std::istringstream lines(file_text(reproducer));
     for (std::string line; std::getline(lines, line);) {
@@ -188,7 +183,7 @@ TEST(FuzzSerial, ADeviceDeafAfterABadCrcIsFoundAndMinimised) {
                           decoded),
               0)
         << decoded;
-    EXPECT_NE(decoded.find("247\t3"), std::string::npos) << decoded;
+    EXPECT_THAT(decoded, HasSubstr("247\t3"));
     // The device fuzz restarted last may not have written its pid yet.
     kill_processes_naming(pid_file);
 }

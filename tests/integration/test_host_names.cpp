@@ -2,6 +2,7 @@
 // namespace whose /etc/hosts (and resolv.conf, pointing at a resolver that is not there) are the
 // test's own, so names resolve the way the system resolves them, without touching the machine's
 // files or any network but loopback.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -14,6 +15,8 @@
 
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 namespace fs = std::filesystem;
 
@@ -72,7 +75,7 @@ TEST_F(HostNames, AnIpv4OnlyNameIsReadLikeItsAddress) {
     auto ran = in_private_hosts("$M read tcp://plc-01.plant.lan:" + std::to_string(port_) +
                                 " holding 0 2");
     EXPECT_EQ(ran.status, 0) << ran.err;
-    EXPECT_NE(ran.out.find("0 (0x0000)"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("0 (0x0000)"));
 }
 
 TEST_F(HostNames, AnIpv6OnlyNameIsReadOverIpv6) {
@@ -85,7 +88,7 @@ TEST_F(HostNames, AnIpv6OnlyNameIsReadOverIpv6) {
     auto ran = in_private_hosts("$M read tcp://plc-v6.plant.lan:" + std::to_string(*port) +
                                 " holding 0 --timeout 2s");
     EXPECT_EQ(ran.status, 0) << ran.err;
-    EXPECT_NE(ran.out.find("0 (0x0000)"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("0 (0x0000)"));
 }
 
 // plc-both resolves to ::1 first, where nothing listens on the port: the client goes on to
@@ -97,7 +100,7 @@ TEST_F(HostNames, EveryAddressOfANameIsTriedInTurn) {
         "getent ahosts plc-both | head -1 && $M read tcp://plc-both:" + port + " holding 0");
     EXPECT_EQ(ran.status, 0) << ran.err;
     EXPECT_EQ(ran.out.rfind("::1", 0), 0u) << "the test's premise, IPv6 first: " << ran.out;
-    EXPECT_NE(ran.out.find("0 (0x0000)"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("0 (0x0000)"));
 
     ran = in_private_hosts("$M load tcp://plc-both:" + port + " --duration 1s --connections 2");
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
@@ -114,15 +117,13 @@ TEST_F(HostNames, ServeListensOnANameAndConformRunsAgainstIt) {
 TEST_F(HostNames, ANameThatDoesNotResolveIsOneLineAndAUsageError) {
     auto ran = in_private_hosts("$M read tcp://no-such-plc.plant.lan:502 holding 0");
     EXPECT_EQ(ran.status, 2) << ran.out << ran.err;
-    EXPECT_NE(ran.err.find("bad address 'tcp://no-such-plc.plant.lan:502': cannot resolve "
-                           "'no-such-plc.plant.lan'"),
-              std::string::npos)
-        << ran.err;
+    EXPECT_THAT(ran.err, HasSubstr("bad address 'tcp://no-such-plc.plant.lan:502': cannot resolve "
+                                   "'no-such-plc.plant.lan'"));
     EXPECT_EQ(std::count(ran.err.begin(), ran.err.end(), '\n'), 1) << ran.err;
 
     ran = in_private_hosts("$M read 'tcp://plc 01:502' holding 0");
     EXPECT_EQ(ran.status, 2) << ran.err;
-    EXPECT_NE(ran.err.find("host must be a name or an IP address"), std::string::npos) << ran.err;
+    EXPECT_THAT(ran.err, HasSubstr("host must be a name or an IP address"));
 }
 
 TEST_F(HostNames, RtuOverTcpIsServedAndReadByName) {
@@ -130,7 +131,7 @@ TEST_F(HostNames, RtuOverTcpIsServedAndReadByName) {
     auto ran = with_serve("rtu+tcp://plc-01.plant.lan:" + port, "rtu+tcp://127.0.0.1:" + port,
                           "$M read rtu+tcp://plc-01.plant.lan:" + port + " holding 0");
     EXPECT_EQ(ran.status, 0) << ran.err;
-    EXPECT_NE(ran.out.find("0 (0x0000)"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("0 (0x0000)"));
 }
 
 }  // namespace

@@ -68,9 +68,9 @@ TEST(HtmlReportsCli, ConformRefusesAnUnwritablePageBeforeConnecting) {
     TempDir dir;
     const std::string html = (dir / "no-such-dir" / "report.html").string();
     auto ran = run_mblab({"conform", tcp_target(closed_port()), "--html", html});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab conform: --html " + html + ": cannot write the report: directory " +
-                           (dir / "no-such-dir").string() + " does not exist\n");
+    expect_failed(ran, 2,
+                  "mblab conform: --html " + html + ": cannot write the report: directory " +
+                      (dir / "no-such-dir").string() + " does not exist\n");
     EXPECT_EQ(ran.out, "");
 
     const std::string same = (dir / "report").string();
@@ -100,9 +100,9 @@ TEST(HtmlReportsCli, LoadRefusesAnUnwritablePageBeforeAnyTraffic) {
     TempDir dir;
     const std::string html = (dir / "no-such-dir" / "load.html").string();
     auto ran = run_mblab({"load", device.url(), "--duration", "1s", "--html", html});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err, "mblab load: --html " + html + ": cannot write the report: directory " +
-                           (dir / "no-such-dir").string() + " does not exist\n");
+    expect_failed(ran, 2,
+                  "mblab load: --html " + html + ": cannot write the report: directory " +
+                      (dir / "no-such-dir").string() + " does not exist\n");
     EXPECT_EQ(ran.out, "");
 }
 

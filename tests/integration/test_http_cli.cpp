@@ -1,5 +1,6 @@
 // `mblab serve --http` and `mblab load --metrics` as processes, driven with curl and read back
 // over Modbus with the mblab client; metrics checked by promtool (Debian's prometheus package).
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <unistd.h>
@@ -14,6 +15,8 @@
 namespace mblab::test {
 namespace {
 
+using ::testing::HasSubstr;
+
 TEST(ServeHttp, AValueWrittenOverRestIsReadOverModbusAndBack) {
     if (!have("/usr/bin/curl")) GTEST_SKIP() << "no curl";
     HttpServe serve({});
@@ -23,8 +26,8 @@ TEST(ServeHttp, AValueWrittenOverRestIsReadOverModbusAndBack) {
               "{\"bank\":\"holding_registers\",\"start\":10,\"unit\":1,\"written\":2}\n200\n");
     auto read = run_mblab({"read", serve.modbus(), "holding", "10", "2"});
     EXPECT_EQ(read.status, 0) << read.err;
-    EXPECT_NE(read.out.find("10 (0x000A)  0x1234  4660"), std::string::npos) << read.out;
-    EXPECT_NE(read.out.find("11 (0x000B)  0x0007  7"), std::string::npos) << read.out;
+    EXPECT_THAT(read.out, HasSubstr("10 (0x000A)  0x1234  4660"));
+    EXPECT_THAT(read.out, HasSubstr("11 (0x000B)  0x0007  7"));
 
     EXPECT_EQ(run_mblab({"write", serve.modbus(), "register", "12", "99"}).status, 0);
     auto get = curl({serve.http() + "/api/units/1/holding_registers?start=10&count=3"});
@@ -41,7 +44,7 @@ TEST(ServeHttp, AFaultRuleAddedOverRestAnswersModbus) {
     EXPECT_EQ(post.out.substr(post.out.size() - 4), "201\n") << post.out;
     auto read = run_mblab({"read", serve.modbus(), "holding", "0"});
     EXPECT_EQ(read.status, 1);
-    EXPECT_NE(read.err.find("exception 04"), std::string::npos) << read.err;
+    EXPECT_THAT(read.err, HasSubstr("exception 04"));
     change(serve, "PUT", "/api/units/1/faults/0",
            R"({"action":"exception","exception":4,"functions":[3],"enabled":false})");
     EXPECT_EQ(run_mblab({"read", serve.modbus(), "holding", "0"}).status, 0);
@@ -75,10 +78,8 @@ TEST(ServeHttp, MetricsCountModbusRequestsAndPassPromtool) {
     run_mblab({"read", serve.modbus(), "holding", "0", "3"});
     run_mblab({"read", serve.modbus(), "holding", "70000"});  // refused by the client itself
     auto metrics = curl({serve.http() + "/metrics"});
-    EXPECT_NE(metrics.out.find("mblab_requests_total{unit=\"1\",function=\"0x03\"} 1\n"),
-              std::string::npos)
-        << metrics.out;
-    EXPECT_NE(metrics.out.find("mblab_request_duration_seconds_count 1\n"), std::string::npos);
+    EXPECT_THAT(metrics.out, HasSubstr("mblab_requests_total{unit=\"1\",function=\"0x03\"} 1\n"));
+    EXPECT_THAT(metrics.out, HasSubstr("mblab_request_duration_seconds_count 1\n"));
     auto lint =
         run_program({"/bin/sh", "-c",
                      "/usr/bin/curl -sf " + serve.http() + "/metrics | promtool check metrics"});
@@ -92,10 +93,9 @@ TEST(ServeHttp, EventStreamAndASelfContainedDashboard) {
         run_program({"/usr/bin/curl", "-s", "-N", "-m", "1",
                      serve.http() + "/api/events?unit=1&bank=holding_registers&start=0&count=2"});
     EXPECT_EQ(events.out.rfind("data: {\"counters\":", 0), 0U) << events.out;
-    EXPECT_NE(events.out.find("\"page\":{\"bank\":\"holding_registers\",\"start\":0,\"unit\":1,"
-                              "\"values\":[21317,19785]}"),
-              std::string::npos)
-        << events.out;
+    EXPECT_THAT(events.out,
+                HasSubstr("\"page\":{\"bank\":\"holding_registers\",\"start\":0,\"unit\":1,"
+                          "\"values\":[21317,19785]}"));
     auto page = curl({serve.http() + "/"});
     EXPECT_EQ(page.out.rfind("<!DOCTYPE html>", 0), 0U);
     EXPECT_EQ(page.out.find("http://"), std::string::npos) << "the page fetches nothing else";
@@ -122,19 +122,17 @@ TEST(ServeHttp, ATokenGuardsWritesButNotReads) {
 TEST(ServeHttp, RefusesAnOpenAddressWithoutAToken) {
     auto ran = run_mblab(
         {"serve", "--listen", "tcp://127.0.0.1:0", "--http", "0.0.0.0:0", "--http-no-token"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab serve: --http 0.0.0.0:0: not a loopback address, so changes need a token "
-              "(--http-no-token is for loopback only)\n");
+    expect_failed(ran, 2,
+                  "mblab serve: --http 0.0.0.0:0: not a loopback address, so changes need a token "
+                  "(--http-no-token is for loopback only)\n");
     ran = run_mblab({"serve", "--http", "127.0.0.1:0", "--http-token", "a", "--http-no-token"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab serve: give one of --http-token, --http-token-file and --http-no-token\n");
+    expect_failed(ran, 2,
+                  "mblab serve: give one of --http-token, --http-token-file and --http-no-token\n");
     ran = run_mblab({"serve", "--http", "localhost"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab serve: --http 'localhost': expected HOST:PORT, e.g. 127.0.0.1:8080 (port 0: "
-              "any free port)\n");
+    expect_failed(
+        ran, 2,
+        "mblab serve: --http 'localhost': expected HOST:PORT, e.g. 127.0.0.1:8080 (port 0: "
+        "any free port)\n");
     ran = run_mblab({"serve", "--http", "127.0.0.1:0", "--devices", "2"});
     EXPECT_EQ(ran.err, "mblab serve: --http shows one device: not with --gateway or --devices\n");
 }

@@ -2,6 +2,7 @@
 // one GET ending the process: every request is answered or refused in one line, the process and
 // its Modbus side go on, a page on another site cannot change the device, and slow or oversized
 // requests cost a bounded amount.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <fstream>
@@ -13,6 +14,8 @@
 
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 std::uint16_t port_of(const std::string& url) {
     return static_cast<std::uint16_t>(std::stoi(url.substr(url.rfind(':') + 1)));
@@ -113,9 +116,9 @@ TEST(HttpHardening, EveryAnswerForbidsFramingAndForeignScript) {
     for (const std::string path : {"/", "/api/units", "/nothing", "/metrics"}) {
         const auto head =
             run_program({"/usr/bin/curl", "-s", "-D", "-", "-o", "/dev/null", serve.http() + path});
-        EXPECT_NE(head.out.find("X-Frame-Options: DENY\r\n"), std::string::npos) << path;
-        EXPECT_NE(head.out.find("frame-ancestors 'none'"), std::string::npos) << path;
-        EXPECT_NE(head.out.find("script-src 'self';"), std::string::npos) << path;
+        EXPECT_THAT(head.out, HasSubstr("X-Frame-Options: DENY\r\n")) << path;
+        EXPECT_THAT(head.out, HasSubstr("frame-ancestors 'none'")) << path;
+        EXPECT_THAT(head.out, HasSubstr("script-src 'self';")) << path;
     }
 }
 
@@ -199,7 +202,7 @@ TEST(HttpHardening, PipelinedRequestsAreAnsweredInOrder) {
     EXPECT_EQ(first, 0U) << answers;
     EXPECT_NE(second, std::string::npos) << answers;
     EXPECT_NE(third, std::string::npos) << answers;
-    EXPECT_NE(answers.find("Connection: close"), std::string::npos) << answers;
+    EXPECT_THAT(answers, HasSubstr("Connection: close"));
 }
 
 TEST(HttpHardening, ARangeOfAThousandPartsIsAnsweredWhole) {

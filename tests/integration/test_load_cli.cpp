@@ -1,4 +1,5 @@
 #include <arpa/inet.h>
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
@@ -25,6 +26,8 @@
 // that must equal what the devices' fault rules did.
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 using nlohmann::json;
 using std::chrono::milliseconds;
@@ -112,15 +115,10 @@ TEST(LoadCli, ThreeServedReferenceDevicesPass) {
         EXPECT_LE(node["latency_ms"]["p99_9"].get<double>(),
                   node["latency_ms"]["max"].get<double>());
     }
-    EXPECT_NE(run.out.find("PASS: no failure on 3 nodes in 2 s under load (CTP 8.4)"),
-              std::string::npos)
-        << run.out;
-    EXPECT_NE(run.junit.find("<testsuites name=\"mblab load 3 nodes\" tests=\"3\" failures=\"0\""),
-              std::string::npos)
-        << run.junit;
-    EXPECT_NE(run.junit.find("<testsuite name=\"load\" tests=\"3\" failures=\"0\""),
-              std::string::npos)
-        << run.junit;
+    EXPECT_THAT(run.out, HasSubstr("PASS: no failure on 3 nodes in 2 s under load (CTP 8.4)"));
+    EXPECT_THAT(run.junit,
+                HasSubstr("<testsuites name=\"mblab load 3 nodes\" tests=\"3\" failures=\"0\""));
+    EXPECT_THAT(run.junit, HasSubstr("<testsuite name=\"load\" tests=\"3\" failures=\"0\""));
 }
 
 TEST(LoadCli, DroppedAnswersFailOnlyThatNodeWithExactCounts) {
@@ -171,7 +169,7 @@ TEST(LoadCli, DroppedAnswersFailOnlyThatNodeWithExactCounts) {
     EXPECT_NE(run.out.find("FAIL: 1 of 3 nodes failed (" + faulty.url() + ")"), std::string::npos)
         << run.out;
     EXPECT_NE(run.out.find("    sent      " + sent), std::string::npos) << run.out;
-    EXPECT_NE(run.junit.find("tests=\"3\" failures=\"1\""), std::string::npos) << run.junit;
+    EXPECT_THAT(run.junit, HasSubstr("tests=\"3\" failures=\"1\""));
 }
 
 TEST(LoadCli, EachKindOfFaultIsCountedOnItsNode) {
@@ -301,11 +299,10 @@ TEST(LoadCli, CtrlCEndsTheRunWithASummary) {
     EXPECT_EQ(node["verdict"], "INCOMPLETE");
     EXPECT_EQ(node["failures"]["total"], 0);
     EXPECT_GT(node["requests"].get<std::uint64_t>(), 0U);
-    EXPECT_NE(run.out.find("INCOMPLETE: stopped after"), std::string::npos) << run.out;
-    EXPECT_NE(run.junit.find("<skipped message=\"NOT RUN: stopped before the duration ended"),
-              std::string::npos)
-        << run.junit;
-    EXPECT_NE(slurp(html).find("INCOMPLETE: interrupted after"), std::string::npos);
+    EXPECT_THAT(run.out, HasSubstr("INCOMPLETE: stopped after"));
+    EXPECT_THAT(run.junit,
+                HasSubstr("<skipped message=\"NOT RUN: stopped before the duration ended"));
+    EXPECT_THAT(slurp(html), HasSubstr("INCOMPLETE: interrupted after"));
 }
 
 TEST(LoadCli, GeneratorAloneWithPipelinedRequests) {
@@ -324,15 +321,14 @@ TEST(LoadCli, GeneratorAloneWithPipelinedRequests) {
     EXPECT_EQ(node["exchanges"][1]["name"], "fc16:5@100");
     EXPECT_GT(node["exchanges"][0]["sent"].get<std::uint64_t>(), 0U);
     EXPECT_GT(node["exchanges"][1]["sent"].get<std::uint64_t>(), 0U);
-    EXPECT_NE(run.out.find("protocol tests: none"), std::string::npos) << run.out;
+    EXPECT_THAT(run.out, HasSubstr("protocol tests: none"));
 }
 
 TEST(LoadCli, UnreachableNodeIsASetupError) {
     const RefusingPort port;
     const std::string url = port.url();
     auto run = mblab_load("unreachable", {url, "--duration", "1s"});
-    EXPECT_EQ(run.status, 2);
-    EXPECT_EQ(run.err, "mblab load: cannot connect to " + url + ": connection refused\n");
+    expect_failed(run, 2, "mblab load: cannot connect to " + url + ": connection refused\n");
     EXPECT_EQ(run.out, "");
     EXPECT_TRUE(run.report.is_null());
 }
@@ -340,25 +336,23 @@ TEST(LoadCli, UnreachableNodeIsASetupError) {
 TEST(LoadCli, BadArgumentsAreUsageErrors) {
     Device device;
     auto mix = mblab_load("usage", {device.url(), "--mix", "fc9:1"});
-    EXPECT_EQ(mix.status, 2);
-    EXPECT_EQ(mix.err,
-              "mblab load: --mix entry 'fc9:1': function 9 is not one the generator sends (1, 2, "
-              "3, 4, 5, 6, 15, 16) (expected fcCODE[:QUANTITY][@ADDRESS][=WEIGHT], e.g. "
-              "fc3:125=70)\n");
+    expect_failed(
+        mix, 2,
+        "mblab load: --mix entry 'fc9:1': function 9 is not one the generator sends (1, 2, "
+        "3, 4, 5, 6, 15, 16) (expected fcCODE[:QUANTITY][@ADDRESS][=WEIGHT], e.g. "
+        "fc3:125=70)\n");
     auto duration = mblab_load("usage", {device.url(), "--duration", "5x"});
-    EXPECT_EQ(duration.status, 2);
-    EXPECT_EQ(duration.err,
-              "mblab load: bad duration '5x' (expected e.g. 1h, 10m, 30s, 1500ms or 1h30m)\n");
+    expect_failed(duration, 2,
+                  "mblab load: bad duration '5x' (expected e.g. 1h, 10m, 30s, 1500ms or 1h30m)\n");
     auto unknown_case = mblab_load("usage", {device.url(), "--case", "7.99"});
-    EXPECT_EQ(unknown_case.status, 2);
-    EXPECT_EQ(unknown_case.err, "mblab load: no case 7.99 in the chosen suites\n");
+    expect_failed(unknown_case, 2, "mblab load: no case 7.99 in the chosen suites\n");
     auto twice = mblab_load("usage", {device.url(), device.url()});
     EXPECT_EQ(twice.status, 2);
     EXPECT_EQ(twice.err,
               "mblab load: " + device.url() + " is given twice; each node is one device\n");
     auto nothing = mblab_load("usage", {device.url(), "--no-tests", "--connections", "0"});
     EXPECT_EQ(nothing.status, 2);
-    EXPECT_NE(nothing.err.find("nothing to run"), std::string::npos) << nothing.err;
+    EXPECT_THAT(nothing.err, HasSubstr("nothing to run"));
 }
 
 }  // namespace

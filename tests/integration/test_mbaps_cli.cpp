@@ -1,5 +1,6 @@
 // Modbus/TCP Security end to end: the reference device behind TLS with its shipped role rules, and
 // the real binary's client commands, load and serve against it, with a lab PKI from mblab pki.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -23,6 +24,8 @@
 
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 namespace fs = std::filesystem;
 
@@ -96,22 +99,22 @@ TEST_F(MbapsCli, OperatorReadsAndWritesAndVerboseNamesTheSession) {
     auto read = mblab({"read", "holding", "30", "1", "--json", "-v"}, "client-Operator");
     ASSERT_EQ(read.status, 0) << read.err;
     EXPECT_EQ(nlohmann::json::parse(read.out)["values"][0]["value"], 4660);
-    EXPECT_NE(read.err.find("TLS: TLSv1.3"), std::string::npos) << read.err;
-    EXPECT_NE(read.err.find("we presented role Operator"), std::string::npos) << read.err;
+    EXPECT_THAT(read.err, HasSubstr("TLS: TLSv1.3"));
+    EXPECT_THAT(read.err, HasSubstr("we presented role Operator"));
     EXPECT_EQ(server::ServerStats::read(server_->stats().tls_handshakes), 2U);
 }
 
 TEST_F(MbapsCli, ReadOnlyRoleIsRefusedAWriteWithException01) {
     auto wrote = mblab({"write", "register", "31", "1"}, "client-ReadOnly");
     EXPECT_EQ(wrote.status, 1);
-    EXPECT_NE(wrote.err.find("exception 01"), std::string::npos) << wrote.err;
+    EXPECT_THAT(wrote.err, HasSubstr("exception 01"));
     EXPECT_EQ(server::ServerStats::read(server_->stats().denied), 1U);
     auto read = mblab({"read", "holding", "31", "1", "--json"}, "client-ReadOnly");
     ASSERT_EQ(read.status, 0) << read.err;
     EXPECT_EQ(nlohmann::json::parse(read.out)["values"][0]["value"], 0);
     auto diag = mblab({"diag", "0", "0x1234"}, "client-ReadOnly");
     EXPECT_EQ(diag.status, 1) << diag.out << diag.err;
-    EXPECT_NE(diag.err.find("exception 01"), std::string::npos) << diag.err;
+    EXPECT_THAT(diag.err, HasSubstr("exception 01"));
 }
 
 TEST_F(MbapsCli, RefusedCertificatesAreOneLineNamingTheProblem) {
@@ -119,7 +122,7 @@ TEST_F(MbapsCli, RefusedCertificatesAreOneLineNamingTheProblem) {
         auto read = mblab({"read", "holding", "0", "1"}, client);
         EXPECT_NE(read.status, 0) << client;
         EXPECT_EQ(std::count(read.err.begin(), read.err.end(), '\n'), 1) << read.err;
-        EXPECT_NE(read.err.find("TLS"), std::string::npos) << client << ": " << read.err;
+        EXPECT_THAT(read.err, HasSubstr("TLS")) << client << ": " << read.err;
     }
     EXPECT_EQ(server::ServerStats::read(server_->stats().tls_refused), 3U);
     EXPECT_EQ(server::ServerStats::read(server_->stats().requests), 0U);
@@ -134,7 +137,7 @@ TEST_F(MbapsCli, ConformRunsTheSecuritySuiteAndThePolicyInsideTls) {
     for (const char* line :
          {"PASS     sec.1 ", "PASS     sec.4 ", "PASS     sec.8 ", "PASS     sec.9 ",
           "PASS     sec.12 ", "PASS     7.8.1 ", "PASS     9.1.1 "}) {
-        EXPECT_NE(ran.out.find(line), std::string::npos) << line << "\n" << ran.out;
+        EXPECT_THAT(ran.out, HasSubstr(line)) << line << "\n" << ran.out;
     }
     EXPECT_EQ(ran.out.find("FAIL"), std::string::npos) << ran.out;
     // Every policy request went over TLS, as client-Administrator, the PKI's default.
@@ -147,13 +150,11 @@ TEST_F(MbapsCli, ConformWithoutTheRolesOrThePkiSaysWhatIsMissing) {
                           file("client-Administrator.pem"), "--key",
                           file("client-Administrator.key"), "--ca", file("ca.pem")});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("N/A      sec.5   "), std::string::npos) << ran.out;
-    EXPECT_NE(ran.out.find("the DUT does not declare pki (--pki DIR"), std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("PASS     sec.4 "), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("N/A      sec.5   "));
+    EXPECT_THAT(ran.out, HasSubstr("the DUT does not declare pki (--pki DIR"));
+    EXPECT_THAT(ran.out, HasSubstr("PASS     sec.4 "));
     auto plain = run_mblab({"conform", "tcp://127.0.0.1:1", "--pki", pki_->dir().string()});
-    EXPECT_EQ(plain.status, 2);
-    EXPECT_EQ(plain.err, "mblab conform: --pki is for mbaps:// targets only\n");
+    expect_failed(plain, 2, "mblab conform: --pki is for mbaps:// targets only\n");
     auto builtin = run_mblab({"conform", "--cert", "x.pem"});
     EXPECT_EQ(builtin.status, 2);
     EXPECT_EQ(builtin.err,
@@ -164,11 +165,10 @@ TEST_F(MbapsCli, ConformWithoutTheRolesOrThePkiSaysWhatIsMissing) {
 TEST(ConformBuiltin, SecuritySuiteRunsAgainstTheBuiltInDeviceOverMbaps) {
     auto ran = run_mblab({"conform", "--suite", "security"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("(built-in reference device, profile reference (shipped); over mbaps "
-                           "at mbaps://127.0.0.1:"),
-              std::string::npos)
-        << ran.out;
-    EXPECT_NE(ran.out.find("12 passed, 0 failed"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out,
+                HasSubstr("(built-in reference device, profile reference (shipped); over mbaps "
+                          "at mbaps://127.0.0.1:"));
+    EXPECT_THAT(ran.out, HasSubstr("12 passed, 0 failed"));
 }
 
 TEST(ConformBuiltin, ADutFileKeepsTheRunsOwnLabPki) {
@@ -177,45 +177,35 @@ TEST(ConformBuiltin, ADutFileKeepsTheRunsOwnLabPki) {
     auto ran = run_mblab({"conform", "--suite", "security", "--dut", dut.string()});
     fs::remove(dut);
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("PASS     sec.5 "), std::string::npos) << ran.out;
-    EXPECT_NE(ran.out.find("PASS     sec.9 "), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("PASS     sec.5 "));
+    EXPECT_THAT(ran.out, HasSubstr("PASS     sec.9 "));
     // The file declares no write role, and replaces what the profile said.
-    EXPECT_NE(ran.out.find("N/A      sec.10 "), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("N/A      sec.10 "));
 }
 
 TEST_F(MbapsCli, MissingOrMisplacedFilesAreUsageErrors) {
     auto none = run_mblab({"read", target_, "holding", "0", "1"});
     EXPECT_EQ(none.status, 2);
-    EXPECT_NE(none.err.find("--cert FILE is required for mbaps://"), std::string::npos) << none.err;
+    EXPECT_THAT(none.err, HasSubstr("--cert FILE is required for mbaps://"));
     auto missing = run_mblab({"read", target_, "holding", "0", "1", "--cert", "/nonexistent.pem",
                               "--key", file("client-Operator.key"), "--ca", file("ca.pem")});
-    EXPECT_EQ(missing.status, 2);
-    EXPECT_EQ(missing.err, "mblab read: --cert /nonexistent.pem: No such file or directory\n");
+    expect_failed(missing, 2, "mblab read: --cert /nonexistent.pem: No such file or directory\n");
     auto plain = run_mblab({"read", "tcp://127.0.0.1:1", "holding", "0", "1", "--cert", "x"});
-    EXPECT_EQ(plain.status, 2);
-    EXPECT_EQ(plain.err, "mblab read: --cert, --key and --ca are for mbaps:// targets only\n");
+    expect_failed(plain, 2, "mblab read: --cert, --key and --ca are for mbaps:// targets only\n");
 }
 
 TEST_F(MbapsCli, LoadOverTlsCountsHandshakesAndPasses) {
-    std::vector<std::string> args = {target_, "--duration", "1s",    "--connections",
-                                     "4",     "--no-tests", "--mix", "fc3:10=100"};
-    for (auto& arg : as("client-Administrator"))
-        args.push_back(arg);
-    auto run = mblab_load("mbaps_load", args);
+    auto run = load_as("mbaps_load", "client-Administrator", "4");
     ASSERT_EQ(run.status, 0) << run.out << run.err;
     const auto& node = run.report["nodes"][0];
     expect_clean(node);
     EXPECT_EQ(node["tls_handshakes"], 4);
     EXPECT_GT(node["answers"].get<std::uint64_t>(), 0U);
-    EXPECT_NE(run.out.find("4 TLS handshakes"), std::string::npos) << run.out;
+    EXPECT_THAT(run.out, HasSubstr("4 TLS handshakes"));
 }
 
 TEST_F(MbapsCli, LoadWithARoleThatMayNotReadFails) {
-    std::vector<std::string> args = {target_, "--duration", "1s",    "--connections",
-                                     "1",     "--no-tests", "--mix", "fc3:10=100"};
-    for (auto& arg : as("client-norole"))
-        args.push_back(arg);
-    auto run = mblab_load("mbaps_load_norole", args);
+    auto run = load_as("mbaps_load_norole", "client-norole", "1");
     EXPECT_EQ(run.status, 1) << run.out << run.err;
     EXPECT_GT(failures(run.report["nodes"][0], "exception"), 0U) << run.report.dump();
 }
@@ -224,14 +214,14 @@ TEST_F(MbapsCli, LoadWithARoleThatMayNotReadFails) {
 TEST_F(MbapsCli, FuzzRunsItsCasesInsideTls) {
     auto ran = mblab({"fuzz", "--cases", "60", "--rate", "0"}, "client-Operator");
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_NE(ran.out.find("mblab fuzz mbaps://"), std::string::npos) << ran.out;
-    EXPECT_NE(ran.out.find("no finding"), std::string::npos) << ran.out;
+    EXPECT_THAT(ran.out, HasSubstr("mblab fuzz mbaps://"));
+    EXPECT_THAT(ran.out, HasSubstr("no finding"));
     // Reconnaissance, then at least a case and a check each on connections of their own.
     EXPECT_GT(server::ServerStats::read(server_->stats().tls_handshakes), 120U);
     // A role that may not read leaves nothing to check liveness with: one line, status 2.
     auto norole = mblab({"fuzz", "--cases", "10"}, "client-norole");
     EXPECT_EQ(norole.status, 2) << norole.out << norole.err;
-    EXPECT_NE(norole.err.find("answers FC 03 with unit 1"), std::string::npos) << norole.err;
+    EXPECT_THAT(norole.err, HasSubstr("answers FC 03 with unit 1"));
     EXPECT_EQ(std::count(norole.err.begin(), norole.err.end(), '\n'), 1) << norole.err;
     auto no_certificate = run_mblab({"fuzz", target_, "--cases", "10"});
     EXPECT_EQ(no_certificate.status, 2) << no_certificate.err;
@@ -285,11 +275,9 @@ TEST_F(MbapsCli, UnfinishedHandshakesDoNotEvictAnAuthenticatedSession) {
 
 TEST(MbapsServe, ServesTlsFromTheCommandLineAndRefusesBadFiles) {
     auto no_files = run_mblab({"serve", "--listen", "mbaps://127.0.0.1:0"});
-    EXPECT_EQ(no_files.status, 2);
-    EXPECT_EQ(no_files.err, "mblab serve: --cert FILE is required\n");
+    expect_failed(no_files, 2, "mblab serve: --cert FILE is required\n");
     auto plain = run_mblab({"serve", "--listen", "tcp://127.0.0.1:0", "--ca", "x"});
-    EXPECT_EQ(plain.status, 2);
-    EXPECT_EQ(plain.err, "mblab serve: --cert, --key and --ca are for an mbaps:// --listen\n");
+    expect_failed(plain, 2, "mblab serve: --cert, --key and --ca are for an mbaps:// --listen\n");
 }
 
 }  // namespace

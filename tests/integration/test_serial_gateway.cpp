@@ -1,6 +1,7 @@
 // The TCP-to-serial gateway: Modbus/TCP clients (our blocking client, mbpoll) reach the
 // reference device on an RTU line over a socat pty pair through it. Units 1..10 are routed to
 // the line; only unit 1 has a device there.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -14,6 +15,8 @@
 
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 class GatewayToRtu : public ::testing::Test {
   protected:
@@ -125,7 +128,7 @@ TEST_F(GatewayToRtu, ServesMbpoll) {
                           output),
               0)
         << output;
-    EXPECT_NE(output.find("[201]: \t4660\n[202]: \t22136\n"), std::string::npos) << output;
+    EXPECT_THAT(output, HasSubstr("[201]: \t4660\n[202]: \t22136\n"));
     EXPECT_EQ(line_.device().value(1, device::BankKind::HoldingRegisters, 200), 4660);
     // Unit 5 is routed but silent: mbpoll reports the gateway's exception 0B.
     output.clear();
@@ -133,7 +136,7 @@ TEST_F(GatewayToRtu, ServesMbpoll) {
         run_command({"mbpoll", "-m", "tcp", "-p", port, "-a", "5", "-r", "1", "-1", "127.0.0.1"},
                     output),
         0);
-    EXPECT_NE(output.find("Target device failed to respond"), std::string::npos) << output;
+    EXPECT_THAT(output, HasSubstr("Target device failed to respond"));
 }
 
 }  // namespace

@@ -148,85 +148,84 @@ int write_rounds(Ledger& ledger, BlockingClient& client, int first_value, int ma
     return value;
 }
 
-struct DiskCase {
+// A state file on a small tmpfs the test fills and frees; skipped where no tmpfs can be mounted.
+class ServeDurableOnASmallDisk : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        if (!disk.mounted()) GTEST_SKIP() << disk.why_not();
+    }
+
+    // serve starts again on the state and has every write `ledger` saw acknowledged.
+    void expect_restart_loses_none() const {
+        Serve again(durable_args(profile, state));
+        ASSERT_NE(again.port(), 0) << again.process().drain_stderr();
+        EXPECT_EQ(ledger.lost(again.port()), 0);
+    }
+
     SmallTmpfs disk{"512k"};
     TempDir dir;
     fs::path profile = write_profile(dir);
     fs::path state = disk / "s.json";
+    Ledger ledger;
 };
 
 // The disk is full before the first write: every write is answered 04, none is lost, and serve
 // starts again once there is room.
-TEST(ServeDurable, AFullDiskAnswers04AndServeStartsAgainOnceItHasRoom) {
-    DiskCase c;
-    if (!c.disk.mounted()) GTEST_SKIP() << c.disk.why_not();
-    Ledger ledger;
+TEST_F(ServeDurableOnASmallDisk, AFullDiskAnswers04AndServeStartsAgainOnceItHasRoom) {
     {
-        Serve serve(durable_args(c.profile, c.state));
+        Serve serve(durable_args(profile, state));
         ASSERT_NE(serve.port(), 0);
-        ASSERT_GT(c.disk.fill(), 0U);
+        ASSERT_GT(disk.fill(), 0U);
         BlockingClient client(serve.port());
         write_rounds(ledger, client, 1, 300, [] { return false; });
         EXPECT_EQ(ledger.acks(), 0);
         EXPECT_EQ(ledger.refused(), 300);
         serve.kill9();
     }
-    c.disk.free_space();
-    Serve again(durable_args(c.profile, c.state));
-    ASSERT_NE(again.port(), 0) << again.process().drain_stderr();
-    EXPECT_EQ(ledger.lost(again.port()), 0);
+    disk.free_space();
+    expect_restart_loses_none();
 }
 
 // Room for part of the journal, not for a state save: acknowledged writes until the disk is
 // full (the rotations and saves failing on the way), 04 after. Then kill -9 and room again.
-TEST(ServeDurable, ANearlyFullDiskLosesNoAcknowledgedWrite) {
-    DiskCase c;
-    if (!c.disk.mounted()) GTEST_SKIP() << c.disk.why_not();
-    Ledger ledger;
+TEST_F(ServeDurableOnASmallDisk, ANearlyFullDiskLosesNoAcknowledgedWrite) {
     {
-        Serve serve(durable_args(c.profile, c.state));
+        Serve serve(durable_args(profile, state));
         ASSERT_NE(serve.port(), 0);
-        ASSERT_GT(c.disk.fill(), 0U);
+        ASSERT_GT(disk.fill(), 0U);
         // Three pages: the journal, PATH.old and one state file; a save's new file finds none.
-        fs::resize_file(c.disk / "FILL", fs::file_size(c.disk / "FILL") - 12 * 1024);
+        fs::resize_file(disk / "FILL", fs::file_size(disk / "FILL") - 12 * 1024);
         BlockingClient client(serve.port());
         write_rounds(ledger, client, 1, 20000, [&] { return ledger.refused() > 200; });
         EXPECT_GT(ledger.acks(), 100);
         EXPECT_GT(ledger.refused(), 0);
         serve.kill9();
     }
-    c.disk.free_space();
-    Serve again(durable_args(c.profile, c.state));
-    ASSERT_NE(again.port(), 0) << again.process().drain_stderr();
-    EXPECT_EQ(ledger.lost(again.port()), 0);
+    disk.free_space();
+    expect_restart_loses_none();
     std::printf("nearly full: %d acknowledged, %d answered 04, 0 lost\n", ledger.acks(),
                 ledger.refused());
 }
 
 // Attack run: a record cut short by the full disk, the next ones appended on its line once the
 // space returned, and after kill -9 serve refused to start.
-TEST(ServeDurable, AFullDiskThenFreedLosesNoneAndStartsAgain) {
-    DiskCase c;
-    if (!c.disk.mounted()) GTEST_SKIP() << c.disk.why_not();
-    Ledger ledger;
+TEST_F(ServeDurableOnASmallDisk, AFullDiskThenFreedLosesNoneAndStartsAgain) {
     {
-        Serve serve(durable_args(c.profile, c.state));
+        Serve serve(durable_args(profile, state));
         ASSERT_NE(serve.port(), 0);
         BlockingClient client(serve.port());
         int value = write_rounds(ledger, client, 1, 1000, [] { return false; });
-        ASSERT_GT(c.disk.fill(), 0U);
+        ASSERT_GT(disk.fill(), 0U);
         const int before = ledger.refused();
         value = write_rounds(ledger, client, value, 2000, [&] { return ledger.refused() > 100; });
         EXPECT_GT(ledger.refused(), before);
-        c.disk.free_space();
+        disk.free_space();
         const int acks = ledger.acks();
         write_rounds(ledger, client, value, 2000, [] { return false; });
         EXPECT_GT(ledger.acks(), acks + 1000);
         serve.kill9();
     }
-    Serve again(durable_args(c.profile, c.state));
-    ASSERT_NE(again.port(), 0) << again.process().drain_stderr();
-    EXPECT_EQ(ledger.lost(again.port()), 0);
+    expect_restart_loses_none();
 }
 
 // A writer, and kill -9 at a random moment, several times over on the same state: saves every

@@ -1,5 +1,6 @@
 // `mblab serve --listen rtu://... --state FILE`: a device on a serial line keeps acknowledged
 // writes across a SIGTERM restart, as on TCP.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -13,6 +14,8 @@
 
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 namespace fs = std::filesystem;
 
@@ -53,7 +56,7 @@ TEST(ServeSerialState, KeepsAcknowledgedWritesAcrossARestart) {
     ServeOnLine again(pty, state);
     auto read = run_mblab({"read", url, "holding", "0x20", "--type", "hex", "--timeout", "3000"});
     EXPECT_EQ(read.status, 0) << read.err;
-    EXPECT_NE(read.out.find("0xBEEF"), std::string::npos) << read.out;
+    EXPECT_THAT(read.out, HasSubstr("0xBEEF"));
     EXPECT_EQ(again.stop(), 0);
 }
 

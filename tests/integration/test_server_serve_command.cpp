@@ -1,5 +1,6 @@
 // The real `mblab serve` process: the line it prints, its exit statuses, SIGTERM, and --state
 // persistence across a restart.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -22,6 +23,8 @@
 
 namespace mblab::test {
 namespace {
+
+using ::testing::HasSubstr;
 
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
@@ -110,10 +113,8 @@ TEST(ServeCommand, AnswersItsUnitAnd0And255AndLeavesOtherUnitIdsUnanswered) {
 TEST(ServeCommand, AProfileOfSeveralUnitsAnswersEachOfThem) {
     Serve serve({"multi-unit", "--listen", "tcp://127.0.0.1:0"});
     ASSERT_EQ(serve.ports().size(), 1U) << serve.line();
-    EXPECT_NE(serve.line().find("units 1,2,17 (0 and 255 answer as 1; other unit ids are "
-                                "answered exception 0A, as by a gateway)"),
-              std::string::npos)
-        << serve.line();
+    EXPECT_THAT(serve.line(), HasSubstr("units 1,2,17 (0 and 255 answer as 1; other unit ids are "
+                                        "answered exception 0A, as by a gateway)"));
     auto client = serve.connect();
     for (const std::string unit : {"01", "02", "11", "00", "FF"}) {
         // Each unit has a map of its own: register 0 may be data or exception 02, never 0A.
@@ -326,9 +327,8 @@ TEST(ServeCommand, MbapsTakesItsFilesFromTheProfilesTlsTable) {
 
     auto missing = run_mblab({"serve", "--listen", "mbaps://127.0.0.1:0", "--key",
                               pki + "/nothing.key", (dir / "lab.toml").string()});
-    EXPECT_EQ(missing.status, 2);
-    EXPECT_EQ(missing.err,
-              "mblab serve: --key " + pki + "/nothing.key: No such file or directory\n");
+    expect_failed(missing, 2,
+                  "mblab serve: --key " + pki + "/nothing.key: No such file or directory\n");
 }
 
 TEST(ServeCommand, BadUrlIsOneLineAndExitTwo) {
@@ -418,7 +418,7 @@ TEST(ServeCommand, SigtermStopsAServerThatSavesEveryMillisecond) {
         EXPECT_EQ(client.transact("00 01 00 00 00 06 01 06 00 10 00 2A"),
                   "00 01 00 00 00 06 01 06 00 10 00 2A");
         EXPECT_EQ(serve.terminate(), 0);
-        EXPECT_NE(file_text(state).find("\"format\""), std::string::npos);
+        EXPECT_THAT(file_text(state), HasSubstr("\"format\""));
     }
 }
 

@@ -8,31 +8,6 @@
 
 namespace mblab::test {
 
-std::unique_ptr<device::ReferenceDevice> shipped_device(std::string_view name) {
-    const std::string path =
-        std::string(MBLAB_SOURCE_DIR) + "/profiles/" + std::string(name) + ".toml";
-    auto loaded = device::load_profile(path);
-    if (!loaded) {
-        ADD_FAILURE() << loaded.error();
-        return nullptr;
-    }
-    return std::move(loaded).value();
-}
-
-std::unique_ptr<device::ReferenceDevice> device_from(std::string_view toml) {
-    auto loaded = device::load_profile_text(toml, "test.toml");
-    if (!loaded) {
-        ADD_FAILURE() << loaded.error();
-        return nullptr;
-    }
-    return std::move(loaded).value();
-}
-
-std::string profile_error(std::string_view toml) {
-    auto loaded = device::parse_profile(toml, "test.toml");
-    return loaded ? std::string() : loaded.error();
-}
-
 device::Reply ask_reply(device::ReferenceDevice& device, std::string_view request_hex,
                         std::string& response_hex, std::uint8_t unit, device::Link link) {
     const auto request = hex(request_hex);
@@ -66,4 +41,29 @@ namespace mblab::test {
 std::string text_hex(std::string_view text) {
     return to_hex(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()));
 }
+void expect_dialogue(device::ReferenceDevice& device, std::string_view script) {
+    std::size_t line_number = 0;
+    while (!script.empty()) {
+        const auto end = script.find('\n');
+        std::string_view line = script.substr(0, end);
+        script = end == std::string_view::npos ? std::string_view() : script.substr(end + 1);
+        ++line_number;
+        line = line.substr(0, line.find('#'));
+        const auto arrow = line.find("->");
+        const auto trimmed = [](std::string_view text) {
+            const auto first = text.find_first_not_of(' ');
+            if (first == std::string_view::npos) return std::string_view();
+            return text.substr(first, text.find_last_not_of(' ') - first + 1);
+        };
+        if (trimmed(line).empty()) continue;
+        if (arrow == std::string_view::npos) {
+            ADD_FAILURE() << "dialogue line " << line_number << " has no \"->\": " << line;
+            continue;
+        }
+        const auto request = trimmed(line.substr(0, arrow));
+        EXPECT_EQ(ask(device, request), trimmed(line.substr(arrow + 2)))
+            << "dialogue line " << line_number << ": " << request;
+    }
+}
+
 }  // namespace mblab::test

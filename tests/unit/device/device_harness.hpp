@@ -1,21 +1,17 @@
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <string_view>
 
 #include "device/reference_device.hpp"
+#include "support/device_profiles.hpp"
 
 // Drives a ReferenceDevice the way a server does: request PDU hex in, response PDU hex out.
 namespace mblab::test {
-
-// Loads profiles/<name>.toml from the source tree; fails the test if it does not load.
-std::unique_ptr<device::ReferenceDevice> shipped_device(std::string_view name);
-// Loads profile text; fails the test if it does not load.
-std::unique_ptr<device::ReferenceDevice> device_from(std::string_view toml);
-// The loader's error for profile text ("" if it loaded).
-std::string profile_error(std::string_view toml);
 
 // The response PDU as hex, or "NO ANSWER" / "CLOSE".
 std::string ask(device::ReferenceDevice& device, std::string_view request_hex,
@@ -24,6 +20,20 @@ std::string ask(device::ReferenceDevice& device, std::string_view request_hex,
 device::Reply ask_reply(device::ReferenceDevice& device, std::string_view request_hex,
                         std::string& response_hex, std::uint8_t unit = 1,
                         device::Link link = device::Link::Tcp);
+
+// Asks each request of `script` in turn and checks the answer. One exchange a line,
+// "request -> answer" as ask() writes them; '#' starts a comment, and blank lines are skipped.
+void expect_dialogue(device::ReferenceDevice& device, std::string_view script);
+
+// A fixture on one shipped profile, asked on unit 1 over Modbus/TCP.
+class ShippedDeviceTest : public ::testing::Test {
+  protected:
+    explicit ShippedDeviceTest(std::string_view profile) : device(shipped_device(profile)) {}
+    std::string ask(std::string_view request) { return test::ask(*device, request); }
+    void expect_dialogue(std::string_view script) { test::expect_dialogue(*device, script); }
+
+    std::unique_ptr<device::ReferenceDevice> device;
+};
 
 }  // namespace mblab::test
 

@@ -14,19 +14,9 @@ constexpr std::string_view kTiny = R"(
 name = "tiny"
 [[unit]]
 id = 3
-[[unit.coils]]
-start = 0
-count = 3
-[[unit.holding_registers]]
-start = 10
-count = 2
-values = [1, 2]
-[[unit.holding_registers]]
-start = 12
-access = "ro"
-[[unit.files]]
-number = 4
-records = 2
+coils = [{start = 0, count = 3}]
+holding_registers = [{start = 10, count = 2, values = [1, 2]}, {start = 12, access = "ro"}]
+files = [{number = 4, records = 2}]
 )";
 
 TEST(DeviceState, SavesWritableRangesAndFiles) {

@@ -6,21 +6,22 @@
 namespace mblab::test {
 namespace {
 
-class Diagnostics : public ::testing::Test {
+class Diagnostics : public ShippedDeviceTest {
   protected:
-    std::unique_ptr<device::ReferenceDevice> device = shipped_device("reference");
-    std::string ask(std::string_view request) { return test::ask(*device, request); }
+    Diagnostics() : ShippedDeviceTest("reference") {}
 };
 
 TEST_F(Diagnostics, CountsMessagesAndExceptions) {
-    EXPECT_EQ(ask("03 00 00 00 01"), "03 02 53 45");
-    EXPECT_EQ(ask("03 00 00 FF FF"), "83 03");
-    EXPECT_EQ(ask("08 00 0B 00 00"), "08 00 0B 00 03");
-    EXPECT_EQ(ask("08 00 0D 00 00"), "08 00 0D 00 01");
-    EXPECT_EQ(ask("08 00 0E 00 00"), "08 00 0E 00 05");
-    EXPECT_EQ(ask("08 00 0F 00 00"), "08 00 0F 00 00");
-    EXPECT_EQ(ask("08 00 10 00 00"), "08 00 10 00 00");
-    EXPECT_EQ(ask("08 00 11 00 00"), "08 00 11 00 00");
+    expect_dialogue(R"(
+        03 00 00 00 01 -> 03 02 53 45
+        03 00 00 FF FF -> 83 03
+        08 00 0B 00 00 -> 08 00 0B 00 03
+        08 00 0D 00 00 -> 08 00 0D 00 01
+        08 00 0E 00 00 -> 08 00 0E 00 05
+        08 00 0F 00 00 -> 08 00 0F 00 00
+        08 00 10 00 00 -> 08 00 10 00 00
+        08 00 11 00 00 -> 08 00 11 00 00
+    )");
 }
 
 TEST_F(Diagnostics, CountsLineErrorsAndOverruns) {
@@ -28,72 +29,92 @@ TEST_F(Diagnostics, CountsLineErrorsAndOverruns) {
     device->count_short_frame();
     device->count_parity_error();
     device->count_overrun();
-    EXPECT_EQ(ask("08 00 0C 00 00"), "08 00 0C 00 03");
-    EXPECT_EQ(ask("08 00 12 00 00"), "08 00 12 00 01");
-    EXPECT_EQ(ask("08 00 14 00 00"), "08 00 14 00 00");
-    EXPECT_EQ(ask("08 00 12 00 00"), "08 00 12 00 00");
-    EXPECT_EQ(ask("08 00 0C 00 00"), "08 00 0C 00 03");
+    expect_dialogue(R"(
+        08 00 0C 00 00 -> 08 00 0C 00 03
+        08 00 12 00 00 -> 08 00 12 00 01
+        08 00 14 00 00 -> 08 00 14 00 00
+        08 00 12 00 00 -> 08 00 12 00 00
+        08 00 0C 00 00 -> 08 00 0C 00 03
+    )");
 }
 
 TEST_F(Diagnostics, ClearCountersTakesEffectAfterItsAnswer) {
     EXPECT_EQ(ask("03 00 00 FF FF"), "83 03");
     device->count_crc_error();
-    EXPECT_EQ(ask("08 00 0A 00 00"), "08 00 0A 00 00");
-    EXPECT_EQ(ask("08 00 0B 00 00"), "08 00 0B 00 01");
-    EXPECT_EQ(ask("08 00 0C 00 00"), "08 00 0C 00 00");
-    EXPECT_EQ(ask("08 00 0D 00 00"), "08 00 0D 00 00");
+    expect_dialogue(R"(
+        08 00 0A 00 00 -> 08 00 0A 00 00
+        08 00 0B 00 00 -> 08 00 0B 00 01
+        08 00 0C 00 00 -> 08 00 0C 00 00
+        08 00 0D 00 00 -> 08 00 0D 00 00
+    )");
 }
 
 TEST_F(Diagnostics, ReturnsRegisterAndChangesAsciiDelimiter) {
-    EXPECT_EQ(ask("08 00 02 00 00"), "08 00 02 00 00");
-    EXPECT_EQ(ask("08 00 03 3B 00"), "08 00 03 3B 00");
+    expect_dialogue(R"(
+        08 00 02 00 00 -> 08 00 02 00 00
+        08 00 03 3B 00 -> 08 00 03 3B 00
+    )");
     EXPECT_EQ(device->ascii_delimiter(1), ';');
 }
 
 TEST_F(Diagnostics, RejectsBadSubFunctionData) {
-    EXPECT_EQ(ask("08 00 01 00 05"), "88 03");
-    EXPECT_EQ(ask("08 00 0B 00 01"), "88 03");
-    EXPECT_EQ(ask("08 00 15 00 00"), "88 01");
+    expect_dialogue(R"(
+        08 00 01 00 05 -> 88 03
+        08 00 0B 00 01 -> 88 03
+        08 00 15 00 00 -> 88 01
+    )");
 }
 
 TEST_F(Diagnostics, ListenOnlyUntilRestart) {
     EXPECT_EQ(ask("08 00 04 00 00"), "NO ANSWER");
     EXPECT_TRUE(device->stats(1)->listen_only);
-    EXPECT_EQ(ask("03 00 00 00 01"), "NO ANSWER");
-    EXPECT_EQ(ask("08 00 00 12 34"), "NO ANSWER");
+    expect_dialogue(R"(
+        03 00 00 00 01 -> NO ANSWER
+        08 00 00 12 34 -> NO ANSWER
+    )");
     EXPECT_EQ(device->stats(1)->counters.no_response, 3);
     EXPECT_EQ(ask("08 00 01 00 00"), "NO ANSWER");  // restart leaves listen-only silently
     EXPECT_FALSE(device->stats(1)->listen_only);
-    EXPECT_EQ(ask("03 00 00 00 01"), "03 02 53 45");
-    EXPECT_EQ(ask("08 00 0B 00 00"), "08 00 0B 00 02");
+    expect_dialogue(R"(
+        03 00 00 00 01 -> 03 02 53 45
+        08 00 0B 00 00 -> 08 00 0B 00 02
+    )");
 }
 
 TEST_F(Diagnostics, RestartAnswersThenClearsCountersAndLog) {
-    EXPECT_EQ(ask("06 00 10 00 01"), "06 00 10 00 01");
-    EXPECT_EQ(ask("08 00 01 FF 00"), "08 00 01 FF 00");
-    // The log holds the restart event, then this request's receive event.
-    EXPECT_EQ(ask("0C"), "0C 08 00 00 00 00 00 01 80 00");
+    expect_dialogue(R"(
+        06 00 10 00 01 -> 06 00 10 00 01
+        08 00 01 FF 00 -> 08 00 01 FF 00
+        # The log holds the restart event, then this request's receive event.
+        0C             -> 0C 08 00 00 00 00 00 01 80 00
+    )");
 }
 
 TEST_F(Diagnostics, RestartWithoutClearKeepsTheLog) {
-    EXPECT_EQ(ask("08 00 04 00 00"), "NO ANSWER");
-    EXPECT_EQ(ask("03 00 00 00 01"), "NO ANSWER");
-    EXPECT_EQ(ask("08 00 01 00 00"), "NO ANSWER");
-    // receive, listen-only entered, two receives in listen-only, restart, receive of this 0C
-    EXPECT_EQ(ask("0C"), "0C 0C 00 00 00 00 00 01 80 00 A0 A0 04 80");
+    expect_dialogue(R"(
+        08 00 04 00 00 -> NO ANSWER
+        03 00 00 00 01 -> NO ANSWER
+        08 00 01 00 00 -> NO ANSWER
+        # receive, listen-only entered, two receives in listen-only, restart, receive of this 0C
+        0C             -> 0C 0C 00 00 00 00 00 01 80 00 A0 A0 04 80
+    )");
 }
 
 TEST_F(Diagnostics, EventCounterCountsSuccessfulRequestsOnly) {
-    EXPECT_EQ(ask("06 00 10 00 01"), "06 00 10 00 01");
-    EXPECT_EQ(ask("03 00 10 00 01"), "03 02 00 01");
-    EXPECT_EQ(ask("03 00 00 FF FF"), "83 03");
-    EXPECT_EQ(ask("0B"), "0B 00 00 00 02");
-    EXPECT_EQ(ask("0B"), "0B 00 00 00 02");
+    expect_dialogue(R"(
+        06 00 10 00 01 -> 06 00 10 00 01
+        03 00 10 00 01 -> 03 02 00 01
+        03 00 00 FF FF -> 83 03
+        0B             -> 0B 00 00 00 02
+        0B             -> 0B 00 00 00 02
+    )");
 }
 
 TEST_F(Diagnostics, EventLogMarksExceptionsSent) {
-    EXPECT_EQ(ask("03 00 00 FF FF"), "83 03");
-    EXPECT_EQ(ask("0C"), "0C 09 00 00 00 00 00 02 80 41 80");
+    expect_dialogue(R"(
+        03 00 00 FF FF -> 83 03
+        0C             -> 0C 09 00 00 00 00 00 02 80 41 80
+    )");
 }
 
 TEST_F(Diagnostics, EventLogKeepsTheNewestSixtyFourEvents) {

@@ -6,57 +6,72 @@
 namespace mblab::test {
 namespace {
 
-class ExceptionRules : public ::testing::Test {
+class ExceptionRules : public ShippedDeviceTest {
   protected:
-    std::unique_ptr<device::ReferenceDevice> device = shipped_device("reference");
-    std::string ask(std::string_view request) { return test::ask(*device, request); }
+    ExceptionRules() : ShippedDeviceTest("reference") {}
 };
 
 TEST_F(ExceptionRules, UnknownFunctionIsIllegalFunction) {
-    EXPECT_EQ(ask("25 00 01 00 01"), "A5 01");  // seed 000 9.1.1
-    EXPECT_EQ(ask("41"), "C1 01");
+    expect_dialogue(R"(
+        25 00 01 00 01 -> A5 01  # seed 000 9.1.1
+        41             -> C1 01
+    )");
 }
 
 TEST_F(ExceptionRules, IllegalQuantityIsIllegalDataValue) {
-    EXPECT_EQ(ask("03 00 00 FF FF"), "83 03");  // seed 000 9.1.4
-    EXPECT_EQ(ask("03 00 00 00 00"), "83 03");
-    EXPECT_EQ(ask("01 00 00 07 D1"), "81 03");
-    EXPECT_EQ(ask("05 00 00 12 34"), "85 03");
+    expect_dialogue(R"(
+        03 00 00 FF FF -> 83 03  # seed 000 9.1.4
+        03 00 00 00 00 -> 83 03
+        01 00 00 07 D1 -> 81 03
+        05 00 00 12 34 -> 85 03
+    )");
 }
 
 TEST_F(ExceptionRules, TruncatedOrOverlongRequestIsIllegalDataValue) {
-    EXPECT_EQ(ask("03 00 00"), "83 03");
-    EXPECT_EQ(ask("03 00 00 00 01 00"), "83 03");
+    expect_dialogue(R"(
+        03 00 00          -> 83 03
+        03 00 00 00 01 00 -> 83 03
+    )");
 }
 
 TEST_F(ExceptionRules, ByteCountDisagreeingWithQuantityIsIllegalDataValue) {
-    EXPECT_EQ(ask("10 00 10 00 02 02 12 34"), "90 03");
-    EXPECT_EQ(ask("0F 00 00 00 09 01 FF"), "8F 03");
-    EXPECT_EQ(ask("17 00 00 00 01 00 10 00 02 02 12 34"), "97 03");
+    expect_dialogue(R"(
+        10 00 10 00 02 02 12 34             -> 90 03
+        0F 00 00 00 09 01 FF                -> 8F 03
+        17 00 00 00 01 00 10 00 02 02 12 34 -> 97 03
+    )");
 }
 
 TEST_F(ExceptionRules, RangePastTheLastAddressIsIllegalDataAddress) {
-    EXPECT_EQ(ask("03 FF FF 00 02"), "83 02");
-    EXPECT_EQ(ask("10 FF FF 00 02 04 00 01 00 02"), "90 02");
+    expect_dialogue(R"(
+        03 FF FF 00 02                -> 83 02
+        10 FF FF 00 02 04 00 01 00 02 -> 90 02
+    )");
 }
 
 TEST_F(ExceptionRules, ReadWriteChecksTheWriteRangeBeforeWriting) {
     // CVE-2022-0367: a valid read range must not let an out-of-map write through.
-    EXPECT_EQ(ask("17 00 10 00 01 FF FF 00 02 04 11 11 22 22"), "97 02");
-    // Neither is a write into the read-only signature made when the read range is bad.
-    EXPECT_EQ(ask("17 FF FF 00 02 00 10 00 01 02 99 99"), "97 02");
-    EXPECT_EQ(ask("03 00 10 00 01"), "03 02 00 00");
+    expect_dialogue(R"(
+        17 00 10 00 01 FF FF 00 02 04 11 11 22 22 -> 97 02
+        # Neither is a write into the read-only signature made when the read range is bad.
+        17 FF FF 00 02 00 10 00 01 02 99 99       -> 97 02
+        03 00 10 00 01                            -> 03 02 00 00
+    )");
 }
 
 TEST_F(ExceptionRules, FileRecordOutsideTheFileIsIllegalDataAddress) {
-    EXPECT_EQ(ask("14 07 06 00 02 00 63 00 02"), "94 02");  // file 2 has records 0..99
-    EXPECT_EQ(ask("14 07 06 00 09 00 00 00 01"), "94 02");  // no file 9
-    EXPECT_EQ(ask("15 09 06 00 02 00 64 00 01 00 00"), "95 02");
+    expect_dialogue(R"(
+        14 07 06 00 02 00 63 00 02       -> 94 02  # file 2 has records 0..99
+        14 07 06 00 09 00 00 00 01       -> 94 02  # no file 9
+        15 09 06 00 02 00 64 00 01 00 00 -> 95 02
+    )");
 }
 
 TEST_F(ExceptionRules, FileRecordWritesAreAllOrNothing) {
-    EXPECT_EQ(ask("15 12 06 00 02 00 00 00 01 AA AA 06 00 02 00 64 00 01 BB BB"), "95 02");
-    EXPECT_EQ(ask("14 07 06 00 02 00 00 00 01"), "14 04 03 06 12 34");
+    expect_dialogue(R"(
+        15 12 06 00 02 00 00 00 01 AA AA 06 00 02 00 64 00 01 BB BB -> 95 02
+        14 07 06 00 02 00 00 00 01                                  -> 14 04 03 06 12 34
+    )");
 }
 
 TEST_F(ExceptionRules, CanopenMeiIsIllegalFunction) {
@@ -88,12 +103,8 @@ TEST_F(ExceptionRules, DeclaredReadLimitIsIllegalDataValue) {
 id = 1
 max_read_registers = 10
 max_read_bits = 16
-[[unit.holding_registers]]
-start = 0
-count = 100
-[[unit.coils]]
-start = 0
-count = 100
+holding_registers = [{start = 0, count = 100}]
+coils = [{start = 0, count = 100}]
 )");
     EXPECT_EQ(test::ask(*limited, "03 00 00 00 0A").substr(0, 5), "03 14");
     EXPECT_EQ(test::ask(*limited, "03 00 00 00 0B"), "83 03");

@@ -9,12 +9,8 @@ namespace {
 constexpr std::string_view kMap = R"(
 [[unit]]
 id = 1
-[[unit.holding_registers]]
-start = 0
-count = 200
-[[unit.input_registers]]
-start = 0
-count = 10
+holding_registers = [{start = 0, count = 200}]
+input_registers = [{start = 0, count = 10}]
 )";
 
 std::unique_ptr<device::ReferenceDevice> with_faults(std::string_view faults,

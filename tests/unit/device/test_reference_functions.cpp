@@ -6,21 +6,24 @@
 namespace mblab::test {
 namespace {
 
-class ReferenceDevice : public ::testing::Test {
+class ReferenceDevice : public ShippedDeviceTest {
   protected:
-    std::unique_ptr<device::ReferenceDevice> device = shipped_device("reference");
-    std::string ask(std::string_view request) { return test::ask(*device, request); }
+    ReferenceDevice() : ShippedDeviceTest("reference") {}
 };
 
 TEST_F(ReferenceDevice, ReadsCoilsAndDiscreteInputs) {
-    EXPECT_EQ(ask("01 00 00 00 01"), "01 01 00");
-    EXPECT_EQ(ask("02 00 00 00 01"), "02 01 00");
-    EXPECT_EQ(ask("01 FF F0 00 10"), "01 02 00 00");
+    expect_dialogue(R"(
+        01 00 00 00 01 -> 01 01 00
+        02 00 00 00 01 -> 02 01 00
+        01 FF F0 00 10 -> 01 02 00 00
+    )");
 }
 
 TEST_F(ReferenceDevice, HoldingRegistersStartWithTheSemiSignature) {
-    EXPECT_EQ(ask("03 00 00 00 03"), "03 06 53 45 4D 49 5F 72");
-    EXPECT_EQ(ask("06 00 01 00 00"), "86 02");  // the signature is read-only
+    expect_dialogue(R"(
+        03 00 00 00 03 -> 03 06 53 45 4D 49 5F 72
+        06 00 01 00 00 -> 86 02  # the signature is read-only
+    )");
 }
 
 TEST_F(ReferenceDevice, ReadsInputRegisters) {
@@ -34,15 +37,19 @@ TEST_F(ReferenceDevice, ReadsTheWholeAddressSpace) {
 }
 
 TEST_F(ReferenceDevice, WritesSingleCoilAndReadsItBack) {
-    EXPECT_EQ(ask("05 00 00 FF 00"), "05 00 00 FF 00");
-    EXPECT_EQ(ask("01 00 00 00 01"), "01 01 01");
-    EXPECT_EQ(ask("05 00 00 00 00"), "05 00 00 00 00");
-    EXPECT_EQ(ask("01 00 00 00 01"), "01 01 00");
+    expect_dialogue(R"(
+        05 00 00 FF 00 -> 05 00 00 FF 00
+        01 00 00 00 01 -> 01 01 01
+        05 00 00 00 00 -> 05 00 00 00 00
+        01 00 00 00 01 -> 01 01 00
+    )");
 }
 
 TEST_F(ReferenceDevice, WritesSingleRegisterAndReadsItBack) {
-    EXPECT_EQ(ask("06 00 10 12 34"), "06 00 10 12 34");
-    EXPECT_EQ(ask("03 00 10 00 01"), "03 02 12 34");
+    expect_dialogue(R"(
+        06 00 10 12 34 -> 06 00 10 12 34
+        03 00 10 00 01 -> 03 02 12 34
+    )");
 }
 
 TEST_F(ReferenceDevice, ReadsExceptionStatus) {
@@ -54,14 +61,18 @@ TEST_F(ReferenceDevice, EchoesDiagnosticQueryData) {
 }
 
 TEST_F(ReferenceDevice, WritesMultipleCoils) {
-    EXPECT_EQ(ask("0F 00 00 00 01 01 01"), "0F 00 00 00 01");
-    EXPECT_EQ(ask("0F 00 13 00 0A 02 CD 01"), "0F 00 13 00 0A");
-    EXPECT_EQ(ask("01 00 13 00 0A"), "01 02 CD 01");
+    expect_dialogue(R"(
+        0F 00 00 00 01 01 01    -> 0F 00 00 00 01
+        0F 00 13 00 0A 02 CD 01 -> 0F 00 13 00 0A
+        01 00 13 00 0A          -> 01 02 CD 01
+    )");
 }
 
 TEST_F(ReferenceDevice, WritesMultipleRegisters) {
-    EXPECT_EQ(ask("10 00 10 00 02 04 12 34 56 78"), "10 00 10 00 02");
-    EXPECT_EQ(ask("03 00 10 00 02"), "03 04 12 34 56 78");
+    expect_dialogue(R"(
+        10 00 10 00 02 04 12 34 56 78 -> 10 00 10 00 02
+        03 00 10 00 02                -> 03 04 12 34 56 78
+    )");
 }
 
 TEST_F(ReferenceDevice, ReportsServerId) {
@@ -70,16 +81,19 @@ TEST_F(ReferenceDevice, ReportsServerId) {
 }
 
 TEST_F(ReferenceDevice, ReadsAndWritesFileRecords) {
-    EXPECT_EQ(ask("14 07 06 00 02 00 00 00 02"), "14 06 05 06 12 34 12 34");
-    EXPECT_EQ(ask("15 09 06 00 01 00 05 00 01 AB CD"), "15 09 06 00 01 00 05 00 01 AB CD");
-    EXPECT_EQ(ask("14 0E 06 00 01 00 05 00 01 06 00 02 00 63 00 01"),
-              "14 08 03 06 AB CD 03 06 12 34");
+    expect_dialogue(R"(
+        14 07 06 00 02 00 00 00 02                      -> 14 06 05 06 12 34 12 34
+        15 09 06 00 01 00 05 00 01 AB CD                -> 15 09 06 00 01 00 05 00 01 AB CD
+        14 0E 06 00 01 00 05 00 01 06 00 02 00 63 00 01 -> 14 08 03 06 AB CD 03 06 12 34
+    )");
 }
 
 TEST_F(ReferenceDevice, MaskWritesRegister) {
-    EXPECT_EQ(ask("06 00 20 00 12"), "06 00 20 00 12");
-    EXPECT_EQ(ask("16 00 20 00 F2 00 25"), "16 00 20 00 F2 00 25");
-    EXPECT_EQ(ask("03 00 20 00 01"), "03 02 00 17");
+    expect_dialogue(R"(
+        06 00 20 00 12       -> 06 00 20 00 12
+        16 00 20 00 F2 00 25 -> 16 00 20 00 F2 00 25
+        03 00 20 00 01       -> 03 02 00 17
+    )");
 }
 
 TEST_F(ReferenceDevice, ReadWriteMultipleWritesFirst) {
@@ -87,8 +101,10 @@ TEST_F(ReferenceDevice, ReadWriteMultipleWritesFirst) {
 }
 
 TEST_F(ReferenceDevice, ReadsFifoQueue) {
-    EXPECT_EQ(ask("18 04 DE"), "18 00 08 00 03 01 B8 12 84 00 00");
-    EXPECT_EQ(ask("18 00 10"), "98 02");
+    expect_dialogue(R"(
+        18 04 DE -> 18 00 08 00 03 01 B8 12 84 00 00
+        18 00 10 -> 98 02
+    )");
 }
 
 TEST_F(ReferenceDevice, ReadsBasicDeviceIdentification) {
@@ -107,9 +123,11 @@ TEST_F(ReferenceDevice, AnswersSemiGetAttribute) {
 }
 
 TEST_F(ReferenceDevice, AnswersEventCounterAndLog) {
-    EXPECT_EQ(ask("0B"), "0B 00 00 00 00");
-    // Newest first: the receive of this 0C, the send and receive of the 0B.
-    EXPECT_EQ(ask("0C"), "0C 09 00 00 00 00 00 02 80 40 80");
+    expect_dialogue(R"(
+        0B -> 0B 00 00 00 00
+        # Newest first: the receive of this 0C, the send and receive of the 0B.
+        0C -> 0C 09 00 00 00 00 00 02 80 40 80
+    )");
 }
 
 TEST_F(ReferenceDevice, DeclaresItsLimits) {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "journal_reading.hpp"
 #include "server/journal.hpp"
 #include "server/journaled_device.hpp"
 #include "support/small_tmpfs.hpp"
@@ -18,25 +19,6 @@ namespace {
 using test::file_text;
 using test::SmallTmpfs;
 using test::TempDir;
-
-struct Read {
-    bool ok = false;
-    std::vector<std::string> records;
-    std::vector<std::string> warnings;
-    std::string error;
-};
-
-Read read_all(const std::filesystem::path& path) {
-    Read out;
-    out.ok = read_journal(
-        path,
-        [&](std::string_view record, const RecordPlace&, std::string&) {
-            out.records.emplace_back(record);
-            return true;
-        },
-        [&](const std::string& warning) { out.warnings.push_back(warning); }, out.error);
-    return out;
-}
 
 std::vector<std::string> records_at(const std::filesystem::path& path) {
     auto read = read_all(path);

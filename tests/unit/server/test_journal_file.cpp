@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "journal_reading.hpp"
 #include "server/journal.hpp"
 #include "server/journal_file.hpp"
 #include "support/temp_dir.hpp"
@@ -16,27 +17,6 @@ namespace {
 
 using test::file_text;
 using test::TempDir;
-
-struct Read {
-    bool ok = false;
-    std::vector<std::string> records;
-    std::vector<std::size_t> lines;
-    std::vector<std::string> warnings;
-    std::string error;
-};
-
-Read read_all(const std::filesystem::path& path) {
-    Read out;
-    out.ok = read_journal(
-        path,
-        [&](std::string_view record, const RecordPlace& place, std::string&) {
-            out.records.emplace_back(record);
-            out.lines.push_back(place.line);
-            return true;
-        },
-        [&](const std::string& warning) { out.warnings.push_back(warning); }, out.error);
-    return out;
-}
 
 void write_text(const std::filesystem::path& path, const std::string& text) {
     std::ofstream(path, std::ios::binary) << text;

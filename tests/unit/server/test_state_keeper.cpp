@@ -12,6 +12,7 @@
 #include "server/journaled_device.hpp"
 #include "server/state_file.hpp"
 #include "server/state_keeper.hpp"
+#include "support/device_profiles.hpp"
 #include "support/temp_dir.hpp"
 
 namespace mblab::server {
@@ -19,24 +20,16 @@ namespace {
 
 using test::TempDir;
 
-constexpr std::string_view kProfile = R"(name = "keeper"
-
+constexpr std::string_view kProfile = R"(
+name = "keeper"
 [[unit]]
 id = 1
-
-[[unit.coils]]
-start = 0
-count = 16
-
-[[unit.holding_registers]]
-start = 0
-count = 100
+coils = [{start = 0, count = 16}]
+holding_registers = [{start = 0, count = 100}]
 )";
 
 std::unique_ptr<device::ReferenceDevice> make_device() {
-    auto loaded = device::load_profile_text(kProfile, "keeper.toml");
-    EXPECT_TRUE(loaded) << loaded.error();
-    return loaded ? std::move(loaded.value()) : nullptr;
+    return test::device_from(kProfile);
 }
 
 // FC 06 through the journaled device, as a serial line makes it (waiting for the sync).

@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "device/reference_device.hpp"
+#include "support/device_profiles.hpp"
 #include "support/hex.hpp"
 #include "web/device_api.hpp"
 #include "web/request_meter.hpp"
@@ -19,33 +20,19 @@ namespace mblab::test {
 constexpr std::string_view kWebProfile = R"(
 [[unit]]
 id = 1
-[[unit.holding_registers]]
-start = 0
-count = 100
-[[unit.holding_registers]]
-start = 200
-count = 10
-[[unit.coils]]
-start = 0
-count = 16
-[[unit.input_registers]]
-start = 0
-count = 10
-[[unit.faults]]
-action = "exception"
-exception = 6
-functions = [6]
+holding_registers = [{start = 0, count = 100}, {start = 200, count = 10}]
+coils = [{start = 0, count = 16}]
+input_registers = [{start = 0, count = 10}]
+faults = [{action = "exception", exception = 6, functions = [6]}]
 [[unit]]
 id = 2
-[[unit.holding_registers]]
-start = 0
-count = 10
+holding_registers = [{start = 0, count = 10}]
 )";
 
 class WebHarness {
   public:
     WebHarness()
-        : device_(load(kWebProfile)),
+        : device_(device_from(kWebProfile)),
           metered_(*device_, meter_),
           api_(web::ServeView{*device_, meter_, [] { return std::uint64_t{3}; }, {}}) {}
 
@@ -72,12 +59,6 @@ class WebHarness {
     web::DeviceApi& api() { return api_; }
 
   private:
-    static std::unique_ptr<device::ReferenceDevice> load(std::string_view text) {
-        auto loaded = device::load_profile_text(text, "web.toml");
-        if (!loaded) ADD_FAILURE() << loaded.error();
-        return std::move(loaded.value());
-    }
-
     std::unique_ptr<device::ReferenceDevice> device_;
     web::RequestMeter meter_;
     web::MeteredHandler metered_;

@@ -2,12 +2,14 @@
 // what a t1.5 gap and the ASCII timeout do, and how line errors are counted.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdio>
 #include <string>
 #include <vector>
 
-#include "serial_test_support.hpp"
 #include "server/serial_line_receiver.hpp"
 #include "support/hex.hpp"
+#include "support/serial_frames.hpp"
 
 namespace mblab::test {
 namespace {

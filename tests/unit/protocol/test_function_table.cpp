@@ -1,13 +1,12 @@
 // The function table against the codec: each row's layouts must measure frames the codec accepts,
 // and a code decodes to a typed message exactly when it has a row.
-#include "protocol/function_table.hpp"
-
 #include <gtest/gtest.h>
 
 #include <string>
 #include <variant>
 #include <vector>
 
+#include "protocol/function_table.hpp"
 #include "protocol/request.hpp"
 #include "protocol/response.hpp"
 #include "protocol/rtu_frame_length.hpp"
