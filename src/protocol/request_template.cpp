@@ -30,19 +30,27 @@ constexpr RequestField byte_count(std::string_view name, std::uint8_t offset, Fi
             static_cast<std::uint16_t>(max)};
 }
 
-// FC 14 / 15: the byte count, then the first sub-request: reference type, file, record, length.
-// A reference outside type 6, file 1..0xFFFF, record 0..9999 is 02 ([APP] figures 24 and 25).
-constexpr FixedList<RequestField, 5> file_record_fields(RequestField count) {
-    return {count,
-            {"reference type", 2, 1, FieldRole::Other, FieldRule::Range,
-             limits::kFileRecordReferenceType, limits::kFileRecordReferenceType, k02},
-            {"file number", 3, 2, FieldRole::Other, FieldRule::Range, 1, 0xFFFF, k02},
-            {"record number", 5, 2, FieldRole::Other, FieldRule::Range, 0,
-             limits::kMaxFileRecordNumber, k02},
-            word("record length", 7)};
-}
-
 constexpr AnswerField kByteCount{"byte count", 1, 1};
+
+// FC 14 / 15: a byte count of min..max, then the first sub-request: reference type, file,
+// record, length. A reference outside type 6, file 1..0xFFFF, record 0..9999 is 02 ([APP]
+// figures 24 and 25).
+constexpr RequestTemplate file_record(FunctionCode code, std::string_view count, std::uint8_t min,
+                                      std::uint8_t max, std::string_view sample,
+                                      std::string_view harmless) {
+    return {.code = code,
+            .table = DataTable::FileRecords,
+            .fields = {byte_count(count, 1, FieldRule::CountsRest, min, max),
+                       {"reference type", 2, 1, FieldRole::Other, FieldRule::Range,
+                        limits::kFileRecordReferenceType, limits::kFileRecordReferenceType, k02},
+                       {"file number", 3, 2, FieldRole::Other, FieldRule::Range, 1, 0xFFFF, k02},
+                       {"record number", 5, 2, FieldRole::Other, FieldRule::Range, 0,
+                        limits::kMaxFileRecordNumber, k02},
+                       word("record length", 7)},
+            .sample = sample,
+            .harmless = harmless,
+            .answer = {kByteCount}};
+}
 
 // FC 01..04: starting address and a quantity up to `max`; the answer a byte count and values.
 constexpr RequestTemplate read_range(FunctionCode code, DataTable table, std::string_view name,
@@ -63,8 +71,37 @@ constexpr RequestTemplate bare(FunctionCode code, std::string_view sample,
 }
 
 constexpr AnswerField kAddress{"address", 1, 2};
-constexpr AnswerField kValue{"value", 3, 2};
-constexpr FixedList<AnswerField, 6> kEcho{{"starting address", 1, 2}, {"quantity", 3, 2}};
+
+// FC 05, 06: an address and the value written there, which the answer echoes.
+constexpr RequestTemplate single_write(FunctionCode code, DataTable table,
+                                       FixedList<RequestField, 5> fields, std::string_view sample,
+                                       std::string_view harmless, ValueForm form) {
+    return {.code = code,
+            .table = table,
+            .fields = fields,
+            .sample = sample,
+            .harmless = harmless,
+            .value_form = form,
+            .value_at = 3,
+            .answer = {kAddress, {"value", 3, 2}}};
+}
+
+// FC 0F, 10: starting address, a quantity up to `max`, its byte count by `count`, the values;
+// the answer echoes address and quantity. The harmless request asks for a quantity of 0.
+constexpr RequestTemplate multiple_write(FunctionCode code, DataTable table, std::string_view name,
+                                         std::uint16_t max, FieldRule count,
+                                         std::string_view sample, std::string_view harmless,
+                                         ValueForm form) {
+    return {.code = code,
+            .table = table,
+            .fields = {address("starting address"), quantity(name, max),
+                       byte_count("byte count", 5, count)},
+            .sample = sample,
+            .harmless = harmless,
+            .value_form = form,
+            .value_at = 6,
+            .answer = {{"starting address", 1, 2}, {"quantity", 3, 2}}};
+}
 
 // Limits: [APP] section 6, by the section cited above each row.
 constexpr RequestTemplate kTemplates[] = {
@@ -81,24 +118,14 @@ constexpr RequestTemplate kTemplates[] = {
                "quantity of input registers", limits::kMaxReadRegisters, "04 0000 0001",
                "register values"),
     // 6.5: output value 0x0000 or 0xFF00; 0x1234 is neither.
-    {.code = FunctionCode::WriteSingleCoil,
-     .table = DataTable::Coils,
-     .fields = {address("output address"),
-                {"output value", 3, 2, FieldRole::Other, FieldRule::CoilValue}},
-     .sample = "05 0000 0000",
-     .harmless = "05 0000 1234",
-     .value_form = ValueForm::CoilWord,
-     .value_at = 3,
-     .answer = {kAddress, kValue}},
+    single_write(
+        FunctionCode::WriteSingleCoil, DataTable::Coils,
+        {address("output address"), {"output value", 3, 2, FieldRole::Other, FieldRule::CoilValue}},
+        "05 0000 0000", "05 0000 1234", ValueForm::CoilWord),
     // 6.6; the harmless request lacks its value.
-    {.code = FunctionCode::WriteSingleRegister,
-     .table = DataTable::HoldingRegisters,
-     .fields = {address("register address"), word("register value", 3)},
-     .sample = "06 0000 0000",
-     .harmless = "06 0000",
-     .value_form = ValueForm::Word,
-     .value_at = 3,
-     .answer = {kAddress, kValue}},
+    single_write(FunctionCode::WriteSingleRegister, DataTable::HoldingRegisters,
+                 {address("register address"), word("register value", 3)}, "06 0000 0000",
+                 "06 0000", ValueForm::Word),
     // 6.7: the answer is one byte of output data.
     bare(FunctionCode::ReadExceptionStatus, "07", {{"output data", 1, 1}}),
     // 6.8: sub-function 00 (return query data) echoes its data.
@@ -110,46 +137,22 @@ constexpr RequestTemplate kTemplates[] = {
     bare(FunctionCode::GetCommEventCounter, "0B", {{"status", 1, 2}, {"event count", 3, 2}}),
     bare(FunctionCode::GetCommEventLog, "0C", {kByteCount}),
     // 6.11: quantity of outputs 1..1968 (0x07B0), byte count = quantity / 8 rounded up.
-    {.code = FunctionCode::WriteMultipleCoils,
-     .table = DataTable::Coils,
-     .fields = {address("starting address"),
-                quantity("quantity of outputs", limits::kMaxWriteCoils),
-                byte_count("byte count", 5, FieldRule::BitBytes)},
-     .sample = "0F 0000 0001 01 00",
-     .harmless = "0F 0000 0000 00",
-     .value_form = ValueForm::PackedBits,
-     .value_at = 6,
-     .answer = kEcho},
+    multiple_write(FunctionCode::WriteMultipleCoils, DataTable::Coils, "quantity of outputs",
+                   limits::kMaxWriteCoils, FieldRule::BitBytes, "0F 0000 0001 01 00",
+                   "0F 0000 0000 00", ValueForm::PackedBits),
     // 6.12: quantity of registers 1..123 (0x007B), byte count 2 x quantity.
-    {.code = FunctionCode::WriteMultipleRegisters,
-     .table = DataTable::HoldingRegisters,
-     .fields = {address("starting address"),
-                quantity("quantity of registers", limits::kMaxWriteRegisters),
-                byte_count("byte count", 5, FieldRule::RegisterBytes)},
-     .sample = "10 0000 0001 02 0000",
-     .harmless = "10 0000 0000 00",
-     .value_form = ValueForm::Word,
-     .value_at = 6,
-     .answer = kEcho},
+    multiple_write(FunctionCode::WriteMultipleRegisters, DataTable::HoldingRegisters,
+                   "quantity of registers", limits::kMaxWriteRegisters, FieldRule::RegisterBytes,
+                   "10 0000 0001 02 0000", "10 0000 0000 00", ValueForm::Word),
     // 6.13.
     bare(FunctionCode::ReportServerId, "11", {kByteCount}),
     // 6.14: byte count 0x07..0xF5, 7 bytes a sub-request; file 1, record 0, one register.
-    {.code = FunctionCode::ReadFileRecord,
-     .table = DataTable::FileRecords,
-     .fields = file_record_fields(byte_count("byte count", 1, FieldRule::CountsRest,
-                                             limits::kMinFileRecordByteCount,
-                                             limits::kMaxFileRecordByteCount)),
-     .sample = "14 07 06 0001 0000 0001",
-     .answer = {kByteCount}},
+    file_record(FunctionCode::ReadFileRecord, "byte count", limits::kMinFileRecordByteCount,
+                limits::kMaxFileRecordByteCount, "14 07 06 0001 0000 0001", {}),
     // 6.15: request data length 0x09..0xFB (limits.hpp says why not 0x07..0xF5).
-    {.code = FunctionCode::WriteFileRecord,
-     .table = DataTable::FileRecords,
-     .fields = file_record_fields(byte_count("request data length", 1, FieldRule::CountsRest,
-                                             limits::kMinWriteFileRecordByteCount,
-                                             limits::kMaxWriteFileRecordByteCount)),
-     .sample = "15 09 06 0001 0000 0001 0000",
-     .harmless = "15 00",
-     .answer = {kByteCount}},
+    file_record(FunctionCode::WriteFileRecord, "request data length",
+                limits::kMinWriteFileRecordByteCount, limits::kMaxWriteFileRecordByteCount,
+                "15 09 06 0001 0000 0001 0000", "15 00"),
     // 6.16: AND 0xFFFF, OR 0x0000 keeps the register as it is.
     {.code = FunctionCode::MaskWriteRegister,
      .table = DataTable::HoldingRegisters,
