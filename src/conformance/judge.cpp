@@ -3,19 +3,20 @@
 #include <fmt/core.h>
 
 #include <algorithm>
-#include <array>
 
 #include "client/hex_text.hpp"
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
+#include "protocol/limits.hpp"
 #include "protocol/mbap_header.hpp"
+#include "protocol/request_template.hpp"
 
 namespace mblab::conformance {
 
 namespace {
 
 // Fields by byte position in an MBAP frame, to name what differs. Past the function code the
-// name depends on the function: the answer layouts of [APP] 6.
+// name comes from the answer fields of the function's request template ([APP] 6).
 std::string_view field_at(std::size_t position, int function) {
     if (position < 2) return "transaction id";
     if (position < 4) return "protocol id";
@@ -24,33 +25,13 @@ std::string_view field_at(std::size_t position, int function) {
     if (position == 7) return "function code";
     if (function < 0) return "data";
     if ((function & protocol::kExceptionBit) != 0) return "exception code";
-    switch (function) {
-        case 0x01:
-        case 0x02:
-            return position == 8 ? "byte count" : "bit values";
-        case 0x03:
-        case 0x04:
-        case 0x17:
-            return position == 8 ? "byte count" : "register values";
-        case 0x05:
-        case 0x06:
-            return position < 10 ? "address" : "value";
-        case 0x0F:
-        case 0x10:
-            return position < 10 ? "starting address" : "quantity";
-        case 0x08:
-            return position < 10 ? "sub-function" : "data";
-        case 0x16:
-            return position < 10 ? "address" : position < 12 ? "AND mask" : "OR mask";
-        case 0x2B: {
-            constexpr std::array<std::string_view, 6> kDeviceId = {
-                "MEI type",     "read device id code", "conformity level",
-                "more follows", "next object id",      "number of objects"};
-            return position - 8 < kDeviceId.size() ? kDeviceId[position - 8] : "objects";
-        }
-        default:
-            return position == 8 ? "byte count" : "data";
+    const std::size_t at = position - protocol::limits::kMbapHeader;  // in the PDU
+    const auto* request = protocol::find_template(static_cast<std::uint8_t>(function));
+    if (request == nullptr) return at == 1 ? "byte count" : "data";
+    for (const protocol::AnswerField& field : request->answer) {
+        if (at >= field.offset && at < std::size_t{field.offset} + field.width) return field.name;
     }
+    return request->answer_rest;
 }
 
 }  // namespace

@@ -2,17 +2,19 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <charconv>
+#include <iterator>
+#include <optional>
 
 #include "protocol/function_code.hpp"
-#include "protocol/limits.hpp"
+#include "protocol/request_template.hpp"
 
 namespace mblab::load {
 
 namespace {
 
 using protocol::FunctionCode;
-namespace limits = protocol::limits;
 
 // Write data the generator sends: fixed, so a request is built once and only its transaction
 // id changes on the wire.
@@ -21,28 +23,23 @@ constexpr std::uint8_t kCoilBits = 0x55;
 constexpr std::uint16_t kCoilOn = 0xFF00;
 constexpr std::uint16_t kDefaultWriteAddress = 0x0010;
 
+// The codes mix_exchange builds (kMixFunctions); their limits and whether they write are the
+// request templates'.
+constexpr std::uint8_t kMixCodes[] = {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x0F, 0x10};
+
 struct FunctionRule {
     std::uint8_t code;
     std::uint16_t max_quantity;  // 1 for the single writes
     bool writes;
 };
 
-constexpr FunctionRule kRules[] = {
-    {0x01, limits::kMaxReadBits, false},
-    {0x02, limits::kMaxReadBits, false},
-    {0x03, limits::kMaxReadRegisters, false},
-    {0x04, limits::kMaxReadRegisters, false},
-    {0x05, 1, true},
-    {0x06, 1, true},
-    {0x0F, limits::kMaxWriteCoils, true},
-    {0x10, limits::kMaxWriteRegisters, true},
-};
-
-const FunctionRule* find_rule(std::uint8_t code) {
-    for (const auto& rule : kRules) {
-        if (rule.code == code) return &rule;
-    }
-    return nullptr;
+std::optional<FunctionRule> find_rule(std::uint8_t code) {
+    if (std::find(std::begin(kMixCodes), std::end(kMixCodes), code) == std::end(kMixCodes))
+        return std::nullopt;
+    const auto* quantity =
+        protocol::field_with(*protocol::find_template(code), protocol::FieldRole::Quantity);
+    return FunctionRule{code, quantity != nullptr ? quantity->max : std::uint16_t{1},
+                        protocol::writes(code)};
 }
 
 // Decimal, or hex after 0x; the whole text must be the number.
@@ -85,8 +82,8 @@ protocol::Result<MixEntry, std::string> parse_entry(std::string_view text) {
     if (!rest.starts_with("fc")) return bad("it must start with fc");
     std::uint64_t value = 0;
     if (!parse_number(rest.substr(2), 0xFF, value)) return bad("the function code is not a number");
-    const FunctionRule* rule = find_rule(static_cast<std::uint8_t>(value));
-    if (rule == nullptr) {
+    const auto rule = find_rule(static_cast<std::uint8_t>(value));
+    if (!rule) {
         return bad(fmt::format("function {} is not one the generator sends ({})", rest.substr(2),
                                kMixFunctions));
     }

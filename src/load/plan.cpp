@@ -9,6 +9,7 @@
 
 #include "conformance/procedures.hpp"
 #include "protocol/limits.hpp"
+#include "protocol/request_template.hpp"
 
 namespace mblab::load {
 
@@ -129,24 +130,24 @@ protocol::Result<bool, std::string> add_protocol_tests(
 
 namespace {
 
-// Which table a function reads or writes: 'c' coils, 'r' holding registers, 0 neither.
-char table_of(std::uint8_t function) {
-    switch (function) {
-        case 0x01:
-        case 0x05:
-        case 0x0F:
-            return 'c';
-        case 0x03:
-        case 0x06:
-        case 0x10:
-            return 'r';
-        default:
-            return 0;
-    }
-}
+// The range a request names in its data table, from its request template: the read's range for
+// a read, the written one for a write; nullopt when it names no quantity of a table.
+struct Range {
+    protocol::DataTable table = protocol::DataTable::None;
+    std::uint32_t first = 0;
+    std::uint32_t count = 0;
+};
 
-bool is_write(std::uint8_t function) {
-    return function == 0x05 || function == 0x06 || function == 0x0F || function == 0x10;
+std::optional<Range> range_of(std::span<const std::uint8_t> pdu) {
+    const auto* request = pdu.empty() ? nullptr : protocol::find_template(pdu[0]);
+    if (request == nullptr || request->table == protocol::DataTable::None) return std::nullopt;
+    const auto* address = protocol::field_with(*request, protocol::FieldRole::Address);
+    const auto* quantity = protocol::field_with(*request, protocol::FieldRole::Quantity);
+    if (address == nullptr || quantity == nullptr) return std::nullopt;
+    const auto first = protocol::read_field(pdu, *address);
+    const auto count = protocol::read_field(pdu, *quantity);
+    if (!first || !count) return std::nullopt;
+    return Range{request->table, *first, *count};
 }
 
 // A read-back among the test exchanges whose range a mix entry writes keeps its form (length,
@@ -154,14 +155,14 @@ bool is_write(std::uint8_t function) {
 void unpin_read_backs(LoadPlan& plan) {
     for (std::size_t i = 0; i < plan.test_exchanges; ++i) {
         LoadExchange& exchange = plan.exchanges[i];
-        // A read's PDU: function, starting address, quantity.
         const auto pdu = protocol::read_mbap_frame(exchange.request)->pdu;
-        if (pdu.size() < 5 || is_write(pdu[0]) || table_of(pdu[0]) == 0) continue;
-        const std::uint32_t first = (std::uint32_t{pdu[1]} << 8) | pdu[2];
-        const std::uint32_t count = (std::uint32_t{pdu[3]} << 8) | pdu[4];
+        const auto read = range_of(pdu);
+        if (!read || protocol::writes(pdu[0])) continue;
         const bool overlapped = std::any_of(plan.mix.begin(), plan.mix.end(), [&](const auto& e) {
-            return is_write(e.function) && table_of(e.function) == table_of(pdu[0]) &&
-                   e.address < first + count && first < std::uint32_t{e.address} + e.quantity;
+            return protocol::writes(e.function) &&
+                   protocol::find_template(e.function)->table == read->table &&
+                   e.address < read->first + read->count &&
+                   read->first < std::uint32_t{e.address} + e.quantity;
         });
         if (!overlapped) continue;
         constexpr std::size_t kValuesAt = 9;  // after the MBAP header, function and byte count

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <array>
 
-#include "protocol/function_table.hpp"
+#include "protocol/request_template.hpp"
 #include "robustness/in_turn.hpp"
 #include "robustness/line_cases.hpp"
 #include "robustness/pairwise_cases.hpp"
@@ -31,25 +31,20 @@ bool may_send(std::span<const std::uint8_t> pdu, const WritePolicy& policy) {
         const auto sub = field16(pdu, 1);
         return sub != 0x01 && sub != 0x03 && sub != 0x04;
     }
-    const auto* row = protocol::find_function(function);
-    if (row == nullptr || row->writes == protocol::Writes::No) return true;
-    if (!policy.writable || function == 0x15) return false;
-    // The address and quantity the request names; what is cut off names nothing.
-    std::size_t at = 1;
-    std::size_t quantity_at = 3;
-    bool has_quantity = function == 0x0F || function == 0x10;
-    if (function == 0x17) {
-        at = 5;
-        quantity_at = 7;
-        has_quantity = true;
-    }
-    if (pdu.size() < at + 2) return true;
-    const std::uint32_t address = field16(pdu, at);
-    std::uint32_t quantity = 1;
-    if (has_quantity && pdu.size() >= quantity_at + 2)
-        quantity = std::max<std::uint32_t>(field16(pdu, quantity_at), 1);
+    if (!protocol::writes(function)) return true;
+    // The range the request writes, as its template names it; file records have none in the
+    // writable range, and what is cut off names nothing.
+    const auto* request = protocol::find_template(function);
+    const auto* address_field = protocol::field_with(*request, protocol::FieldRole::Address);
+    if (!policy.writable || address_field == nullptr) return false;
+    const auto address = protocol::read_field(pdu, *address_field);
+    if (!address) return true;
+    const auto* quantity_field = protocol::field_with(*request, protocol::FieldRole::Quantity);
+    const auto quantity =
+        quantity_field != nullptr ? protocol::read_field(pdu, *quantity_field) : std::nullopt;
+    const std::uint32_t count = std::max<std::uint32_t>(quantity.value_or(1), 1);
     const std::uint32_t start = policy.writable->start;
-    return address >= start && address + quantity <= start + policy.writable->count;
+    return *address >= start && *address + count <= start + policy.writable->count;
 }
 
 CaseGenerator::CaseGenerator(Recon recon, WritePolicy policy, std::uint64_t seed,

@@ -10,6 +10,7 @@
 #include "protocol/adu.hpp"
 #include "robustness/fuzz_case.hpp"
 #include "robustness/recon.hpp"
+#include "robustness/writable_range.hpp"
 #include "support/prng.hpp"
 
 // The cases of a run, the same for the same recon, policy and seed: first every class's fixed
@@ -18,12 +19,6 @@
 // ASCII) the same cases re-framed for it, less those that test MBAP or TCP, plus the line-only
 // classes (robustness/line_cases.hpp).
 namespace mblab::robustness {
-
-// Holding registers (and coils at the same addresses) the tester may write.
-struct WritableRange {
-    std::uint16_t start = 0;
-    std::uint16_t count = 0;
-};
 
 struct WritePolicy {
     bool allow_writes = false;  // anything goes: the device is a lab device

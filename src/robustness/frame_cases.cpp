@@ -5,6 +5,7 @@
 #include <initializer_list>
 
 #include "protocol/function_table.hpp"
+#include "protocol/request_template.hpp"
 #include "robustness/case_generator.hpp"
 #include "robustness/request_bytes.hpp"
 
@@ -18,6 +19,13 @@ using Bytes = std::vector<std::uint8_t>;
 
 bool is_read(std::uint8_t function) {
     return function >= 0x01 && function <= 0x04;
+}
+
+// One past the largest quantity the function's request template allows.
+std::uint16_t past_limit(std::uint8_t function,
+                         protocol::FieldRole role = protocol::FieldRole::Quantity) {
+    return static_cast<std::uint16_t>(
+        protocol::field_with(*protocol::find_template(function), role)->max + 1);
 }
 
 // Reads of a quantity at an address: past the end of the map (address-wrap) and on its edges
@@ -99,21 +107,23 @@ void CaseGenerator::fixed_frames() {
         c.steps.push_back({0, mbap_frame(next_transaction(), unit, pdu, 0, length), {}});
         add(std::move(c));
     }
-    add_frame(BadInput::Oversize, "FC 0x10 of 124 registers (PDU 254 bytes)",
-              multiple_write(0x10, w, 124, 248, 248));
+    {
+        const auto over = past_limit(0x10);  // one register more than a PDU holds
+        const auto count = byte_count_for(0x10, over);
+        add_frame(BadInput::Oversize,
+                  fmt::format("FC 0x10 of {} registers (PDU {} bytes)", over, 6 + count),
+                  multiple_write(0x10, w, over, count, count));
+    }
 
     for (std::uint8_t function : recon_.served) {
         add_frame(BadInput::Truncated, fmt::format("FC 0x{:02X} alone", function), Bytes{function});
         auto whole = probe_request(function, true);
         if (!whole || whole->size() < 3) continue;
-        if (const auto* row = protocol::find_function(function);
-            row != nullptr && row->writes == protocol::Writes::Yes) {
-            // Aimed at the writable range; file records have no address there.
-            const std::size_t at = function == 0x17 ? 5 : 1;
-            if (function != 0x15) {
-                (*whole)[at] = static_cast<std::uint8_t>(w >> 8);
-                (*whole)[at + 1] = static_cast<std::uint8_t>(w);
-            }
+        // A write is aimed at the writable range; file records have no address there.
+        if (const auto* address = protocol::field_with(*protocol::find_template(function),
+                                                       protocol::FieldRole::Address);
+            address != nullptr && protocol::writes(function)) {
+            protocol::write_field(*whole, *address, w);
         }
         for (std::size_t keep : {std::size_t{2}, whole->size() - 1}) {
             const Bytes cut(whole->begin(), whole->begin() + static_cast<long>(keep));
@@ -122,14 +132,11 @@ void CaseGenerator::fixed_frames() {
         }
     }
 
-    struct Limit {
-        std::uint8_t function;
-        std::uint16_t over;
-    };
-    for (auto [function, over] : {Limit{0x01, 2001}, Limit{0x02, 2001}, Limit{0x03, 126},
-                                  Limit{0x04, 126}, Limit{0x0F, 1969}, Limit{0x10, 124}}) {
+    // Each quantity at 0, one past its limit ([APP] 6, from the request template) and 0xFFFF.
+    for (std::uint8_t function : {0x01, 0x02, 0x03, 0x04, 0x0F, 0x10}) {
         if (!recon_.serves(function)) continue;
-        for (std::uint16_t quantity : {std::uint16_t{0}, over, std::uint16_t{0xFFFF}}) {
+        for (std::uint16_t quantity :
+             {std::uint16_t{0}, past_limit(function), std::uint16_t{0xFFFF}}) {
             const std::string name = fmt::format("FC 0x{:02X} quantity {}", function, quantity);
             if (is_read(function)) {
                 add_frame(BadInput::Quantity, name, words(function, {check, quantity}));
@@ -141,11 +148,14 @@ void CaseGenerator::fixed_frames() {
         }
     }
     if (recon_.serves(0x17)) {
+        const auto read_over = past_limit(0x17, protocol::FieldRole::ReadQuantity);
+        const auto write_over = past_limit(0x17);
         add_frame(BadInput::Quantity, "FC 0x17 read quantity 0", read_write(check, 0, w, 1, 2, 2));
-        add_frame(BadInput::Quantity, "FC 0x17 read quantity 126",
-                  read_write(check, 126, w, 1, 2, 2));
-        add_frame(BadInput::Quantity, "FC 0x17 write quantity 122",
-                  read_write(check, 1, w, 122, 244, 244));
+        add_frame(BadInput::Quantity, fmt::format("FC 0x17 read quantity {}", read_over),
+                  read_write(check, read_over, w, 1, 2, 2));
+        const auto count = byte_count_for(0x17, write_over);
+        add_frame(BadInput::Quantity, fmt::format("FC 0x17 write quantity {}", write_over),
+                  read_write(check, 1, w, write_over, count, count));
     }
 
     struct Count {

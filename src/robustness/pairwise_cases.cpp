@@ -7,6 +7,7 @@
 #include <span>
 #include <string_view>
 
+#include "protocol/request_template.hpp"
 #include "robustness/in_turn.hpp"
 #include "robustness/pairwise.hpp"
 #include "robustness/request_bytes.hpp"
@@ -43,7 +44,7 @@ struct Field {
 };
 
 // The values, repeats left out (the check address may be 0 or 1).
-std::vector<Value> exact(std::initializer_list<std::int64_t> numbers) {
+std::vector<Value> exact(const std::vector<std::int64_t>& numbers) {
     std::vector<Value> out;
     for (auto number : numbers) {
         if (std::none_of(out.begin(), out.end(),
@@ -164,7 +165,17 @@ std::vector<Request> requests(const Recon& recon, const std::optional<WritableRa
                         0x7FFF, 0xFFFE, 0xFFFF});
     }
     const Field write_address{"address", Width::Word, true, writes};
-    auto quantity = [](std::string_view name, std::initializer_list<std::int64_t> numbers) {
+    // 1, 0, `before`, the request template's limit and one past it ([APP] 6), then `after`.
+    auto quantity = [](std::string_view name, std::uint8_t function,
+                       std::initializer_list<std::int64_t> before = {},
+                       std::initializer_list<std::int64_t> after = {0x7FFF, 0xFFFE, 0xFFFF},
+                       protocol::FieldRole role = protocol::FieldRole::Quantity) {
+        const std::int64_t limit =
+            protocol::field_with(*protocol::find_template(function), role)->max;
+        std::vector<std::int64_t> numbers = {1, 0};
+        numbers.insert(numbers.end(), before);
+        numbers.insert(numbers.end(), {limit, limit + 1});
+        numbers.insert(numbers.end(), after);
         return Field{name, Width::Word, false, exact(numbers)};
     };
     const Field byte_count{"byte count",
@@ -175,19 +186,10 @@ std::vector<Request> requests(const Recon& recon, const std::optional<WritableRa
     const std::int64_t max_read = recon.max_read;
 
     std::vector<Request> all = {
-        {0x01,
-         Layout::Words,
-         {bit_address, quantity("quantity", {1, 0, 2000, 2001, 0x7FFF, 0xFFFE, 0xFFFF})}},
-        {0x02,
-         Layout::Words,
-         {bit_address, quantity("quantity", {1, 0, 2000, 2001, 0x7FFF, 0xFFFE, 0xFFFF})}},
-        {0x03,
-         Layout::Words,
-         {register_address,
-          quantity("quantity", {1, 0, max_read, 125, 126, 0x7FFF, 0xFFFE, 0xFFFF})}},
-        {0x04,
-         Layout::Words,
-         {register_address, quantity("quantity", {1, 0, 125, 126, 0x7FFF, 0xFFFE, 0xFFFF})}},
+        {0x01, Layout::Words, {bit_address, quantity("quantity", 0x01)}},
+        {0x02, Layout::Words, {bit_address, quantity("quantity", 0x02)}},
+        {0x03, Layout::Words, {register_address, quantity("quantity", 0x03, {max_read})}},
+        {0x04, Layout::Words, {register_address, quantity("quantity", 0x04)}},
         {0x05,
          Layout::Words,
          {write_address,
@@ -211,12 +213,10 @@ std::vector<Request> requests(const Recon& recon, const std::optional<WritableRa
            {right(), {0, false}, {1, false}, {4, false}, {250, false}}}}},
         {0x0F,
          Layout::MultipleWrite,
-         {write_address, quantity("quantity", {1, 0, 1968, 1969, 0x7FFF, 0xFFFE, 0xFFFF}),
-          byte_count, data}},
+         {write_address, quantity("quantity", 0x0F), byte_count, data}},
         {0x10,
          Layout::MultipleWrite,
-         {write_address, quantity("quantity", {1, 0, 123, 124, 0x7FFF, 0xFFFE, 0xFFFF}), byte_count,
-          data}},
+         {write_address, quantity("quantity", 0x10), byte_count, data}},
         {0x16,
          Layout::Words,
          {write_address,
@@ -225,9 +225,9 @@ std::vector<Request> requests(const Recon& recon, const std::optional<WritableRa
         {0x17,
          Layout::ReadWrite,
          {{"read address", Width::Word, true, exact({check, 0, 0x7FFF, 0xFFFF})},
-          quantity("read quantity", {1, 0, 125, 126, 0xFFFF}),
+          quantity("read quantity", 0x17, {}, {0xFFFF}, protocol::FieldRole::ReadQuantity),
           {"write address", Width::Word, true, writes},
-          quantity("write quantity", {1, 0, 121, 122, 0xFFFF}),
+          quantity("write quantity", 0x17, {}, {0xFFFF}),
           byte_count}},
         {0x2B,
          Layout::DeviceId,

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "robustness/case_generator.hpp"
 #include "robustness/recon.hpp"
+#include "robustness/writable_range.hpp"
 
 // The pairwise class: a served function's request fields and the MBAP header's are the
 // parameters, each with its boundary values (0, 1, the limit and one past it, 0x7FFF, 0xFFFE,
