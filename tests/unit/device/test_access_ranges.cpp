@@ -71,7 +71,7 @@ values = [9, 10]
 )");
     EXPECT_EQ(ask(*device, "10 00 00 00 04 08 00 01 00 02 00 03 00 04"), "10 00 00 00 04");
     EXPECT_EQ(ask(*device, "03 00 00 00 04"), "03 08 00 07 00 08 00 00 00 00");
-    EXPECT_EQ(device->value(1, device::BankKind::HoldingRegisters, 3), 4);
+    EXPECT_EQ(device->data().value(1, device::BankKind::HoldingRegisters, 3), 4);
 }
 
 TEST(AccessPolicy, ProfileChoosesTheExceptionCode) {
