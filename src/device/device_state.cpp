@@ -22,7 +22,7 @@ bool writable(Access access) {
     return access != Access::ReadOnly;
 }
 
-// One change load_state will make once the whole text has been checked.
+// One change load() will make once the whole text has been checked.
 struct Assignment {
     UnitModel* unit = nullptr;
     BankKind kind = BankKind::Coils;

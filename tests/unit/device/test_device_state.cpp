@@ -1,4 +1,4 @@
-// save_state / load_state: the writable data survives a restart of the device.
+// DeviceState::save / load: the writable data survives a restart of the device.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
