@@ -37,8 +37,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     mblab::device::RequestContext context;
     context.link = (data[0] & 0x80) ? mblab::device::Link::Serial : mblab::device::Link::Tcp;
     context.unit = kUnits[data[0] & 0x03];
-    if (data[0] & 0x40) device().count_crc_error();
-    if (data[0] & 0x20) device().count_overrun();
+    if (data[0] & 0x40) device().counters().count_crc_error();
+    if (data[0] & 0x20) device().counters().count_overrun();
     std::array<std::uint8_t, 253> response{};
     const auto reply = device().handle(context, std::span(data + 1, size - 1), response);
     if (reply.size > response.size()) std::abort();

@@ -184,7 +184,7 @@ int run_serve(const ServeOptions& options) {
     security::SharedContext tls;
     if (secure) {
         auto context = security::make_server_context(
-            server_tls_files(options.tls, first_device.profile(), *profile_path));
+            server_tls_files(options.tls, first_device.declarations().profile(), *profile_path));
         if (!context) return usage_error(context.error());
         tls = std::move(context.value());
     }
@@ -192,7 +192,7 @@ int run_serve(const ServeOptions& options) {
         const auto path = device_state_path(options.state, i, devices.size()).string();
         auto text = server::read_state_file(path, error);
         if (!error.empty()) return usage_error(error);
-        if (text && !devices[i]->load_state(*text, error)) {
+        if (text && !devices[i]->state().load(*text, error)) {
             return usage_error(fmt::format("state file {}: {}", path, error));
         }
         // Found now rather than at the first save, which may be minutes away or at exit.
@@ -244,10 +244,13 @@ int run_serve(const ServeOptions& options) {
     for (std::size_t i = 0; i < devices.size(); ++i) {
         auto config = server_config;
         auto* device = devices[i].get();
-        config.on_busy_reply = [device](std::uint8_t unit) { device->count_busy_reply(unit); };
+        config.on_busy_reply = [device](std::uint8_t unit) {
+            device->counters().count_busy_reply(unit);
+        };
         if (secure) {
             config.tls = tls;
-            config.roles = std::make_shared<const device::RoleRules>(device->profile().roles);
+            config.roles =
+                std::make_shared<const device::RoleRules>(device->declarations().profile().roles);
             config.on_tls_refused = [](const std::string& reason) {
                 fmt::print(stderr, "mblab serve: refused a TLS client: {}\n", reason);
             };
@@ -278,12 +281,13 @@ int run_serve(const ServeOptions& options) {
     if (gateway) {
         fmt::print("mblab serve: gateway on {} to {}; stop with Ctrl-C\n", where, options.gateway);
     } else {
-        fmt::print(
-            "mblab serve: {} {} on {}, {}; stop with Ctrl-C\n",
-            devices.size() > 1 ? fmt::format("{} {}", devices.size(), first_device.profile().name)
-                               : first_device.profile().name,
-            devices.size() > 1 ? "devices" : "profile", where,
-            first_device.addressing(rtu_over_tcp ? device::Link::Serial : device::Link::Tcp));
+        fmt::print("mblab serve: {} {} on {}, {}; stop with Ctrl-C\n",
+                   devices.size() > 1 ? fmt::format("{} {}", devices.size(),
+                                                    first_device.declarations().profile().name)
+                                      : first_device.declarations().profile().name,
+                   devices.size() > 1 ? "devices" : "profile", where,
+                   first_device.declarations().addressing(rtu_over_tcp ? device::Link::Serial
+                                                                       : device::Link::Tcp));
     }
     std::fflush(stdout);
     const auto connections = [&servers] {

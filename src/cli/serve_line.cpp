@@ -32,8 +32,9 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
         status = kExitFailed;
         io.stop();
     });
-    fmt::print("mblab serve: {} profile on {}, {}; stop with Ctrl-C\n", device.profile().name,
-               transport::format_serial_url(url), device.addressing(device::Link::Serial));
+    fmt::print("mblab serve: {} profile on {}, {}; stop with Ctrl-C\n",
+               device.declarations().profile().name, transport::format_serial_url(url),
+               device.declarations().addressing(device::Link::Serial));
     std::fflush(stdout);
     std::string error;
     if (live && !live->start(

@@ -1,7 +1,12 @@
-// ReferenceDevice::save_state / load_state: the writable data as JSON (docs/profiles.md).
+#include "device/device_state.hpp"
+
+#include <algorithm>
 #include <nlohmann/json.hpp>
 
-#include "device/reference_device.hpp"
+#include "device/profile_loader.hpp"
+#include "protocol/function_table.hpp"
+#include "protocol/limits.hpp"
+#include "protocol/request.hpp"
 
 namespace mblab::device {
 
@@ -17,7 +22,7 @@ bool writable(Access access) {
     return access != Access::ReadOnly;
 }
 
-// One change load_state will make once the whole text has been checked.
+// One change load() will make once the whole text has been checked.
 struct Assignment {
     UnitModel* unit = nullptr;
     BankKind kind = BankKind::Coils;
@@ -48,11 +53,14 @@ bool read_values(const json& node, std::size_t size, std::uint16_t max, const st
 
 }  // namespace
 
-StateSnapshot ReferenceDevice::snapshot_state() const {
-    std::lock_guard lock(mutex_);
+StateSnapshot DeviceState::snapshot() const {
+    return units_.locked([this](const UnitTable& table) { return copy_of(table); });
+}
+
+StateSnapshot DeviceState::copy_of(const UnitTable& table) const {
     StateSnapshot snapshot;
-    snapshot.profile = profile_.name;
-    for (const auto& unit : units_) {
+    snapshot.profile = units_.profile().name;
+    for (const auto& unit : table.units) {
         StateSnapshot::Unit& copy = snapshot.units.emplace_back();
         copy.id = unit.spec().id;
         for (BankKind kind : kWritableBanks) {
@@ -100,12 +108,41 @@ std::string StateSnapshot::to_json() const {
     return root.dump(1) + "\n";
 }
 
-std::string ReferenceDevice::save_state() const {
-    return snapshot_state().to_json();
+std::string DeviceState::save() const {
+    return snapshot().to_json();
 }
 
-bool ReferenceDevice::load_state(std::string_view text, std::string& error) {
-    std::lock_guard lock(mutex_);
+std::uint64_t DeviceState::writes() const {
+    return units_.locked([](const UnitTable& table) { return table.state_writes; });
+}
+
+bool DeviceState::replay_write(const RequestContext& context,
+                               std::span<const std::uint8_t> request) {
+    if (request.empty()) return false;
+    const protocol::FunctionRow* row = protocol::find_function(request[0]);
+    if (!row || row->writes != protocol::Writes::Yes) return false;
+    const auto decoded = protocol::decode_request(request);
+    if (!decoded) return false;
+    std::array<std::uint8_t, protocol::limits::kMaxPdu> scratch{};
+    return units_.locked([&](UnitTable& table) {
+        const Route target = table.route(context);
+        auto run = [&](UnitModel& unit) {
+            const auto outcome = unit.serve(decoded.value(), scratch);
+            return outcome && !std::holds_alternative<protocol::ExceptionResponse>(*outcome);
+        };
+        if (target.kind == RouteKind::Unit) return run(*target.unit);
+        if (target.kind != RouteKind::Broadcast) return false;
+        for (auto& unit : table.units)
+            run(unit);
+        return true;
+    });
+}
+
+bool DeviceState::load(std::string_view text, std::string& error) {
+    return units_.locked([&](UnitTable& table) { return load_into(table, text, error); });
+}
+
+bool DeviceState::load_into(UnitTable& table, std::string_view text, std::string& error) {
     const json root = json::parse(text, nullptr, false);
     if (root.is_discarded()) {
         error = "the state is not valid JSON";
@@ -141,7 +178,7 @@ bool ReferenceDevice::load_state(std::string_view text, std::string& error) {
             error = path + ".id: expected a unit id";
             return false;
         }
-        UnitModel* unit = find_unit(static_cast<std::uint8_t>(entry["id"].get<std::uint64_t>()));
+        UnitModel* unit = table.find(static_cast<std::uint8_t>(entry["id"].get<std::uint64_t>()));
         if (!unit) {
             error = path + ".id: the profile has no unit " + entry["id"].dump();
             return false;

@@ -12,13 +12,6 @@ namespace mblab::device {
 namespace {
 
 using protocol::ExceptionCode;
-using protocol::FunctionCode;
-
-constexpr std::uint8_t kTcpDirectUnit = 0xFF;
-
-constexpr std::uint8_t code(FunctionCode fc) {
-    return static_cast<std::uint8_t>(fc);
-}
 
 // Codes without a row: not run on broadcast, no state change, an event, no addresses.
 constexpr protocol::FunctionRow kUnlisted{};
@@ -77,100 +70,36 @@ Reply silent() {
 }  // namespace
 
 ReferenceDevice::ReferenceDevice(Profile profile)
-    : profile_(std::move(profile)), prng_(profile_.fault_seed) {
-    unit_index_.fill(-1);
-    units_.reserve(profile_.units.size());
-    for (const auto& spec : profile_.units) {
-        unit_index_[spec.id] = static_cast<std::int16_t>(units_.size());
-        units_.emplace_back(spec);
-        // Units draw apart: the same behaviours on two units do not move in step.
-        behaviours_.emplace_back(spec.behaviours,
-                                 profile_.behaviour_seed ^ (spec.id * 0x100000001ULL));
-    }
-    // The units hold the data now.
-    for (auto& spec : profile_.units)
-        spec = units_[static_cast<std::size_t>(unit_index_[spec.id])].spec();
-}
-
-UnitModel* ReferenceDevice::find_unit(std::uint8_t id) {
-    const auto i = unit_index_[id];
-    return i < 0 ? nullptr : &units_[static_cast<std::size_t>(i)];
-}
-
-const UnitModel* ReferenceDevice::find_unit(std::uint8_t id) const {
-    const auto i = unit_index_[id];
-    return i < 0 ? nullptr : &units_[static_cast<std::size_t>(i)];
-}
-
-ReferenceDevice::Route ReferenceDevice::route(const RequestContext& context) {
-    if (UnitModel* unit = find_unit(context.unit)) return {RouteKind::Unit, unit};
-    if (context.link == Link::Serial) {
-        return {context.unit == 0 ? RouteKind::Broadcast : RouteKind::Silent, nullptr};
-    }
-    if (context.unit == 0 || context.unit == kTcpDirectUnit)
-        return {RouteKind::Unit, &units_.front()};
-    switch (profile_.unmatched_unit) {
-        case UnmatchedUnit::FirstUnit:
-            return {RouteKind::Unit, &units_.front()};
-        case UnmatchedUnit::Ignore:
-            return {RouteKind::Silent, nullptr};
-        case UnmatchedUnit::PathUnavailable:
-            return {RouteKind::Gateway, nullptr, ExceptionCode::GatewayPathUnavailable};
-        case UnmatchedUnit::TargetFailed:
-            return {RouteKind::Gateway, nullptr, ExceptionCode::GatewayTargetFailedToRespond};
-    }
-    return {};
-}
+    : units_(std::move(profile)), prng_(units_.profile().fault_seed) {}
 
 Reply ReferenceDevice::handle(const RequestContext& context, std::span<const std::uint8_t> request,
                               std::span<std::uint8_t> response) {
-    std::lock_guard lock(mutex_);
-    for (auto& unit : units_)
-        ++unit.comm().counters.bus_messages;
-    if (request.empty()) return silent();
-    const Route target = route(context);
-    switch (target.kind) {
-        case RouteKind::Unit:
-            return serve(*target.unit, request, response, false);
-        case RouteKind::Broadcast:
-            for (auto& unit : units_)
-                serve(unit, request, response, true);
-            return silent();
-        case RouteKind::Gateway: {
-            protocol::WriteCursor out(response);
-            protocol::encode_exception(request[0], target.gateway, out);
-            return Reply{ReplyAction::Answer, out.size(), {}};
+    return units_.locked([&](UnitTable& table) {
+        for (auto& unit : table.units)
+            ++unit.comm().counters.bus_messages;
+        if (request.empty()) return silent();
+        const Route target = table.route(context);
+        switch (target.kind) {
+            case RouteKind::Unit:
+                return serve(table, *target.unit, request, response, false);
+            case RouteKind::Broadcast:
+                for (auto& unit : table.units)
+                    serve(table, unit, request, response, true);
+                return silent();
+            case RouteKind::Gateway: {
+                protocol::WriteCursor out(response);
+                protocol::encode_exception(request[0], target.gateway, out);
+                return Reply{ReplyAction::Answer, out.size(), {}};
+            }
+            case RouteKind::Silent:
+                break;
         }
-        case RouteKind::Silent:
-            break;
-    }
-    return silent();
+        return silent();
+    });
 }
 
-std::uint64_t ReferenceDevice::state_writes() const {
-    std::lock_guard lock(mutex_);
-    return state_writes_;
-}
-
-bool ReferenceDevice::replay_write(const RequestContext& context,
-                                   std::span<const std::uint8_t> request) {
-    std::lock_guard lock(mutex_);
-    if (request.empty() || row_of(request[0]).writes != protocol::Writes::Yes) return false;
-    const auto decoded = protocol::decode_request(request);
-    const Route target = route(context);
-    if (!decoded) return false;
-    auto run = [&](UnitModel& unit) {
-        const auto outcome = unit.serve(decoded.value(), scratch_);
-        return outcome && !std::holds_alternative<protocol::ExceptionResponse>(*outcome);
-    };
-    if (target.kind == RouteKind::Unit) return run(*target.unit);
-    if (target.kind != RouteKind::Broadcast) return false;
-    for (auto& unit : units_)
-        run(unit);
-    return true;
-}
-
-Reply ReferenceDevice::serve(UnitModel& unit, std::span<const std::uint8_t> request,
+Reply ReferenceDevice::serve(UnitTable& table, UnitModel& unit,
+                             std::span<const std::uint8_t> request,
                              std::span<std::uint8_t> response, bool broadcast) {
     CommState& comm = unit.comm();
     ++comm.counters.server_messages;
@@ -225,7 +154,7 @@ Reply ReferenceDevice::serve(UnitModel& unit, std::span<const std::uint8_t> requ
         outcome = unit.serve(decoded.value(), scratch_);
         if (row.writes == protocol::Writes::Yes && outcome &&
             !std::holds_alternative<protocol::ExceptionResponse>(*outcome)) {
-            ++state_writes_;
+            ++table.state_writes;
         }
     }
 
@@ -276,145 +205,6 @@ Reply ReferenceDevice::garbage(std::size_t size, std::span<std::uint8_t> respons
     for (std::size_t i = 0; i < size; ++i)
         response[i] = static_cast<std::uint8_t>(prng_.next());
     return Reply{ReplyAction::Answer, size, {}};
-}
-
-void ReferenceDevice::count_bus_error() {
-    for (auto& unit : units_)
-        ++unit.comm().counters.bus_errors;
-}
-
-void ReferenceDevice::count_crc_error() {
-    std::lock_guard lock(mutex_);
-    count_bus_error();
-}
-
-void ReferenceDevice::count_parity_error() {
-    std::lock_guard lock(mutex_);
-    count_bus_error();
-}
-
-void ReferenceDevice::count_short_frame() {
-    std::lock_guard lock(mutex_);
-    count_bus_error();
-}
-
-void ReferenceDevice::count_overrun() {
-    std::lock_guard lock(mutex_);
-    for (auto& unit : units_) {
-        ++unit.comm().counters.overruns;
-        unit.comm().overrun_seen = true;
-    }
-}
-
-void ReferenceDevice::count_busy_reply(std::uint8_t id) {
-    std::lock_guard lock(mutex_);
-    if (UnitModel* unit = find_unit(id)) {
-        ++unit->comm().counters.busy;
-        ++unit->comm().counters.bus_exceptions;
-    }
-}
-
-std::string ReferenceDevice::addressing(Link link) const {
-    const auto ids = unit_ids();
-    std::string list;
-    for (std::size_t i = 0; i < ids.size(); ++i)
-        list += (i ? "," : "") + std::to_string(ids[i]);
-    if (link == Link::Serial) {
-        return (ids.size() == 1 ? "address " : "addresses ") + list +
-               " (0 is a broadcast; other addresses are not answered)";
-    }
-    const std::string units = (ids.size() == 1 ? "unit " : "units ") + list;
-    const std::string first = std::to_string(ids.front());
-    std::string others = "other unit ids are not answered";
-    switch (profile_.unmatched_unit) {
-        case UnmatchedUnit::FirstUnit:
-            return units + " (0, 255 and every other unit id answer as " + first + ")";
-        case UnmatchedUnit::Ignore:
-            break;
-        case UnmatchedUnit::PathUnavailable:
-            others = "other unit ids are answered exception 0A, as by a gateway";
-            break;
-        case UnmatchedUnit::TargetFailed:
-            others = "other unit ids are answered exception 0B, as by a gateway";
-            break;
-    }
-    return units + " (0 and 255 answer as " + first + "; " + others + ")";
-}
-
-std::vector<std::uint8_t> ReferenceDevice::unit_ids() const {
-    std::vector<std::uint8_t> ids;
-    for (const auto& unit : units_)
-        ids.push_back(unit.spec().id);
-    return ids;
-}
-
-std::optional<UnitDeclaration> ReferenceDevice::declaration(std::uint8_t id) const {
-    std::lock_guard lock(mutex_);
-    const UnitModel* unit = find_unit(id);
-    if (!unit) return std::nullopt;
-    const UnitSpec& spec = unit->spec();
-    UnitDeclaration out;
-    out.unit = spec.id;
-    out.max_read_registers = spec.max_read_registers;
-    out.max_read_bits = spec.max_read_bits;
-    out.holding_registers = unit->bank(BankKind::HoldingRegisters).contiguous_from_zero();
-    out.semi_signature = spec.semi_signature;
-    out.object_messaging = spec.functions[code(FunctionCode::ObjectMessaging)];
-    out.functions = spec.functions;
-    return out;
-}
-
-UnitDeclaration ReferenceDevice::declaration() const {
-    return *declaration(units_.front().spec().id);
-}
-
-std::optional<UnitStats> ReferenceDevice::stats(std::uint8_t id) const {
-    std::lock_guard lock(mutex_);
-    const UnitModel* unit = find_unit(id);
-    if (!unit) return std::nullopt;
-    return UnitStats{id, unit->comm().counters, unit->comm().event_count, unit->comm().listen_only};
-}
-
-std::uint8_t ReferenceDevice::ascii_delimiter(std::uint8_t id) const {
-    std::lock_guard lock(mutex_);
-    const UnitModel* unit = find_unit(id);
-    return unit ? unit->comm().ascii_delimiter : static_cast<std::uint8_t>('\n');
-}
-
-std::optional<std::uint16_t> ReferenceDevice::value(std::uint8_t id, BankKind kind,
-                                                    std::uint16_t address) const {
-    std::lock_guard lock(mutex_);
-    const UnitModel* unit = find_unit(id);
-    if (!unit) return std::nullopt;
-    const auto span = unit->bank(kind).find(address, 1);
-    if (!span.mapped) return std::nullopt;
-    return unit->bank(kind).at(span.index);
-}
-
-void ReferenceDevice::advance(std::chrono::steady_clock::time_point now,
-                              std::chrono::system_clock::time_point wall) {
-    std::lock_guard lock(mutex_);
-    for (std::size_t i = 0; i < units_.size(); ++i)
-        behaviours_[i].advance(now, wall, units_[i]);
-}
-
-std::chrono::steady_clock::time_point ReferenceDevice::behaviour_deadline() const {
-    std::lock_guard lock(mutex_);
-    auto next = std::chrono::steady_clock::time_point::max();
-    for (const auto& engine : behaviours_)
-        next = std::min(next, engine.deadline());
-    return next;
-}
-
-bool ReferenceDevice::set_value(std::uint8_t id, BankKind kind, std::uint16_t address,
-                                std::uint16_t value) {
-    std::lock_guard lock(mutex_);
-    UnitModel* unit = find_unit(id);
-    if (!unit) return false;
-    const auto span = unit->bank(kind).find(address, 1);
-    if (!span.mapped) return false;
-    unit->bank(kind).at(span.index) = value;
-    return true;
 }
 
 Loaded<std::unique_ptr<ReferenceDevice>> load_profile(const std::filesystem::path& path) {

@@ -65,4 +65,38 @@ class RequestHandler {
     }
 };
 
+// A handler that answers through handle_or_defer() alone. handle() lends it a deferral and, when
+// it defers, waits for the answer and copies it into `response`: a caller that cannot let an
+// answer wait (a serial line, one request at a time) gets the same answer, later.
+class DeferringHandler : public RequestHandler {
+  public:
+    Reply handle(const RequestContext& context, std::span<const std::uint8_t> request,
+                 std::span<std::uint8_t> response) final;
+    std::optional<Reply> handle_or_defer(const RequestContext& context,
+                                         std::span<const std::uint8_t> request,
+                                         std::span<std::uint8_t> response,
+                                         Deferral& deferral) override = 0;
+};
+
+// A decorator around another handler (counting, journaling): each request goes to `inner`
+// unchanged unless the derived class overrides handle_or_defer(), which it does to act before
+// and after the inner answer.
+class ForwardingHandler : public DeferringHandler {
+  public:
+    explicit ForwardingHandler(RequestHandler& inner) : inner_(inner) {}
+
+    std::optional<Reply> handle_or_defer(const RequestContext& context,
+                                         std::span<const std::uint8_t> request,
+                                         std::span<std::uint8_t> response,
+                                         Deferral& deferral) override {
+        return inner_.handle_or_defer(context, request, response, deferral);
+    }
+
+  protected:
+    RequestHandler& inner() const { return inner_; }
+
+  private:
+    RequestHandler& inner_;
+};
+
 }  // namespace mblab::device

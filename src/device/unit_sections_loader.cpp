@@ -1,5 +1,6 @@
 #include <algorithm>
 
+#include "device/fault_rule_schema.hpp"
 #include "device/profile_sections.hpp"
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
@@ -21,6 +22,28 @@ bool unique_ids(Fields& fields, std::string_view key, std::vector<std::int64_t> 
     if (twin == ids.end()) return true;
     fields.fail(key, "the value " + std::to_string(*twin) + " appears twice");
     return false;
+}
+
+// A TOML value as the fault rule schema reads it.
+RuleValue rule_value(const toml::node& node) {
+    RuleValue value;
+    value.described = describe_node(node);
+    if (auto i = node.as_integer()) {
+        value.type = RuleValue::Type::Integer;
+        value.integer = **i;
+        value.number = static_cast<double>(**i);
+    } else if (auto f = node.as_floating_point()) {
+        value.type = RuleValue::Type::Number;
+        value.number = **f;
+    } else if (auto text = node.as_string()) {
+        value.type = RuleValue::Type::String;
+        value.text = **text;
+    } else if (auto list = node.as_array()) {
+        value.type = RuleValue::Type::List;
+        for (const auto& element : *list)
+            value.items.push_back(rule_value(element));
+    }
+    return value;
 }
 
 }  // namespace
@@ -247,50 +270,21 @@ bool load_objects(Fields& unit, std::vector<SemiObject>& out) {
 
 bool load_faults(Fields& unit, std::vector<FaultSpec>& out) {
     return each_table(unit, "faults", [&](const toml::table& t, const std::string& path) {
-        Fields fields(t, path, unit.errors());
+        std::vector<RuleField> fields;
+        for (const auto& [key, node] : t)
+            fields.push_back({std::string(key.str()), rule_value(node)});
         FaultSpec fault;
-        if (!fields.require("action", "one of delay, drop, exception, garbage, close")) {
-            return false;
+        RuleError error;
+        if (read_fault_rule(fields, fault, error)) {
+            out.push_back(std::move(fault));
+            return true;
         }
-        if (!fields.choice<FaultAction>("action", fault.action,
-                                        {{"delay", FaultAction::Delay},
-                                         {"drop", FaultAction::Drop},
-                                         {"exception", FaultAction::Exception},
-                                         {"garbage", FaultAction::Garbage},
-                                         {"close", FaultAction::Close}})) {
-            return false;
-        }
-        std::int64_t delay_ms = 0;
-        if (fault.action == FaultAction::Delay &&
-            !fields.require("delay_ms", "how long to hold the answer, e.g. delay_ms = 500")) {
-            return false;
-        }
-        if (fields.integer("delay_ms", delay_ms, 0, 600000)) {
-            fault.delay = std::chrono::milliseconds(delay_ms);
-        }
-        std::int64_t code = 0;
-        if (fields.integer("exception", code, 1, 0xFF)) {
-            fault.exception = static_cast<protocol::ExceptionCode>(code);
-        }
-        fields.integer_as("garbage_bytes", fault.garbage_bytes, 1, protocol::limits::kMaxPdu);
-        std::vector<std::int64_t> functions;
-        if (integer_list(fields, "functions", 1, 0x7F, functions)) {
-            fault.functions.assign(functions.begin(), functions.end());
-        }
-        std::int64_t first = 0;
-        std::int64_t last = 0;
-        if (integer_pair(fields, "addresses", 0, 0xFFFF, first, last)) {
-            fault.first_address = static_cast<std::uint16_t>(first);
-            fault.last_address = static_cast<std::uint16_t>(last);
-        }
-        fields.integer_as("every", fault.every, 1, 1000000);
-        fields.number("probability", fault.probability, 0.0, 1.0);
-        if (!fields.failed() && fields.has("every") && fields.has("probability")) {
-            fields.fail("probability", "give either every (every Nth request) or probability");
-        }
-        fields.finish();
-        out.push_back(fault);
-        return !fields.failed();
+        // At the line of the value (or its element) at fault, or of the table when it is missing.
+        const toml::node* node = t.get(error.key);
+        if (node && error.element && node->as_array()) node = node->as_array()->get(*error.element);
+        unit.errors().fail(node ? node->source() : t.source(), path + "." + error.field(),
+                           error.message);
+        return false;
     });
 }
 

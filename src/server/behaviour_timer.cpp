@@ -19,12 +19,13 @@ void BehaviourTimer::stop() {
 }
 
 void BehaviourTimer::arm() {
-    const auto due = device_.behaviour_deadline();
+    const auto due = device_.behaviours().deadline();
     if (due == std::chrono::steady_clock::time_point::max()) return;
     timer_.expires_at(std::max(due, std::chrono::steady_clock::time_point{}));
     timer_.async_wait([this](const asio::error_code& ec) {
         if (ec || stopped_) return;
-        device_.advance(std::chrono::steady_clock::now(), std::chrono::system_clock::now());
+        device_.behaviours().advance(std::chrono::steady_clock::now(),
+                                     std::chrono::system_clock::now());
         arm();
     });
 }

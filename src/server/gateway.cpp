@@ -83,14 +83,6 @@ device::Reply SerialGateway::path_unavailable(std::uint8_t function,
                      response);
 }
 
-device::Reply SerialGateway::handle(const device::RequestContext& context,
-                                    std::span<const std::uint8_t> request,
-                                    std::span<std::uint8_t> response) {
-    if (auto here = answer_here(context, request, response)) return *here;
-    std::lock_guard lock(mutex_);
-    return forward(context.unit, request, response);
-}
-
 std::optional<device::Reply> SerialGateway::handle_or_defer(const device::RequestContext& context,
                                                             std::span<const std::uint8_t> request,
                                                             std::span<std::uint8_t> response,
@@ -123,7 +115,6 @@ void SerialGateway::work() {
         if (give_up) {
             reply = path_unavailable(job.request[0], response);
         } else {
-            std::lock_guard line(mutex_);
             reply = forward(job.unit, job.request, response);
         }
         job.done(reply, std::span(response).first(std::min(reply.size, response.size())));

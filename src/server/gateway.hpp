@@ -32,10 +32,10 @@
 //     respond); a routed unit 0 is sent as a broadcast and not answered.
 // One request at a time is on the line, and t3.5 of silence separates RTU frames.
 //
-// handle() blocks its caller for the transaction, up to the response timeout. handle_or_defer(),
-// which the TCP server uses, does not: a request for the line is queued for the gateway's own
-// thread, which answers it when the line has, so one silent device never stalls the server's
-// other connections (nor requests the gateway answers itself, like 0A).
+// A request for the line is queued for the gateway's own thread, the only one that uses the line,
+// which answers it when the line has: handle_or_defer(), which the TCP server uses, does not
+// wait, so one silent device never stalls the server's other connections (nor requests the
+// gateway answers itself, like 0A); handle() waits for the answer, up to the response timeout.
 namespace mblab::server {
 
 struct LineSetup;
@@ -49,15 +49,12 @@ struct GatewayStats {
     Counter line_errors{0};  // bad frames and stray answers seen while waiting
 };
 
-class SerialGateway final : public device::RequestHandler {
+class SerialGateway final : public device::DeferringHandler {
   public:
     // Opens the line at `url` (rtu:// or ascii://; its timeout= and units= apply).
     static protocol::Result<std::unique_ptr<SerialGateway>, std::string> open(
         const transport::SerialUrl& url);
 
-    device::Reply handle(const device::RequestContext& context,
-                         std::span<const std::uint8_t> request,
-                         std::span<std::uint8_t> response) override;
     std::optional<device::Reply> handle_or_defer(const device::RequestContext& context,
                                                  std::span<const std::uint8_t> request,
                                                  std::span<std::uint8_t> response,
@@ -103,7 +100,6 @@ class SerialGateway final : public device::RequestHandler {
     std::bitset<256> units_;
     std::chrono::milliseconds response_timeout_;  // also bounds writing a request
     GatewayStats stats_;
-    std::mutex mutex_;  // the line: one transaction at a time
 
     std::mutex jobs_mutex_;
     std::condition_variable jobs_ready_;

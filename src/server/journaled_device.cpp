@@ -1,6 +1,5 @@
 #include "server/journaled_device.hpp"
 
-#include <future>
 #include <vector>
 
 #include "protocol/exception_code.hpp"
@@ -68,7 +67,7 @@ bool replay_values(device::ReferenceDevice& device, std::string_view line) {
         values.push_back(static_cast<std::uint16_t>(word));
     }
     // A unit or an address the profile no longer maps was refused when written: nothing to do.
-    (void)device.set_values(
+    (void)device.data().set_values(
         static_cast<std::uint8_t>(unit),
         bank == 'C' ? device::BankKind::Coils : device::BankKind::HoldingRegisters,
         static_cast<std::uint32_t>(start), values);
@@ -132,29 +131,10 @@ bool replay_record(device::ReferenceDevice& device, std::string_view line) {
     std::vector<std::uint8_t> request;
     if (parse_journal_record(line, context, request)) {
         // One the device refuses now (another profile) changed nothing when it was made either.
-        (void)device.replay_write(context, request);
+        (void)device.state().replay_write(context, request);
         return true;
     }
     return replay_values(device, line);
-}
-
-device::Reply JournaledDevice::handle(const device::RequestContext& context,
-                                      std::span<const std::uint8_t> request,
-                                      std::span<std::uint8_t> response) {
-    std::promise<bool> written;
-    device::Reply reply;
-    {
-        auto order = keeper_.lock_order();
-        const auto before = device_.state_writes();
-        reply = device_.handle(context, request, response);
-        if (device_.state_writes() == before) return reply;
-        keeper_.append_locked(journal_record(context, request),
-                              [&written](bool ok) { written.set_value(ok); });
-    }
-    if (!written.get_future().get() && reply.action == device::ReplyAction::Answer) {
-        device_failure(request[0], reply, response);
-    }
-    return reply;
 }
 
 std::optional<device::Reply> JournaledDevice::handle_or_defer(const device::RequestContext& context,
@@ -162,9 +142,9 @@ std::optional<device::Reply> JournaledDevice::handle_or_defer(const device::Requ
                                                               std::span<std::uint8_t> response,
                                                               device::Deferral& deferral) {
     auto order = keeper_.lock_order();
-    const auto before = device_.state_writes();
+    const auto before = device_.state().writes();
     auto reply = device_.handle(context, request, response);
-    if (device_.state_writes() == before) return reply;
+    if (device_.state().writes() == before) return reply;
     if (reply.action != device::ReplyAction::Answer) {
         // Nothing acknowledges this write (a broadcast, a fault): record it, hold nothing back.
         keeper_.append_locked(journal_record(context, request), {});

@@ -20,13 +20,11 @@
 // them.
 namespace mblab::server {
 
-class JournaledDevice final : public device::RequestHandler {
+class JournaledDevice final : public device::ForwardingHandler {
   public:
-    explicit JournaledDevice(StateKeeper& keeper) : device_(keeper.device()), keeper_(keeper) {}
+    explicit JournaledDevice(StateKeeper& keeper)
+        : ForwardingHandler(keeper.device()), device_(keeper.device()), keeper_(keeper) {}
 
-    device::Reply handle(const device::RequestContext& context,
-                         std::span<const std::uint8_t> request,
-                         std::span<std::uint8_t> response) override;
     std::optional<device::Reply> handle_or_defer(const device::RequestContext& context,
                                                  std::span<const std::uint8_t> request,
                                                  std::span<std::uint8_t> response,

@@ -20,14 +20,16 @@ SerialLineHooks device_line_hooks(device::ReferenceDevice& device) {
     SerialLineHooks hooks;
     hooks.on_frame_error = [&device](LineError error) {
         if (error == LineError::ShortFrame) {
-            device.count_short_frame();
+            device.counters().count_short_frame();
         } else if (error == LineError::Checksum) {
-            device.count_crc_error();
+            device.counters().count_crc_error();
         }
     };
-    hooks.on_overrun = [&device] { device.count_overrun(); };
-    hooks.on_parity_error = [&device] { device.count_parity_error(); };
-    hooks.ascii_delimiter = [&device](std::uint8_t unit) { return device.ascii_delimiter(unit); };
+    hooks.on_overrun = [&device] { device.counters().count_overrun(); };
+    hooks.on_parity_error = [&device] { device.counters().count_parity_error(); };
+    hooks.ascii_delimiter = [&device](std::uint8_t unit) {
+        return device.counters().ascii_delimiter(unit);
+    };
     return hooks;
 }
 

@@ -56,7 +56,7 @@ void StateKeeper::save_soon_locked() {
     // writes the snapshot holds, so dropping them once it is saved loses none.
     const auto rotation = journal_ ? journal_->rotate() : 0;
     since_rotation_ = 0;
-    saver_.save(state_, device_.snapshot_state(),
+    saver_.save(state_, device_.state().snapshot(),
                 [this, rotation](bool saved, const std::string& error) {
                     if (!saved) {
                         if (report_) report_("cannot save state: " + error);
@@ -73,7 +73,7 @@ bool StateKeeper::save_now(std::string& error) {
         std::lock_guard order(order_);
         rotation = journal_ ? journal_->rotate() : 0;
         since_rotation_ = 0;
-        snapshot = device_.snapshot_state();
+        snapshot = device_.state().snapshot();
     }
     // The text outside the lock: writes go on meanwhile (into the rotated journal).
     if (!write_file_atomically(state_, snapshot.to_json(), error)) return false;
@@ -87,7 +87,7 @@ StateKeeper::Write StateKeeper::write_values(std::uint8_t unit, device::BankKind
     std::promise<bool> written;
     {
         std::lock_guard order(order_);
-        if (!device_.set_values(unit, kind, start, values)) return Write::Unmapped;
+        if (!device_.data().set_values(unit, kind, start, values)) return Write::Unmapped;
         const bool kept =
             kind == device::BankKind::Coils || kind == device::BankKind::HoldingRegisters;
         if (!journal_ || !kept) return Write::Done;
@@ -118,7 +118,7 @@ bool replay_journal(device::ReferenceDevice& device, const std::filesystem::path
         return false;
     };
     if (!read_journal(path, apply, warn, error)) return false;
-    if (!write_file_atomically(state, device.save_state(), error)) return false;
+    if (!write_file_atomically(state, device.state().save(), error)) return false;
     remove_journal(path);
     return true;
 }

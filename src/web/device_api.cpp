@@ -98,9 +98,10 @@ ApiReply api_error(int status, const std::string& reason) {
 }
 
 DeviceApi::DeviceApi(ServeView view) : view_(std::move(view)) {
-    for (auto unit : view_.device.unit_ids()) {
+    for (auto unit : view_.device.declarations().unit_ids()) {
         auto& rules = rules_[unit];
-        for (auto& spec : view_.device.fault_rules(unit).value_or(std::vector<device::FaultSpec>{}))
+        for (auto& spec :
+             view_.device.faults().rules(unit).value_or(std::vector<device::FaultSpec>{}))
             rules.push_back({std::move(spec), true});
     }
 }
@@ -130,9 +131,9 @@ ApiReply DeviceApi::handle(const ApiRequest& request) {
     }
     if (top != "units" || parts.size() < 4) return not_found();
 
-    const auto ids = view_.device.unit_ids();
+    const auto ids = view_.device.declarations().unit_ids();
     const auto unit = whole_number(parts[2], 255);
-    if (!unit || !view_.device.declaration(static_cast<std::uint8_t>(*unit))) {
+    if (!unit || !view_.device.declarations().of(static_cast<std::uint8_t>(*unit))) {
         return api_error(
             404, fmt::format("unit {}: no such unit (units: {})", parts[2], fmt::join(ids, ",")));
     }
@@ -156,7 +157,7 @@ ApiReply DeviceApi::handle(const ApiRequest& request) {
 
 ApiReply DeviceApi::units() const {
     json out = json::array();
-    for (const auto& spec : view_.device.profile().units) {
+    for (const auto& spec : view_.device.declarations().profile().units) {
         json banks = json::object();
         for (std::size_t i = 0; i < device::kBankKinds; ++i) {
             const auto kind = static_cast<BankKind>(i);
@@ -195,7 +196,7 @@ ApiReply DeviceApi::read_values(std::uint8_t unit, BankKind kind,
         return api_error(400,
                          fmt::format("start {} + count {} runs past address 65535", start, count));
     }
-    const auto values = view_.device.values(unit, kind, start, count);
+    const auto values = view_.device.data().values(unit, kind, start, count);
     json list = json::array();
     for (const auto& value : values.value_or(std::vector<std::optional<std::uint16_t>>{})) {
         if (value) {
@@ -236,7 +237,7 @@ ApiReply DeviceApi::write_values(std::uint8_t unit, BankKind kind, const std::st
             400, fmt::format("{} values from {} run past address 65535", values.size(), *start));
     }
     const auto written = view_.write_values ? view_.write_values(unit, kind, *start, values)
-                         : view_.device.set_values(unit, kind, *start, values)
+                         : view_.device.data().set_values(unit, kind, *start, values)
                              ? ValueWrite::Written
                              : ValueWrite::Unmapped;
     if (written == ValueWrite::Unmapped) {
@@ -320,7 +321,7 @@ void DeviceApi::apply_rules(std::uint8_t unit) {
     for (const auto& rule : rules_[unit]) {
         if (rule.enabled) enabled.push_back(rule.spec);
     }
-    view_.device.set_fault_rules(unit, std::move(enabled));
+    view_.device.faults().set_rules(unit, std::move(enabled));
 }
 
 json DeviceApi::counters() const {
@@ -333,9 +334,9 @@ json DeviceApi::counters() const {
     }
     const auto latency = view_.meter.latency();
     json units = json::array();
-    for (auto unit : view_.device.unit_ids()) {
-        const auto stats = view_.device.stats(unit);
-        const auto log = view_.device.event_log(unit);
+    for (auto unit : view_.device.declarations().unit_ids()) {
+        const auto stats = view_.device.counters().stats(unit);
+        const auto log = view_.device.counters().event_log(unit);
         if (stats && log) units.push_back(comm_json(*stats, *log));
     }
     return {{"requests", requests},
@@ -346,8 +347,8 @@ json DeviceApi::counters() const {
 
 ApiReply DeviceApi::reset_counters() {
     view_.meter.reset();
-    for (auto unit : view_.device.unit_ids())
-        view_.device.clear_counters(unit);
+    for (auto unit : view_.device.declarations().unit_ids())
+        view_.device.counters().clear_counters(unit);
     return ok(counters());
 }
 

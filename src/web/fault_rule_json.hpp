@@ -5,8 +5,9 @@
 
 #include "device/profile.hpp"
 
-// A fault rule as the HTTP API shows and takes it: the fields and limits of a profile's
-// [[unit.faults]] table (docs/profiles.md), as JSON.
+// A fault rule as the HTTP API shows and takes it: a profile's [[unit.faults]] table
+// (docs/profiles.md) as JSON. The fields, limits and errors are the schema's
+// (device/fault_rule_schema.hpp); this maps JSON onto it.
 namespace mblab::web {
 
 nlohmann::json fault_rule_json(const device::FaultSpec& rule);

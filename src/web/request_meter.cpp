@@ -105,15 +105,6 @@ void RequestMeter::reset() {
     sum_nanos_.store(0, std::memory_order_relaxed);
 }
 
-device::Reply MeteredHandler::handle(const device::RequestContext& context,
-                                     std::span<const std::uint8_t> request,
-                                     std::span<std::uint8_t> response) {
-    const auto start = Clock::now();
-    const auto reply = inner_.handle(context, request, response);
-    count_reply(meter_, context, request.empty() ? 0 : request[0], reply, response, start);
-    return reply;
-}
-
 std::optional<device::Reply> MeteredHandler::handle_or_defer(const device::RequestContext& context,
                                                              std::span<const std::uint8_t> request,
                                                              std::span<std::uint8_t> response,
@@ -121,7 +112,7 @@ std::optional<device::Reply> MeteredHandler::handle_or_defer(const device::Reque
     const auto start = Clock::now();
     const std::uint8_t function = request.empty() ? 0 : request[0];
     MeteredDeferral metered(deferral, meter_, context, function, start);
-    auto reply = inner_.handle_or_defer(context, request, response, metered);
+    auto reply = inner().handle_or_defer(context, request, response, metered);
     if (reply) count_reply(meter_, context, function, *reply, response, start);
     return reply;
 }

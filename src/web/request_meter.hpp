@@ -48,21 +48,17 @@ class RequestMeter {
 
 // Counts what passes between a server and its handler. The time is the handler's plus the
 // delay the reply asks for (a fault rule's "delay"), what a client waits beyond the network.
-class MeteredHandler final : public device::RequestHandler {
+class MeteredHandler final : public device::ForwardingHandler {
   public:
     MeteredHandler(device::RequestHandler& inner, RequestMeter& meter)
-        : inner_(inner), meter_(meter) {}
+        : ForwardingHandler(inner), meter_(meter) {}
 
-    device::Reply handle(const device::RequestContext& context,
-                         std::span<const std::uint8_t> request,
-                         std::span<std::uint8_t> response) override;
     std::optional<device::Reply> handle_or_defer(const device::RequestContext& context,
                                                  std::span<const std::uint8_t> request,
                                                  std::span<std::uint8_t> response,
                                                  device::Deferral& deferral) override;
 
   private:
-    device::RequestHandler& inner_;
     RequestMeter& meter_;
 };
 

@@ -55,8 +55,8 @@ std::string serve_metrics(const ServeView& view) {
          &device::CommCounters::bus_messages},
     };
     std::vector<device::UnitStats> units;
-    for (auto unit : view.device.unit_ids()) {
-        if (auto stats = view.device.stats(unit)) units.push_back(*stats);
+    for (auto unit : view.device.declarations().unit_ids()) {
+        if (auto stats = view.device.counters().stats(unit)) units.push_back(*stats);
     }
     for (const auto& counter : line_counters) {
         out.family(counter.name, "gauge", counter.help);

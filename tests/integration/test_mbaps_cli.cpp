@@ -53,7 +53,8 @@ class MbapsCli : public ::testing::Test {
             security::make_server_context({file("server.pem"), file("server.key"), file("ca.pem")});
         ASSERT_TRUE(context) << context.error();
         options.tls = *context;
-        options.roles = std::make_shared<const device::RoleRules>(device_->profile().roles);
+        options.roles =
+            std::make_shared<const device::RoleRules>(device_->declarations().profile().roles);
         server_ = std::make_unique<server::BackgroundServer>(*device_, options);
         auto port = server_->start();
         ASSERT_TRUE(port) << port.error();

@@ -54,7 +54,7 @@ TEST_F(GatewayToRtu, ReadsBackWhatItWroteThroughTheLine) {
               "00 01 00 00 00 06 01 10 00 64 00 02");
     EXPECT_EQ(client.transact("00 02 00 00 00 06 01 03 00 64 00 02"),
               "00 02 00 00 00 07 01 03 04 12 34 56 78");
-    EXPECT_EQ(line_.device().value(1, device::BankKind::HoldingRegisters, 0x65), 0x5678);
+    EXPECT_EQ(line_.device().data().value(1, device::BankKind::HoldingRegisters, 0x65), 0x5678);
     // FC 08 echo answers have no length field: the gateway ends them on t3.5 of silence.
     EXPECT_EQ(client.transact("00 03 00 00 00 06 01 08 00 00 AB CD"),
               "00 03 00 00 00 06 01 08 00 00 AB CD");
@@ -129,7 +129,7 @@ TEST_F(GatewayToRtu, ServesMbpoll) {
               0)
         << output;
     EXPECT_THAT(output, HasSubstr("[201]: \t4660\n[202]: \t22136\n"));
-    EXPECT_EQ(line_.device().value(1, device::BankKind::HoldingRegisters, 200), 4660);
+    EXPECT_EQ(line_.device().data().value(1, device::BankKind::HoldingRegisters, 200), 4660);
     // Unit 5 is routed but silent: mbpoll reports the gateway's exception 0B.
     output.clear();
     EXPECT_NE(

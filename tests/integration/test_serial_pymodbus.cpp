@@ -30,7 +30,7 @@ TEST_P(PymodbusMaster, WritesThenReadsBack) {
               "registers [4660, 65535, 255, 7, 65280]\n"
               "coils [True, False, True, True, False, False, True, True, True, True]\n");
     // What pymodbus wrote is in the device.
-    EXPECT_EQ(line.device().value(1, device::BankKind::HoldingRegisters, 101), 0xFFFF);
+    EXPECT_EQ(line.device().data().value(1, device::BankKind::HoldingRegisters, 101), 0xFFFF);
 }
 
 INSTANTIATE_TEST_SUITE_P(Lines, PymodbusMaster,

@@ -81,7 +81,7 @@ TEST(AccessPolicy, LenientProfileIgnoresWritesAndReadsZeros) {
         10 00 00 00 04 08 00 01 00 02 00 03 00 04 -> 10 00 00 00 04
         03 00 00 00 04                            -> 03 08 00 07 00 08 00 00 00 00
     )");
-    EXPECT_EQ(device->value(1, device::BankKind::HoldingRegisters, 3), 4);
+    EXPECT_EQ(device->data().value(1, device::BankKind::HoldingRegisters, 3), 4);
 }
 
 TEST(AccessPolicy, ProfileChoosesTheExceptionCode) {

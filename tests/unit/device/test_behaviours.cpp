@@ -36,7 +36,7 @@ class Behaviours : public ::testing::Test {
     // Moves the clock to `since_start` and lets the device catch up, as the server's timer does.
     void at(std::chrono::milliseconds since_start) {
         clock.advance_to(start + since_start);
-        device->advance(clock.now(), kWall + (clock.now() - start));
+        device->behaviours().advance(clock.now(), kWall + (clock.now() - start));
     }
     std::string ask(std::string_view request) { return test::ask(*device, request); }
     // `request`'s answer at each time of a trace, in order.
@@ -49,7 +49,7 @@ class Behaviours : public ::testing::Test {
         }
     }
     std::uint16_t input(std::uint16_t address) {
-        return device->value(1, BankKind::InputRegisters, address).value_or(0xDEAD);
+        return device->data().value(1, BankKind::InputRegisters, address).value_or(0xDEAD);
     }
 
     std::unique_ptr<device::ReferenceDevice> device;
@@ -91,7 +91,8 @@ TEST_F(Behaviours, RampRisesAndWrapsToMin) {
                                                       {1000, 10}, {1300, 40}, {2000, 10}};
     for (const auto& [ms, value] : expected) {
         at(std::chrono::milliseconds(ms));
-        EXPECT_EQ(device->value(1, BankKind::HoldingRegisters, 0), value) << "at " << ms << " ms";
+        EXPECT_EQ(device->data().value(1, BankKind::HoldingRegisters, 0), value)
+            << "at " << ms << " ms";
     }
 }
 
@@ -104,8 +105,8 @@ std::vector<std::uint16_t> walk(std::uint64_t seed, std::chrono::milliseconds st
     ManualClock clock;
     std::vector<std::uint16_t> values;
     for (int i = 0; i < 200; ++i) {
-        device->advance(clock.now(), kWall);
-        values.push_back(*device->value(1, BankKind::InputRegisters, 0));
+        device->behaviours().advance(clock.now(), kWall);
+        values.push_back(*device->data().value(1, BankKind::InputRegisters, 0));
         clock.advance(step_time);
     }
     return values;
@@ -138,7 +139,7 @@ TEST_F(Behaviours, RandomStaysInBoundsAndIsReproducible) {
     for (int ms = 0; ms < 2000; ms += 100) {
         at(std::chrono::milliseconds(ms));
         for (std::uint16_t a = 0; a < 4; ++a) {
-            const auto v = *device->value(1, BankKind::HoldingRegisters, a);
+            const auto v = *device->data().value(1, BankKind::HoldingRegisters, a);
             EXPECT_GE(v, 1000);
             EXPECT_LE(v, 1010);
         }
@@ -253,13 +254,13 @@ TEST_F(Behaviours, DeadlineIsTheNextUpdate) {
     load(
         "[[unit.behaviours]]\nkind = \"counter\"\naddress = 0\ninterval_ms = 500\n"
         "[[unit.behaviours]]\nkind = \"counter\"\naddress = 1\ninterval_ms = 300\n");
-    EXPECT_EQ(device->behaviour_deadline(), ManualClock::time_point::min());
+    EXPECT_EQ(device->behaviours().deadline(), ManualClock::time_point::min());
     at(0ms);
-    EXPECT_EQ(device->behaviour_deadline(), start + 300ms);
+    EXPECT_EQ(device->behaviours().deadline(), start + 300ms);
     at(300ms);
-    EXPECT_EQ(device->behaviour_deadline(), start + 500ms);
+    EXPECT_EQ(device->behaviours().deadline(), start + 500ms);
     load("");
-    EXPECT_EQ(device->behaviour_deadline(), ManualClock::time_point::max());
+    EXPECT_EQ(device->behaviours().deadline(), ManualClock::time_point::max());
 }
 
 // A request between two updates of a multi-register value sees all of one update: the counter
@@ -273,7 +274,7 @@ TEST_F(Behaviours, MultiRegisterValueIsNeverHalfUpdated) {
     std::atomic<bool> done = false;
     std::thread updates([&] {
         for (int i = 1; i <= 20000; ++i)
-            device->advance(start + i * 10ms, kWall);
+            device->behaviours().advance(start + i * 10ms, kWall);
         done = true;
     });
     int reads = 0;

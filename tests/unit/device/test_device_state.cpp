@@ -1,4 +1,4 @@
-// save_state / load_state: the writable data survives a restart of the device.
+// DeviceState::save / load: the writable data survives a restart of the device.
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
@@ -30,7 +30,7 @@ TEST(DeviceState, SavesWritableRangesAndFiles) {
                    "coils": [{"start": 0, "values": [0, 1, 0]}],
                    "holding_registers": [{"start": 10, "values": [1, 2]}],
                    "files": [{"number": 4, "records": [0, 42]}]}]})");
-    EXPECT_EQ(nlohmann::json::parse(device->save_state()), expected);
+    EXPECT_EQ(nlohmann::json::parse(device->state().save()), expected);
 }
 
 TEST(DeviceState, RoundTripsThroughAFreshDevice) {
@@ -38,15 +38,15 @@ TEST(DeviceState, RoundTripsThroughAFreshDevice) {
     EXPECT_EQ(ask(*before, "06 00 10 12 34"), "06 00 10 12 34");
     EXPECT_EQ(ask(*before, "05 00 05 FF 00"), "05 00 05 FF 00");
     EXPECT_EQ(ask(*before, "15 09 06 00 01 00 05 00 01 AB CD"), "15 09 06 00 01 00 05 00 01 AB CD");
-    const std::string state = before->save_state();
+    const std::string state = before->state().save();
 
     auto after = shipped_device("reference");
     std::string error;
-    ASSERT_TRUE(after->load_state(state, error)) << error;
+    ASSERT_TRUE(after->state().load(state, error)) << error;
     EXPECT_EQ(ask(*after, "03 00 10 00 01"), "03 02 12 34");
     EXPECT_EQ(ask(*after, "01 00 05 00 01"), "01 01 01");
     EXPECT_EQ(ask(*after, "14 07 06 00 01 00 05 00 01"), "14 04 03 06 AB CD");
-    EXPECT_EQ(after->save_state(), state);
+    EXPECT_EQ(after->state().save(), state);
 }
 
 struct BadState {
@@ -59,9 +59,9 @@ class DeviceStateErrors : public ::testing::TestWithParam<BadState> {};
 TEST_P(DeviceStateErrors, RefusesWithoutChangingAnything) {
     auto device = device_from(kTiny);
     std::string error;
-    EXPECT_FALSE(device->load_state(GetParam().text, error));
+    EXPECT_FALSE(device->state().load(GetParam().text, error));
     EXPECT_EQ(error, GetParam().error);
-    EXPECT_EQ(device->value(3, BankKind::HoldingRegisters, 10), 1);
+    EXPECT_EQ(device->data().value(3, BankKind::HoldingRegisters, 10), 1);
 }
 
 INSTANTIATE_TEST_SUITE_P(

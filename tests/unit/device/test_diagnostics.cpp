@@ -25,10 +25,10 @@ TEST_F(Diagnostics, CountsMessagesAndExceptions) {
 }
 
 TEST_F(Diagnostics, CountsLineErrorsAndOverruns) {
-    device->count_crc_error();
-    device->count_short_frame();
-    device->count_parity_error();
-    device->count_overrun();
+    device->counters().count_crc_error();
+    device->counters().count_short_frame();
+    device->counters().count_parity_error();
+    device->counters().count_overrun();
     expect_dialogue(R"(
         08 00 0C 00 00 -> 08 00 0C 00 03
         08 00 12 00 00 -> 08 00 12 00 01
@@ -40,7 +40,7 @@ TEST_F(Diagnostics, CountsLineErrorsAndOverruns) {
 
 TEST_F(Diagnostics, ClearCountersTakesEffectAfterItsAnswer) {
     EXPECT_EQ(ask("03 00 00 FF FF"), "83 03");
-    device->count_crc_error();
+    device->counters().count_crc_error();
     expect_dialogue(R"(
         08 00 0A 00 00 -> 08 00 0A 00 00
         08 00 0B 00 00 -> 08 00 0B 00 01
@@ -54,7 +54,7 @@ TEST_F(Diagnostics, ReturnsRegisterAndChangesAsciiDelimiter) {
         08 00 02 00 00 -> 08 00 02 00 00
         08 00 03 3B 00 -> 08 00 03 3B 00
     )");
-    EXPECT_EQ(device->ascii_delimiter(1), ';');
+    EXPECT_EQ(device->counters().ascii_delimiter(1), ';');
 }
 
 TEST_F(Diagnostics, RejectsBadSubFunctionData) {
@@ -67,14 +67,14 @@ TEST_F(Diagnostics, RejectsBadSubFunctionData) {
 
 TEST_F(Diagnostics, ListenOnlyUntilRestart) {
     EXPECT_EQ(ask("08 00 04 00 00"), "NO ANSWER");
-    EXPECT_TRUE(device->stats(1)->listen_only);
+    EXPECT_TRUE(device->counters().stats(1)->listen_only);
     expect_dialogue(R"(
         03 00 00 00 01 -> NO ANSWER
         08 00 00 12 34 -> NO ANSWER
     )");
-    EXPECT_EQ(device->stats(1)->counters.no_response, 3);
+    EXPECT_EQ(device->counters().stats(1)->counters.no_response, 3);
     EXPECT_EQ(ask("08 00 01 00 00"), "NO ANSWER");  // restart leaves listen-only silently
-    EXPECT_FALSE(device->stats(1)->listen_only);
+    EXPECT_FALSE(device->counters().stats(1)->listen_only);
     expect_dialogue(R"(
         03 00 00 00 01 -> 03 02 53 45
         08 00 0B 00 00 -> 08 00 0B 00 02

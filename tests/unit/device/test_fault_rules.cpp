@@ -46,7 +46,7 @@ addresses = [100, 199]
     EXPECT_EQ(ask(*device, "03 00 5F 00 0A"), "NO ANSWER");
     EXPECT_EQ(ask(*device, "06 00 64 00 01"), "NO ANSWER");
     EXPECT_EQ(ask(*device, "07"), "07 00");
-    EXPECT_EQ(device->stats(1)->counters.no_response, 3);
+    EXPECT_EQ(device->counters().stats(1)->counters.no_response, 3);
 }
 
 TEST(FaultRules, DelayAnswersNormallyLater) {

@@ -53,8 +53,8 @@ INSTANTIATE_TEST_SUITE_P(
                    "test.toml:6: unit[0].faults[0].probability: give either every (every Nth "
                    "request) or probability"},
         BadProfile{"[[unit]]\nid = 1\n[[unit.faults]]\naction = \"delay\"\n",
-                   "test.toml:3: unit[0].faults[0].delay_ms: missing key; how long to hold the "
-                   "answer, e.g. delay_ms = 500"},
+                   "test.toml:3: unit[0].faults[0].delay_ms: missing key; a delay rule needs it: "
+                   "how long to hold the answer, in milliseconds"},
         BadProfile{"[[unit]]\nid = 1\n[unit.identification]\nvendor = \"v\"\n"
                    "product_code = \"p\"\n",
                    "test.toml:3: unit[0].identification.revision: missing key; vendor, "

@@ -131,7 +131,7 @@ TEST_F(ReferenceDevice, AnswersEventCounterAndLog) {
 }
 
 TEST_F(ReferenceDevice, DeclaresItsLimits) {
-    const auto declared = device->declaration();
+    const auto declared = device->declarations().first();
     EXPECT_EQ(declared.unit, 1);
     EXPECT_EQ(declared.max_read_registers, 125);
     EXPECT_EQ(declared.holding_registers, 65536u);

@@ -34,9 +34,9 @@ TEST(RegisterMapCsv, MakesRangesAndBehavioursThatLoad) {
     auto device = device_from(toml);
     ASSERT_TRUE(device);
     const auto start = std::chrono::steady_clock::time_point{} + 1h;
-    device->advance(start, {});
+    device->behaviours().advance(start, {});
     EXPECT_EQ(ask(*device, "04 00 00 00 01", 3), "04 02 01 F4");
-    device->advance(start + 2500ms, {});
+    device->behaviours().advance(start + 2500ms, {});
     EXPECT_EQ(ask(*device, "04 00 00 00 01", 3), "04 02 03 E8");
     EXPECT_EQ(ask(*device, "04 00 02 00 02", 3), "04 04 00 00 41 AC");  // 21.5, words swapped
     EXPECT_EQ(ask(*device, "03 00 0A 00 02", 3), "03 04 00 00 00 00");

@@ -52,7 +52,7 @@ TEST_F(Rs485Instrument, ObjectsOtherThanZeroToTwoAreIllegalDataAddress) {
 
 TEST_F(Rs485Instrument, NoSelfDiagnosticsOnBroadcast) {
     EXPECT_EQ(ask("08 00 00 12 34", 0), "NO ANSWER");
-    EXPECT_EQ(device->stats(1)->event_count, 0);
+    EXPECT_EQ(device->counters().stats(1)->event_count, 0);
     EXPECT_EQ(ask("06 00 03 00 07", 0), "NO ANSWER");  // a broadcast write is executed
     EXPECT_EQ(ask("03 00 03 00 01"), "03 02 00 07");
 }
@@ -76,8 +76,8 @@ TEST_F(Rs485Instrument, UnsupportedFunctionsAreIllegalFunction) {
 
 TEST_F(Rs485Instrument, ReadsOverTheDeclaredMaximumAreIllegalDataValue) {
     EXPECT_EQ(ask("03 00 00 00 41"), "83 03");
-    EXPECT_EQ(device->declaration().max_read_registers, 64);
-    EXPECT_EQ(device->declaration().holding_registers, 64u);
+    EXPECT_EQ(device->declarations().first().max_read_registers, 64);
+    EXPECT_EQ(device->declarations().first().holding_registers, 64u);
 }
 
 }  // namespace

@@ -12,17 +12,17 @@ using device::Link;
 TEST(SerialRules, BroadcastWritesAreExecutedAndNeverAnswered) {
     auto device = shipped_device("reference");
     EXPECT_EQ(ask(*device, "06 00 10 00 05", 0, Link::Serial), "NO ANSWER");
-    EXPECT_EQ(device->value(1, BankKind::HoldingRegisters, 0x10), 5);
+    EXPECT_EQ(device->data().value(1, BankKind::HoldingRegisters, 0x10), 5);
     EXPECT_EQ(ask(*device, "0F 00 00 00 03 01 05", 0, Link::Serial), "NO ANSWER");
     EXPECT_EQ(ask(*device, "01 00 00 00 03", 1, Link::Serial), "01 01 05");
-    EXPECT_EQ(device->stats(1)->counters.no_response, 2);
+    EXPECT_EQ(device->counters().stats(1)->counters.no_response, 2);
 }
 
 TEST(SerialRules, BroadcastReadsAreNotExecuted) {
     auto device = shipped_device("reference");
     EXPECT_EQ(ask(*device, "03 00 00 00 01", 0, Link::Serial), "NO ANSWER");
     EXPECT_EQ(ask(*device, "08 00 04 00 00", 0, Link::Serial), "NO ANSWER");
-    EXPECT_FALSE(device->stats(1)->listen_only);
+    EXPECT_FALSE(device->counters().stats(1)->listen_only);
     // The broadcast's receive event has bit 6 set; no send event follows it.
     EXPECT_EQ(ask(*device, "0C", 1, Link::Serial), "0C 09 00 00 00 00 00 03 80 C0 C0");
 }
@@ -52,9 +52,9 @@ TEST(TcpRules, OtherUnitIdsAreNotAnsweredByDefault) {
     ASSERT_TRUE(plain);
     EXPECT_EQ(ask(*plain, "03 00 00 00 01", 5), "03 02 00 00");
     EXPECT_EQ(ask(*plain, "03 00 00 00 01", 6), "NO ANSWER");
-    EXPECT_EQ(plain->addressing(Link::Tcp),
+    EXPECT_EQ(plain->declarations().addressing(Link::Tcp),
               "unit 5 (0 and 255 answer as 5; other unit ids are not answered)");
-    EXPECT_EQ(plain->addressing(Link::Serial),
+    EXPECT_EQ(plain->declarations().addressing(Link::Serial),
               "address 5 (0 is a broadcast; other addresses are not answered)");
 }
 
@@ -64,7 +64,8 @@ TEST(TcpRules, FirstUnitAnswersEveryUnitIdWhenTheProfileAsks) {
         "[[unit.holding_registers]]\nstart = 0\ncount = 4\n");
     ASSERT_TRUE(device);
     EXPECT_EQ(ask(*device, "03 00 00 00 01", 7), "03 02 00 00");
-    EXPECT_EQ(device->addressing(Link::Tcp), "unit 5 (0, 255 and every other unit id answer as 5)");
+    EXPECT_EQ(device->declarations().addressing(Link::Tcp),
+              "unit 5 (0, 255 and every other unit id answer as 5)");
 }
 
 TEST(TcpRules, DiagnosticsAreServedOnTcp) {
@@ -97,16 +98,16 @@ TEST_F(MultiUnit, UnknownTcpUnitIsGatewayPathUnavailable) {
 
 TEST_F(MultiUnit, SerialBroadcastReachesEveryUnit) {
     EXPECT_EQ(ask(*device, "06 00 00 00 09", 0, Link::Serial), "NO ANSWER");
-    EXPECT_EQ(device->value(1, BankKind::HoldingRegisters, 0), 9);
-    EXPECT_EQ(device->value(17, BankKind::HoldingRegisters, 0), 9);
+    EXPECT_EQ(device->data().value(1, BankKind::HoldingRegisters, 0), 9);
+    EXPECT_EQ(device->data().value(17, BankKind::HoldingRegisters, 0), 9);
     EXPECT_EQ(ask(*device, "03 00 00 00 01", 5, Link::Serial), "NO ANSWER");
 }
 
 TEST_F(MultiUnit, ListsUnitsAndDeclarations) {
-    EXPECT_EQ(device->unit_ids(), (std::vector<std::uint8_t>{1, 2, 17}));
-    EXPECT_EQ(device->declaration(17)->max_read_registers, 32);
-    EXPECT_EQ(device->declaration(17)->holding_registers, 50u);
-    EXPECT_FALSE(device->declaration(5).has_value());
+    EXPECT_EQ(device->declarations().unit_ids(), (std::vector<std::uint8_t>{1, 2, 17}));
+    EXPECT_EQ(device->declarations().of(17)->max_read_registers, 32);
+    EXPECT_EQ(device->declarations().of(17)->holding_registers, 50u);
+    EXPECT_FALSE(device->declarations().of(5).has_value());
 }
 
 }  // namespace

@@ -65,7 +65,7 @@ std::unique_ptr<device::ReferenceDevice> restarted(const std::filesystem::path& 
     auto device = make_device();
     std::string error;
     if (auto text = read_state_file(state, error)) {
-        EXPECT_TRUE(device->load_state(*text, error)) << error;
+        EXPECT_TRUE(device->state().load(*text, error)) << error;
     }
     EXPECT_TRUE(replay_journal(*device, state, {}, error)) << error;
     return device;
@@ -93,7 +93,8 @@ TEST(StateKeeper, TheJournalIsCompactedPastItsBoundWithoutPeriodicSaves) {
     EXPECT_LT(journal_bytes(state), 3 * kBound + 1000);
     auto again = restarted(state);
     for (std::uint16_t address = 0; address < 100; ++address)
-        EXPECT_EQ(again->value(1, device::BankKind::HoldingRegisters, address), 1900 + address);
+        EXPECT_EQ(again->data().value(1, device::BankKind::HoldingRegisters, address),
+                  1900 + address);
 }
 
 // Attack run: REST writes were not journaled (50 of 50 lost on kill -9), and an older Modbus
@@ -120,12 +121,12 @@ TEST(StateKeeper, RestWritesAreJournaledInTheOrderTheDeviceMadeThem) {
     }
     EXPECT_FALSE(std::filesystem::exists(state));
     auto again = restarted(state);
-    EXPECT_EQ(again->value(1, device::BankKind::HoldingRegisters, 5), 2);
-    EXPECT_EQ(again->value(1, device::BankKind::HoldingRegisters, 6), 3);
-    EXPECT_EQ(again->value(1, device::BankKind::HoldingRegisters, 7), 4);
-    EXPECT_EQ(again->value(1, device::BankKind::Coils, 2), 1);
-    EXPECT_EQ(again->value(1, device::BankKind::Coils, 3), 0);
-    EXPECT_EQ(again->value(1, device::BankKind::Coils, 4), 1);
+    EXPECT_EQ(again->data().value(1, device::BankKind::HoldingRegisters, 5), 2);
+    EXPECT_EQ(again->data().value(1, device::BankKind::HoldingRegisters, 6), 3);
+    EXPECT_EQ(again->data().value(1, device::BankKind::HoldingRegisters, 7), 4);
+    EXPECT_EQ(again->data().value(1, device::BankKind::Coils, 2), 1);
+    EXPECT_EQ(again->data().value(1, device::BankKind::Coils, 3), 0);
+    EXPECT_EQ(again->data().value(1, device::BankKind::Coils, 4), 1);
     EXPECT_FALSE(std::filesystem::exists(journal_path_of(state)));
 }
 
@@ -137,9 +138,9 @@ TEST(JournalRecord, ValuesRecordsRoundTripThroughReplay) {
               "1 V C 0003 0001");
     auto device = make_device();
     EXPECT_TRUE(replay_record(*device, "1 V H 0010 1234ABCD"));
-    EXPECT_EQ(device->value(1, device::BankKind::HoldingRegisters, 0x11), 0xABCD);
+    EXPECT_EQ(device->data().value(1, device::BankKind::HoldingRegisters, 0x11), 0xABCD);
     EXPECT_TRUE(replay_record(*device, "1 V H 0020 00FF"));
-    EXPECT_EQ(device->value(1, device::BankKind::HoldingRegisters, 0x20), 0xFF);
+    EXPECT_EQ(device->data().value(1, device::BankKind::HoldingRegisters, 0x20), 0xFF);
     for (const char* bad : {"1 V H 0010", "1 V X 0010 0001", "1 V H 0010 123", "1 V H 00G0 0001",
                             "1 V H 0010 0001 ", "1 W H 0010 0001"}) {
         EXPECT_FALSE(replay_record(*device, bad)) << bad;

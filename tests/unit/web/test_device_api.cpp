@@ -109,14 +109,17 @@ TEST(DeviceApi, BadFaultRulesAreRefusedWithTheField) {
         return h.json(h.call("POST", "/api/units/1/faults", body)).value("error", "");
     };
     EXPECT_EQ(error(R"({"action":"explode"})"),
-              "action: expected one of delay, drop, exception, garbage, close");
+              "action: expected one of delay, drop, exception, garbage, close, got \"explode\"");
     EXPECT_EQ(error(R"({"action":"delay"})"),
-              "delay_ms: a delay rule needs it, e.g. \"delay_ms\": 500");
+              "delay_ms: missing key; a delay rule needs it: how long to hold the answer, in "
+              "milliseconds");
     EXPECT_EQ(error(R"({"action":"drop","functions":[200]})"),
-              "functions: expected a list of function codes from 1 to 127");
+              "functions[0]: expected an integer from 1 to 127, got 200");
     EXPECT_EQ(error(R"({"action":"drop","every":2,"probability":0.5})"),
               "probability: give either every (every Nth request) or probability");
-    EXPECT_EQ(error(R"({"action":"drop","color":"red"})"), "color: not a fault rule field");
+    EXPECT_EQ(error(R"({"action":"drop","color":"red"})"),
+              "color: unknown key; expected one of action, delay_ms, exception, garbage_bytes, "
+              "functions, addresses, every, probability");
     EXPECT_EQ(error(R"({"action":"drop","enabled":"yes"})"), "enabled: expected true or false");
     EXPECT_EQ(h.json(h.call("GET", "/api/units/1/faults")).size(), 1U);
 }
