@@ -26,6 +26,7 @@
 #include "cli/conform_reports.hpp"
 #include "cli/profile_lookup.hpp"
 #include "cli/report_files.hpp"
+#include "cli/stop_signals.hpp"
 #include "cli/terminal_style.hpp"
 #include "cli/tls_options.hpp"
 #include "client/target.hpp"
@@ -84,26 +85,6 @@ struct ConformOptions {
 int usage_error(const std::string& message) {
     fmt::print(stderr, "mblab conform: {}\n", message);
     return kExitUsage;
-}
-
-// SIGINT or SIGTERM asks the engine to stop between cases; the handler only records it.
-std::atomic<bool> g_stop{false};
-std::atomic<int> g_stop_signal{0};
-
-extern "C" void on_conform_stop_signal(int signal_number) {
-    g_stop_signal.store(signal_number);
-    g_stop.store(true);
-}
-
-void catch_stop_signals() {
-    struct sigaction action {};
-    action.sa_handler = on_conform_stop_signal;
-    // A second Ctrl-C ends the program at once, as in `mblab load`; SA_RESTART keeps the reads
-    // and writes of the case under way going.
-    action.sa_flags = SA_RESETHAND | SA_RESTART;
-    sigemptyset(&action.sa_mask);
-    ::sigaction(SIGINT, &action, nullptr);
-    ::sigaction(SIGTERM, &action, nullptr);
 }
 
 // The built-in device's profile: the default one, a file, or a shipped profile by name.
@@ -314,7 +295,7 @@ int run_conform(const ConformOptions& options) {
     conf::Session session(target, dut, engine_options,
                           options.reports.pcap.empty() ? nullptr : &capture, &console);
     if (secure) session.set_secure_target(std::move(*secure));
-    catch_stop_signals();
+    StopSignals::catch_them();
     const auto started = std::chrono::system_clock::now();
     client::LinkError link_error;
     if (!session.connect(link_error)) {
@@ -324,7 +305,7 @@ int run_conform(const ConformOptions& options) {
 
     console.header(target.name, session.dut(), note);
     conf::Engine engine(session, &console);
-    engine.stop_when(g_stop);
+    engine.stop_when(StopSignals::flag());
     engine.stop_if_unanswered();
     conf::RunResult result = engine.run(suites, target.name);
     console.summary(result);
@@ -336,7 +317,7 @@ int run_conform(const ConformOptions& options) {
     }
     // 128 + the signal, as a shell reports a program the signal ended: 130 for SIGINT, 143 for
     // SIGTERM, so a script tells an interrupted run from a failed one.
-    if (result.interrupted) return 128 + g_stop_signal.load();
+    if (result.interrupted) return StopSignals::exit_status();
     // A device that answers nothing is not under test: the target or the unit is wrong.
     if (!result.unanswered.empty()) return usage_error(result.unanswered);
     return result.all_passed() ? kExitOk : kExitFailed;

@@ -13,6 +13,7 @@
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/stop_signals.hpp"
 #include "cli/tls_options.hpp"
 #include "client/raw_link.hpp"
 #include "client/target.hpp"
@@ -65,12 +66,6 @@ struct FuzzCommandOptions {
 
 // What --pcap keeps of a run, in bytes of memory: a run's capture is otherwise unbounded.
 constexpr std::size_t kPcapBound = std::size_t{32} << 20;
-
-std::atomic<bool> g_stop{false};
-
-extern "C" void on_fuzz_stop_signal(int) {
-    g_stop = true;
-}
 
 int usage_error(const std::string& message) {
     fmt::print(stderr, "mblab fuzz: {}\n", message);
@@ -295,8 +290,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
         return kExitFailed;
     }
 
-    std::signal(SIGINT, on_fuzz_stop_signal);
-    std::signal(SIGTERM, on_fuzz_stop_signal);
+    StopSignals::catch_them();
     const bool live = ::isatty(STDERR_FILENO) != 0;
     rb::CaseGenerator generator(recon, policy, options.seed, framing, gap, limits);
     auto result = runner.run(
@@ -307,7 +301,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
                        c.name);
             std::fflush(stderr);
         },
-        [] { return g_stop.load(); });
+        [] { return StopSignals::requested(); });
     if (live) fmt::print(stderr, "\r\033[K");
     if (memory) {
         if (const auto now = process_memory(memory->pid)) {

@@ -18,6 +18,7 @@
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/report_files.hpp"
+#include "cli/stop_signals.hpp"
 #include "cli/tls_options.hpp"
 #include "client/raw_link.hpp"
 #include "client/target.hpp"
@@ -76,12 +77,6 @@ struct LoadOptions {
     security::TlsFiles tls;  // mbaps:// nodes
     CLI::App* command = nullptr;
 };
-
-std::atomic<bool> g_stop{false};
-
-extern "C" void on_stop_signal(int) {
-    g_stop.store(true);
-}
 
 int usage_error(const std::string& message) {
     fmt::print(stderr, "mblab load: {}\n", message);
@@ -225,17 +220,6 @@ protocol::Result<load::LoadPlan, std::string> make_plan(const LoadOptions& optio
     return plan;
 }
 
-void catch_stop_signals() {
-    struct sigaction action {};
-    action.sa_handler = on_stop_signal;
-    // A second Ctrl-C ends the program at once, without the summary.
-    action.sa_flags = SA_RESETHAND;
-    sigemptyset(&action.sa_mask);
-    ::sigaction(SIGINT, &action, nullptr);
-    ::sigaction(SIGTERM, &action, nullptr);
-    std::signal(SIGPIPE, SIG_IGN);
-}
-
 // --metrics: the run's latest status at /metrics, served on threads of their own.
 class LoadMetrics {
   public:
@@ -294,7 +278,7 @@ int run_load(const LoadOptions& options) {
     std::fflush(stdout);
 
     raise_descriptor_limit();
-    catch_stop_signals();
+    StopSignals::catch_them();
     const bool live = ::isatty(STDERR_FILENO) != 0;
     const auto line_period = live ? kLiveStatusPeriod : kLogStatusPeriod;
     const auto period = metrics ? std::min<std::chrono::milliseconds>(line_period, kMetricsPeriod)
@@ -303,7 +287,7 @@ int run_load(const LoadOptions& options) {
     const auto every = static_cast<int>(line_period / period);
     int statuses = 0;
     load::LoadRunner runner(*plan);
-    auto result = runner.run(g_stop, period, [&](const load::LoadStatus& status) {
+    auto result = runner.run(StopSignals::flag(), period, [&](const load::LoadStatus& status) {
         if (metrics) metrics->update(status);
         if (++statuses % every != 0) return;
         fmt::print(stderr, "{}{}{}", live ? "\r\033[K" : "", load::load_status_line(*plan, status),

@@ -7,7 +7,6 @@
 #include <asio/detached.hpp>
 #include <asio/experimental/as_tuple.hpp>
 #include <asio/io_context.hpp>
-#include <asio/signal_set.hpp>
 #include <asio/steady_timer.hpp>
 #include <asio/use_awaitable.hpp>
 #include <chrono>
@@ -27,19 +26,17 @@
 #include "cli/serve_line.hpp"
 #include "cli/serve_state.hpp"
 #include "cli/serve_stats_line.hpp"
+#include "cli/stop_signals.hpp"
 #include "cli/tls_options.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
 #include "server/behaviour_timer.hpp"
 #include "server/gateway.hpp"
-#include "server/journal.hpp"
-#include "server/journaled_device.hpp"
+#include "server/kept_devices.hpp"
 #include "server/rtu_tcp_server.hpp"
 #include "server/serial_server.hpp"
 #include "server/server_options.hpp"
-#include "server/state_file.hpp"
 #include "server/state_keeper.hpp"
-#include "server/state_saver.hpp"
 #include "server/tcp_server.hpp"
 #include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
@@ -174,13 +171,13 @@ int run_serve(const ServeOptions& options) {
                                        options.devices, first_port));
     }
 
-    std::vector<std::unique_ptr<device::ReferenceDevice>> devices;
-    for (int i = 0; i < options.devices; ++i) {
-        auto loaded = device::load_profile(*profile_path);
-        if (!loaded) return usage_error(loaded.error());
-        devices.push_back(std::move(loaded.value()));
-    }
-    auto& first_device = *devices.front();
+    server::KeptDevicesOptions kept_options{
+        *profile_path, static_cast<std::size_t>(options.devices), options.state, options.durable};
+    auto opened = server::KeptDevices::open(kept_options, report);
+    if (!opened) return usage_error(opened.error());
+    // Closed before the io_context goes at the end (their journals' threads post answers to it).
+    auto& kept = **opened;
+    auto& first_device = kept.device(0);
     security::SharedContext tls;
     if (secure) {
         auto context = security::make_server_context(
@@ -188,62 +185,30 @@ int run_serve(const ServeOptions& options) {
         if (!context) return usage_error(context.error());
         tls = std::move(context.value());
     }
-    for (std::size_t i = 0; i < devices.size() && !options.state.empty(); ++i) {
-        const auto path = device_state_path(options.state, i, devices.size()).string();
-        auto text = server::read_state_file(path, error);
-        if (!error.empty()) return usage_error(error);
-        if (text && !devices[i]->load_state(*text, error)) {
-            return usage_error(fmt::format("state file {}: {}", path, error));
-        }
-        // Found now rather than at the first save, which may be minutes away or at exit.
-        if (!server::check_state_writable(path, error)) return usage_error("--state: " + error);
-        if (!server::replay_journal(*devices[i], path, report, error)) return usage_error(error);
-    }
-    // Before the keepers, whose saves it runs.
-    server::StateSaver saver;
-    // Cleared before the io_context goes at the end (their journals' threads post answers to it).
-    Keepers keepers;
-    std::vector<std::unique_ptr<server::JournaledDevice>> journaled(devices.size());
-    for (std::size_t i = 0; i < devices.size() && !options.state.empty(); ++i) {
-        const auto path = device_state_path(options.state, i, devices.size());
-        std::unique_ptr<server::Journal> journal;
-        if (options.durable) {
-            auto made = server::Journal::create(server::journal_path_of(path));
-            if (!made) return usage_error(made.error());
-            journal = std::move(made.value());
-        }
-        keepers.push_back(std::make_unique<server::StateKeeper>(*devices[i], path, saver,
-                                                                std::move(journal), report));
-        if (options.durable) journaled[i] = std::make_unique<server::JournaledDevice>(*keepers[i]);
-    }
-    server::StateKeeper* first_keeper = keepers.empty() ? nullptr : keepers.front().get();
+    server::StateKeeper* first_keeper = kept.keeper(0);
     // Counts every request for the HTTP side, whatever answers it.
     std::unique_ptr<LiveDevice> live;
     if (http) {
-        live = std::make_unique<LiveDevice>(
-            first_device,
-            journaled[0] ? static_cast<device::RequestHandler&>(*journaled[0]) : first_device);
+        live = std::make_unique<LiveDevice>(first_device, kept.handler(0));
         write_values_through(*live, first_keeper);
     }
     auto device_handler = [&](std::size_t i) -> device::RequestHandler& {
         if (live) return live->handler();
-        if (journaled[i]) return *journaled[i];
-        return *devices[i];
+        return kept.handler(i);
     };
 
     std::signal(SIGPIPE, SIG_IGN);
     if (serial && !rtu_over_tcp) {
-        return run_serial_line(*serial, first_device, device_handler(0), first_keeper, *save_period,
-                               live.get(), http);
+        return run_serial_line(*serial, kept, device_handler(0), *save_period, live.get(), http);
     }
     // One thread runs every server; without a gateway or a journal nothing else touches the
     // io_context, so it takes no locks. A gateway's or a journal's thread posts answers to it.
     asio::io_context io(gateway || options.durable ? 1 : ASIO_CONCURRENCY_HINT_UNSAFE);
     std::vector<std::unique_ptr<server::TcpServer>> servers;
     std::vector<std::string> urls;
-    for (std::size_t i = 0; i < devices.size(); ++i) {
+    for (std::size_t i = 0; i < kept.size(); ++i) {
         auto config = server_config;
-        auto* device = devices[i].get();
+        auto* device = &kept.device(i);
         config.on_busy_reply = [device](std::uint8_t unit) { device->count_busy_reply(unit); };
         if (secure) {
             config.tls = tls;
@@ -280,9 +245,9 @@ int run_serve(const ServeOptions& options) {
     } else {
         fmt::print(
             "mblab serve: {} {} on {}, {}; stop with Ctrl-C\n",
-            devices.size() > 1 ? fmt::format("{} {}", devices.size(), first_device.profile().name)
-                               : first_device.profile().name,
-            devices.size() > 1 ? "devices" : "profile", where,
+            kept.size() > 1 ? fmt::format("{} {}", kept.size(), first_device.profile().name)
+                            : first_device.profile().name,
+            kept.size() > 1 ? "devices" : "profile", where,
             first_device.addressing(rtu_over_tcp ? device::Link::Serial : device::Link::Tcp));
     }
     std::fflush(stdout);
@@ -299,19 +264,14 @@ int run_serve(const ServeOptions& options) {
     asio::steady_timer save_timer(io);
     asio::steady_timer stats_timer(io);
     std::vector<std::unique_ptr<server::BehaviourTimer>> behaviours;
-    for (auto& device : devices) {
-        behaviours.push_back(std::make_unique<server::BehaviourTimer>(io, *device));
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        behaviours.push_back(std::make_unique<server::BehaviourTimer>(io, kept.device(i)));
         behaviours.back()->start();
     }
     StatsLine stats_line(servers);
     bool stopping = false;
-    if (!keepers.empty() && save_period->count() > 0) {
-        asio::co_spawn(io,
-                       every(save_timer, *save_period, stopping,
-                             [&] {
-                                 for (auto& keeper : keepers)
-                                     keeper->save_soon();
-                             }),
+    if (kept.keeps_state() && save_period->count() > 0) {
+        asio::co_spawn(io, every(save_timer, *save_period, stopping, [&] { kept.save_soon(); }),
                        asio::detached);
     }
     if (options.stats) {
@@ -319,9 +279,7 @@ int run_serve(const ServeOptions& options) {
             io, every(stats_timer, std::chrono::seconds(1), stopping, [&] { stats_line.print(); }),
             asio::detached);
     }
-    asio::signal_set signals(io, SIGINT, SIGTERM);
-    signals.async_wait([&](const asio::error_code& ec, int) {
-        if (ec) return;
+    const auto signals = watch_stop_signals(io, [&] {
         stopping = true;
         for (auto& s : servers)
             s->stop();
@@ -340,11 +298,9 @@ int run_serve(const ServeOptions& options) {
         stats_line.print();
         stats_line.finish();
     }
-    saver.wait_idle();
-    const bool saved = save_states(keepers);
+    const bool saved = kept.save_all();
     // A journal's thread posts answers to `io`: end it while `io` is still there.
-    journaled.clear();
-    keepers.clear();
+    kept.close();
     return saved ? kExitOk : kExitFailed;
 }
 

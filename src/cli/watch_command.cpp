@@ -3,7 +3,6 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
-#include <csignal>
 #include <cstdlib>
 #include <ctime>
 #include <memory>
@@ -14,6 +13,7 @@
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/read_query.hpp"
+#include "cli/stop_signals.hpp"
 #include "cli/terminal_style.hpp"
 
 // `mblab watch TARGET KIND ARGS...`: the read of `mblab read`, repeated every --interval, drawn in
@@ -25,12 +25,6 @@ namespace mblab::cli {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-volatile std::sig_atomic_t g_stop = 0;
-
-extern "C" void request_stop(int) {
-    g_stop = 1;
-}
 
 struct WatchOptions {
     ClientOptions client;
@@ -148,7 +142,7 @@ class Screen {
 
 // Sleeps until `until` or a stop request, in short steps so Ctrl-C ends the wait promptly.
 void wait_until(Clock::time_point until) {
-    while (g_stop == 0 && Clock::now() < until) {
+    while (!StopSignals::requested() && Clock::now() < until) {
         std::this_thread::sleep_for(
             std::min<Clock::duration>(until - Clock::now(), std::chrono::milliseconds(50)));
     }
@@ -198,10 +192,10 @@ int watch(client::Client& client, CommandOutput& out, const WatchOptions& option
     std::vector<std::string> previous;
     const auto interval = std::chrono::milliseconds(options.interval_ms);
     auto next = Clock::now();
-    while (g_stop == 0 &&
+    while (!StopSignals::requested() &&
            (options.count == 0 || tally.polls < static_cast<unsigned>(options.count))) {
         wait_until(next);
-        if (g_stop != 0) break;
+        if (StopSignals::requested()) break;
         next += interval;
         ++tally.polls;
         auto reading = perform_read(client, query);
@@ -279,9 +273,7 @@ int run_watch(const WatchOptions& options) {
             "--format csv takes coils, discretes, holding or input, whose columns are known "
             "before the first answer: use --format ndjson");
     }
-    g_stop = 0;
-    std::signal(SIGINT, request_stop);
-    std::signal(SIGTERM, request_stop);
+    StopSignals::catch_them();
     ClientOptions client_options = options.client;
     client_options.probe_units = false;
     return with_client(client_options, output, [&](client::Client& client, CommandOutput& out) {
