@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 // Each subcommand lives in its own file and registers itself on the top-level app. The returned
@@ -15,6 +16,13 @@ using CommandRunner = std::function<int()>;
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailed = 1;  // a check failed / the device answered an exception
 inline constexpr int kExitUsage = 2;   // bad arguments, bad files, unreachable target
+
+// A help text written as it prints, in a raw string literal that opens on a line of its own:
+// drops that first line break.
+inline std::string help_text(std::string_view raw) {
+    if (!raw.empty() && raw.front() == '\n') raw.remove_prefix(1);
+    return std::string(raw);
+}
 
 // How this process was started and what it is, for reports that must say so later. Filled in by
 // main, which alone sees argv whole and includes the generated build_info.hpp (so a new commit

@@ -5,15 +5,12 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
-#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -30,11 +27,13 @@
 #include "cli/terminal_style.hpp"
 #include "cli/tls_options.hpp"
 #include "client/target.hpp"
+#include "conformance/builtin_device.hpp"
 #include "conformance/builtin_mbaps.hpp"
 #include "conformance/capture.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/catalogue_paths.hpp"
 #include "conformance/console_report.hpp"
+#include "conformance/declaration_sources.hpp"
 #include "conformance/device_dut.hpp"
 #include "conformance/engine.hpp"
 #include "conformance/procedures.hpp"
@@ -43,10 +42,8 @@
 #include "conformance/security_cases.hpp"
 #include "conformance/suite_selection.hpp"
 #include "device/profile_paths.hpp"
-#include "device/reference_device.hpp"
 #include "security/pki.hpp"
 #include "security/tls_context.hpp"
-#include "server/background_server.hpp"
 #include "web/html_report.hpp"
 
 // `mblab conform [TARGET]`: runs conformance suites against a device, or against the built-in
@@ -96,30 +93,8 @@ std::optional<std::filesystem::path> builtin_profile(const std::string& wanted,
     return found;
 }
 
-// Where each DUT key's value came from, for the reports' provenance: a key nobody set since the
-// last reset comes from `base` (the built-in device's profile, or the defaults).
-class DeclarationSources {
-  public:
-    explicit DeclarationSources(std::string base) : base_(std::move(base)) {}
-    void reset(std::string base) {
-        base_ = std::move(base);
-        sources_.clear();
-    }
-    void set(std::string_view key, std::string source) {
-        sources_[std::string(key)] = std::move(source);
-    }
-    std::string operator()(std::string_view key) const {
-        const auto found = sources_.find(std::string(key));
-        return found == sources_.end() ? base_ : found->second;
-    }
-
-  private:
-    std::string base_;
-    std::map<std::string, std::string> sources_;
-};
-
 // Flags override the DUT file, which overrides what the built-in device's profile says.
-bool declare_dut(const ConformOptions& options, conf::Dut& dut, DeclarationSources& sources,
+bool declare_dut(const ConformOptions& options, conf::Dut& dut, conf::DeclarationSources& sources,
                  std::string& error) {
     if (!options.dut_file.empty()) {
         auto loaded = conf::load_dut_file(options.dut_file);
@@ -154,46 +129,10 @@ bool declare_dut(const ConformOptions& options, conf::Dut& dut, DeclarationSourc
     if (given("--cert", "client_cert")) dut.security.client.cert = options.tls.cert;
     if (given("--key", "client_key")) dut.security.client.key = options.tls.key;
     if (given("--ca", "ca")) dut.security.client.ca = options.tls.ca;
-    // A lab PKI made by `mblab pki` holds the tester's own certificate too.
-    security::TlsFiles& client = dut.security.client;
-    const std::string from_pki = fmt::format("the PKI directory ({})", sources("pki"));
-    if (!dut.security.pki.empty() && client.cert.empty() && client.key.empty()) {
-        const std::filesystem::path dir = dut.security.pki;
-        client.cert = (dir / "client-Administrator.pem").string();
-        client.key = (dir / "client-Administrator.key").string();
-        sources.set("client_cert", from_pki);
-        sources.set("client_key", from_pki);
-    }
-    if (!dut.security.pki.empty() && client.ca.empty()) {
-        client.ca = (std::filesystem::path(dut.security.pki) / "ca.pem").string();
-        sources.set("ca", from_pki);
-    }
+    conf::take_client_files_from_pki(dut, sources);
     if (flags)
         dut.declared_by = dut.declared_by == "defaults" ? "flags" : dut.declared_by + " and flags";
     return true;
-}
-
-// What the reports say about where they came from. The device is asked who it is after the run,
-// so the question cannot change any verdict; an interrupted run is not kept waiting for it.
-conf::Provenance make_provenance(const ConformOptions& options, conf::Session& session,
-                                 const DeclarationSources& sources,
-                                 std::chrono::system_clock::time_point started, bool interrupted) {
-    conf::Provenance provenance;
-    if (options.invocation != nullptr) {
-        provenance.version = options.invocation->version;
-        provenance.commit = options.invocation->commit;
-        provenance.command_line = options.invocation->argv;
-    }
-    provenance.started = conf::iso8601_utc(started);
-    provenance.declared_by = session.dut().declared_by;
-    provenance.declarations = conf::declarations_of(session.dut(), std::cref(sources));
-    if (interrupted) {
-        provenance.device.reason = "not asked: the run was interrupted";
-    } else {
-        provenance.device = conf::ask_device_identity(session);
-    }
-    provenance.finished = conf::iso8601_utc(std::chrono::system_clock::now());
-    return provenance;
 }
 
 int run_conform(const ConformOptions& options) {
@@ -210,10 +149,9 @@ int run_conform(const ConformOptions& options) {
     if (!options.reports.check(files, error)) return usage_error(error);
 
     conf::Dut dut;
-    DeclarationSources sources("defaults");
+    conf::DeclarationSources sources("defaults");
     std::string note;
-    std::unique_ptr<device::ReferenceDevice> device;
-    std::unique_ptr<server::BackgroundServer> server;
+    conf::BuiltinDevice builtin;
     client::Target target;
     std::optional<client::Target> secure;
     conf::BuiltinMbaps builtin_mbaps;
@@ -227,17 +165,10 @@ int run_conform(const ConformOptions& options) {
         }
         const auto found = builtin_profile(options.profile, error);
         if (!found) return usage_error(error);
-        const auto& profile = *found;
-        auto loaded = device::read_profile(profile);
-        if (!loaded) return usage_error(loaded.error());
-        dut = conf::dut_from_profile(*loaded, "profile " + profile.filename().string());
+        if (auto failed = builtin.start(*found, dut, target); !failed.empty()) {
+            return usage_error(failed);
+        }
         sources.reset(dut.declared_by);
-        device = std::make_unique<device::ReferenceDevice>(std::move(loaded.value()));
-        server = std::make_unique<server::BackgroundServer>(*device);
-        auto port = server->start();
-        if (!port) return usage_error("cannot start the reference device: " + port.error());
-        target.tcp = client::Endpoint{"127.0.0.1", *port, nullptr};
-        target.name = fmt::format("tcp://127.0.0.1:{}", *port);
         // As the user named it: a path of the machine it was built on says nothing to a reader
         // of the report elsewhere.
         note = fmt::format(
@@ -310,8 +241,13 @@ int run_conform(const ConformOptions& options) {
     conf::RunResult result = engine.run(suites, target.name);
     console.summary(result);
     if (options.reports.wanted()) {
+        conf::ToolIdentity tool;
+        if (options.invocation != nullptr) {
+            tool = {options.invocation->version, options.invocation->commit,
+                    options.invocation->argv};
+        }
         const conf::Provenance provenance =
-            make_provenance(options, session, sources, started, result.interrupted);
+            conf::make_provenance(tool, session, sources, started, result.interrupted);
         if (!options.reports.write(result, provenance, capture, files, error))
             return usage_error(error);
     }

@@ -364,11 +364,11 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
         "Robustness test: bad input of every class docs/robustness.md lists, then random "
         "mutations, "
         "with a liveness check after each case; a finding is minimised to a reproducer");
-    cmd->footer(
-        "Exit status: 0 no finding, 1 a finding (the device stopped serving), 2 usage error,\n"
-        "a file that cannot be read or written, or a target unreachable at start.\n"
-        "Example: mblab fuzz tcp://127.0.0.1:1502 --cases 300 --junit fuzz.xml\n"
-        "Example: mblab fuzz 'rtu:///dev/ttyUSB0?baud=19200' --unit 17 --cases 300");
+    cmd->footer(help_text(R"(
+Exit status: 0 no finding, 1 a finding (the device stopped serving), 2 usage error,
+a file that cannot be read or written, or a target unreachable at start.
+Example: mblab fuzz tcp://127.0.0.1:1502 --cases 300 --junit fuzz.xml
+Example: mblab fuzz 'rtu:///dev/ttyUSB0?baud=19200' --unit 17 --cases 300)"));
     cmd->add_option("target", options->target,
                     "tcp://HOST[:PORT], mbaps://HOST[:PORT] (with --cert, --key, --ca), "
                     "rtu:///DEV?baud=N, ascii:///DEV?baud=N or rtu+tcp://HOST:PORT")

@@ -319,11 +319,11 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
         "load",
         "Interoperability test (CTP 8): the protocol tests in a loop on every "
         "node at once under generated traffic, counting every failure; also a load generator");
-    cmd->footer(
-        "Exit status: 0 PASS, 1 FAIL or INCOMPLETE (stopped early), 2 usage error, a file that\n"
-        "cannot be read or written, or a node unreachable at start.\n"
-        "Example: mblab load tcp://10.0.0.5:502 --duration 10m --connections 4\n"
-        "Example: mblab load tcp://127.0.0.1:1502 --duration 1m --metrics 127.0.0.1:9100");
+    cmd->footer(help_text(R"(
+Exit status: 0 PASS, 1 FAIL or INCOMPLETE (stopped early), 2 usage error, a file that
+cannot be read or written, or a node unreachable at start.
+Example: mblab load tcp://10.0.0.5:502 --duration 10m --connections 4
+Example: mblab load tcp://127.0.0.1:1502 --duration 1m --metrics 127.0.0.1:9100)"));
     options->command = cmd;
     cmd->add_option(
            "targets", options->targets,

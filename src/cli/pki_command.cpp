@@ -95,15 +95,15 @@ void add_pki_command(CLI::App& app, CommandRunner& runner) {
         "pki",
         "Make a lab PKI for Modbus/TCP Security (mbaps): a CA, a server certificate, a client "
         "certificate per role, and client certificates a conformant server must refuse");
-    cmd->footer(
-        "Writes NAME.pem and NAME.key (mode 0600) into DIR (made mode 0700 when missing):\n"
-        "ca, server, client-ROLE for each role, client-norole (no role: the NULL role),\n"
-        "client-expired, client-foreign-ca (signed by foreign-ca), client-self-signed,\n"
-        "client-two-roles and client-ia5-role (the role not a UTF8String). The role is in\n"
-        "extension 1.3.6.1.4.1.50316.802.1. Keys are unencrypted: test material only.\n"
-        "Exit status: 0 written, 2 usage error, a file exists (without --force) or cannot be\n"
-        "written; nothing is written then.\n"
-        "Example: mblab pki lab-pki --role Operator --role Engineer");
+    cmd->footer(help_text(R"(
+Writes NAME.pem and NAME.key (mode 0600) into DIR (made mode 0700 when missing):
+ca, server, client-ROLE for each role, client-norole (no role: the NULL role),
+client-expired, client-foreign-ca (signed by foreign-ca), client-self-signed,
+client-two-roles and client-ia5-role (the role not a UTF8String). The role is in
+extension 1.3.6.1.4.1.50316.802.1. Keys are unencrypted: test material only.
+Exit status: 0 written, 2 usage error, a file exists (without --force) or cannot be
+written; nothing is written then.
+Example: mblab pki lab-pki --role Operator --role Engineer)"));
     cmd->add_option("dir", options->dir, "directory to write into")->required();
     cmd->add_option("--role", options->roles,
                     "a role to make client-ROLE.pem for: printable UTF-8, no '/'; repeatable "

@@ -311,12 +311,12 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
     auto* cmd = app.add_subcommand("serve",
                                    "run the reference device over Modbus/TCP, TLS (mbaps), RTU, "
                                    "ASCII or RTU over TCP, or a TCP-to-serial gateway");
-    cmd->footer(
-        "Serves until SIGINT or SIGTERM.\n"
-        "Exit status: 0 stopped by SIGINT or SIGTERM, 1 --state could not be saved, 2 usage\n"
-        "error, or a profile, file or address that cannot be used.\n"
-        "Example: mblab serve --listen tcp://0.0.0.0:1502 reference\n"
-        "Example: mblab serve --http 127.0.0.1:8080 (dashboard at http://127.0.0.1:8080/)");
+    cmd->footer(help_text(R"(
+Serves until SIGINT or SIGTERM.
+Exit status: 0 stopped by SIGINT or SIGTERM, 1 --state could not be saved, 2 usage
+error, or a profile, file or address that cannot be used.
+Example: mblab serve --listen tcp://0.0.0.0:1502 reference
+Example: mblab serve --http 127.0.0.1:8080 (dashboard at http://127.0.0.1:8080/))"));
     cmd->add_option("profile", options->profile,
                     "device profile: a TOML file or a shipped profile's name")
         ->capture_default_str();

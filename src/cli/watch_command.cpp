@@ -286,17 +286,18 @@ int run_watch(const WatchOptions& options) {
 void add_watch_command(CLI::App& app, CommandRunner& runner) {
     auto [cmd, options] = add_client_command<WatchOptions>(
         app, runner, "watch", "Poll a read every --interval and show the values as they change",
-        "KIND and its arguments are those of `mblab read`. On a terminal the table is redrawn in\n"
-        "place under a line counting polls, timeouts and exceptions; otherwise each poll is\n"
-        "printed as \"poll N\" and its table. A poll that fails is counted and polling goes on.\n"
-        "With --format ndjson or csv each poll is one line on stdout, written as it comes: a\n"
-        "JSON object, or a CSV row under a header of addresses, each starting with the time\n"
-        "(ISO 8601, UTC); the tally goes to stderr. On a terminal a value that changed since\n"
-        "the last poll is shown in reverse video (not when NO_COLOR is set).\n"
-        "ADDR is a 0-based PDU offset, as for `mblab read` (--base 1, 4x00001).\n"
-        "Stops after --count polls, or on Ctrl-C. Exit status: 0 every poll answered, 1 a poll\n"
-        "failed, 2 usage error or unreachable target.\n"
-        "Example: mblab watch tcp://127.0.0.1:502 holding 0 4 --interval 500",
+        help_text(R"(
+KIND and its arguments are those of `mblab read`. On a terminal the table is redrawn in
+place under a line counting polls, timeouts and exceptions; otherwise each poll is
+printed as "poll N" and its table. A poll that fails is counted and polling goes on.
+With --format ndjson or csv each poll is one line on stdout, written as it comes: a
+JSON object, or a CSV row under a header of addresses, each starting with the time
+(ISO 8601, UTC); the tally goes to stderr. On a terminal a value that changed since
+the last poll is shown in reverse video (not when NO_COLOR is set).
+ADDR is a 0-based PDU offset, as for `mblab read` (--base 1, 4x00001).
+Stops after --count polls, or on Ctrl-C. Exit status: 0 every poll answered, 1 a poll
+failed, 2 usage error or unreachable target.
+Example: mblab watch tcp://127.0.0.1:502 holding 0 4 --interval 500)"),
         run_watch);
     add_query_arguments(*cmd, options->query);
     accept_duration_units(cmd->add_option("--interval", options->interval_ms,
