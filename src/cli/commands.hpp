@@ -2,8 +2,10 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 // Each subcommand lives in its own file and registers itself on the top-level app. The returned
@@ -22,6 +24,22 @@ inline constexpr int kExitUsage = 2;   // bad arguments, bad files, unreachable 
 inline std::string help_text(std::string_view raw) {
     if (!raw.empty() && raw.front() == '\n') raw.remove_prefix(1);
     return std::string(raw);
+}
+
+// Registers command NAME under `parent`; `run` is called with its options when the command line
+// chose it. The command's arguments are added to the returned subcommand.
+template <class Options>
+std::pair<CLI::App*, std::shared_ptr<Options>> add_command(CLI::App& parent, CommandRunner& runner,
+                                                           const std::string& name,
+                                                           const std::string& description,
+                                                           const std::string& footer,
+                                                           int (*run)(const Options&)) {
+    auto options = std::make_shared<Options>();
+    CLI::App* command = parent.add_subcommand(name, description);
+    if (!footer.empty()) command->footer(footer);
+    command->callback(
+        [options, run, &runner] { runner = [options, run] { return run(*options); }; });
+    return {command, options};
 }
 
 // How this process was started and what it is, for reports that must say so later. Filled in by

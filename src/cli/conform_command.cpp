@@ -259,18 +259,20 @@ int run_conform(const ConformOptions& options) {
     return result.all_passed() ? kExitOk : kExitFailed;
 }
 
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Run the conformance suites against a device (tcp://, mbaps://, rtu+tcp://, rtu://, "
+    "ascii://); "
+    "with no target, against the built-in reference device. Exit status: 0 no case failed, 1 a "
+    "case failed, 2 usage error or unreachable target, 130/143 stopped by SIGINT/SIGTERM "
+    "(between cases; the reports hold the cases run so far)";
+
 }  // namespace
 
 void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation) {
-    auto options = std::make_shared<ConformOptions>();
+    auto [cmd, options] =
+        add_command<ConformOptions>(app, runner, "conform", std::string(kSummary), "", run_conform);
     options->invocation = &invocation;
-    CLI::App* cmd = app.add_subcommand(
-        "conform",
-        "Run the conformance suites against a device (tcp://, mbaps://, rtu+tcp://, rtu://, "
-        "ascii://); "
-        "with no target, against the built-in reference device. Exit status: 0 no case failed, 1 a "
-        "case failed, 2 usage error or unreachable target, 130/143 stopped by SIGINT/SIGTERM "
-        "(between cases; the reports hold the cases run so far)");
     options->command = cmd;
     cmd->add_option(
         "target", options->target,
@@ -343,7 +345,6 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
                     "write the report as one self-contained HTML page to FILE: summary, "
                     "provenance, every case, the differing bytes of failures marked, filters by "
                     "verdict and a search by case id (checked before any traffic)");
-    cmd->callback([options, &runner] { runner = [options] { return run_conform(*options); }; });
 }
 
 }  // namespace mblab::cli

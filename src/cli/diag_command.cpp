@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/client_options.hpp"
@@ -183,12 +184,15 @@ int run_diag(const DiagOptions& options) {
     });
 }
 
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Diagnostics (FC 08): any sub-function by name or number, counters by name";
+
 }  // namespace
 
 void add_diag_command(CLI::App& app, CommandRunner& runner) {
     auto [cmd, options] = add_client_command<DiagOptions>(
-        app, runner, "diag",
-        "Diagnostics (FC 08): any sub-function by name or number, counters by name",
+        app, runner, "diag", std::string(kSummary),
         "SUBFUNCTION is a number (decimal or 0x hex) or one of:\n" + sub_names() + help_text(R"(
   counters: reads every counter (0B..12) and prints them by name
 DATA is 16-bit words (default 0x0000); query-data echoes any number of them,

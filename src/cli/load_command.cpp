@@ -12,6 +12,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -311,19 +312,21 @@ int run_load(const LoadOptions& options) {
     return result.verdict() == load::LoadVerdict::Pass ? kExitOk : kExitFailed;
 }
 
-}  // namespace
-
-void add_load_command(CLI::App& app, CommandRunner& runner) {
-    auto options = std::make_shared<LoadOptions>();
-    CLI::App* cmd = app.add_subcommand(
-        "load",
-        "Interoperability test (CTP 8): the protocol tests in a loop on every "
-        "node at once under generated traffic, counting every failure; also a load generator");
-    cmd->footer(help_text(R"(
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Interoperability test (CTP 8): the protocol tests in a loop on every "
+    "node at once under generated traffic, counting every failure; also a load generator";
+constexpr std::string_view kHelp = R"(
 Exit status: 0 PASS, 1 FAIL or INCOMPLETE (stopped early), 2 usage error, a file that
 cannot be read or written, or a node unreachable at start.
 Example: mblab load tcp://10.0.0.5:502 --duration 10m --connections 4
-Example: mblab load tcp://127.0.0.1:1502 --duration 1m --metrics 127.0.0.1:9100)"));
+Example: mblab load tcp://127.0.0.1:1502 --duration 1m --metrics 127.0.0.1:9100)";
+
+}  // namespace
+
+void add_load_command(CLI::App& app, CommandRunner& runner) {
+    auto [cmd, options] = add_command<LoadOptions>(app, runner, "load", std::string(kSummary),
+                                                   help_text(kHelp), run_load);
     options->command = cmd;
     cmd->add_option(
            "targets", options->targets,
@@ -357,12 +360,10 @@ Example: mblab load tcp://127.0.0.1:1502 --duration 1m --metrics 127.0.0.1:9100)
                   "the nodes support function code 0x5B (CTP 6.5)");
     cmd->add_option("--dut", options->dut_file, "TOML file declaring the nodes (as mblab conform)")
         ->check(CLI::ExistingFile);
-    accept_duration_units(cmd->add_option("--timeout", options->timeout_ms,
-                                          "time to wait for each answer: milliseconds, or 250ms, "
-                                          "2s")
-                              ->check(CLI::Range(1, 600000))
-                              ->capture_default_str(),
-                          DurationUnit::milliseconds, true);
+    add_duration_option(*cmd, "--timeout", options->timeout_ms,
+                        "time to wait for each answer: milliseconds, or 250ms, "
+                        "2s",
+                        DurationUnit::milliseconds, CLI::Range(1, 600000));
     cmd->add_option("--suite", options->suites,
                     "suite whose request/response cases loop, by name or file; repeatable "
                     "(default: policy-2.1)");
@@ -386,7 +387,6 @@ Example: mblab load tcp://127.0.0.1:1502 --duration 1m --metrics 127.0.0.1:9100)
                     "serve the run's counters and latency histogram in Prometheus text format at "
                     "http://HOST:PORT/metrics while it runs, e.g. 127.0.0.1:9100");
     add_tls_options(*cmd, options->tls, "client's");
-    cmd->callback([options, &runner] { runner = [options] { return run_load(*options); }; });
 }
 
 }  // namespace mblab::cli

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/client_options.hpp"
@@ -35,14 +36,11 @@ int run_read(const ReadOptions& options) {
     });
 }
 
-}  // namespace
-
-void add_read_command(CLI::App& app, CommandRunner& runner) {
-    auto [cmd, options] = add_client_command<ReadOptions>(
-        app, runner, "read",
-        "Read from a device: coils, discrete inputs, holding or input registers (typed), the "
-        "exception status, comm event counter and log, server id, a FIFO queue or a file record",
-        help_text(R"(
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Read from a device: coils, discrete inputs, holding or input registers (typed), the "
+    "exception status, comm event counter and log, server id, a FIFO queue or a file record";
+constexpr std::string_view kHelp = R"(
 KIND and its arguments:
   coils ADDR [COUNT]          FC 01, COUNT bits (default 1)
   discretes ADDR [COUNT]      FC 02
@@ -60,8 +58,13 @@ With --base 1 it is 1-based (1 is offset 0); a Modicon reference is 1-based too:
 (coils; 0x is hex). Numbers are decimal or hex (0x2A).
 Exit status: 0 read, 1 the device answered an exception or no proper answer, 2 usage
 error or unreachable target.
-Example: mblab read tcp://127.0.0.1:502 holding 0x10 2 --type f32)"),
-        run_read);
+Example: mblab read tcp://127.0.0.1:502 holding 0x10 2 --type f32)";
+
+}  // namespace
+
+void add_read_command(CLI::App& app, CommandRunner& runner) {
+    auto [cmd, options] = add_client_command<ReadOptions>(
+        app, runner, "read", std::string(kSummary), help_text(kHelp), run_read);
     add_query_arguments(*cmd, options->query);
 }
 

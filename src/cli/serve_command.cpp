@@ -17,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/client_options.hpp"
@@ -304,19 +305,22 @@ int run_serve(const ServeOptions& options) {
     return saved ? kExitOk : kExitFailed;
 }
 
-}  // namespace
-
-void add_serve_command(CLI::App& app, CommandRunner& runner) {
-    auto options = std::make_shared<ServeOptions>();
-    auto* cmd = app.add_subcommand("serve",
-                                   "run the reference device over Modbus/TCP, TLS (mbaps), RTU, "
-                                   "ASCII or RTU over TCP, or a TCP-to-serial gateway");
-    cmd->footer(help_text(R"(
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "run the reference device over Modbus/TCP, TLS (mbaps), RTU, "
+    "ASCII or RTU over TCP, or a TCP-to-serial gateway";
+constexpr std::string_view kHelp = R"(
 Serves until SIGINT or SIGTERM.
 Exit status: 0 stopped by SIGINT or SIGTERM, 1 --state could not be saved, 2 usage
 error, or a profile, file or address that cannot be used.
 Example: mblab serve --listen tcp://0.0.0.0:1502 reference
-Example: mblab serve --http 127.0.0.1:8080 (dashboard at http://127.0.0.1:8080/))"));
+Example: mblab serve --http 127.0.0.1:8080 (dashboard at http://127.0.0.1:8080/))";
+
+}  // namespace
+
+void add_serve_command(CLI::App& app, CommandRunner& runner) {
+    auto [cmd, options] = add_command<ServeOptions>(app, runner, "serve", std::string(kSummary),
+                                                    help_text(kHelp), run_serve);
     cmd->add_option("profile", options->profile,
                     "device profile: a TOML file or a shipped profile's name")
         ->capture_default_str();
@@ -335,41 +339,31 @@ Example: mblab serve --http 127.0.0.1:8080 (dashboard at http://127.0.0.1:8080/)
                     "or idle one is closed (0: no limit)")
         ->check(CLI::Range(0LL, 1'000'000LL))
         ->capture_default_str();
-    accept_duration_units(cmd->add_option("--idle-timeout", options->idle_timeout,
-                                          "time without a request before a connection is closed: "
-                                          "seconds, or 500ms, 5m (0: never)")
-                              ->check(CLI::NonNegativeNumber)
-                              ->capture_default_str(),
-                          DurationUnit::seconds, false);
+    add_duration_option(*cmd, "--idle-timeout", options->idle_timeout,
+                        "time without a request before a connection is closed: "
+                        "seconds, or 500ms, 5m (0: never)",
+                        DurationUnit::seconds, CLI::NonNegativeNumber);
     cmd->add_option("--allow", options->allow,
                     "admit only clients from this address or CIDR network (repeatable)");
     cmd->add_option("--max-outstanding", options->max_outstanding,
                     "requests a connection may have unanswered; more are answered 06 busy")
         ->check(CLI::Range(1LL, 4096LL))
         ->capture_default_str();
-    accept_duration_units(
-        cmd->add_option("--frame-timeout", options->frame_timeout_ms,
+    add_duration_option(*cmd, "--frame-timeout", options->frame_timeout_ms,
                         "time an unfinished frame may wait before it is answered 03: "
-                        "milliseconds, or 250ms, 1s")
-            ->check(CLI::Range(1, 60000))
-            ->capture_default_str(),
-        DurationUnit::milliseconds, true);
-    accept_duration_units(
-        cmd->add_option("--frame-limit", options->frame_limit_ms,
+                        "milliseconds, or 250ms, 1s",
+                        DurationUnit::milliseconds, CLI::Range(1, 60000));
+    add_duration_option(*cmd, "--frame-limit", options->frame_limit_ms,
                         "time a whole frame may take from its first byte: milliseconds, or 1s; a "
-                        "client still sending it then is answered 03 and closed")
-            ->check(CLI::Range(1, 600000))
-            ->capture_default_str(),
-        DurationUnit::milliseconds, true);
+                        "client still sending it then is answered 03 and closed",
+                        DurationUnit::milliseconds, CLI::Range(1, 600000));
     cmd->add_option("--state", options->state,
                     "keep the writable data in FILE: restored at start, saved periodically and "
                     "on exit");
-    accept_duration_units(cmd->add_option("--save-interval", options->save_interval,
-                                          "time between saves of --state: seconds, or 500ms, "
-                                          "5m (0: only on exit)")
-                              ->check(CLI::NonNegativeNumber)
-                              ->capture_default_str(),
-                          DurationUnit::seconds, false);
+    add_duration_option(*cmd, "--save-interval", options->save_interval,
+                        "time between saves of --state: seconds, or 500ms, "
+                        "5m (0: only on exit)",
+                        DurationUnit::seconds, CLI::NonNegativeNumber);
     cmd->add_flag("--durable", options->durable,
                   "with --state: every acknowledged write is in a journal on disk (FILE.journal, "
                   "fdatasync shared by the writes that come together) before its answer is sent, "
@@ -382,7 +376,6 @@ Example: mblab serve --http 127.0.0.1:8080 (dashboard at http://127.0.0.1:8080/)
                     "run K devices on consecutive ports from the --listen port")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
-    cmd->callback([options, &runner] { runner = [options] { return run_serve(*options); }; });
 }
 
 }  // namespace mblab::cli

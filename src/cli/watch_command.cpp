@@ -7,6 +7,7 @@
 #include <ctime>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -281,12 +282,10 @@ int run_watch(const WatchOptions& options) {
     });
 }
 
-}  // namespace
-
-void add_watch_command(CLI::App& app, CommandRunner& runner) {
-    auto [cmd, options] = add_client_command<WatchOptions>(
-        app, runner, "watch", "Poll a read every --interval and show the values as they change",
-        help_text(R"(
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Poll a read every --interval and show the values as they change";
+constexpr std::string_view kHelp = R"(
 KIND and its arguments are those of `mblab read`. On a terminal the table is redrawn in
 place under a line counting polls, timeouts and exceptions; otherwise each poll is
 printed as "poll N" and its table. A poll that fails is counted and polling goes on.
@@ -297,8 +296,13 @@ the last poll is shown in reverse video (not when NO_COLOR is set).
 ADDR is a 0-based PDU offset, as for `mblab read` (--base 1, 4x00001).
 Stops after --count polls, or on Ctrl-C. Exit status: 0 every poll answered, 1 a poll
 failed, 2 usage error or unreachable target.
-Example: mblab watch tcp://127.0.0.1:502 holding 0 4 --interval 500)"),
-        run_watch);
+Example: mblab watch tcp://127.0.0.1:502 holding 0 4 --interval 500)";
+
+}  // namespace
+
+void add_watch_command(CLI::App& app, CommandRunner& runner) {
+    auto [cmd, options] = add_client_command<WatchOptions>(
+        app, runner, "watch", std::string(kSummary), help_text(kHelp), run_watch);
     add_query_arguments(*cmd, options->query);
     accept_duration_units(cmd->add_option("--interval", options->interval_ms,
                                           "time between polls: 1000 (ms), 500ms, 2s, 1m "

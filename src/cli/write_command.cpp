@@ -4,6 +4,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/client_options.hpp"
@@ -266,14 +267,11 @@ int run_write(const WriteOptions& options) {
     });
 }
 
-}  // namespace
-
-void add_write_command(CLI::App& app, CommandRunner& runner) {
-    auto [cmd, options] = add_client_command<WriteOptions>(
-        app, runner, "write",
-        "Write to a device: coils, registers (typed), mask write, read/write registers, file "
-        "records",
-        help_text(R"(
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Write to a device: coils, registers (typed), mask write, read/write registers, file "
+    "records";
+constexpr std::string_view kHelp = R"(
 KIND and its arguments:
   coil ADDR VALUE                 FC 05; VALUE is 1, 0, on, off, true or false
   coils ADDR VALUE...             FC 0F
@@ -291,8 +289,13 @@ holding registers, 000001 for coils (0x is hex). A negative VALUE follows --, wh
 ends the options: mblab write TARGET register 7 --type i16 -- -5.
 Exit status: 0 written, 1 the device answered an exception or no proper answer, 2
 usage error or unreachable target.
-Example: mblab write tcp://127.0.0.1:502 registers 100 3.5 -1e3 --type f32)"),
-        run_write);
+Example: mblab write tcp://127.0.0.1:502 registers 100 3.5 -1e3 --type f32)";
+
+}  // namespace
+
+void add_write_command(CLI::App& app, CommandRunner& runner) {
+    auto [cmd, options] = add_client_command<WriteOptions>(
+        app, runner, "write", std::string(kSummary), help_text(kHelp), run_write);
     options->command = cmd;
     cmd->add_option("kind", options->kind,
                     "coil, coils, register, registers, mask, readwrite, file")
