@@ -26,6 +26,7 @@ struct ClientOptions {
     std::string decode;
     bool json = false;
     bool probe_units = true;  // off for watch: its polls stay the only requests on the wire
+    bool no_probe = false;    // --no-probe
     security::TlsFiles tls;   // mbaps://
     bool verbose = false;
 };
