@@ -171,6 +171,8 @@ std::string Transactor::unit_hint() {
     drop_link();
     // The probes' waits add to the command's time: say how much, and how to go without them.
     const auto took = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started);
+    // When the unit asked answered the probe, nothing is said and little time went.
+    if (hint.empty()) return hint;
     return hint + " (" + std::to_string(probes) +
            (probes == 1 ? " probe read, " : " probe reads, ") + std::to_string(took.count()) +
            " ms; --no-probe skips them)";
