@@ -54,6 +54,9 @@ void add_client_options(CLI::App& command, ClientOptions& options) {
                     "(also MBAP header), bytes (also hex)")
         ->check(CLI::IsMember({"app", "frame", "bytes"}));
     command.add_flag("--json", options.json, "print one JSON document on stdout");
+    command.add_flag("--no-probe", options.no_probe,
+                     "after a request goes unanswered, do not ask units 1, 255 and 0 which one "
+                     "answers (each probe waits up to --timeout)");
     add_tls_options(command, options.tls, "client's");
     command.add_flag("-v,--verbose", options.verbose,
                      "mbaps://: print the TLS version, cipher, server certificate and our role on "
@@ -178,7 +181,7 @@ int with_client(const ClientOptions& options, CommandOutput& output, const Clien
     transaction.unit = static_cast<std::uint8_t>(options.unit);
     transaction.timeout = std::chrono::milliseconds(options.timeout_ms);
     transaction.retries = static_cast<unsigned>(options.retries);
-    transaction.probe_units = options.probe_units;
+    transaction.probe_units = options.probe_units && !options.no_probe;
     const auto timeout = transaction.timeout;
     client::Transactor transactor(
         target->name, [&target, timeout] { return client::open_link(*target, timeout); },

@@ -5,6 +5,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <type_traits>
 #include <utility>
 
 #include "cli/commands.hpp"
@@ -25,6 +26,7 @@ struct ClientOptions {
     std::string decode;
     bool json = false;
     bool probe_units = true;  // off for watch: its polls stay the only requests on the wire
+    bool no_probe = false;    // --no-probe
     security::TlsFiles tls;   // mbaps://
     bool verbose = false;
 };
@@ -40,12 +42,8 @@ template <class Options>
 std::pair<CLI::App*, std::shared_ptr<Options>> add_client_command(
     CLI::App& app, CommandRunner& runner, const std::string& name, const std::string& description,
     const std::string& footer, int (*run)(const Options&)) {
-    auto options = std::make_shared<Options>();
-    CLI::App* command = app.add_subcommand(name, description);
-    command->footer(footer);
+    auto [command, options] = add_command<Options>(app, runner, name, description, footer, run);
     add_client_options(*command, options->client);
-    command->callback(
-        [options, run, &runner] { runner = [options, run] { return run(*options); }; });
     return {command, options};
 }
 
@@ -55,6 +53,17 @@ std::pair<CLI::App*, std::shared_ptr<Options>> add_client_command(
 // holds an integer, so 1.5ms is refused rather than rounded to a different value.
 enum class DurationUnit { milliseconds, seconds };
 CLI::Option* accept_duration_units(CLI::Option* option, DurationUnit bare_unit, bool whole);
+
+// A duration option: a number in `bare_unit`, or a duration with its unit; `check` limits the
+// number. An integer option takes whole numbers only. Its default shows in --help.
+template <class T>
+CLI::Option* add_duration_option(CLI::App& command, const std::string& name, T& value,
+                                 const std::string& help, DurationUnit bare_unit,
+                                 const CLI::Validator& check) {
+    return accept_duration_units(
+        command.add_option(name, value, help)->check(check)->capture_default_str(), bare_unit,
+        std::is_integral_v<T>);
+}
 
 struct FormatOptions {
     std::string type = "u16";

@@ -2,7 +2,10 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <memory>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
 // Each subcommand lives in its own file and registers itself on the top-level app. The returned
@@ -15,6 +18,29 @@ using CommandRunner = std::function<int()>;
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitFailed = 1;  // a check failed / the device answered an exception
 inline constexpr int kExitUsage = 2;   // bad arguments, bad files, unreachable target
+
+// A help text written as it prints, in a raw string literal that opens on a line of its own:
+// drops that first line break.
+inline std::string help_text(std::string_view raw) {
+    if (!raw.empty() && raw.front() == '\n') raw.remove_prefix(1);
+    return std::string(raw);
+}
+
+// Registers command NAME under `parent`; `run` is called with its options when the command line
+// chose it. The command's arguments are added to the returned subcommand.
+template <class Options>
+std::pair<CLI::App*, std::shared_ptr<Options>> add_command(CLI::App& parent, CommandRunner& runner,
+                                                           const std::string& name,
+                                                           const std::string& description,
+                                                           const std::string& footer,
+                                                           int (*run)(const Options&)) {
+    auto options = std::make_shared<Options>();
+    CLI::App* command = parent.add_subcommand(name, description);
+    if (!footer.empty()) command->footer(footer);
+    command->callback(
+        [options, run, &runner] { runner = [options, run] { return run(*options); }; });
+    return {command, options};
+}
 
 // How this process was started and what it is, for reports that must say so later. Filled in by
 // main, which alone sees argv whole and includes the generated build_info.hpp (so a new commit

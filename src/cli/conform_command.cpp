@@ -5,15 +5,12 @@
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
-#include <csignal>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -26,14 +23,17 @@
 #include "cli/conform_reports.hpp"
 #include "cli/profile_lookup.hpp"
 #include "cli/report_files.hpp"
+#include "cli/stop_signals.hpp"
 #include "cli/terminal_style.hpp"
 #include "cli/tls_options.hpp"
 #include "client/target.hpp"
+#include "conformance/builtin_device.hpp"
 #include "conformance/builtin_mbaps.hpp"
 #include "conformance/capture.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/catalogue_paths.hpp"
 #include "conformance/console_report.hpp"
+#include "conformance/declaration_sources.hpp"
 #include "conformance/device_dut.hpp"
 #include "conformance/engine.hpp"
 #include "conformance/procedures.hpp"
@@ -41,10 +41,8 @@
 #include "conformance/reports.hpp"
 #include "conformance/suite_selection.hpp"
 #include "device/profile_paths.hpp"
-#include "device/reference_device.hpp"
 #include "security/pki.hpp"
 #include "security/tls_context.hpp"
-#include "server/background_server.hpp"
 #include "web/html_report.hpp"
 
 // `mblab conform [TARGET]`: runs conformance suites against a device, or against the built-in
@@ -85,26 +83,6 @@ int usage_error(const std::string& message) {
     return kExitUsage;
 }
 
-// SIGINT or SIGTERM asks the engine to stop between cases; the handler only records it.
-std::atomic<bool> g_stop{false};
-std::atomic<int> g_stop_signal{0};
-
-extern "C" void on_conform_stop_signal(int signal_number) {
-    g_stop_signal.store(signal_number);
-    g_stop.store(true);
-}
-
-void catch_stop_signals() {
-    struct sigaction action {};
-    action.sa_handler = on_conform_stop_signal;
-    // A second Ctrl-C ends the program at once, as in `mblab load`; SA_RESTART keeps the reads
-    // and writes of the case under way going.
-    action.sa_flags = SA_RESETHAND | SA_RESTART;
-    sigemptyset(&action.sa_mask);
-    ::sigaction(SIGINT, &action, nullptr);
-    ::sigaction(SIGTERM, &action, nullptr);
-}
-
 // The built-in device's profile: the default one, a file, or a shipped profile by name.
 std::optional<std::filesystem::path> builtin_profile(const std::string& wanted,
                                                      std::string& error) {
@@ -114,30 +92,8 @@ std::optional<std::filesystem::path> builtin_profile(const std::string& wanted,
     return found;
 }
 
-// Where each DUT key's value came from, for the reports' provenance: a key nobody set since the
-// last reset comes from `base` (the built-in device's profile, or the defaults).
-class DeclarationSources {
-  public:
-    explicit DeclarationSources(std::string base) : base_(std::move(base)) {}
-    void reset(std::string base) {
-        base_ = std::move(base);
-        sources_.clear();
-    }
-    void set(std::string_view key, std::string source) {
-        sources_[std::string(key)] = std::move(source);
-    }
-    std::string operator()(std::string_view key) const {
-        const auto found = sources_.find(std::string(key));
-        return found == sources_.end() ? base_ : found->second;
-    }
-
-  private:
-    std::string base_;
-    std::map<std::string, std::string> sources_;
-};
-
 // Flags override the DUT file, which overrides what the built-in device's profile says.
-bool declare_dut(const ConformOptions& options, conf::Dut& dut, DeclarationSources& sources,
+bool declare_dut(const ConformOptions& options, conf::Dut& dut, conf::DeclarationSources& sources,
                  std::string& error) {
     if (!options.dut_file.empty()) {
         auto loaded = conf::load_dut_file(options.dut_file);
@@ -172,46 +128,10 @@ bool declare_dut(const ConformOptions& options, conf::Dut& dut, DeclarationSourc
     if (given("--cert", "client_cert")) dut.security.client.cert = options.tls.cert;
     if (given("--key", "client_key")) dut.security.client.key = options.tls.key;
     if (given("--ca", "ca")) dut.security.client.ca = options.tls.ca;
-    // A lab PKI made by `mblab pki` holds the tester's own certificate too.
-    security::TlsFiles& client = dut.security.client;
-    const std::string from_pki = fmt::format("the PKI directory ({})", sources("pki"));
-    if (!dut.security.pki.empty() && client.cert.empty() && client.key.empty()) {
-        const std::filesystem::path dir = dut.security.pki;
-        client.cert = (dir / "client-Administrator.pem").string();
-        client.key = (dir / "client-Administrator.key").string();
-        sources.set("client_cert", from_pki);
-        sources.set("client_key", from_pki);
-    }
-    if (!dut.security.pki.empty() && client.ca.empty()) {
-        client.ca = (std::filesystem::path(dut.security.pki) / "ca.pem").string();
-        sources.set("ca", from_pki);
-    }
+    conf::take_client_files_from_pki(dut, sources);
     if (flags)
         dut.declared_by = dut.declared_by == "defaults" ? "flags" : dut.declared_by + " and flags";
     return true;
-}
-
-// What the reports say about where they came from. The device is asked who it is after the run,
-// so the question cannot change any verdict; an interrupted run is not kept waiting for it.
-conf::Provenance make_provenance(const ConformOptions& options, conf::Session& session,
-                                 const DeclarationSources& sources,
-                                 std::chrono::system_clock::time_point started, bool interrupted) {
-    conf::Provenance provenance;
-    if (options.invocation != nullptr) {
-        provenance.version = options.invocation->version;
-        provenance.commit = options.invocation->commit;
-        provenance.command_line = options.invocation->argv;
-    }
-    provenance.started = conf::iso8601_utc(started);
-    provenance.declared_by = session.dut().declared_by;
-    provenance.declarations = conf::declarations_of(session.dut(), std::cref(sources));
-    if (interrupted) {
-        provenance.device.reason = "not asked: the run was interrupted";
-    } else {
-        provenance.device = conf::ask_device_identity(session);
-    }
-    provenance.finished = conf::iso8601_utc(std::chrono::system_clock::now());
-    return provenance;
 }
 
 int run_conform(const ConformOptions& options) {
@@ -228,10 +148,9 @@ int run_conform(const ConformOptions& options) {
     if (!options.reports.check(files, error)) return usage_error(error);
 
     conf::Dut dut;
-    DeclarationSources sources("defaults");
+    conf::DeclarationSources sources("defaults");
     std::string note;
-    std::unique_ptr<device::ReferenceDevice> device;
-    std::unique_ptr<server::BackgroundServer> server;
+    conf::BuiltinDevice builtin;
     client::Target target;
     std::optional<client::Target> secure;
     conf::BuiltinMbaps builtin_mbaps;
@@ -245,17 +164,10 @@ int run_conform(const ConformOptions& options) {
         }
         const auto found = builtin_profile(options.profile, error);
         if (!found) return usage_error(error);
-        const auto& profile = *found;
-        auto loaded = device::read_profile(profile);
-        if (!loaded) return usage_error(loaded.error());
-        dut = conf::dut_from_profile(*loaded, "profile " + profile.filename().string());
+        if (auto failed = builtin.start(*found, dut, target); !failed.empty()) {
+            return usage_error(failed);
+        }
         sources.reset(dut.declared_by);
-        device = std::make_unique<device::ReferenceDevice>(std::move(loaded.value()));
-        server = std::make_unique<server::BackgroundServer>(*device);
-        auto port = server->start();
-        if (!port) return usage_error("cannot start the reference device: " + port.error());
-        target.tcp = client::Endpoint{"127.0.0.1", *port, nullptr};
-        target.name = fmt::format("tcp://127.0.0.1:{}", *port);
         // As the user named it: a path of the machine it was built on says nothing to a reader
         // of the report elsewhere.
         note = fmt::format(
@@ -313,7 +225,7 @@ int run_conform(const ConformOptions& options) {
     conf::Session session(target, dut, engine_options,
                           options.reports.pcap.empty() ? nullptr : &capture, &console);
     if (secure) session.set_secure_target(std::move(*secure));
-    catch_stop_signals();
+    StopSignals::catch_them();
     const auto started = std::chrono::system_clock::now();
     client::LinkError link_error;
     if (!session.connect(link_error)) {
@@ -323,36 +235,43 @@ int run_conform(const ConformOptions& options) {
 
     console.header(target.name, session.dut(), note);
     conf::Engine engine(session, &console);
-    engine.stop_when(g_stop);
+    engine.stop_when(StopSignals::flag());
     engine.stop_if_unanswered();
     conf::RunResult result = engine.run(suites, target.name);
     console.summary(result);
     if (options.reports.wanted()) {
+        conf::ToolIdentity tool;
+        if (options.invocation != nullptr) {
+            tool = {options.invocation->version, options.invocation->commit,
+                    options.invocation->argv};
+        }
         const conf::Provenance provenance =
-            make_provenance(options, session, sources, started, result.interrupted);
+            conf::make_provenance(tool, session, sources, started, result.interrupted);
         if (!options.reports.write(result, provenance, capture, files, error))
             return usage_error(error);
     }
     // 128 + the signal, as a shell reports a program the signal ended: 130 for SIGINT, 143 for
     // SIGTERM, so a script tells an interrupted run from a failed one.
-    if (result.interrupted) return 128 + g_stop_signal.load();
+    if (result.interrupted) return StopSignals::exit_status();
     // A device that answers nothing is not under test: the target or the unit is wrong.
     if (!result.unanswered.empty()) return usage_error(result.unanswered);
     return result.all_passed() ? kExitOk : kExitFailed;
 }
 
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Run the conformance suites against a device (tcp://, mbaps://, rtu+tcp://, rtu://, "
+    "ascii://); "
+    "with no target, against the built-in reference device. Exit status: 0 no case failed, 1 a "
+    "case failed, 2 usage error or unreachable target, 130/143 stopped by SIGINT/SIGTERM "
+    "(between cases; the reports hold the cases run so far)";
+
 }  // namespace
 
 void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation) {
-    auto options = std::make_shared<ConformOptions>();
+    auto [cmd, options] =
+        add_command<ConformOptions>(app, runner, "conform", std::string(kSummary), "", run_conform);
     options->invocation = &invocation;
-    CLI::App* cmd = app.add_subcommand(
-        "conform",
-        "Run the conformance suites against a device (tcp://, mbaps://, rtu+tcp://, rtu://, "
-        "ascii://); "
-        "with no target, against the built-in reference device. Exit status: 0 no case failed, 1 a "
-        "case failed, 2 usage error or unreachable target, 130/143 stopped by SIGINT/SIGTERM "
-        "(between cases; the reports hold the cases run so far)");
     options->command = cmd;
     cmd->add_option(
         "target", options->target,
@@ -425,7 +344,6 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
                     "write the report as one self-contained HTML page to FILE: summary, "
                     "provenance, every case, the differing bytes of failures marked, filters by "
                     "verdict and a search by case id (checked before any traffic)");
-    cmd->callback([options, &runner] { runner = [options] { return run_conform(*options); }; });
 }
 
 }  // namespace mblab::cli

@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
@@ -102,20 +103,23 @@ int run_devid(const DevidOptions& options) {
     });
 }
 
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Read device identification (FC 2B / 0E), every object the device has";
+constexpr std::string_view kHelp = R"(
+WHAT is basic (default, objects 00..02), regular (..7F), extended (..FF), or one object
+by id (0x80) or name: vendor-name, product-code, revision, vendor-url, product-name,
+model-name, user-application-name. Stream reads follow "more follows" across as many
+transactions as the device needs.
+Exit status: 0 read, 1 the device answered an exception or no proper answer, 2 usage
+error or unreachable target.
+Example: mblab devid tcp://127.0.0.1:502 extended)";
+
 }  // namespace
 
 void add_devid_command(CLI::App& app, CommandRunner& runner) {
     auto [cmd, options] = add_client_command<DevidOptions>(
-        app, runner, "devid",
-        "Read device identification (FC 2B / 0E), every object the device has",
-        "WHAT is basic (default, objects 00..02), regular (..7F), extended (..FF), or one object\n"
-        "by id (0x80) or name: vendor-name, product-code, revision, vendor-url, product-name,\n"
-        "model-name, user-application-name. Stream reads follow \"more follows\" across as many\n"
-        "transactions as the device needs.\n"
-        "Exit status: 0 read, 1 the device answered an exception or no proper answer, 2 usage\n"
-        "error or unreachable target.\n"
-        "Example: mblab devid tcp://127.0.0.1:502 extended",
-        run_devid);
+        app, runner, "devid", std::string(kSummary), help_text(kHelp), run_devid);
     cmd->add_option("what", options->what, "basic, regular, extended, or an object id or name");
 }
 

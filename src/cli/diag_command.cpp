@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/client_options.hpp"
@@ -185,20 +186,23 @@ int run_diag(const DiagOptions& options) {
     });
 }
 
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Diagnostics (FC 08): any sub-function by name or number, counters by name";
+
 }  // namespace
 
 void add_diag_command(CLI::App& app, CommandRunner& runner) {
     auto [cmd, options] = add_client_command<DiagOptions>(
-        app, runner, "diag",
-        "Diagnostics (FC 08): any sub-function by name or number, counters by name",
-        "SUBFUNCTION is a number (decimal or 0x hex) or one of:\n" + sub_names() +
-            "  counters: reads every counter (0B..12) and prints them by name\n"
-            "DATA is 16-bit words (default 0x0000); query-data echoes any number of them,\n"
-            "restart-communications takes 0xFF00 to clear the event log, change-ascii-delimiter\n"
-            "takes the character in the high byte (0x0A00). force-listen-only is never answered.\n"
-            "Exit status: 0 answered, 1 the device answered an exception or no proper answer, 2\n"
-            "usage error or unreachable target.\n"
-            "Example: mblab diag tcp://127.0.0.1:502 bus-message-count",
+        app, runner, "diag", std::string(kSummary),
+        "SUBFUNCTION is a number (decimal or 0x hex) or one of:\n" + sub_names() + help_text(R"(
+  counters: reads every counter (0B..12) and prints them by name
+DATA is 16-bit words (default 0x0000); query-data echoes any number of them,
+restart-communications takes 0xFF00 to clear the event log, change-ascii-delimiter
+takes the character in the high byte (0x0A00). force-listen-only is never answered.
+Exit status: 0 answered, 1 the device answered an exception or no proper answer, 2
+usage error or unreachable target.
+Example: mblab diag tcp://127.0.0.1:502 bus-message-count)"),
         run_diag);
     cmd->add_option("sub-function", options->sub_function, "sub-function name or number")
         ->required();

@@ -10,9 +10,11 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <string_view>
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/stop_signals.hpp"
 #include "cli/tls_options.hpp"
 #include "client/raw_link.hpp"
 #include "client/target.hpp"
@@ -65,12 +67,6 @@ struct FuzzCommandOptions {
 
 // What --pcap keeps of a run, in bytes of memory: a run's capture is otherwise unbounded.
 constexpr std::size_t kPcapBound = std::size_t{32} << 20;
-
-std::atomic<bool> g_stop{false};
-
-extern "C" void on_fuzz_stop_signal(int) {
-    g_stop = true;
-}
 
 int usage_error(const std::string& message) {
     fmt::print(stderr, "mblab fuzz: {}\n", message);
@@ -295,8 +291,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
         return kExitFailed;
     }
 
-    std::signal(SIGINT, on_fuzz_stop_signal);
-    std::signal(SIGTERM, on_fuzz_stop_signal);
+    StopSignals::catch_them();
     const bool live = ::isatty(STDERR_FILENO) != 0;
     rb::CaseGenerator generator(recon, policy, options.seed, framing, gap, limits);
     auto result = runner.run(
@@ -307,7 +302,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
                        c.name);
             std::fflush(stderr);
         },
-        [] { return g_stop.load(); });
+        [] { return StopSignals::requested(); });
     if (live) fmt::print(stderr, "\r\033[K");
     if (memory) {
         if (const auto now = process_memory(memory->pid)) {
@@ -360,21 +355,23 @@ int run_fuzz(const FuzzCommandOptions& options) {
     return result.finding ? kExitFailed : kExitOk;
 }
 
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Robustness test: bad input of every class docs/robustness.md lists, then random "
+    "mutations, "
+    "with a liveness check after each case; a finding is minimised to a reproducer";
+constexpr std::string_view kHelp = R"(
+Exit status: 0 no finding, 1 a finding (the device stopped serving), 2 usage error,
+a file that cannot be read or written, or a target unreachable at start.
+Example: mblab fuzz tcp://127.0.0.1:1502 --cases 300 --junit fuzz.xml
+Example: mblab fuzz 'rtu:///dev/ttyUSB0?baud=19200' --unit 17 --cases 300)";
+
 }  // namespace
 
 void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation) {
-    auto options = std::make_shared<FuzzCommandOptions>();
+    auto [cmd, options] = add_command<FuzzCommandOptions>(
+        app, runner, "fuzz", std::string(kSummary), help_text(kHelp), run_fuzz);
     options->invocation = &invocation;
-    CLI::App* cmd = app.add_subcommand(
-        "fuzz",
-        "Robustness test: bad input of every class docs/robustness.md lists, then random "
-        "mutations, "
-        "with a liveness check after each case; a finding is minimised to a reproducer");
-    cmd->footer(
-        "Exit status: 0 no finding, 1 a finding (the device stopped serving), 2 usage error,\n"
-        "a file that cannot be read or written, or a target unreachable at start.\n"
-        "Example: mblab fuzz tcp://127.0.0.1:1502 --cases 300 --junit fuzz.xml\n"
-        "Example: mblab fuzz 'rtu:///dev/ttyUSB0?baud=19200' --unit 17 --cases 300");
     cmd->add_option("target", options->target,
                     "tcp://HOST[:PORT], mbaps://HOST[:PORT] (with --cert, --key, --ca), "
                     "rtu:///DEV?baud=N, ascii:///DEV?baud=N or rtu+tcp://HOST:PORT")
@@ -394,12 +391,10 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     cmd->add_option("--check-every", options->check_every, "the liveness check after every N cases")
         ->check(CLI::Range(1, 100000))
         ->capture_default_str();
-    accept_duration_units(cmd->add_option("--timeout", options->timeout_ms,
-                                          "how long the liveness check waits for its answer: "
-                                          "milliseconds, or 250ms, 2s")
-                              ->check(CLI::Range(1, 600000))
-                              ->capture_default_str(),
-                          DurationUnit::milliseconds, true);
+    add_duration_option(*cmd, "--timeout", options->timeout_ms,
+                        "how long the liveness check waits for its answer: "
+                        "milliseconds, or 250ms, 2s",
+                        DurationUnit::milliseconds, CLI::Range(1, 600000));
     cmd->add_option("--unit", options->unit, "unit identifier of the device (default 1)")
         ->check(CLI::Range(0, 255));
     cmd->add_option("--dut", options->dut_file,

@@ -12,12 +12,14 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/report_files.hpp"
+#include "cli/stop_signals.hpp"
 #include "cli/tls_options.hpp"
 #include "client/raw_link.hpp"
 #include "client/target.hpp"
@@ -76,12 +78,6 @@ struct LoadOptions {
     security::TlsFiles tls;  // mbaps:// nodes
     CLI::App* command = nullptr;
 };
-
-std::atomic<bool> g_stop{false};
-
-extern "C" void on_stop_signal(int) {
-    g_stop.store(true);
-}
 
 int usage_error(const std::string& message) {
     fmt::print(stderr, "mblab load: {}\n", message);
@@ -225,17 +221,6 @@ protocol::Result<load::LoadPlan, std::string> make_plan(const LoadOptions& optio
     return plan;
 }
 
-void catch_stop_signals() {
-    struct sigaction action {};
-    action.sa_handler = on_stop_signal;
-    // A second Ctrl-C ends the program at once, without the summary.
-    action.sa_flags = SA_RESETHAND;
-    sigemptyset(&action.sa_mask);
-    ::sigaction(SIGINT, &action, nullptr);
-    ::sigaction(SIGTERM, &action, nullptr);
-    std::signal(SIGPIPE, SIG_IGN);
-}
-
 // --metrics: the run's latest status at /metrics, served on threads of their own.
 class LoadMetrics {
   public:
@@ -294,7 +279,7 @@ int run_load(const LoadOptions& options) {
     std::fflush(stdout);
 
     raise_descriptor_limit();
-    catch_stop_signals();
+    StopSignals::catch_them();
     const bool live = ::isatty(STDERR_FILENO) != 0;
     const auto line_period = live ? kLiveStatusPeriod : kLogStatusPeriod;
     const auto period = metrics ? std::min<std::chrono::milliseconds>(line_period, kMetricsPeriod)
@@ -303,7 +288,7 @@ int run_load(const LoadOptions& options) {
     const auto every = static_cast<int>(line_period / period);
     int statuses = 0;
     load::LoadRunner runner(*plan);
-    auto result = runner.run(g_stop, period, [&](const load::LoadStatus& status) {
+    auto result = runner.run(StopSignals::flag(), period, [&](const load::LoadStatus& status) {
         if (metrics) metrics->update(status);
         if (++statuses % every != 0) return;
         fmt::print(stderr, "{}{}{}", live ? "\r\033[K" : "", load::load_status_line(*plan, status),
@@ -327,19 +312,21 @@ int run_load(const LoadOptions& options) {
     return result.verdict() == load::LoadVerdict::Pass ? kExitOk : kExitFailed;
 }
 
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Interoperability test (CTP 8): the protocol tests in a loop on every "
+    "node at once under generated traffic, counting every failure; also a load generator";
+constexpr std::string_view kHelp = R"(
+Exit status: 0 PASS, 1 FAIL or INCOMPLETE (stopped early), 2 usage error, a file that
+cannot be read or written, or a node unreachable at start.
+Example: mblab load tcp://10.0.0.5:502 --duration 10m --connections 4
+Example: mblab load tcp://127.0.0.1:1502 --duration 1m --metrics 127.0.0.1:9100)";
+
 }  // namespace
 
 void add_load_command(CLI::App& app, CommandRunner& runner) {
-    auto options = std::make_shared<LoadOptions>();
-    CLI::App* cmd = app.add_subcommand(
-        "load",
-        "Interoperability test (CTP 8): the protocol tests in a loop on every "
-        "node at once under generated traffic, counting every failure; also a load generator");
-    cmd->footer(
-        "Exit status: 0 PASS, 1 FAIL or INCOMPLETE (stopped early), 2 usage error, a file that\n"
-        "cannot be read or written, or a node unreachable at start.\n"
-        "Example: mblab load tcp://10.0.0.5:502 --duration 10m --connections 4\n"
-        "Example: mblab load tcp://127.0.0.1:1502 --duration 1m --metrics 127.0.0.1:9100");
+    auto [cmd, options] = add_command<LoadOptions>(app, runner, "load", std::string(kSummary),
+                                                   help_text(kHelp), run_load);
     options->command = cmd;
     cmd->add_option(
            "targets", options->targets,
@@ -373,12 +360,10 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
                   "the nodes support function code 0x5B (CTP 6.5)");
     cmd->add_option("--dut", options->dut_file, "TOML file declaring the nodes (as mblab conform)")
         ->check(CLI::ExistingFile);
-    accept_duration_units(cmd->add_option("--timeout", options->timeout_ms,
-                                          "time to wait for each answer: milliseconds, or 250ms, "
-                                          "2s")
-                              ->check(CLI::Range(1, 600000))
-                              ->capture_default_str(),
-                          DurationUnit::milliseconds, true);
+    add_duration_option(*cmd, "--timeout", options->timeout_ms,
+                        "time to wait for each answer: milliseconds, or 250ms, "
+                        "2s",
+                        DurationUnit::milliseconds, CLI::Range(1, 600000));
     cmd->add_option("--suite", options->suites,
                     "suite whose request/response cases loop, by name or file; repeatable "
                     "(default: policy-2.1)");
@@ -402,7 +387,6 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
                     "serve the run's counters and latency histogram in Prometheus text format at "
                     "http://HOST:PORT/metrics while it runs, e.g. 127.0.0.1:9100");
     add_tls_options(*cmd, options->tls, "client's");
-    cmd->callback([options, &runner] { runner = [options] { return run_load(*options); }; });
 }
 
 }  // namespace mblab::cli

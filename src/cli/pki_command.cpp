@@ -87,23 +87,25 @@ int run_pki(const PkiOptions& options) {
     return kExitOk;
 }
 
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Make a lab PKI for Modbus/TCP Security (mbaps): a CA, a server certificate, a client "
+    "certificate per role, and client certificates a conformant server must refuse";
+constexpr std::string_view kHelp = R"(
+Writes NAME.pem and NAME.key (mode 0600) into DIR (made mode 0700 when missing):
+ca, server, client-ROLE for each role, client-norole (no role: the NULL role),
+client-expired, client-foreign-ca (signed by foreign-ca), client-self-signed,
+client-two-roles and client-ia5-role (the role not a UTF8String). The role is in
+extension 1.3.6.1.4.1.50316.802.1. Keys are unencrypted: test material only.
+Exit status: 0 written, 2 usage error, a file exists (without --force) or cannot be
+written; nothing is written then.
+Example: mblab pki lab-pki --role Operator --role Engineer)";
+
 }  // namespace
 
 void add_pki_command(CLI::App& app, CommandRunner& runner) {
-    auto options = std::make_shared<PkiOptions>();
-    CLI::App* cmd = app.add_subcommand(
-        "pki",
-        "Make a lab PKI for Modbus/TCP Security (mbaps): a CA, a server certificate, a client "
-        "certificate per role, and client certificates a conformant server must refuse");
-    cmd->footer(
-        "Writes NAME.pem and NAME.key (mode 0600) into DIR (made mode 0700 when missing):\n"
-        "ca, server, client-ROLE for each role, client-norole (no role: the NULL role),\n"
-        "client-expired, client-foreign-ca (signed by foreign-ca), client-self-signed,\n"
-        "client-two-roles and client-ia5-role (the role not a UTF8String). The role is in\n"
-        "extension 1.3.6.1.4.1.50316.802.1. Keys are unencrypted: test material only.\n"
-        "Exit status: 0 written, 2 usage error, a file exists (without --force) or cannot be\n"
-        "written; nothing is written then.\n"
-        "Example: mblab pki lab-pki --role Operator --role Engineer");
+    auto [cmd, options] = add_command<PkiOptions>(app, runner, "pki", std::string(kSummary),
+                                                  help_text(kHelp), run_pki);
     cmd->add_option("dir", options->dir, "directory to write into")->required();
     cmd->add_option("--role", options->roles,
                     "a role to make client-ROLE.pem for: printable UTF-8, no '/'; repeatable "
@@ -121,7 +123,6 @@ void add_pki_command(CLI::App& app, CommandRunner& runner) {
         ->check(CLI::IsMember({"ec", "rsa"}))
         ->capture_default_str();
     cmd->add_flag("--force", options->force, "replace files an earlier run wrote");
-    cmd->callback([options, &runner] { runner = [options] { return run_pki(*options); }; });
 }
 
 }  // namespace mblab::cli

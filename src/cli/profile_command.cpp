@@ -80,13 +80,13 @@ void add_profile_command(CLI::App& app, CommandRunner& runner) {
     auto options = std::make_shared<ImportOptions>();
     CLI::App* cmd = group->add_subcommand(
         "import-csv", "print the profile TOML of a register map kept as CSV, one point a line");
-    cmd->footer(
-        "The first line names the columns: address (required), bank (holding, input, coil,\n"
-        "discrete), type (u16, i16, u32, i32, u64, i64, f32, f64), name, description,\n"
-        "behaviour and its parameters (docs/profiles.md \"Register maps from CSV\").\n"
-        "Exit status: 0 printed, 2 usage error, or a file that cannot be read or used (the\n"
-        "message names its line and column).\n"
-        "Example: mblab profile import-csv registers.csv > registers.toml");
+    cmd->footer(help_text(R"(
+The first line names the columns: address (required), bank (holding, input, coil,
+discrete), type (u16, i16, u32, i32, u64, i64, f32, f64), name, description,
+behaviour and its parameters (docs/profiles.md "Register maps from CSV").
+Exit status: 0 printed, 2 usage error, or a file that cannot be read or used (the
+message names its line and column).
+Example: mblab profile import-csv registers.csv > registers.toml)"));
     cmd->add_option("file", options->file, "the CSV file")->required();
     cmd->add_option("--unit", options->unit, "the unit id of the profile's one unit")
         ->check(CLI::Range(1, 247))

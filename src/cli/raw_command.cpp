@@ -115,20 +115,24 @@ int run_raw(const RawOptions& options) {
     });
 }
 
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Send any PDU (hex, function code first) and print the answer decoded";
+constexpr std::string_view kHelp = R"(
+The PDU goes out as given, without the checks the other commands make, framed for the
+target (MBAP header, or address and CRC). The answer is printed as hex and as fields.
+Each HEX token is one byte (1 or 2 digits: 0 is 00) or whole bytes run together (an even
+number of digits); 123 is refused, being neither.
+An address inside the PDU is the 0-based PDU offset: register 40001 is 00 00.
+Exit status: 0 answered, 1 the device answered an exception or something that does not
+decode, 2 usage error or unreachable target.
+Example: mblab raw tcp://127.0.0.1:502 03 00 00 00 0A)";
+
 }  // namespace
 
 void add_raw_command(CLI::App& app, CommandRunner& runner) {
-    auto [cmd, options] = add_client_command<RawOptions>(
-        app, runner, "raw", "Send any PDU (hex, function code first) and print the answer decoded",
-        "The PDU goes out as given, without the checks the other commands make, framed for the\n"
-        "target (MBAP header, or address and CRC). The answer is printed as hex and as fields.\n"
-        "Each HEX token is one byte (1 or 2 digits: 0 is 00) or whole bytes run together (an even\n"
-        "number of digits); 123 is refused, being neither.\n"
-        "An address inside the PDU is the 0-based PDU offset: register 40001 is 00 00.\n"
-        "Exit status: 0 answered, 1 the device answered an exception or something that does not\n"
-        "decode, 2 usage error or unreachable target.\n"
-        "Example: mblab raw tcp://127.0.0.1:502 03 00 00 00 0A",
-        run_raw);
+    auto [cmd, options] = add_client_command<RawOptions>(app, runner, "raw", std::string(kSummary),
+                                                         help_text(kHelp), run_raw);
     cmd->add_option("hex", options->hex, "the PDU as hex bytes: 03 00 00 00 0A or 030000000A")
         ->required();
 }

@@ -7,7 +7,6 @@
 #include <asio/detached.hpp>
 #include <asio/experimental/as_tuple.hpp>
 #include <asio/io_context.hpp>
-#include <asio/signal_set.hpp>
 #include <asio/steady_timer.hpp>
 #include <asio/use_awaitable.hpp>
 #include <chrono>
@@ -18,6 +17,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/client_options.hpp"
@@ -27,19 +27,17 @@
 #include "cli/serve_line.hpp"
 #include "cli/serve_state.hpp"
 #include "cli/serve_stats_line.hpp"
+#include "cli/stop_signals.hpp"
 #include "cli/tls_options.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
 #include "server/behaviour_timer.hpp"
 #include "server/gateway.hpp"
-#include "server/journal.hpp"
-#include "server/journaled_device.hpp"
+#include "server/kept_devices.hpp"
 #include "server/rtu_tcp_server.hpp"
 #include "server/serial_server.hpp"
 #include "server/server_options.hpp"
-#include "server/state_file.hpp"
 #include "server/state_keeper.hpp"
-#include "server/state_saver.hpp"
 #include "server/tcp_server.hpp"
 #include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
@@ -174,13 +172,13 @@ int run_serve(const ServeOptions& options) {
                                        options.devices, first_port));
     }
 
-    std::vector<std::unique_ptr<device::ReferenceDevice>> devices;
-    for (int i = 0; i < options.devices; ++i) {
-        auto loaded = device::load_profile(*profile_path);
-        if (!loaded) return usage_error(loaded.error());
-        devices.push_back(std::move(loaded.value()));
-    }
-    auto& first_device = *devices.front();
+    server::KeptDevicesOptions kept_options{
+        *profile_path, static_cast<std::size_t>(options.devices), options.state, options.durable};
+    auto opened = server::KeptDevices::open(kept_options, report);
+    if (!opened) return usage_error(opened.error());
+    // Closed before the io_context goes at the end (their journals' threads post answers to it).
+    auto& kept = **opened;
+    auto& first_device = kept.device(0);
     security::SharedContext tls;
     if (secure) {
         auto context = security::make_server_context(
@@ -188,62 +186,30 @@ int run_serve(const ServeOptions& options) {
         if (!context) return usage_error(context.error());
         tls = std::move(context.value());
     }
-    for (std::size_t i = 0; i < devices.size() && !options.state.empty(); ++i) {
-        const auto path = device_state_path(options.state, i, devices.size()).string();
-        auto text = server::read_state_file(path, error);
-        if (!error.empty()) return usage_error(error);
-        if (text && !devices[i]->state().load(*text, error)) {
-            return usage_error(fmt::format("state file {}: {}", path, error));
-        }
-        // Found now rather than at the first save, which may be minutes away or at exit.
-        if (!server::check_state_writable(path, error)) return usage_error("--state: " + error);
-        if (!server::replay_journal(*devices[i], path, report, error)) return usage_error(error);
-    }
-    // Before the keepers, whose saves it runs.
-    server::StateSaver saver;
-    // Cleared before the io_context goes at the end (their journals' threads post answers to it).
-    Keepers keepers;
-    std::vector<std::unique_ptr<server::JournaledDevice>> journaled(devices.size());
-    for (std::size_t i = 0; i < devices.size() && !options.state.empty(); ++i) {
-        const auto path = device_state_path(options.state, i, devices.size());
-        std::unique_ptr<server::Journal> journal;
-        if (options.durable) {
-            auto made = server::Journal::create(server::journal_path_of(path));
-            if (!made) return usage_error(made.error());
-            journal = std::move(made.value());
-        }
-        keepers.push_back(std::make_unique<server::StateKeeper>(*devices[i], path, saver,
-                                                                std::move(journal), report));
-        if (options.durable) journaled[i] = std::make_unique<server::JournaledDevice>(*keepers[i]);
-    }
-    server::StateKeeper* first_keeper = keepers.empty() ? nullptr : keepers.front().get();
+    server::StateKeeper* first_keeper = kept.keeper(0);
     // Counts every request for the HTTP side, whatever answers it.
     std::unique_ptr<LiveDevice> live;
     if (http) {
-        live = std::make_unique<LiveDevice>(
-            first_device,
-            journaled[0] ? static_cast<device::RequestHandler&>(*journaled[0]) : first_device);
+        live = std::make_unique<LiveDevice>(first_device, kept.handler(0));
         write_values_through(*live, first_keeper);
     }
     auto device_handler = [&](std::size_t i) -> device::RequestHandler& {
         if (live) return live->handler();
-        if (journaled[i]) return *journaled[i];
-        return *devices[i];
+        return kept.handler(i);
     };
 
     std::signal(SIGPIPE, SIG_IGN);
     if (serial && !rtu_over_tcp) {
-        return run_serial_line(*serial, first_device, device_handler(0), first_keeper, *save_period,
-                               live.get(), http);
+        return run_serial_line(*serial, kept, device_handler(0), *save_period, live.get(), http);
     }
     // One thread runs every server; without a gateway or a journal nothing else touches the
     // io_context, so it takes no locks. A gateway's or a journal's thread posts answers to it.
     asio::io_context io(gateway || options.durable ? 1 : ASIO_CONCURRENCY_HINT_UNSAFE);
     std::vector<std::unique_ptr<server::TcpServer>> servers;
     std::vector<std::string> urls;
-    for (std::size_t i = 0; i < devices.size(); ++i) {
+    for (std::size_t i = 0; i < kept.size(); ++i) {
         auto config = server_config;
-        auto* device = devices[i].get();
+        auto* device = &kept.device(i);
         config.on_busy_reply = [device](std::uint8_t unit) {
             device->counters().count_busy_reply(unit);
         };
@@ -282,10 +248,10 @@ int run_serve(const ServeOptions& options) {
         fmt::print("mblab serve: gateway on {} to {}; stop with Ctrl-C\n", where, options.gateway);
     } else {
         fmt::print("mblab serve: {} {} on {}, {}; stop with Ctrl-C\n",
-                   devices.size() > 1 ? fmt::format("{} {}", devices.size(),
-                                                    first_device.declarations().profile().name)
-                                      : first_device.declarations().profile().name,
-                   devices.size() > 1 ? "devices" : "profile", where,
+                   kept.size() > 1 ? fmt::format("{} {}", kept.size(),
+                                                 first_device.declarations().profile().name)
+                                   : first_device.declarations().profile().name,
+                   kept.size() > 1 ? "devices" : "profile", where,
                    first_device.declarations().addressing(rtu_over_tcp ? device::Link::Serial
                                                                        : device::Link::Tcp));
     }
@@ -303,19 +269,14 @@ int run_serve(const ServeOptions& options) {
     asio::steady_timer save_timer(io);
     asio::steady_timer stats_timer(io);
     std::vector<std::unique_ptr<server::BehaviourTimer>> behaviours;
-    for (auto& device : devices) {
-        behaviours.push_back(std::make_unique<server::BehaviourTimer>(io, *device));
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+        behaviours.push_back(std::make_unique<server::BehaviourTimer>(io, kept.device(i)));
         behaviours.back()->start();
     }
     StatsLine stats_line(servers);
     bool stopping = false;
-    if (!keepers.empty() && save_period->count() > 0) {
-        asio::co_spawn(io,
-                       every(save_timer, *save_period, stopping,
-                             [&] {
-                                 for (auto& keeper : keepers)
-                                     keeper->save_soon();
-                             }),
+    if (kept.keeps_state() && save_period->count() > 0) {
+        asio::co_spawn(io, every(save_timer, *save_period, stopping, [&] { kept.save_soon(); }),
                        asio::detached);
     }
     if (options.stats) {
@@ -323,9 +284,7 @@ int run_serve(const ServeOptions& options) {
             io, every(stats_timer, std::chrono::seconds(1), stopping, [&] { stats_line.print(); }),
             asio::detached);
     }
-    asio::signal_set signals(io, SIGINT, SIGTERM);
-    signals.async_wait([&](const asio::error_code& ec, int) {
-        if (ec) return;
+    const auto signals = watch_stop_signals(io, [&] {
         stopping = true;
         for (auto& s : servers)
             s->stop();
@@ -344,27 +303,28 @@ int run_serve(const ServeOptions& options) {
         stats_line.print();
         stats_line.finish();
     }
-    saver.wait_idle();
-    const bool saved = save_states(keepers);
+    const bool saved = kept.save_all();
     // A journal's thread posts answers to `io`: end it while `io` is still there.
-    journaled.clear();
-    keepers.clear();
+    kept.close();
     return saved ? kExitOk : kExitFailed;
 }
+
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "run the reference device over Modbus/TCP, TLS (mbaps), RTU, "
+    "ASCII or RTU over TCP, or a TCP-to-serial gateway";
+constexpr std::string_view kHelp = R"(
+Serves until SIGINT or SIGTERM.
+Exit status: 0 stopped by SIGINT or SIGTERM, 1 --state could not be saved, 2 usage
+error, or a profile, file or address that cannot be used.
+Example: mblab serve --listen tcp://0.0.0.0:1502 reference
+Example: mblab serve --http 127.0.0.1:8080 (dashboard at http://127.0.0.1:8080/))";
 
 }  // namespace
 
 void add_serve_command(CLI::App& app, CommandRunner& runner) {
-    auto options = std::make_shared<ServeOptions>();
-    auto* cmd = app.add_subcommand("serve",
-                                   "run the reference device over Modbus/TCP, TLS (mbaps), RTU, "
-                                   "ASCII or RTU over TCP, or a TCP-to-serial gateway");
-    cmd->footer(
-        "Serves until SIGINT or SIGTERM.\n"
-        "Exit status: 0 stopped by SIGINT or SIGTERM, 1 --state could not be saved, 2 usage\n"
-        "error, or a profile, file or address that cannot be used.\n"
-        "Example: mblab serve --listen tcp://0.0.0.0:1502 reference\n"
-        "Example: mblab serve --http 127.0.0.1:8080 (dashboard at http://127.0.0.1:8080/)");
+    auto [cmd, options] = add_command<ServeOptions>(app, runner, "serve", std::string(kSummary),
+                                                    help_text(kHelp), run_serve);
     cmd->add_option("profile", options->profile,
                     "device profile: a TOML file or a shipped profile's name")
         ->capture_default_str();
@@ -383,41 +343,31 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
                     "or idle one is closed (0: no limit)")
         ->check(CLI::Range(0LL, 1'000'000LL))
         ->capture_default_str();
-    accept_duration_units(cmd->add_option("--idle-timeout", options->idle_timeout,
-                                          "time without a request before a connection is closed: "
-                                          "seconds, or 500ms, 5m (0: never)")
-                              ->check(CLI::NonNegativeNumber)
-                              ->capture_default_str(),
-                          DurationUnit::seconds, false);
+    add_duration_option(*cmd, "--idle-timeout", options->idle_timeout,
+                        "time without a request before a connection is closed: "
+                        "seconds, or 500ms, 5m (0: never)",
+                        DurationUnit::seconds, CLI::NonNegativeNumber);
     cmd->add_option("--allow", options->allow,
                     "admit only clients from this address or CIDR network (repeatable)");
     cmd->add_option("--max-outstanding", options->max_outstanding,
                     "requests a connection may have unanswered; more are answered 06 busy")
         ->check(CLI::Range(1LL, 4096LL))
         ->capture_default_str();
-    accept_duration_units(
-        cmd->add_option("--frame-timeout", options->frame_timeout_ms,
+    add_duration_option(*cmd, "--frame-timeout", options->frame_timeout_ms,
                         "time an unfinished frame may wait before it is answered 03: "
-                        "milliseconds, or 250ms, 1s")
-            ->check(CLI::Range(1, 60000))
-            ->capture_default_str(),
-        DurationUnit::milliseconds, true);
-    accept_duration_units(
-        cmd->add_option("--frame-limit", options->frame_limit_ms,
+                        "milliseconds, or 250ms, 1s",
+                        DurationUnit::milliseconds, CLI::Range(1, 60000));
+    add_duration_option(*cmd, "--frame-limit", options->frame_limit_ms,
                         "time a whole frame may take from its first byte: milliseconds, or 1s; a "
-                        "client still sending it then is answered 03 and closed")
-            ->check(CLI::Range(1, 600000))
-            ->capture_default_str(),
-        DurationUnit::milliseconds, true);
+                        "client still sending it then is answered 03 and closed",
+                        DurationUnit::milliseconds, CLI::Range(1, 600000));
     cmd->add_option("--state", options->state,
                     "keep the writable data in FILE: restored at start, saved periodically and "
                     "on exit");
-    accept_duration_units(cmd->add_option("--save-interval", options->save_interval,
-                                          "time between saves of --state: seconds, or 500ms, "
-                                          "5m (0: only on exit)")
-                              ->check(CLI::NonNegativeNumber)
-                              ->capture_default_str(),
-                          DurationUnit::seconds, false);
+    add_duration_option(*cmd, "--save-interval", options->save_interval,
+                        "time between saves of --state: seconds, or 500ms, "
+                        "5m (0: only on exit)",
+                        DurationUnit::seconds, CLI::NonNegativeNumber);
     cmd->add_flag("--durable", options->durable,
                   "with --state: every acknowledged write is in a journal on disk (FILE.journal, "
                   "fdatasync shared by the writes that come together) before its answer is sent, "
@@ -430,7 +380,6 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
                     "run K devices on consecutive ports from the --listen port")
         ->check(CLI::Range(1, 1000))
         ->capture_default_str();
-    cmd->callback([options, &runner] { runner = [options] { return run_serve(*options); }; });
 }
 
 }  // namespace mblab::cli

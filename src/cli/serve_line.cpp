@@ -5,21 +5,20 @@
 #include <asio/co_spawn.hpp>
 #include <asio/detached.hpp>
 #include <asio/io_context.hpp>
-#include <asio/signal_set.hpp>
-#include <csignal>
 #include <cstdio>
 
 #include "cli/commands.hpp"
 #include "cli/serve_state.hpp"
+#include "cli/stop_signals.hpp"
 #include "server/behaviour_timer.hpp"
 #include "server/serial_server.hpp"
 
 namespace mblab::cli {
 
-int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& device,
-                    device::RequestHandler& handler, server::StateKeeper* keeper,
-                    std::chrono::milliseconds save_period, LiveDevice* live,
-                    const std::optional<HttpPlan>& http) {
+int run_serial_line(const transport::SerialUrl& url, server::KeptDevices& kept,
+                    device::RequestHandler& handler, std::chrono::milliseconds save_period,
+                    LiveDevice* live, const std::optional<HttpPlan>& http) {
+    auto& device = kept.device(0);
     asio::io_context io(1);
     auto line = server::start_serial_server(io, handler, url, server::device_line_hooks(device));
     if (!line) {
@@ -37,8 +36,9 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
                device.declarations().addressing(device::Link::Serial));
     std::fflush(stdout);
     std::string error;
-    if (live && !live->start(
-                    *http, [] { return std::uint64_t{0}; }, state_saver_for_http(keeper), error)) {
+    if (live &&
+        !live->start(
+            *http, [] { return std::uint64_t{0}; }, state_saver_for_http(kept.keeper(0)), error)) {
         (*line)->stop();
         report(error);
         return kExitUsage;
@@ -47,13 +47,11 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
     server::BehaviourTimer behaviours(io, device);
     behaviours.start();
     bool stopping = false;
-    if (keeper && save_period.count() > 0) {
-        asio::co_spawn(io, every(save_timer, save_period, stopping, [&] { keeper->save_soon(); }),
+    if (kept.keeps_state() && save_period.count() > 0) {
+        asio::co_spawn(io, every(save_timer, save_period, stopping, [&] { kept.save_soon(); }),
                        asio::detached);
     }
-    asio::signal_set signals(io, SIGINT, SIGTERM);
-    signals.async_wait([&](const asio::error_code& ec, int) {
-        if (ec) return;
+    const auto signals = watch_stop_signals(io, [&] {
         stopping = true;
         (*line)->stop();
         save_timer.cancel();
@@ -62,11 +60,7 @@ int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& de
     io.run();
     if (live) live->stop();
     // The line is closed, so every write the device acknowledged is in it now.
-    std::string error_at_exit;
-    if (keeper && !keeper->save_now(error_at_exit)) {
-        report("cannot save state: " + error_at_exit);
-        return kExitFailed;
-    }
+    if (!kept.save_all()) return kExitFailed;
     return status;
 }
 

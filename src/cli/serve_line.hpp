@@ -7,8 +7,7 @@
 #include <optional>
 
 #include "cli/serve_http.hpp"
-#include "device/reference_device.hpp"
-#include "server/state_keeper.hpp"
+#include "server/kept_devices.hpp"
 #include "transport/serial_url.hpp"
 
 // `mblab serve --listen rtu://` or `ascii://`, and the timer loop serve's periodic work runs on.
@@ -31,9 +30,8 @@ asio::awaitable<void> every(asio::steady_timer& timer, std::chrono::milliseconds
 
 // --listen rtu:// or ascii://: the device on a serial line until SIGINT or SIGTERM, or until the
 // line fails (exit status 1).
-int run_serial_line(const transport::SerialUrl& url, device::ReferenceDevice& device,
-                    device::RequestHandler& handler, server::StateKeeper* keeper,
-                    std::chrono::milliseconds save_period, LiveDevice* live,
-                    const std::optional<HttpPlan>& http);
+int run_serial_line(const transport::SerialUrl& url, server::KeptDevices& kept,
+                    device::RequestHandler& handler, std::chrono::milliseconds save_period,
+                    LiveDevice* live, const std::optional<HttpPlan>& http);
 
 }  // namespace mblab::cli

@@ -10,28 +10,6 @@ void report(const std::string& message) {
     fmt::print(stderr, "mblab serve: {}\n", message);
 }
 
-// The state file of device `index` of `count`: FILE itself for one device; for several, one file
-// each, numbered from 1 in port order: lab.json -> lab-1.json, lab-2.json, ...
-std::filesystem::path device_state_path(const std::filesystem::path& file, std::size_t index,
-                                        std::size_t count) {
-    if (count == 1) return file;
-    return file.parent_path() /
-           (file.stem().string() + "-" + std::to_string(index + 1) + file.extension().string());
-}
-
-// Saves every device's state; false when any save failed (each failure is reported).
-bool save_states(const Keepers& keepers) {
-    bool saved = true;
-    for (const auto& keeper : keepers) {
-        std::string error;
-        if (!keeper->save_now(error)) {
-            report("cannot save state: " + error);
-            saved = false;
-        }
-    }
-    return saved;
-}
-
 // REST writes made as the keeper keeps them: with --durable, journaled before their answer.
 void write_values_through(LiveDevice& live, server::StateKeeper* keeper) {
     if (!keeper || !keeper->journal()) return;

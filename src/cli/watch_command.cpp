@@ -3,17 +3,18 @@
 
 #include <CLI/CLI.hpp>
 #include <chrono>
-#include <csignal>
 #include <cstdlib>
 #include <ctime>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <thread>
 #include <vector>
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
 #include "cli/read_query.hpp"
+#include "cli/stop_signals.hpp"
 #include "cli/terminal_style.hpp"
 
 // `mblab watch TARGET KIND ARGS...`: the read of `mblab read`, repeated every --interval, drawn in
@@ -25,12 +26,6 @@ namespace mblab::cli {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-
-volatile std::sig_atomic_t g_stop = 0;
-
-extern "C" void request_stop(int) {
-    g_stop = 1;
-}
 
 struct WatchOptions {
     ClientOptions client;
@@ -148,7 +143,7 @@ class Screen {
 
 // Sleeps until `until` or a stop request, in short steps so Ctrl-C ends the wait promptly.
 void wait_until(Clock::time_point until) {
-    while (g_stop == 0 && Clock::now() < until) {
+    while (!StopSignals::requested() && Clock::now() < until) {
         std::this_thread::sleep_for(
             std::min<Clock::duration>(until - Clock::now(), std::chrono::milliseconds(50)));
     }
@@ -198,10 +193,10 @@ int watch(client::Client& client, CommandOutput& out, const WatchOptions& option
     std::vector<std::string> previous;
     const auto interval = std::chrono::milliseconds(options.interval_ms);
     auto next = Clock::now();
-    while (g_stop == 0 &&
+    while (!StopSignals::requested() &&
            (options.count == 0 || tally.polls < static_cast<unsigned>(options.count))) {
         wait_until(next);
-        if (g_stop != 0) break;
+        if (StopSignals::requested()) break;
         next += interval;
         ++tally.polls;
         auto reading = perform_read(client, query);
@@ -279,9 +274,7 @@ int run_watch(const WatchOptions& options) {
             "--format csv takes coils, discretes, holding or input, whose columns are known "
             "before the first answer: use --format ndjson");
     }
-    g_stop = 0;
-    std::signal(SIGINT, request_stop);
-    std::signal(SIGTERM, request_stop);
+    StopSignals::catch_them();
     ClientOptions client_options = options.client;
     client_options.probe_units = false;
     return with_client(client_options, output, [&](client::Client& client, CommandOutput& out) {
@@ -289,23 +282,27 @@ int run_watch(const WatchOptions& options) {
     });
 }
 
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Poll a read every --interval and show the values as they change";
+constexpr std::string_view kHelp = R"(
+KIND and its arguments are those of `mblab read`. On a terminal the table is redrawn in
+place under a line counting polls, timeouts and exceptions; otherwise each poll is
+printed as "poll N" and its table. A poll that fails is counted and polling goes on.
+With --format ndjson or csv each poll is one line on stdout, written as it comes: a
+JSON object, or a CSV row under a header of addresses, each starting with the time
+(ISO 8601, UTC); the tally goes to stderr. On a terminal a value that changed since
+the last poll is shown in reverse video (not when NO_COLOR is set).
+ADDR is a 0-based PDU offset, as for `mblab read` (--base 1, 4x00001).
+Stops after --count polls, or on Ctrl-C. Exit status: 0 every poll answered, 1 a poll
+failed, 2 usage error or unreachable target.
+Example: mblab watch tcp://127.0.0.1:502 holding 0 4 --interval 500)";
+
 }  // namespace
 
 void add_watch_command(CLI::App& app, CommandRunner& runner) {
     auto [cmd, options] = add_client_command<WatchOptions>(
-        app, runner, "watch", "Poll a read every --interval and show the values as they change",
-        "KIND and its arguments are those of `mblab read`. On a terminal the table is redrawn in\n"
-        "place under a line counting polls, timeouts and exceptions; otherwise each poll is\n"
-        "printed as \"poll N\" and its table. A poll that fails is counted and polling goes on.\n"
-        "With --format ndjson or csv each poll is one line on stdout, written as it comes: a\n"
-        "JSON object, or a CSV row under a header of addresses, each starting with the time\n"
-        "(ISO 8601, UTC); the tally goes to stderr. On a terminal a value that changed since\n"
-        "the last poll is shown in reverse video (not when NO_COLOR is set).\n"
-        "ADDR is a 0-based PDU offset, as for `mblab read` (--base 1, 4x00001).\n"
-        "Stops after --count polls, or on Ctrl-C. Exit status: 0 every poll answered, 1 a poll\n"
-        "failed, 2 usage error or unreachable target.\n"
-        "Example: mblab watch tcp://127.0.0.1:502 holding 0 4 --interval 500",
-        run_watch);
+        app, runner, "watch", std::string(kSummary), help_text(kHelp), run_watch);
     add_query_arguments(*cmd, options->query);
     accept_duration_units(cmd->add_option("--interval", options->interval_ms,
                                           "time between polls: 1000 (ms), 500ms, 2s, 1m "

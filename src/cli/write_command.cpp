@@ -4,6 +4,7 @@
 #include <array>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "cli/client_options.hpp"
@@ -266,32 +267,35 @@ int run_write(const WriteOptions& options) {
     });
 }
 
+// What `mblab --help` says of the command.
+constexpr std::string_view kSummary =
+    "Write to a device: coils, registers (typed), mask write, read/write registers, file "
+    "records";
+constexpr std::string_view kHelp = R"(
+KIND and its arguments:
+  coil ADDR VALUE                 FC 05; VALUE is 1, 0, on, off, true or false
+  coils ADDR VALUE...             FC 0F
+  register ADDR VALUE             FC 06; a 16-bit --type (u16, i16, hex, 2 ascii chars)
+  registers ADDR VALUE...         FC 10; each VALUE as --type says (f32: 2 registers)
+  mask ADDR AND OR                FC 16; result = (current AND and) OR (or AND NOT and)
+  readwrite READ_ADDR READ_COUNT WRITE_ADDR VALUE...
+                                  FC 17; writes, then reads READ_COUNT values of --type
+  file FILE RECORD VALUE...       FC 15; registers from RECORD of FILE
+Values are encoded the way `mblab read` decodes them with the same --type, --word-order
+and --byte-order. Numbers are decimal or hex (0x2A).
+ADDR is a 0-based PDU offset (register 0 is the one manuals call 40001 or 1). With
+--base 1 it is 1-based; a Modicon reference is 1-based too: 4x00001 or 400001 for
+holding registers, 000001 for coils (0x is hex). A negative VALUE follows --, which
+ends the options: mblab write TARGET register 7 --type i16 -- -5.
+Exit status: 0 written, 1 the device answered an exception or no proper answer, 2
+usage error or unreachable target.
+Example: mblab write tcp://127.0.0.1:502 registers 100 3.5 -1e3 --type f32)";
+
 }  // namespace
 
 void add_write_command(CLI::App& app, CommandRunner& runner) {
     auto [cmd, options] = add_client_command<WriteOptions>(
-        app, runner, "write",
-        "Write to a device: coils, registers (typed), mask write, read/write registers, file "
-        "records",
-        "KIND and its arguments:\n"
-        "  coil ADDR VALUE                 FC 05; VALUE is 1, 0, on, off, true or false\n"
-        "  coils ADDR VALUE...             FC 0F\n"
-        "  register ADDR VALUE             FC 06; a 16-bit --type (u16, i16, hex, 2 ascii chars)\n"
-        "  registers ADDR VALUE...         FC 10; each VALUE as --type says (f32: 2 registers)\n"
-        "  mask ADDR AND OR                FC 16; result = (current AND and) OR (or AND NOT and)\n"
-        "  readwrite READ_ADDR READ_COUNT WRITE_ADDR VALUE...\n"
-        "                                  FC 17; writes, then reads READ_COUNT values of --type\n"
-        "  file FILE RECORD VALUE...       FC 15; registers from RECORD of FILE\n"
-        "Values are encoded the way `mblab read` decodes them with the same --type, --word-order\n"
-        "and --byte-order. Numbers are decimal or hex (0x2A).\n"
-        "ADDR is a 0-based PDU offset (register 0 is the one manuals call 40001 or 1). With\n"
-        "--base 1 it is 1-based; a Modicon reference is 1-based too: 4x00001 or 400001 for\n"
-        "holding registers, 000001 for coils (0x is hex). A negative VALUE follows --, which\n"
-        "ends the options: mblab write TARGET register 7 --type i16 -- -5.\n"
-        "Exit status: 0 written, 1 the device answered an exception or no proper answer, 2\n"
-        "usage error or unreachable target.\n"
-        "Example: mblab write tcp://127.0.0.1:502 registers 100 3.5 -1e3 --type f32",
-        run_write);
+        app, runner, "write", std::string(kSummary), help_text(kHelp), run_write);
     options->command = cmd;
     cmd->add_option("kind", options->kind,
                     "coil, coils, register, registers, mask, readwrite, file")

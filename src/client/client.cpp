@@ -162,7 +162,7 @@ CallResult<Done> Client::send_listen_only() {
 CallResult<EventCounter> Client::get_comm_event_counter() {
     return call<GetCommEventCounterResponse>(
         GetCommEventCounterRequest{}, [](const GetCommEventCounterResponse& answer) {
-            return EventCounter{answer.status, answer.event_count};
+            return answer;
         });
 }
 

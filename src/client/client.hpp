@@ -25,10 +25,8 @@ struct DiagnosticsAnswer {
     std::vector<std::uint8_t> data;
 };
 
-struct EventCounter {  // FC 0B
-    std::uint16_t status = 0;
-    std::uint16_t event_count = 0;
-};
+// FC 0B's answer holds no view into a buffer, so the client hands it on as decoded.
+using EventCounter = protocol::GetCommEventCounterResponse;
 
 struct EventLog {  // FC 0C
     std::uint16_t status = 0;

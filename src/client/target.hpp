@@ -1,6 +1,7 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -42,5 +43,8 @@ std::string attach_tls(Target& target, const security::TlsFiles& files,
 protocol::Result<std::unique_ptr<Link>, LinkError> open_link(const Target& target,
                                                              std::chrono::milliseconds timeout,
                                                              LinkObserver* observer = nullptr);
+
+// Opens a link to a device: open_link on a target, or a test's in-memory link.
+using Dial = std::function<protocol::Result<std::unique_ptr<Link>, LinkError>()>;
 
 }  // namespace mblab::client

@@ -158,7 +158,10 @@ std::string Transactor::unit_hint() {
     probed_ = true;
     const std::uint8_t asked = options_.unit;
     const Framing framing = link_ ? link_->framing() : Framing::Mbap;
-    auto hint = probe_units(framing, asked, [this](std::uint8_t unit) {
+    const auto started = Clock::now();
+    std::size_t probes = 0;
+    auto hint = probe_units(framing, asked, [this, &probes](std::uint8_t unit) {
+        ++probes;
         drop_link();
         options_.unit = unit;
         auto sent = send(kUnitProbePdu);
@@ -166,7 +169,13 @@ std::string Transactor::unit_hint() {
     });
     options_.unit = asked;
     drop_link();
-    return hint;
+    // The probes' waits add to the command's time: say how much, and how to go without them.
+    const auto took = std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - started);
+    // When the unit asked answered the probe, nothing is said and little time went.
+    if (hint.empty()) return hint;
+    return hint + " (" + std::to_string(probes) +
+           (probes == 1 ? " probe read, " : " probe reads, ") + std::to_string(took.count()) +
+           " ms; --no-probe skips them)";
 }
 
 Transactor::Attempt Transactor::attempt(std::span<const std::uint8_t> request) {

@@ -3,6 +3,9 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <map>
+#include <utility>
+#include <vector>
 
 #include "conformance/evidence_text.hpp"
 
@@ -14,28 +17,55 @@ void ConsoleReport::header(const std::string& target, const Dut& dut, const std:
 }
 
 void ConsoleReport::suite_started(const Suite& suite) {
+    flush_suite();
     id_width_ = 0;
     for (const auto& c : suite.cases)
         id_width_ = std::max(id_width_, c.id.size());
+    suite_name_ = suite.name;
+    suite_cases_ = suite.cases.size();
     fmt::print(out_, "\n{}{}\n", suite.name, suite.title.empty() ? "" : ": " + suite.title);
     std::fflush(out_);
+}
+
+std::string ConsoleReport::verdict_cell(Verdict verdict) const {
+    const auto label = verdict_label(verdict);
+    std::string shown = fmt::format("{:<8}", label);
+    if (!colour_) return shown;
+    const char* colour = verdict == Verdict::Pass   ? "\x1b[32m"
+                         : verdict == Verdict::Fail ? "\x1b[31m"
+                                                    : "\x1b[33m";
+    // Only the word is coloured, so the columns stay where they are.
+    return fmt::format("{}{}\x1b[0m{}", colour, label, shown.substr(label.size()));
+}
+
+std::string ConsoleReport::case_line(const CaseResult& result) const {
+    std::string line = fmt::format("  {} {:<{}}  {}", verdict_cell(result.outcome.verdict),
+                                   result.id, id_width_, result.title);
+    if (!result.outcome.reason.empty()) line += fmt::format("  ({})", result.outcome.reason);
+    return line;
 }
 
 void ConsoleReport::case_finished(const Suite&, const CaseResult& result) {
     clear();
     const auto& outcome = result.outcome;
-    const auto label = verdict_label(outcome.verdict);
-    std::string shown = fmt::format("{:<8}", label);
-    if (colour_) {
-        const char* colour = outcome.verdict == Verdict::Pass   ? "\x1b[32m"
-                             : outcome.verdict == Verdict::Fail ? "\x1b[31m"
-                                                                : "\x1b[33m";
-        // Only the word is coloured, so the columns stay where they are.
-        shown = fmt::format("{}{}\x1b[0m{}", colour, label, shown.substr(label.size()));
+    const bool same_na = outcome.verdict == Verdict::NotApplicable &&
+                         (held_.empty() || held_.front().outcome.reason == outcome.reason);
+    if (same_na && held_.size() + 1 < suite_cases_) {
+        held_.push_back(result);
+        return;
     }
-    std::string line = fmt::format("  {} {:<{}}  {}", shown, result.id, id_width_, result.title);
-    if (!outcome.reason.empty()) line += fmt::format("  ({})", outcome.reason);
-    fmt::print(out_, "{}\n", line);
+    if (same_na && !held_.empty()) {
+        // The whole suite is N/A for one reason: one line says so.
+        const std::string line =
+            fmt::format("  {} all {} cases of {}  ({})", verdict_cell(outcome.verdict),
+                        suite_cases_, suite_name_, outcome.reason);
+        held_.clear();
+        fmt::print(out_, "{}\n", line);
+        std::fflush(out_);
+        return;
+    }
+    flush_suite();
+    fmt::print(out_, "{}\n", case_line(result));
     const std::string indent(11, ' ');
     for (const auto& exchange : outcome.evidence) {
         for (const auto& text : evidence_lines(exchange))
@@ -44,13 +74,27 @@ void ConsoleReport::case_finished(const Suite&, const CaseResult& result) {
     std::fflush(out_);
 }
 
+void ConsoleReport::flush_suite() {
+    for (const auto& held : held_)
+        fmt::print(out_, "{}\n", case_line(held));
+    held_.clear();
+    std::fflush(out_);
+}
+
 void ConsoleReport::summary(const RunResult& result) {
+    flush_suite();
     const Counts counts = result.counts();
     fmt::print(out_,
                "\nSummary: {} passed, {} failed, {} N/A, {} not run ({} cases) in {}, {} "
                "requests\n",
                counts.passed, counts.failed, counts.not_applicable, counts.not_run, counts.total(),
                format_duration(result.elapsed), result.requests);
+    if (const auto guidance = undeclared_guidance(result); !guidance.empty()) {
+        fmt::print(out_,
+                   "N/A for want of a declaration, cases per DUT key: {}; declare them in a "
+                   "--dut file (docs/catalogue.md) to run those cases\n",
+                   guidance);
+    }
     if (result.interrupted) {
         std::size_t left = 0;
         for (const auto& suite : result.suites) {
@@ -63,6 +107,23 @@ void ConsoleReport::summary(const RunResult& result) {
                    counts.total() - left, counts.total(), left);
     }
     std::fflush(out_);
+}
+
+std::string undeclared_guidance(const RunResult& result) {
+    std::map<std::string, std::size_t> held_back;
+    for (const auto& suite : result.suites) {
+        for (const auto& c : suite.cases) {
+            if (c.outcome.verdict == Verdict::NotApplicable && !c.outcome.undeclared.empty())
+                ++held_back[c.outcome.undeclared];
+        }
+    }
+    std::vector<std::pair<std::string, std::size_t>> keys(held_back.begin(), held_back.end());
+    std::stable_sort(keys.begin(), keys.end(),
+                     [](const auto& a, const auto& b) { return a.second > b.second; });
+    std::string text;
+    for (const auto& [key, count] : keys)
+        text += fmt::format("{}{} ({})", text.empty() ? "" : ", ", key, count);
+    return text;
 }
 
 void ConsoleReport::update(std::string_view what, std::size_t done, std::size_t total) {

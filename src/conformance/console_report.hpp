@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "conformance/engine.hpp"
 #include "conformance/session.hpp"
@@ -26,12 +27,25 @@ class ConsoleReport : public RunListener, public Progress {
     void clear() override;
 
   private:
+    // A suite none of whose cases can run here (every one N/A for one reason, such as the
+    // security suite over tcp://) is one line; its case lines wait until that is known.
+    void flush_suite();
+    std::string case_line(const CaseResult& result) const;
+    std::string verdict_cell(Verdict verdict) const;
+
     std::FILE* out_;
     std::FILE* progress_;
     bool show_progress_;
     bool colour_;
     bool progress_shown_ = false;
     std::size_t id_width_ = 8;
+    std::string suite_name_;
+    std::size_t suite_cases_ = 0;
+    std::vector<CaseResult> held_;  // N/A cases of this suite, all for one reason so far
 };
+
+// The summary's guidance: how many N/A cases each missing declaration holds back, most first:
+// "registers (4), coils (4), read_only_register (3)". Empty when none does.
+std::string undeclared_guidance(const RunResult& result);
 
 }  // namespace mblab::conformance

@@ -218,11 +218,12 @@ protocol::Result<Requirement, std::string> parse_requirement(std::string_view te
     return out;
 }
 
-std::optional<std::string> unmet(const Requirement& requirement, const Dut& dut) {
+std::optional<Unmet> unmet(const Requirement& requirement, const Dut& dut) {
     if (requirement.fact == kMbapRequirement) {
         if (dut.serial_framing.empty()) return std::nullopt;
-        return fmt::format("a Modbus/TCP (MBAP) test; the device is reached over {}",
-                           dut.serial_framing);
+        return Unmet{fmt::format("a Modbus/TCP (MBAP) test; the device is reached over {}",
+                                 dut.serial_framing),
+                     ""};
     }
     if (requirement.fact == kLineRequirement && dut.serial_framing.empty())
         return std::string("a serial-line test; the device is reached over Modbus/TCP");
@@ -234,7 +235,8 @@ std::optional<std::string> unmet(const Requirement& requirement, const Dut& dut)
         return std::nullopt;
     auto value = number_of(dut, requirement.fact);
     if (!value) {
-        return fmt::format("the DUT does not declare {}", requirement.fact);
+        return Unmet{fmt::format("the DUT does not declare {}", requirement.fact),
+                     requirement.fact};
     }
     if (requirement.op.empty()) return std::nullopt;
     const std::int64_t v = *value;
@@ -246,7 +248,9 @@ std::optional<std::string> unmet(const Requirement& requirement, const Dut& dut)
                : requirement.op == "==" ? v == want
                                         : v != want;
     if (met) return std::nullopt;
-    return fmt::format("needs {}; the DUT declares {} = {}", requirement.text, requirement.fact, v);
+    return Unmet{
+        fmt::format("needs {}; the DUT declares {} = {}", requirement.text, requirement.fact, v),
+        ""};
 }
 
 std::optional<std::string> settle_serial_unit(Dut& dut, bool declared, std::string_view target) {

@@ -96,7 +96,15 @@ struct Requirement {
 
 protocol::Result<Requirement, std::string> parse_requirement(std::string_view text);
 
-// Nothing when the DUT meets the requirement; otherwise why not, for the N/A line.
-std::optional<std::string> unmet(const Requirement& requirement, const Dut& dut);
+// Why a requirement is not met, for the N/A line.
+struct Unmet {
+    std::string reason;
+    // The DUT key whose declaration is missing ("" when the declared value does not meet the
+    // requirement, or it is not a declaration at all): the summary counts these.
+    std::string undeclared;
+};
+
+// Nothing when the DUT meets the requirement.
+std::optional<Unmet> unmet(const Requirement& requirement, const Dut& dut);
 
 }  // namespace mblab::conformance

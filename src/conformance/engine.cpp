@@ -41,7 +41,7 @@ struct SessionLink {
 
 std::optional<Outcome> check_requirements(const Case& c, const Dut& dut) {
     for (const auto& requirement : c.requirements) {
-        if (auto why = unmet(requirement, dut)) return verdict(Verdict::NotApplicable, *why);
+        if (auto why = unmet(requirement, dut)) return not_met(*why);
     }
     return std::nullopt;
 }
@@ -127,9 +127,7 @@ Outcome Engine::run_case(const Case& c) {
         if (info == nullptr) return verdict(Verdict::NotRun, "unknown procedure " + c.procedure);
         for (auto need : info->needs) {
             Requirement requirement{std::string(need), "", 0, std::string(need)};
-            if (auto why = unmet(requirement, session_.dut())) {
-                return verdict(Verdict::NotApplicable, *why);
-            }
+            if (auto why = unmet(requirement, session_.dut())) return not_met(*why);
         }
         if (info->talks_modbus) {
             if (auto unreachable = check_reachable()) return *unreachable;

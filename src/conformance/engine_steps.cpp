@@ -26,8 +26,7 @@ Outcome Engine::run_steps(const Case& c, bool& fresh) {
         ResolvedStep resolved{&step, {}, {}};
         auto request = resolve(step.request, session_.facts());
         if (!request) {
-            return verdict(Verdict::NotApplicable,
-                           fmt::format("the DUT does not declare {}", request.error().name));
+            return not_declared(std::string(request.error().name));
         }
         resolved.request = render_bytes(request.value());
         if (auto why =
@@ -37,8 +36,7 @@ Outcome Engine::run_steps(const Case& c, bool& fresh) {
         for (const auto& alternative : step.expect) {
             auto pattern = resolve(alternative.pattern, session_.facts());
             if (!pattern) {
-                return verdict(Verdict::NotApplicable,
-                               fmt::format("the DUT does not declare {}", pattern.error().name));
+                return not_declared(std::string(pattern.error().name));
             }
             resolved.expect.push_back(std::move(pattern.value()));
         }

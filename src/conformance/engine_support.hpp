@@ -19,7 +19,17 @@
 namespace mblab::conformance::engine_detail {
 
 inline Outcome verdict(Verdict v, std::string reason) {
-    return Outcome{v, std::move(reason), {}};
+    return Outcome{v, std::move(reason), {}, {}};
+}
+
+// N/A: the case needs DUT key `key`, which was not declared.
+inline Outcome not_declared(const std::string& key) {
+    return Outcome{Verdict::NotApplicable, "the DUT does not declare " + key, {}, key};
+}
+
+// N/A for a requirement the DUT does not meet.
+inline Outcome not_met(const Unmet& why) {
+    return Outcome{Verdict::NotApplicable, why.reason, {}, why.undeclared};
 }
 
 inline constexpr std::uint8_t kEncapsulated = 0x2B;

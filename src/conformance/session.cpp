@@ -76,7 +76,7 @@ client::Framing Session::framing() const {
 bool Session::connect(client::LinkError& error) {
     if (link_ && link_->is_open()) return true;
     link_.reset();
-    auto opened = client::open_link(target_, options_.connect_timeout, observer_);
+    auto opened = dial_ ? dial_() : client::open_link(target_, options_.connect_timeout, observer_);
     if (!opened) {
         error = opened.error();
         return false;

@@ -56,6 +56,9 @@ class Session {
     // mbaps://, or the port set here (the built-in device serves both); nullopt when nowhere.
     const std::optional<client::Target>& secure_target() const { return secure_target_; }
     void set_secure_target(client::Target target) { secure_target_ = std::move(target); }
+    // Links come from `dial` instead of the target's address (the target still says the
+    // framing): a test's device in memory.
+    void dial_with(client::Dial dial) { dial_ = std::move(dial); }
     client::Framing framing() const;
     const Dut& dut() const { return dut_; }
     const DutFacts& facts() const { return facts_; }
@@ -117,6 +120,7 @@ class Session {
 
     client::Target target_;
     std::optional<client::Target> secure_target_;
+    client::Dial dial_;
     Dut dut_;
     DutFacts facts_;
     EngineOptions options_;

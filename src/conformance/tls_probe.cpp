@@ -38,7 +38,10 @@ security::TlsFiles pki_files(const Dut& dut, std::string_view name) {
 // N/A when a declaration the case needs was not given: `what` names it and its option.
 std::optional<Outcome> undeclared(const std::string& value, std::string_view what) {
     if (!value.empty()) return std::nullopt;
-    return verdict(Verdict::NotApplicable, fmt::format("the DUT does not declare {}", what));
+    auto outcome =
+        verdict(Verdict::NotApplicable, fmt::format("the DUT does not declare {}", what));
+    outcome.undeclared = std::string(what.substr(0, what.find(' ')));
+    return outcome;
 }
 
 // N/A when the certificate the case needs was not declared: a PKI without that file.

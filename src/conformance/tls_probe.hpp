@@ -33,7 +33,7 @@ std::optional<Outcome> not_secure(const Session& session);
 // A client certificate of the declared PKI: DIR/NAME.pem and its key DIR/NAME.key.
 security::TlsFiles pki_files(const Dut& dut, std::string_view name);
 
-// N/A when a declaration the case needs was not given: `what` names it and its option.
+// N/A when a declaration the case needs was not given: `what` is its DUT key, then its option.
 std::optional<Outcome> undeclared(const std::string& value, std::string_view what);
 
 inline constexpr std::string_view kPkiDeclaration =

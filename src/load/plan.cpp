@@ -51,7 +51,7 @@ protocol::Result<std::vector<LoadExchange>, std::string> case_exchanges(
     const conformance::Case& c, const conformance::Dut& dut) {
     if (c.isolated) return std::string("needs a connection of its own");
     for (const auto& requirement : c.requirements) {
-        if (auto why = conformance::unmet(requirement, dut)) return "N/A: " + *why;
+        if (auto why = conformance::unmet(requirement, dut)) return "N/A: " + why->reason;
     }
     if (!c.procedure.empty()) {
         const conformance::ProcedureInfo* info = conformance::find_procedure(c.procedure);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "client/link.hpp"
+#include "client/target.hpp"
 #include "protocol/result.hpp"
 #include "robustness/run_clock.hpp"
 
@@ -21,8 +22,7 @@
 // both.
 namespace mblab::robustness {
 
-// Opens a link to the device: client::open_link on the target, or a test's memory link.
-using Dial = std::function<protocol::Result<std::unique_ptr<client::Link>, client::LinkError>()>;
+using Dial = client::Dial;
 
 struct LinkTimes {
     std::chrono::milliseconds settle{10};  // how long a case's answers are read

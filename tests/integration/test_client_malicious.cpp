@@ -1,6 +1,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <regex>
+
 #include "support/hex.hpp"
 #include "support/malicious_server.hpp"
 #include "test_client_support.hpp"
@@ -136,8 +139,22 @@ TEST(ClientMalicious, ExceptionWithTrailingBytes) {
 TEST(ClientMalicious, SilenceAndClosedConnections) {
     auto silent = read_against([](auto) { return Answer{}; }, {}, "300");
     EXPECT_EQ(silent.status, 1);
-    EXPECT_THAT(silent.err,
-                HasSubstr(" (unit 1) within 300 ms; units 255 and 0 did not answer either\n"));
+    EXPECT_TRUE(std::regex_search(silent.err,
+                                  std::regex(" \\(unit 1\\) within 300 ms; units 255 and 0 did not "
+                                             "answer either \\(3 probe reads, [0-9]+ ms; "
+                                             "--no-probe skips them\\)\n")))
+        << silent.err;
+    // --no-probe: the unanswered request alone, and the message says nothing of other units.
+    std::atomic<int> requests{0};
+    auto unprobed = read_against(
+        [&requests](auto) {
+            ++requests;
+            return Answer{};
+        },
+        {"--no-probe"}, "300");
+    EXPECT_EQ(unprobed.status, 1);
+    EXPECT_TRUE(unprobed.err.ends_with(" (unit 1) within 300 ms\n")) << unprobed.err;
+    EXPECT_EQ(requests.load(), 1);
     auto closed = read_against([](auto) { return Answer{{}, 0ms, true}; });
     expect_bad(closed, "the device closed the connection without answering");
     auto half = read_against([](auto request) {
@@ -218,9 +235,12 @@ TEST(ClientMalicious, RetriesGiveUpAfterTheLastTry) {
     EXPECT_EQ(ran.status, 1);
     // The unit asked is named, and it, then units 255 and 0, are asked once each with a harmless
     // read.
-    EXPECT_EQ(ran.err, "mblab read: no answer from " + tcp_target(port) +
-                           " (unit 1) within 200 ms (3 tries); units 255 and 0 did not answer "
-                           "either\n");
+    EXPECT_TRUE(std::regex_match(
+        ran.err, std::regex("mblab read: no answer from " + tcp_target(port) +
+                            " \\(unit 1\\) within 200 ms \\(3 tries\\); units 255 and 0 did not "
+                            "answer either \\(3 probe reads, [0-9]+ ms; --no-probe skips "
+                            "them\\)\n")))
+        << ran.err;
     EXPECT_EQ(server.requests(), 6);
 }
 
@@ -232,9 +252,11 @@ TEST(ClientMalicious, NoAnswerNamesTheUnitThatDoesAnswer) {
     const auto port = server.start();
     auto ran = run_mblab({"write", tcp_target(port), "register", "5", "9", "--timeout", "200"});
     EXPECT_EQ(ran.status, 1);
-    EXPECT_EQ(ran.err, "mblab write: no answer from " + tcp_target(port) +
-                           " (unit 1) within 200 ms; the device answers unit 255: try --unit "
-                           "255\n");
+    EXPECT_TRUE(std::regex_match(
+        ran.err, std::regex("mblab write: no answer from " + tcp_target(port) +
+                            " \\(unit 1\\) within 200 ms; the device answers unit 255: try "
+                            "--unit 255 \\(2 probe reads, [0-9]+ ms; --no-probe skips them\\)\n")))
+        << ran.err;
 }
 
 TEST(ClientMalicious, RetriesReconnectAfterTheDeviceClosed) {

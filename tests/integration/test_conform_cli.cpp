@@ -18,6 +18,7 @@
 
 #include "child_process.hpp"
 #include "device/reference_device.hpp"
+#include "server/background_server.hpp"
 #include "support/faulty_server.hpp"
 #include "support/ports.hpp"
 #include "support/temp_path.hpp"
@@ -187,6 +188,28 @@ TEST(ConformCli, ListPrintsTheCatalogue) {
                                    "9.1.3)\n"));
     EXPECT_THAT(ran.out, HasSubstr("  7.5.2   Multiple register test: the register sweep "
                                    "[register_sweep]  (CTP 7.5.2)\n"));
+}
+
+TEST(ConformCli, ASuiteThatCannotApplyIsOneLineAndTheSummarySaysWhatToDeclare) {
+    auto loaded = device::load_profile(std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml");
+    ASSERT_TRUE(loaded.ok());
+    server::BackgroundServer server(*loaded.value());
+    auto port = server.start();
+    ASSERT_TRUE(port.ok()) << port.error();
+    auto ran = mblab({"conform", "tcp://127.0.0.1:" + std::to_string(*port), "--suite",
+                      "function-codes", "--suite", "security"});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    // Over tcp:// no security case can run: one line, not twelve.
+    EXPECT_NE(ran.out.find("  N/A      all 12 cases of security  (a Modbus/TCP Security case: the "
+                           "device is not reached over mbaps://"),
+              std::string::npos)
+        << ran.out;
+    EXPECT_EQ(ran.out.find("sec.1 "), std::string::npos) << ran.out;
+    // Nothing was declared: the N/A cases of function-codes are counted per missing key.
+    EXPECT_NE(ran.out.find("N/A for want of a declaration, cases per DUT key: "), std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("coils ("), std::string::npos) << ran.out;
+    EXPECT_NE(ran.out.find("registers ("), std::string::npos) << ran.out;
 }
 
 class ConformCliFaultyTarget : public ::testing::Test {

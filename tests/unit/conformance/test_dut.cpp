@@ -77,14 +77,17 @@ TEST(Requirements, SayWhyTheyAreUnmet) {
     Dut dut;
     auto needs_coils = parse_requirement("coils >= 2000");
     ASSERT_TRUE(needs_coils.ok());
-    EXPECT_EQ(unmet(needs_coils.value(), dut), "the DUT does not declare coils");
+    EXPECT_EQ(unmet(needs_coils.value(), dut)->reason, "the DUT does not declare coils");
+    EXPECT_EQ(unmet(needs_coils.value(), dut)->undeclared, "coils");
     dut.coils = 100;
-    EXPECT_EQ(unmet(needs_coils.value(), dut), "needs coils >= 2000; the DUT declares coils = 100");
+    EXPECT_EQ(unmet(needs_coils.value(), dut)->reason,
+              "needs coils >= 2000; the DUT declares coils = 100");
+    EXPECT_EQ(unmet(needs_coils.value(), dut)->undeclared, "");
     dut.coils = 2000;
     EXPECT_FALSE(unmet(needs_coils.value(), dut).has_value());
     auto needs_5b = parse_requirement("object_messaging");
     ASSERT_TRUE(needs_5b.ok());
-    EXPECT_EQ(unmet(needs_5b.value(), dut), "the DUT does not declare object_messaging");
+    EXPECT_EQ(unmet(needs_5b.value(), dut)->reason, "the DUT does not declare object_messaging");
     dut.object_messaging = true;
     EXPECT_FALSE(unmet(needs_5b.value(), dut).has_value());
     EXPECT_FALSE(parse_requirement("coils 5").ok());
