@@ -226,10 +226,11 @@ std::optional<Unmet> unmet(const Requirement& requirement, const Dut& dut) {
                      ""};
     }
     if (requirement.fact == kLineRequirement && dut.serial_framing.empty())
-        return std::string("a serial-line test; the device is reached over Modbus/TCP");
+        return Unmet{"a serial-line test; the device is reached over Modbus/TCP", ""};
     if (requirement.fact == kAsciiRequirement && dut.serial_framing != "ASCII") {
-        return fmt::format("an ASCII framing test; the device is reached over {}",
-                           dut.serial_framing.empty() ? "Modbus/TCP" : dut.serial_framing);
+        return Unmet{fmt::format("an ASCII framing test; the device is reached over {}",
+                                 dut.serial_framing.empty() ? "Modbus/TCP" : dut.serial_framing),
+                     ""};
     }
     if (requirement.fact == kLineRequirement || requirement.fact == kAsciiRequirement)
         return std::nullopt;

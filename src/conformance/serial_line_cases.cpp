@@ -4,6 +4,7 @@
 
 #include <array>
 
+#include "client/hex_text.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/procedures.hpp"
 #include "conformance/serial_line_probe.hpp"
@@ -224,7 +225,7 @@ Outcome run_answer_frame(Session& session, const Case& c) {
         evidence.received.insert(evidence.received.end(), after.bytes.begin(), after.bytes.end());
         return line_failure(session,
                             fmt::format("{} bytes followed the answer's frame: {}",
-                                        after.bytes.size(), hex_text(after.bytes)),
+                                        after.bytes.size(), client::hex_bytes(after.bytes)),
                             evidence);
     }
     return pass(line.ascii() ? "':', upper-case hex, LRC and CR LF; the device's own address"

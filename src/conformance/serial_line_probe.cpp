@@ -5,6 +5,7 @@
 #include <array>
 #include <cctype>
 
+#include "client/hex_text.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/procedures.hpp"
 #include "conformance/session.hpp"
@@ -156,7 +157,7 @@ std::string LineProbe::what_came(const LineAnswer& answer) const {
         const auto code = static_cast<protocol::ExceptionCode>(answer.pdu[1]);
         return fmt::format("exception {:02X} ({})", answer.pdu[1], protocol::exception_name(code));
     }
-    return fmt::format("an unexpected answer, PDU {}", hex_text(answer.pdu));
+    return fmt::format("an unexpected answer, PDU {}", client::hex_bytes(answer.pdu));
 }
 
 Outcome line_failure(Session& session, std::string reason, const Exchange& evidence) {

@@ -38,7 +38,7 @@ struct Outcome {
     std::string reason;  // failure summary, N/A or NOT RUN cause, or a PASS remark
     std::vector<Exchange> evidence;
     // N/A for want of a declaration: the DUT key (the summary says what declaring it would run).
-    std::string undeclared;
+    std::string undeclared = {};
 };
 
 struct CaseResult {

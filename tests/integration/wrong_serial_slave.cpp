@@ -96,7 +96,7 @@ void WrongSerialSlave::take(const Request& request) {
     bool serve = request.address == kOwnAddress || broadcast;
     if (fault_ == SlaveFault::AnswersOtherAddress && request.address != 0) serve = true;
     // A frame with a wrong checksum is counted (FC 08 sub-function 0C) whatever is done with it.
-    if (!request.checksum_ok) device_->count_crc_error();
+    if (!request.checksum_ok) device_->counters().count_crc_error();
     if (!request.checksum_ok && fault_ != SlaveFault::ExecutesBadChecksum) serve = false;
     if (request.lower_case) serve = false;
     if (!serve) return;
