@@ -11,7 +11,7 @@ namespace mblab::protocol::detail {
 // `Decoders` is the request or the response side: a struct naming its variant (`Message`), the
 // type that carries unknown codes (`Raw`), and one static decoder for each public function code.
 // The switch stays a switch: its cases name functions, not data, and -Wswitch makes it name every
-// FunctionCode. function_table_test.cpp checks that it decodes exactly the codes with a row.
+// FunctionCode. test_function_table.cpp checks that it decodes exactly the codes with a row.
 template <class Decoders>
 Result<typename Decoders::Message> decode_by_function(std::uint8_t code, FieldReader& in) {
     const auto function = static_cast<FunctionCode>(code);
