@@ -16,15 +16,9 @@ namespace {
 
 using test::TempDir;
 
-constexpr std::string_view kProfile = R"(name = "kept"
-
-[[unit]]
-id = 1
-
-[[unit.holding_registers]]
-start = 0
-count = 10
-)";
+// Unit 1 with holding registers 0-9.
+constexpr std::string_view kProfile =
+    "name = \"kept\"\nunit = [{ id = 1, holding_registers = [{ start = 0, count = 10 }] }]\n";
 
 std::filesystem::path write_profile(const TempDir& dir) {
     const auto path = dir / "kept.toml";
