@@ -20,6 +20,7 @@
 #include "security/tls_context.hpp"
 #include "server/background_server.hpp"
 #include "support/lab_pki.hpp"
+#include "support/rewriting_handler.hpp"
 
 namespace mblab::conformance {
 namespace {
@@ -41,24 +42,19 @@ enum class Wrong {
 
 // Answers every write with exception 02, whoever asks: from the client's side, a device that
 // refuses a role's write with the wrong exception code.
-class WritesAnswered02 : public device::RequestHandler {
-  public:
-    explicit WritesAnswered02(device::RequestHandler& inner) : inner_(inner) {}
-    device::Reply handle(const device::RequestContext& context,
-                         std::span<const std::uint8_t> request,
-                         std::span<std::uint8_t> response) override {
-        const auto* row = protocol::find_function(request.front());
-        if (row != nullptr && row->writes == protocol::Writes::Yes) {
-            response[0] = static_cast<std::uint8_t>(request.front() | 0x80);
-            response[1] = 0x02;
-            return {device::ReplyAction::Answer, 2, {}};
-        }
-        return inner_.handle(context, request, response);
-    }
+std::optional<std::vector<std::uint8_t>> write_answered_02(std::span<const std::uint8_t> request) {
+    const auto* row = protocol::find_function(request.front());
+    if (row == nullptr || row->writes != protocol::Writes::Yes) return std::nullopt;
+    return std::vector<std::uint8_t>{static_cast<std::uint8_t>(request.front() | 0x80), 0x02};
+}
+}
+return inner_.handle(context, request, response);
+}
 
-  private:
-    device::RequestHandler& inner_;
-};
+private:
+device::RequestHandler& inner_;
+}
+;
 
 class ConformSecurity : public ::testing::Test {
   protected:
@@ -96,7 +92,7 @@ class ConformSecurity : public ::testing::Test {
                           1);
                 break;
             case Wrong::DeniesWith02:
-                wrapper_ = std::make_unique<WritesAnswered02>(*device_);
+                wrapper_ = std::make_unique<test::RewritingHandler>(*device_, write_answered_02);
                 handler = wrapper_.get();
                 [[fallthrough]];
             case Wrong::IgnoresRoles:
@@ -151,7 +147,7 @@ class ConformSecurity : public ::testing::Test {
 
     static LabPki* pki_;
     std::unique_ptr<device::ReferenceDevice> device_;
-    std::unique_ptr<WritesAnswered02> wrapper_;
+    std::unique_ptr<test::RewritingHandler> wrapper_;
     std::unique_ptr<server::BackgroundServer> server_;
 };
 

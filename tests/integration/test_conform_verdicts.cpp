@@ -17,6 +17,7 @@
 #include "server/background_server.hpp"
 #include "support/device_profiles.hpp"
 #include "support/faulty_server.hpp"
+#include "support/rewriting_handler.hpp"
 
 namespace mblab::conformance {
 namespace {
@@ -53,26 +54,16 @@ const CaseResult& at(const RunResult& result, std::size_t i) {
     return result.suites.at(0).cases.at(i);
 }
 
-// A handler that answers some requests itself and passes the rest to the reference device.
-class Rewriting : public device::RequestHandler {
-  public:
-    using Rule = std::function<std::optional<std::vector<std::uint8_t>>(
-        std::span<const std::uint8_t> request)>;
-    Rewriting(device::RequestHandler& inner, Rule rule) : inner_(inner), rule_(std::move(rule)) {}
-    device::Reply handle(const device::RequestContext& context,
-                         std::span<const std::uint8_t> request,
-                         std::span<std::uint8_t> response) override {
-        if (auto answer = rule_(request)) {
-            std::copy(answer->begin(), answer->end(), response.begin());
-            return {device::ReplyAction::Answer, answer->size(), {}};
-        }
-        return inner_.handle(context, request, response);
-    }
+using Rewriting = test::RewritingHandler;
+}
+return inner_.handle(context, request, response);
+}
 
-  private:
-    device::RequestHandler& inner_;
-    Rule rule_;
-};
+private:
+device::RequestHandler& inner_;
+Rule rule_;
+}
+;
 
 const std::string kCloseAllowed =
     case_toml("close", "a request the device may refuse by closing",

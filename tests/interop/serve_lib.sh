@@ -5,6 +5,8 @@
 SERVE_PID=""
 SERVE_PORT=""
 CAPTURE_PID=""
+# Any other process the script starts (a peer's server), killed on exit too.
+OTHER_PID=""
 
 fail() {
     echo "FAIL: $*" >&2
@@ -14,6 +16,7 @@ fail() {
 cleanup() {
     [ -n "$CAPTURE_PID" ] && kill "$CAPTURE_PID" 2>/dev/null
     [ -n "$SERVE_PID" ] && kill "$SERVE_PID" 2>/dev/null
+    [ -n "$OTHER_PID" ] && kill "$OTHER_PID" 2>/dev/null
     wait 2>/dev/null
     rm -rf "$WORK"
 }

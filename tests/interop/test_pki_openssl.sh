@@ -10,22 +10,9 @@ set -eu
 MBLAB=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 WORK=$(mktemp -d "${TMPDIR:-/tmp}/mblab-pki.XXXXXX")
 PKI=$WORK/pki
-SERVER_PID=""
-SERVE_PID=""
 OID=1.3.6.1.4.1.50316.802.1
-
-fail() {
-    echo "FAIL: $*" >&2
-    exit 1
-}
-
-cleanup() {
-    [ -n "$SERVER_PID" ] && kill "$SERVER_PID" 2>/dev/null
-    [ -n "$SERVE_PID" ] && kill "$SERVE_PID" 2>/dev/null
-    wait 2>/dev/null
-    rm -rf "$WORK"
-}
-trap cleanup EXIT
+HERE=$(cd "$(dirname "$0")" && pwd)
+. "$HERE/serve_lib.sh"
 
 # --- the command ---
 "$MBLAB" pki "$PKI" >"$WORK/pki.out" 2>"$WORK/pki.err" ||
@@ -103,12 +90,12 @@ role_type() {
 # would stop it after the first connection.
 openssl s_server -accept 127.0.0.1:0 -cert server.pem -key server.key -CAfile ca.pem \
     -Verify 1 -verify_return_error -tls1_2 -www >"$WORK/server.out" 2>&1 </dev/null &
-SERVER_PID=$!
+OTHER_PID=$!
 port=""
 for _ in $(seq 50); do
     port=$(sed -n 's/^ACCEPT 127\.0\.0\.1:\([0-9]*\)$/\1/p' "$WORK/server.out")
     [ -n "$port" ] && break
-    kill -0 "$SERVER_PID" 2>/dev/null || fail "openssl s_server: $(cat "$WORK/server.out")"
+    kill -0 "$OTHER_PID" 2>/dev/null || fail "openssl s_server: $(cat "$WORK/server.out")"
     sleep 0.1
 done
 [ -n "$port" ] || fail "openssl s_server printed no port: $(cat "$WORK/server.out")"
@@ -132,8 +119,8 @@ refused client-foreign-ca
 refused client-self-signed
 refused client-expired
 handshake client-norole || fail "handshake with client-norole (TLS accepts it; the role is NULL)"
-kill "$SERVER_PID"
-SERVER_PID=""
+kill "$OTHER_PID"
+OTHER_PID=""
 
 # --- docs/security.md's three commands: mblab serve over mbaps and mblab read with the files ---
 "$MBLAB" serve --listen mbaps://127.0.0.1:0 --cert server.pem --key server.key --ca ca.pem \

@@ -15,6 +15,7 @@
 #include "device/reference_device.hpp"
 #include "support/manual_clock.hpp"
 #include "support/memory_link.hpp"
+#include "support/rewriting_handler.hpp"
 
 namespace mblab::conformance {
 namespace {
@@ -31,28 +32,23 @@ std::vector<Suite> policy_suite() {
     return suites;
 }
 
-// Answers FC 03 with exception 04 (server device failure) and leaves the rest to `inner`.
-class BrokenReads : public device::RequestHandler {
-  public:
-    explicit BrokenReads(device::RequestHandler& inner) : inner_(inner) {}
-    device::Reply handle(const device::RequestContext& context,
-                         std::span<const std::uint8_t> request,
-                         std::span<std::uint8_t> response) override {
-        if (!request.empty() && request[0] == 0x03) {
-            response[0] = 0x83;
-            response[1] = 0x04;
-            return {device::ReplyAction::Answer, 2, {}};
-        }
-        return inner_.handle(context, request, response);
-    }
+// Answers FC 03 with exception 04 (server device failure) and leaves the rest to the device.
+std::optional<std::vector<std::uint8_t>> broken_read(std::span<const std::uint8_t> request) {
+    if (request.empty() || request[0] != 0x03) return std::nullopt;
+    return std::vector<std::uint8_t>{0x83, 0x04};
+}
+}
+return inner_.handle(context, request, response);
+}
 
-  private:
-    device::RequestHandler& inner_;
-};
+private:
+device::RequestHandler& inner_;
+}
+;
 
 struct MemoryRun {
     explicit MemoryRun(Framing framing, bool broken_reads = false)
-        : broken(*device),
+        : broken(*device, broken_read),
           memory(broken_reads ? static_cast<device::RequestHandler&>(broken)
                               : static_cast<device::RequestHandler&>(*device),
                  framing, clock) {}
@@ -85,7 +81,7 @@ struct MemoryRun {
     test::ManualClock clock;
     std::unique_ptr<device::ReferenceDevice> device =
         std::move(device::load_profile(kProfile).value());
-    BrokenReads broken;
+    test::RewritingHandler broken;
     test::MemoryDevice memory;
 };
 
