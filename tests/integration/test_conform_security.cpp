@@ -47,14 +47,6 @@ std::optional<std::vector<std::uint8_t>> write_answered_02(std::span<const std::
     if (row == nullptr || row->writes != protocol::Writes::Yes) return std::nullopt;
     return std::vector<std::uint8_t>{static_cast<std::uint8_t>(request.front() | 0x80), 0x02};
 }
-}
-return inner_.handle(context, request, response);
-}
-
-private:
-device::RequestHandler& inner_;
-}
-;
 
 class ConformSecurity : public ::testing::Test {
   protected:

@@ -55,15 +55,6 @@ const CaseResult& at(const RunResult& result, std::size_t i) {
 }
 
 using Rewriting = test::RewritingHandler;
-}
-return inner_.handle(context, request, response);
-}
-
-private:
-device::RequestHandler& inner_;
-Rule rule_;
-}
-;
 
 const std::string kCloseAllowed =
     case_toml("close", "a request the device may refuse by closing",

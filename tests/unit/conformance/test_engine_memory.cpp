@@ -37,14 +37,6 @@ std::optional<std::vector<std::uint8_t>> broken_read(std::span<const std::uint8_
     if (request.empty() || request[0] != 0x03) return std::nullopt;
     return std::vector<std::uint8_t>{0x83, 0x04};
 }
-}
-return inner_.handle(context, request, response);
-}
-
-private:
-device::RequestHandler& inner_;
-}
-;
 
 struct MemoryRun {
     explicit MemoryRun(Framing framing, bool broken_reads = false)
