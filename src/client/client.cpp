@@ -161,9 +161,8 @@ CallResult<Done> Client::send_listen_only() {
 
 CallResult<EventCounter> Client::get_comm_event_counter() {
     return call<GetCommEventCounterResponse>(
-        GetCommEventCounterRequest{}, [](const GetCommEventCounterResponse& answer) {
-            return answer;
-        });
+        GetCommEventCounterRequest{},
+        [](const GetCommEventCounterResponse& answer) { return answer; });
 }
 
 CallResult<EventLog> Client::get_comm_event_log() {
