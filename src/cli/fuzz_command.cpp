@@ -369,8 +369,12 @@ Example: mblab fuzz 'rtu:///dev/ttyUSB0?baud=19200' --unit 17 --cases 300)";
 }  // namespace
 
 void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation) {
-    auto [cmd, options] = add_command<FuzzCommandOptions>(
-        app, runner, "fuzz", std::string(kSummary), help_text(kHelp), run_fuzz);
+    // Named variables, not a structured binding: the callback below captures them, which
+    // clang 14 refuses for a binding.
+    const auto added = add_command<FuzzCommandOptions>(app, runner, "fuzz", std::string(kSummary),
+                                                       help_text(kHelp), run_fuzz);
+    CLI::App* cmd = added.first;
+    auto options = added.second;
     options->invocation = &invocation;
     cmd->add_option("target", options->target,
                     "tcp://HOST[:PORT], mbaps://HOST[:PORT] (with --cert, --key, --ca), "
