@@ -129,7 +129,7 @@ struct RoleSession {
 };
 
 std::variant<Outcome, RoleSession> read_as_role(Session& session, const std::string& role,
-                                                std::string_view declaration,
+                                                const Needed& declaration,
                                                 std::uint16_t transaction) {
     if (auto na = not_secure(session)) return *na;
     if (auto na = undeclared(role, declaration)) return *na;
@@ -244,7 +244,7 @@ Outcome run_null_role_denied(Session& session, const Case&) {
 
 Outcome run_read_only_role(Session& session, const Case&) {
     const std::string& role = session.dut().security.read_only_role;
-    auto opened = read_as_role(session, role, "read_only_role (--read-only-role NAME)", 0x5E30);
+    auto opened = read_as_role(session, role, {"read_only_role", "--read-only-role NAME"}, 0x5E30);
     if (auto* done = std::get_if<Outcome>(&opened)) return std::move(*done);
     auto& [attempt, hi, lo] = std::get<RoleSession>(opened);
     // The writes put back what was read, so a device that wrongly obeys loses nothing.
@@ -270,7 +270,7 @@ Outcome run_read_only_role(Session& session, const Case&) {
 
 Outcome run_write_role(Session& session, const Case&) {
     const std::string& role = session.dut().security.write_role;
-    auto opened = read_as_role(session, role, "write_role (--write-role NAME)", 0x5E40);
+    auto opened = read_as_role(session, role, {"write_role", "--write-role NAME"}, 0x5E40);
     if (auto* done = std::get_if<Outcome>(&opened)) return std::move(*done);
     auto& [attempt, hi, lo] = std::get<RoleSession>(opened);
     auto write =

@@ -36,11 +36,11 @@ security::TlsFiles pki_files(const Dut& dut, std::string_view name) {
 }
 
 // N/A when a declaration the case needs was not given: `what` names it and its option.
-std::optional<Outcome> undeclared(const std::string& value, std::string_view what) {
+std::optional<Outcome> undeclared(const std::string& value, const Needed& needed) {
     if (!value.empty()) return std::nullopt;
-    auto outcome =
-        verdict(Verdict::NotApplicable, fmt::format("the DUT does not declare {}", what));
-    outcome.undeclared = std::string(what.substr(0, what.find(' ')));
+    auto outcome = verdict(Verdict::NotApplicable,
+                           fmt::format("the DUT does not declare {} ({})", needed.key, needed.how));
+    outcome.undeclared = std::string(needed.key);
     return outcome;
 }
 

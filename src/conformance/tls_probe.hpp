@@ -33,12 +33,17 @@ std::optional<Outcome> not_secure(const Session& session);
 // A client certificate of the declared PKI: DIR/NAME.pem and its key DIR/NAME.key.
 security::TlsFiles pki_files(const Dut& dut, std::string_view name);
 
-// N/A when a declaration the case needs was not given: `what` is its DUT key, then its option.
-std::optional<Outcome> undeclared(const std::string& value, std::string_view what);
+// A declaration a case needs: its DUT key, and how to give it.
+struct Needed {
+    std::string_view key;
+    std::string_view how;
+};
 
-inline constexpr std::string_view kPkiDeclaration =
-    "pki (--pki DIR: client certificates as mblab pki "
-    "writes them)";
+// N/A when a declaration the case needs was not given.
+std::optional<Outcome> undeclared(const std::string& value, const Needed& needed);
+
+inline constexpr Needed kPkiDeclaration{"pki",
+                                        "--pki DIR: client certificates as mblab pki writes them"};
 
 // N/A when the certificate the case needs was not declared: a PKI without that file.
 std::optional<Outcome> missing(const security::TlsFiles& files);
