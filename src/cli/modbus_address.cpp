@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "cli/number_text.hpp"
+#include "support/name_table.hpp"
 
 namespace mblab::cli {
 
@@ -61,17 +62,12 @@ std::optional<Reference> parse_reference(std::string_view text) {
 }  // namespace
 
 const char* table_name(DataTable table) {
-    switch (table) {
-        case DataTable::Coils:
-            return "coils";
-        case DataTable::Discretes:
-            return "discrete inputs";
-        case DataTable::Input:
-            return "input registers";
-        case DataTable::Holding:
-            return "holding registers";
-    }
-    return "?";
+    static constexpr Named<DataTable, const char*> kNames[] = {
+        {DataTable::Coils, "coils"},
+        {DataTable::Discretes, "discrete inputs"},
+        {DataTable::Input, "input registers"},
+        {DataTable::Holding, "holding registers"}};
+    return name_of(kNames, table, "?");
 }
 
 protocol::Result<std::uint16_t, std::string> parse_address(const std::string& text,

@@ -10,6 +10,7 @@
 #include "protocol/framer.hpp"
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
+#include "support/name_table.hpp"
 
 namespace mblab::client {
 
@@ -34,21 +35,11 @@ std::string byte_count(std::size_t count) {
 }  // namespace
 
 const char* error_kind_name(ErrorKind kind) {
-    switch (kind) {
-        case ErrorKind::Invalid:
-            return "invalid";
-        case ErrorKind::Connect:
-            return "connect";
-        case ErrorKind::Timeout:
-            return "timeout";
-        case ErrorKind::Closed:
-            return "closed";
-        case ErrorKind::BadAnswer:
-            return "bad-answer";
-        case ErrorKind::Exception:
-            return "exception";
-    }
-    return "error";
+    static constexpr Named<ErrorKind, const char*> kNames[] = {
+        {ErrorKind::Invalid, "invalid"},      {ErrorKind::Connect, "connect"},
+        {ErrorKind::Timeout, "timeout"},      {ErrorKind::Closed, "closed"},
+        {ErrorKind::BadAnswer, "bad-answer"}, {ErrorKind::Exception, "exception"}};
+    return name_of(kNames, kind, "error");
 }
 
 Transactor::Transactor(std::string target, LinkOpener opener, TransactionOptions options,

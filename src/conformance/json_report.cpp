@@ -3,6 +3,7 @@
 
 #include "client/hex_text.hpp"
 #include "conformance/reports.hpp"
+#include "support/name_table.hpp"
 
 namespace mblab::conformance {
 
@@ -11,17 +12,12 @@ namespace {
 using nlohmann::json;
 
 std::string_view status_name(client::ReceiveStatus status) {
-    switch (status) {
-        case client::ReceiveStatus::Frame:
-            return "frame";
-        case client::ReceiveStatus::Timeout:
-            return "timeout";
-        case client::ReceiveStatus::Closed:
-            return "closed";
-        case client::ReceiveStatus::Malformed:
-            return "malformed";
-    }
-    return "unknown";
+    static constexpr Named<client::ReceiveStatus> kNames[] = {
+        {client::ReceiveStatus::Frame, "frame"},
+        {client::ReceiveStatus::Timeout, "timeout"},
+        {client::ReceiveStatus::Closed, "closed"},
+        {client::ReceiveStatus::Malformed, "malformed"}};
+    return name_of(kNames, status, "unknown");
 }
 
 double millis(std::chrono::microseconds elapsed) {

@@ -1,19 +1,15 @@
 #include "conformance/verdict.hpp"
 
+#include "support/name_table.hpp"
+
 namespace mblab::conformance {
 
 std::string_view verdict_label(Verdict verdict) {
-    switch (verdict) {
-        case Verdict::Pass:
-            return "PASS";
-        case Verdict::Fail:
-            return "FAIL";
-        case Verdict::NotApplicable:
-            return "N/A";
-        case Verdict::NotRun:
-            return "NOT RUN";
-    }
-    return "?";
+    static constexpr Named<Verdict> kLabels[] = {{Verdict::Pass, "PASS"},
+                                                 {Verdict::Fail, "FAIL"},
+                                                 {Verdict::NotApplicable, "N/A"},
+                                                 {Verdict::NotRun, "NOT RUN"}};
+    return name_of(kLabels, verdict, "?");
 }
 
 void Counts::add(Verdict verdict) {

@@ -1,10 +1,13 @@
 #include "load/answer.hpp"
 
+#include <iterator>
+
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/mbap_header.hpp"
 #include "protocol/response.hpp"
+#include "support/name_table.hpp"
 
 namespace mblab::load {
 
@@ -17,42 +20,30 @@ std::uint16_t be16(std::span<const std::uint8_t> bytes, std::size_t at) {
     return static_cast<std::uint16_t>((bytes[at] << 8) | bytes[at + 1]);
 }
 
+struct FailureWords {
+    FailureKind value;
+    std::string_view key;    // JSON and metrics
+    std::string_view label;  // console and HTML
+};
+
+constexpr FailureWords kFailureWords[] = {
+    {FailureKind::Timeout, "timeout", "timeout"},
+    {FailureKind::Malformed, "malformed", "malformed answer"},
+    {FailureKind::WrongAnswer, "wrong_answer", "wrong answer"},
+    {FailureKind::UnexpectedException, "exception", "unexpected exception"},
+    {FailureKind::Refused, "refused", "refused connection"},
+    {FailureKind::Dropped, "dropped", "dropped connection"},
+};
+static_assert(std::size(kFailureWords) == kFailureKinds, "one row per failure kind");
+
 }  // namespace
 
 std::string_view failure_key(FailureKind kind) {
-    switch (kind) {
-        case FailureKind::Timeout:
-            return "timeout";
-        case FailureKind::Malformed:
-            return "malformed";
-        case FailureKind::WrongAnswer:
-            return "wrong_answer";
-        case FailureKind::UnexpectedException:
-            return "exception";
-        case FailureKind::Refused:
-            return "refused";
-        case FailureKind::Dropped:
-            return "dropped";
-    }
-    return "unknown";
+    return word_of(kFailureWords, kind, &FailureWords::key, "unknown");
 }
 
 std::string_view failure_label(FailureKind kind) {
-    switch (kind) {
-        case FailureKind::Timeout:
-            return "timeout";
-        case FailureKind::Malformed:
-            return "malformed answer";
-        case FailureKind::WrongAnswer:
-            return "wrong answer";
-        case FailureKind::UnexpectedException:
-            return "unexpected exception";
-        case FailureKind::Refused:
-            return "refused connection";
-        case FailureKind::Dropped:
-            return "dropped connection";
-    }
-    return "unknown";
+    return word_of(kFailureWords, kind, &FailureWords::label, "unknown");
 }
 
 AnswerPattern::AnswerPattern(const conformance::ResolvedPattern& pattern) {

@@ -1,17 +1,14 @@
 #include "load/result.hpp"
 
+#include "support/name_table.hpp"
+
 namespace mblab::load {
 
 std::string_view load_verdict_label(LoadVerdict verdict) {
-    switch (verdict) {
-        case LoadVerdict::Pass:
-            return "PASS";
-        case LoadVerdict::Fail:
-            return "FAIL";
-        case LoadVerdict::Incomplete:
-            return "INCOMPLETE";
-    }
-    return "FAIL";
+    static constexpr Named<LoadVerdict> kLabels[] = {{LoadVerdict::Pass, "PASS"},
+                                                     {LoadVerdict::Fail, "FAIL"},
+                                                     {LoadVerdict::Incomplete, "INCOMPLETE"}};
+    return name_of(kLabels, verdict, "FAIL");
 }
 
 std::uint64_t NodeResult::failure_total() const {

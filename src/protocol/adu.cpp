@@ -2,19 +2,14 @@
 
 #include "protocol/adu_writer.hpp"
 #include "protocol/limits.hpp"
+#include "support/name_table.hpp"
 
 namespace mblab::protocol {
 
 const char* framing_name(Framing framing) {
-    switch (framing) {
-        case Framing::Mbap:
-            return "MBAP";
-        case Framing::Rtu:
-            return "RTU";
-        case Framing::Ascii:
-            return "ASCII";
-    }
-    return "?";
+    static constexpr Named<Framing, const char*> kNames[] = {
+        {Framing::Mbap, "MBAP"}, {Framing::Rtu, "RTU"}, {Framing::Ascii, "ASCII"}};
+    return name_of(kNames, framing, "?");
 }
 
 std::size_t write_adu(const AduHeader& header, std::span<const std::uint8_t> pdu,

@@ -4,6 +4,7 @@
 #include <span>
 
 #include "protocol/cursor.hpp"
+#include "protocol/request.hpp"
 
 // Encoding support shared by the request and response codecs (not part of the public API).
 namespace mblab::protocol::detail {
@@ -25,8 +26,8 @@ inline bool put_counted(WriteCursor& out, std::span<const std::uint8_t> bytes) {
 
 // FC 5B, both directions: the fields up to the service code. The caller derives `fragment` (the
 // fragment byte count) from what it writes after, so an encoded message agrees with itself.
-template <class Message>
-bool put_object_messaging_header(WriteCursor& out, const Message& message, std::size_t fragment) {
+inline bool put_object_messaging_header(WriteCursor& out, const ObjectMessagingHeader& message,
+                                        std::size_t fragment) {
     if (fragment > 0xFF) return false;
     out.put_u8(static_cast<std::uint8_t>(fragment));
     out.put_u8(message.fragment_protocol);

@@ -1,57 +1,48 @@
 #include "protocol/exception_code.hpp"
 
+#include "support/name_table.hpp"
+
 namespace mblab::protocol {
 
+namespace {
+
+struct ExceptionWords {
+    ExceptionCode value;
+    std::string_view name;
+    std::string_view meaning;
+};
+
+// [APP] section 7, with what each code means to someone reading a report.
+constexpr ExceptionWords kExceptions[] = {
+    {ExceptionCode::IllegalFunction, "illegal function",
+     "the device does not support this function code"},
+    {ExceptionCode::IllegalDataAddress, "illegal data address",
+     "the address range is not on this device"},
+    {ExceptionCode::IllegalDataValue, "illegal data value",
+     "a value or length in the request is not allowed"},
+    {ExceptionCode::ServerDeviceFailure, "server device failure",
+     "the device failed while executing the request"},
+    {ExceptionCode::Acknowledge, "acknowledge", "the device accepted a long-running request"},
+    {ExceptionCode::ServerDeviceBusy, "server device busy", "the device is busy; retry later"},
+    {ExceptionCode::NegativeAcknowledge, "negative acknowledge",
+     "the device cannot perform the program function"},
+    {ExceptionCode::MemoryParityError, "memory parity error",
+     "the device found a parity error in its memory"},
+    {ExceptionCode::GatewayPathUnavailable, "gateway path unavailable",
+     "the gateway has no path to the unit"},
+    {ExceptionCode::GatewayTargetFailedToRespond, "gateway target failed to respond",
+     "the unit behind the gateway did not answer"},
+};
+
+}  // namespace
+
 std::string_view exception_name(ExceptionCode code) {
-    switch (code) {
-        case ExceptionCode::IllegalFunction:
-            return "illegal function";
-        case ExceptionCode::IllegalDataAddress:
-            return "illegal data address";
-        case ExceptionCode::IllegalDataValue:
-            return "illegal data value";
-        case ExceptionCode::ServerDeviceFailure:
-            return "server device failure";
-        case ExceptionCode::Acknowledge:
-            return "acknowledge";
-        case ExceptionCode::ServerDeviceBusy:
-            return "server device busy";
-        case ExceptionCode::NegativeAcknowledge:
-            return "negative acknowledge";
-        case ExceptionCode::MemoryParityError:
-            return "memory parity error";
-        case ExceptionCode::GatewayPathUnavailable:
-            return "gateway path unavailable";
-        case ExceptionCode::GatewayTargetFailedToRespond:
-            return "gateway target failed to respond";
-    }
-    return "unknown exception";
+    return word_of(kExceptions, code, &ExceptionWords::name, "unknown exception");
 }
 
 std::string_view exception_meaning(ExceptionCode code) {
-    switch (code) {
-        case ExceptionCode::IllegalFunction:
-            return "the device does not support this function code";
-        case ExceptionCode::IllegalDataAddress:
-            return "the address range is not on this device";
-        case ExceptionCode::IllegalDataValue:
-            return "a value or length in the request is not allowed";
-        case ExceptionCode::ServerDeviceFailure:
-            return "the device failed while executing the request";
-        case ExceptionCode::Acknowledge:
-            return "the device accepted a long-running request";
-        case ExceptionCode::ServerDeviceBusy:
-            return "the device is busy; retry later";
-        case ExceptionCode::NegativeAcknowledge:
-            return "the device cannot perform the program function";
-        case ExceptionCode::MemoryParityError:
-            return "the device found a parity error in its memory";
-        case ExceptionCode::GatewayPathUnavailable:
-            return "the gateway has no path to the unit";
-        case ExceptionCode::GatewayTargetFailedToRespond:
-            return "the unit behind the gateway did not answer";
-    }
-    return "an exception code not defined by the Modbus specification";
+    return word_of(kExceptions, code, &ExceptionWords::meaning,
+                   "an exception code not defined by the Modbus specification");
 }
 
 }  // namespace mblab::protocol

@@ -3,6 +3,7 @@
 #include <array>
 
 #include "protocol/function_table.hpp"
+#include "support/name_table.hpp"
 
 namespace mblab::protocol {
 
@@ -40,62 +41,35 @@ std::string_view function_name(std::uint8_t code) {
     return {name.data(), name.size()};
 }
 
+namespace {
+
+// [APP] 6.8.1, one row per sub-function defined there.
+constexpr Named<DiagnosticSub> kDiagnosticSubs[] = {
+    {DiagnosticSub::ReturnQueryData, "return query data"},
+    {DiagnosticSub::RestartCommunications, "restart communications option"},
+    {DiagnosticSub::ReturnDiagnosticRegister, "return diagnostic register"},
+    {DiagnosticSub::ChangeAsciiDelimiter, "change ASCII input delimiter"},
+    {DiagnosticSub::ForceListenOnly, "force listen only mode"},
+    {DiagnosticSub::ClearCounters, "clear counters and diagnostic register"},
+    {DiagnosticSub::BusMessageCount, "return bus message count"},
+    {DiagnosticSub::BusCommunicationErrorCount, "return bus communication error count"},
+    {DiagnosticSub::BusExceptionErrorCount, "return bus exception error count"},
+    {DiagnosticSub::ServerMessageCount, "return server message count"},
+    {DiagnosticSub::ServerNoResponseCount, "return server no response count"},
+    {DiagnosticSub::ServerNakCount, "return server NAK count"},
+    {DiagnosticSub::ServerBusyCount, "return server busy count"},
+    {DiagnosticSub::BusCharacterOverrunCount, "return bus character overrun count"},
+    {DiagnosticSub::ClearOverrunCounter, "clear overrun counter and flag"},
+};
+
+}  // namespace
+
 bool is_known_diagnostic_sub(std::uint16_t sub) {
-    switch (static_cast<DiagnosticSub>(sub)) {
-        case DiagnosticSub::ReturnQueryData:
-        case DiagnosticSub::RestartCommunications:
-        case DiagnosticSub::ReturnDiagnosticRegister:
-        case DiagnosticSub::ChangeAsciiDelimiter:
-        case DiagnosticSub::ForceListenOnly:
-        case DiagnosticSub::ClearCounters:
-        case DiagnosticSub::BusMessageCount:
-        case DiagnosticSub::BusCommunicationErrorCount:
-        case DiagnosticSub::BusExceptionErrorCount:
-        case DiagnosticSub::ServerMessageCount:
-        case DiagnosticSub::ServerNoResponseCount:
-        case DiagnosticSub::ServerNakCount:
-        case DiagnosticSub::ServerBusyCount:
-        case DiagnosticSub::BusCharacterOverrunCount:
-        case DiagnosticSub::ClearOverrunCounter:
-            return true;
-    }
-    return false;
+    return row_of(kDiagnosticSubs, static_cast<DiagnosticSub>(sub)) != nullptr;
 }
 
 std::string_view diagnostic_sub_name(std::uint16_t sub) {
-    switch (static_cast<DiagnosticSub>(sub)) {
-        case DiagnosticSub::ReturnQueryData:
-            return "return query data";
-        case DiagnosticSub::RestartCommunications:
-            return "restart communications option";
-        case DiagnosticSub::ReturnDiagnosticRegister:
-            return "return diagnostic register";
-        case DiagnosticSub::ChangeAsciiDelimiter:
-            return "change ASCII input delimiter";
-        case DiagnosticSub::ForceListenOnly:
-            return "force listen only mode";
-        case DiagnosticSub::ClearCounters:
-            return "clear counters and diagnostic register";
-        case DiagnosticSub::BusMessageCount:
-            return "return bus message count";
-        case DiagnosticSub::BusCommunicationErrorCount:
-            return "return bus communication error count";
-        case DiagnosticSub::BusExceptionErrorCount:
-            return "return bus exception error count";
-        case DiagnosticSub::ServerMessageCount:
-            return "return server message count";
-        case DiagnosticSub::ServerNoResponseCount:
-            return "return server no response count";
-        case DiagnosticSub::ServerNakCount:
-            return "return server NAK count";
-        case DiagnosticSub::ServerBusyCount:
-            return "return server busy count";
-        case DiagnosticSub::BusCharacterOverrunCount:
-            return "return bus character overrun count";
-        case DiagnosticSub::ClearOverrunCounter:
-            return "clear overrun counter and flag";
-    }
-    return "reserved sub-function";
+    return name_of(kDiagnosticSubs, static_cast<DiagnosticSub>(sub), "reserved sub-function");
 }
 
 }  // namespace mblab::protocol

@@ -5,6 +5,7 @@
 
 #include "protocol/field_reader.hpp"
 #include "protocol/limits.hpp"
+#include "protocol/request.hpp"
 
 // Checks that requests and their echoing responses share (not part of the public API).
 namespace mblab::protocol::detail {
@@ -80,9 +81,8 @@ Result<Variant> decode_fixed(FieldReader& reader, void (*read)(FieldReader&, Mes
 
 // FC 5B, request or response: the fragment byte count counts every byte after it (CTP
 // 7.13.1.4) and must cover at least the fields both directions carry.
-template <class Message>
-void read_object_messaging_header(FieldReader& reader, Message& message, std::size_t min_fragment,
-                                  const char* reason) {
+inline void read_object_messaging_header(FieldReader& reader, ObjectMessagingHeader& message,
+                                         std::size_t min_fragment, const char* reason) {
     reader.u8(message.fragment_byte_count, "fragment byte count")
         .counts_rest(message.fragment_byte_count, "fragment byte count")
         .require(message.fragment_byte_count >= min_fragment,

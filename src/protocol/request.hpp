@@ -119,12 +119,17 @@ struct EncapsulatedRequest {  // 2B with MEI 0D (CANopen), carried as opaque byt
     std::span<const std::uint8_t> data;
 };
 
-struct ObjectMessagingRequest {  // 5B, CTP 7.13.1.4
+// FC 5B, both directions: the fields up to the service code (CTP 7.13.1.4, 7.13.1.5). The
+// fragment byte count counts every byte after it.
+struct ObjectMessagingHeader {
     std::uint8_t fragment_byte_count = 0;
     std::uint8_t fragment_protocol = 0;
     std::uint16_t class_id = 0;
     std::uint16_t instance_id = 0;
     std::uint16_t service_code = 0;
+};
+
+struct ObjectMessagingRequest : ObjectMessagingHeader {  // 5B, CTP 7.13.1.4
     std::span<const std::uint8_t> parameters;
 };
 

@@ -123,13 +123,8 @@ struct EncapsulatedResponse {  // 2B with MEI 0D, opaque
     std::span<const std::uint8_t> data;
 };
 
-struct ObjectMessagingResponse {  // 5B, CTP 7.13.1.5
-    std::uint8_t fragment_byte_count = 0;
-    std::uint8_t fragment_protocol = 0;
-    std::uint16_t class_id = 0;
-    std::uint16_t instance_id = 0;
-    std::uint16_t service_code = 0;
-    std::uint16_t error_code = 0;  // 00 00 for service data
+struct ObjectMessagingResponse : ObjectMessagingHeader {  // 5B, CTP 7.13.1.5
+    std::uint16_t error_code = 0;                         // 00 00 for service data
     std::span<const std::uint8_t> parameters;
 };
 

@@ -8,6 +8,8 @@
 
 #include <array>
 
+#include "support/name_table.hpp"
+
 namespace mblab::security {
 
 namespace {
@@ -262,17 +264,12 @@ bool TlsChannel::secure_renegotiation() const {
 }
 
 std::string_view state_name(TlsChannel::State state) {
-    switch (state) {
-        case TlsChannel::State::Handshaking:
-            return "handshaking";
-        case TlsChannel::State::Open:
-            return "open";
-        case TlsChannel::State::Closed:
-            return "closed";
-        case TlsChannel::State::Failed:
-            return "failed";
-    }
-    return "unknown";
+    static constexpr Named<TlsChannel::State> kNames[] = {
+        {TlsChannel::State::Handshaking, "handshaking"},
+        {TlsChannel::State::Open, "open"},
+        {TlsChannel::State::Closed, "closed"},
+        {TlsChannel::State::Failed, "failed"}};
+    return name_of(kNames, state, "unknown");
 }
 
 }  // namespace mblab::security

@@ -6,6 +6,7 @@
 
 #include "conformance/evidence_text.hpp"
 #include "conformance/references.hpp"
+#include "support/name_table.hpp"
 #include "web/page.hpp"
 
 namespace mblab::web {
@@ -58,17 +59,11 @@ constexpr conf::Verdict kVerdicts[] = {conf::Verdict::Pass, conf::Verdict::Fail,
 }  // namespace
 
 std::string_view verdict_class(conf::Verdict verdict) {
-    switch (verdict) {
-        case conf::Verdict::Pass:
-            return "PASS";
-        case conf::Verdict::Fail:
-            return "FAIL";
-        case conf::Verdict::NotApplicable:
-            return "NA";
-        case conf::Verdict::NotRun:
-            return "NOTRUN";
-    }
-    return "NOTRUN";
+    static constexpr Named<conf::Verdict> kNames[] = {{conf::Verdict::Pass, "PASS"},
+                                                      {conf::Verdict::Fail, "FAIL"},
+                                                      {conf::Verdict::NotApplicable, "NA"},
+                                                      {conf::Verdict::NotRun, "NOTRUN"}};
+    return name_of(kNames, verdict, "NOTRUN");
 }
 
 std::string evidence_html(const conf::Exchange& exchange) {

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "device/profile_loader.hpp"
+#include "support/name_table.hpp"
 #include "web/fault_rule_json.hpp"
 #include "web/json_text.hpp"
 
@@ -64,15 +65,11 @@ ApiReply ok(const json& body, int status = 200) {
 }
 
 const char* access_name(device::Access access) {
-    switch (access) {
-        case device::Access::ReadOnly:
-            return "ro";
-        case device::Access::WriteOnly:
-            return "wo";
-        case device::Access::ReadWrite:
-            break;
-    }
-    return "rw";
+    static constexpr Named<device::Access, const char*> kNames[] = {
+        {device::Access::ReadOnly, "ro"},
+        {device::Access::WriteOnly, "wo"},
+        {device::Access::ReadWrite, "rw"}};
+    return name_of(kNames, access, "rw");
 }
 
 json comm_json(const device::UnitStats& stats, const std::vector<std::uint8_t>& log) {

@@ -1,9 +1,12 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <string>
 #include <string_view>
 #include <utility>
+#include <vector>
 
+#include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
 
 namespace mblab::protocol {
@@ -55,6 +58,29 @@ TEST(DiagnosticSub, Names) {
     };
     for (const auto& [sub, name] : names)
         EXPECT_EQ(diagnostic_sub_name(sub), name) << "sub-function " << sub;
+}
+
+// [APP] 7 defines 01-08, 0A and 0B; every other byte is named as unknown, never as a neighbour.
+TEST(ExceptionCode, EveryDefinedCodeHasItsOwnNameAndMeaning) {
+    const std::uint8_t defined[] = {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x0A, 0x0B};
+    std::string named;
+    std::vector<std::string_view> names;
+    for (int byte = 0; byte <= 0xFF; ++byte) {
+        const auto code = static_cast<ExceptionCode>(byte);
+        if (exception_name(code) == "unknown exception") {
+            EXPECT_EQ(exception_meaning(code),
+                      "an exception code not defined by the Modbus specification");
+            continue;
+        }
+        named += char(byte);
+        names.push_back(exception_name(code));
+        EXPECT_NE(exception_meaning(code).find("the "), std::string_view::npos) << byte;
+    }
+    EXPECT_EQ(named, std::string(std::begin(defined), std::end(defined)));
+    EXPECT_EQ(exception_name(ExceptionCode::GatewayTargetFailedToRespond),
+              "gateway target failed to respond");
+    std::sort(names.begin(), names.end());
+    EXPECT_EQ(std::adjacent_find(names.begin(), names.end()), names.end());
 }
 
 }  // namespace
