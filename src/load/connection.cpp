@@ -1,11 +1,7 @@
 #include "load/connection.hpp"
 
 #include <fmt/core.h>
-#include <netinet/in.h>
-#include <netinet/tcp.h>
 #include <sys/epoll.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -15,7 +11,6 @@
 
 #include "protocol/limits.hpp"
 #include "protocol/mbap_header.hpp"
-#include "transport/socket_channel.hpp"
 
 namespace mblab::load {
 
@@ -45,11 +40,6 @@ const char* socket_error_text(int code) {
     }
 }
 
-// Level-triggered: a connection reads once per wake-up and is woken again while bytes remain.
-std::uint32_t interest(bool want_write) {
-    return EPOLLIN | (want_write ? std::uint32_t{EPOLLOUT} : 0U);
-}
-
 }  // namespace
 
 LoadConnection::LoadConnection(WorkerContext& context, NodeTally& tally, std::size_t node,
@@ -58,7 +48,8 @@ LoadConnection::LoadConnection(WorkerContext& context, NodeTally& tally, std::si
       tally_(tally),
       target_(context.plan.targets[node]),
       role_(role),
-      prng_(seed) {
+      prng_(seed),
+      port_(context.ports.make(target_, this)) {
     window_ = role == Role::Tests ? 1 : std::max<std::size_t>(1, context.plan.settings.pipeline);
     slot_bits_ = static_cast<unsigned>(std::bit_width(window_ - 1));
     slots_.resize(window_);
@@ -78,41 +69,28 @@ bool LoadConnection::settled() const {
 }
 
 void LoadConnection::connect(LoadClock::time_point now) {
-    const auto& address = target_.address;
-    fd_ = ::socket(address.ss_family, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-    if (fd_ < 0) {
+    int error = 0;
+    const auto dial = port_->dial(error);
+    if (dial == ConnectionPort::Dial::Failed) {
+        disconnect(now);
         fail(FailureKind::Refused, nullptr,
-             {client::ReceiveStatus::Closed, {}, std::strerror(errno)}, now,
-             "cannot open a socket: ");
-        state_ = State::Closed;
-        retry_at_ = now + kReconnectDelay;
+             {client::ReceiveStatus::Closed, {}, socket_error_text(error)}, now,
+             "cannot connect: ");
         return;
     }
-    channel_ = std::make_unique<transport::SocketChannel>(fd_);
-    int one = 1;
-    ::setsockopt(fd_, IPPROTO_TCP, TCP_NODELAY, &one, sizeof one);
+    channel_ = port_->take_channel();
     state_ = State::Connecting;
     connect_deadline_ = now + context_.plan.settings.timeout;
-    if (::connect(fd_, reinterpret_cast<const sockaddr*>(&address), target_.address_size) == 0) {
+    if (dial == ConnectionPort::Dial::Open) {
         opened(now);
         return;
     }
-    if (errno != EINPROGRESS) {
-        const int code = errno;
-        disconnect(now);
-        fail(FailureKind::Refused, nullptr,
-             {client::ReceiveStatus::Closed, {}, socket_error_text(code)}, now, "cannot connect: ");
-        return;
-    }
     want_write_ = true;
-    context_.epoll.add(fd_, this, interest(true));
+    port_->watch(true);
 }
 
 void LoadConnection::finish_connect(LoadClock::time_point now) {
-    int code = 0;
-    socklen_t size = sizeof code;
-    if (::getsockopt(fd_, SOL_SOCKET, SO_ERROR, &code, &size) != 0) code = errno;
-    if (code != 0) {
+    if (const int code = port_->dial_result(); code != 0) {
         disconnect(now);
         fail(FailureKind::Refused, nullptr,
              {client::ReceiveStatus::Closed, {}, socket_error_text(code)}, now, "cannot connect: ");
@@ -122,13 +100,8 @@ void LoadConnection::finish_connect(LoadClock::time_point now) {
 }
 
 void LoadConnection::opened(LoadClock::time_point now) {
-    const bool registered = want_write_;
     want_write_ = false;
-    if (registered) {
-        context_.epoll.modify(fd_, this, interest(false));
-    } else {
-        context_.epoll.add(fd_, this, interest(false));
-    }
+    port_->watch(false);
     if (target_.tls) {
         start_tls(now);
         return;
@@ -192,18 +165,17 @@ void LoadConnection::start_traffic(LoadClock::time_point now) {
 void LoadConnection::disconnect(LoadClock::time_point now) {
     if (tls_) {
         // close_notify keeps the session resumable, and the device sees an orderly end.
-        if (tls_->session().state() == TlsState::Open && fd_ >= 0) tls_->close_notify();
+        if (tls_->session().state() == TlsState::Open && port_->connected()) {
+            tls_->close_notify();
+        }
         if (SSL_SESSION* session = tls_->session().take_session()) {
             SSL_SESSION_free(session_);
             session_ = session;
         }
         tls_ = nullptr;
     }
-    if (fd_ >= 0) {
-        context_.epoll.remove(fd_);
-        fd_ = -1;
-    }
-    channel_.reset();  // closes the socket
+    port_->release();
+    channel_.reset();  // closes the connection
     for (auto& slot : slots_) {
         if (slot.active) release(slot);
         slot.has_expired = false;
@@ -288,7 +260,7 @@ void LoadConnection::flush(LoadClock::time_point now) {
 void LoadConnection::set_write_interest(bool want) {
     if (want == want_write_) return;
     want_write_ = want;
-    context_.epoll.modify(fd_, this, interest(want));
+    port_->watch(want);
 }
 
 bool LoadConnection::receive(LoadClock::time_point now) {

@@ -11,6 +11,7 @@
 
 #include "client/raw_link.hpp"
 #include "load/answer.hpp"
+#include "load/connection_port.hpp"
 #include "load/exchanges.hpp"
 #include "load/plan.hpp"
 #include "load/tally.hpp"
@@ -18,7 +19,6 @@
 #include "security/tls_channel.hpp"
 #include "support/prng.hpp"
 #include "transport/channel.hpp"
-#include "transport/epoll_set.hpp"
 #include "transport/tls_stream.hpp"
 
 namespace mblab::load {
@@ -26,7 +26,7 @@ namespace mblab::load {
 // What the connections of one worker thread share.
 struct WorkerContext {
     const LoadPlan& plan;
-    transport::EpollSet& epoll;
+    ConnectionPorts& ports;
     LoadClock::time_point start;
     std::chrono::nanoseconds send_interval{0};  // per connection, from --rate; 0: none
     bool running = true;                        // false once the run drains: no new requests
@@ -110,7 +110,7 @@ class LoadConnection {
     Role role_;
     Prng prng_;
     State state_ = State::Closed;
-    int fd_ = -1;
+    std::unique_ptr<ConnectionPort> port_;
     bool want_write_ = false;
     LoadClock::time_point retry_at_{};
     LoadClock::time_point connect_deadline_{};
@@ -133,7 +133,7 @@ class LoadConnection {
     std::size_t out_begin_ = 0;
     std::size_t out_end_ = 0;
 
-    // The socket, or TLS over it (then tls_ points into it); fd_ is kept for epoll.
+    // The port's channel, or TLS over it (then tls_ points into it).
     std::unique_ptr<transport::Channel> channel_;
     transport::TlsStream* tls_ = nullptr;
     // The last session, offered again at a reconnect so the device can resume it.

@@ -30,7 +30,7 @@ int millis_until(LoadClock::time_point when, LoadClock::time_point now) {
 
 LoadWorker::LoadWorker(const LoadPlan& plan, const std::vector<ConnectionSpec>& connections,
                        LoadClock::time_point start, std::chrono::nanoseconds send_interval)
-    : context_{plan, epoll_, start, send_interval, true}, tick_(tick_period(plan.settings)) {
+    : context_{plan, ports_, start, send_interval, true}, tick_(tick_period(plan.settings)) {
     for (std::size_t i = 0; i < plan.targets.size(); ++i) {
         tallies_.push_back(std::make_unique<NodeTally>(plan.exchanges.size(), plan.cases.size()));
     }

@@ -35,6 +35,7 @@ class LoadWorker final : public LoadThread {
     bool all_settled() const;
 
     transport::EpollSet epoll_;
+    SocketPorts ports_{epoll_};
     WorkerContext context_;
     std::vector<std::unique_ptr<NodeTally>> tallies_;
     std::vector<std::unique_ptr<LoadConnection>> connections_;
