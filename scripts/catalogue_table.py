@@ -55,6 +55,16 @@ PROCEDURES = {
     "ascii_lower_case": ("stays silent to FC 06 written in lower-case hex, and does not execute "
                          "it",
                          "an answer, or the write executed"),
+    "broken_request": ("RTU: stays silent to FC 06 broken by a silence (`silence_ms`, 50) after "
+                       "its 4th byte, does not execute it, and answers the next read; ASCII: "
+                       "answers FC 03 with a pause (`ascii_pause_ms`, 300) after its address",
+                       "RTU: an answer or the write executed; ASCII: no answer"),
+    "answer_timing": ("answers `count` (10) FC 03 reads, each sent t3.5 after the last answer, "
+                      "with no silence over t1.5 (RTU) or 1 s (ASCII) inside an answer; the "
+                      "response times (median, 90th percentile, longest) are reported against "
+                      "`--timeout`",
+                      "a read unanswered or malformed, or a silence inside an answer over the "
+                      "limit plus the port's budget"),
     # The security suite ([SEC]): each opens TLS sessions of its own to the mbaps:// port.
     "tls_handshake": ("completes a TLS 1.2+ handshake with the tester's certificate, presents a "
                       "certificate the CA verifies, and answers an FC 03 read inside TLS",
@@ -162,6 +172,8 @@ def case_row(case: dict) -> tuple[str, str, str, str]:
             na.append("over Modbus/TCP")
         elif need == "ascii":
             na.append("not over ASCII")
+        elif need == "serial_port":
+            na.append("over Modbus/TCP or RTU over TCP")
         else:
             na.append(f"`{need}` not declared")
     if case.get("unsupported_is_na"):

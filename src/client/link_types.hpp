@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -68,6 +69,8 @@ struct Received {
     // For a Frame on a lenient link: what a strict framer would refuse in it (a protocol id
     // other than 0, an MBAP length of 1); empty when it is clean.
     std::string violation;
+    // On a serial line: the longest silence between two reads of this frame's bytes.
+    std::chrono::microseconds largest_gap{0};
 };
 
 }  // namespace mblab::client

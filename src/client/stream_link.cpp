@@ -136,8 +136,16 @@ Received StreamLink::receive_frame(milliseconds timeout) {
 
 Received StreamLink::read_frame(milliseconds timeout) {
     const auto deadline = Clock::now() + timeout;
+    // The longest silence between two reads that both brought bytes of the frame (the line's
+    // timing as seen here: a pty does not pace bytes, an adapter adds its latency timer).
+    Clock::time_point last_bytes{};
+    Clock::duration largest_gap{};
+    const auto timed = [&](Received frame) {
+        frame.largest_gap = std::chrono::duration_cast<std::chrono::microseconds>(largest_gap);
+        return frame;
+    };
     while (true) {
-        if (auto frame = reader_.next()) return std::move(*frame);
+        if (auto frame = reader_.next()) return timed(std::move(*frame));
         if (fd_ < 0) return reader_.take(ReceiveStatus::Closed, "connection closed");
         const auto left = deadline - Clock::now();
         const bool held = reader_.has_partial();
@@ -149,7 +157,11 @@ Received StreamLink::read_frame(milliseconds timeout) {
             std::uint8_t chunk[512];
             const ssize_t got = ::read(fd_, chunk, sizeof chunk);
             if (got > 0) {
-                master_.heard(Clock::now());
+                const auto now = Clock::now();
+                if (reader_.has_partial() && last_bytes != Clock::time_point{})
+                    largest_gap = std::max(largest_gap, now - last_bytes);
+                last_bytes = now;
+                master_.heard(now);
                 reader_.add({chunk, static_cast<std::size_t>(got)});
                 continue;
             }
@@ -161,7 +173,7 @@ Received StreamLink::read_frame(milliseconds timeout) {
             return out;
         }
         if (held) {
-            if (auto done = reader_.on_silence()) return std::move(*done);
+            if (auto done = reader_.on_silence()) return timed(std::move(*done));
         }
         if (Clock::now() >= deadline) return reader_.take(ReceiveStatus::Timeout);
     }

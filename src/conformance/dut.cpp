@@ -91,6 +91,8 @@ constexpr std::string_view kMbapRequirement = "mbap";
 // The serial-line suite's cases: "line" needs a serial framing, "ascii" the ASCII one.
 constexpr std::string_view kLineRequirement = "line";
 constexpr std::string_view kAsciiRequirement = "ascii";
+// The line-timing cases: a serial port (RTU or ASCII), where silence delimits frames.
+constexpr std::string_view kSerialPortRequirement = "serial_port";
 
 }  // namespace
 
@@ -195,7 +197,7 @@ protocol::Result<Requirement, std::string> parse_requirement(std::string_view te
         ++i;
     out.fact = std::string(text.substr(start, i - start));
     if (!is_known_fact(out.fact) && out.fact != kMbapRequirement && out.fact != kLineRequirement &&
-        out.fact != kAsciiRequirement) {
+        out.fact != kAsciiRequirement && out.fact != kSerialPortRequirement) {
         return fmt::format("requirement '{}' names no DUT fact", text);
     }
     skip_space();
@@ -232,7 +234,16 @@ std::optional<Unmet> unmet(const Requirement& requirement, const Dut& dut) {
                                  dut.serial_framing.empty() ? "Modbus/TCP" : dut.serial_framing),
                      ""};
     }
-    if (requirement.fact == kLineRequirement || requirement.fact == kAsciiRequirement)
+    if (requirement.fact == kSerialPortRequirement &&
+        (dut.serial_framing.empty() || dut.serial_framing == "RTU over TCP")) {
+        return Unmet{dut.serial_framing.empty()
+                         ? "a line-timing test; the device is reached over Modbus/TCP"
+                         : "a line-timing test; over RTU over TCP frames are cut by their "
+                           "length, not by silence on a line",
+                     ""};
+    }
+    if (requirement.fact == kLineRequirement || requirement.fact == kAsciiRequirement ||
+        requirement.fact == kSerialPortRequirement)
         return std::nullopt;
     auto value = number_of(dut, requirement.fact);
     if (!value) {

@@ -93,6 +93,27 @@ const std::vector<ProcedureInfo>& procedures() {
          true,
          &run_ascii_lower_case,
          nullptr},
+        {"broken_request",
+         "RTU: FC 06 broken by a silence over t1.5 is neither answered nor executed; ASCII: FC 03 "
+         "with a pause under 1 s between its characters is answered (SER 2.5.1.1, 2.5.2.1)",
+         {{"register", 0x0010},
+          {"silence_ms", 50},
+          {"ascii_pause_ms", 300},
+          {"latency_ms", 16},
+          {"pty_latency_ms", 2}},
+         {},
+         true,
+         &run_broken_request,
+         nullptr},
+        {"answer_timing",
+         "FC 03 reads, each sent t3.5 after the last answer, all answered with no silence over "
+         "t1.5 inside an answer; response times reported against the timeout (SER 2.5.1.1, "
+         "2.4.1)",
+         {{"register", 0x0010}, {"count", 10}, {"latency_ms", 16}, {"pty_latency_ms", 2}},
+         {},
+         true,
+         &run_answer_timing,
+         nullptr},
         {"tls_handshake",
          "[SEC] handshake with the tester's certificate (TLS 1.2+, mutual authentication, the "
          "device's certificate verified against the CA), then an FC 03 read answered inside TLS",

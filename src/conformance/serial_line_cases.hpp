@@ -27,4 +27,13 @@ Outcome run_answer_frame(Session& session, const Case& c);
 // ASCII: a write in lower-case hex is a framing error, neither answered nor executed [SER 2.5.2].
 Outcome run_ascii_lower_case(Session& session, const Case& c);
 
+// The timing cases (line_timing_cases.cpp), on a serial port only (`requires =
+// ["serial_port"]`): over RTU over TCP frames are cut by their length.
+// RTU: FC 06 broken by a silence over t1.5 is neither answered nor executed [SER 2.5.1.1].
+// ASCII: FC 03 with a pause under 1 s between its characters is answered [SER 2.5.2.1].
+Outcome run_broken_request(Session& session, const Case& c);
+// FC 03 reads, each sent t3.5 after the last answer, are all answered, with no silence over t1.5
+// inside an answer; the response times are reported against the timeout [SER 2.5.1.1, 2.4.1].
+Outcome run_answer_timing(Session& session, const Case& c);
+
 }  // namespace mblab::conformance

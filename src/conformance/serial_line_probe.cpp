@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cctype>
+#include <thread>
 
 #include "client/hex_text.hpp"
 #include "conformance/catalogue.hpp"
@@ -74,17 +75,29 @@ std::vector<std::uint8_t> LineProbe::frame(std::uint8_t address, std::span<const
     return wire;
 }
 
-LineAnswer LineProbe::ask(std::vector<std::uint8_t> wire, std::chrono::milliseconds wait) {
+LineAnswer LineProbe::ask(std::vector<std::uint8_t> wire, std::chrono::milliseconds wait,
+                          RequestPause pause) {
     LineAnswer answer;
     answer.exchange.sent = std::move(wire);
     answer.exchange.waited = wait;
+    const std::span<const std::uint8_t> sent = answer.exchange.sent;
+    const std::size_t first = pause.after < sent.size() ? pause.after : sent.size();
     client::LinkError error;
-    if (!session_.send_on_wire(answer.exchange.sent, error)) {
+    bool went = session_.send_on_wire(sent.first(first), error);
+    if (went && first < sent.size()) {
+        std::this_thread::sleep_for(pause.silence);
+        went = session_.send_on_wire(sent.subspan(first), error);
+    }
+    if (!went) {
         answer.exchange.status = client::ReceiveStatus::Closed;
         answer.exchange.detail = error.message;
         return answer;
     }
+    const auto asked_at = std::chrono::steady_clock::now();
     auto got = session_.receive_from_wire(wait);
+    answer.response = std::chrono::duration_cast<std::chrono::microseconds>(
+        std::chrono::steady_clock::now() - asked_at);
+    answer.largest_gap = got.largest_gap;
     answer.exchange.status = got.status;
     answer.exchange.received = std::move(got.bytes);
     answer.exchange.detail = got.violation.empty() ? std::move(got.detail) : got.violation;

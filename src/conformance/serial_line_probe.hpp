@@ -30,8 +30,18 @@ struct LineAnswer {
     Exchange exchange;  // the bytes as they crossed the line
     std::uint8_t address = 0;
     std::vector<std::uint8_t> pdu;  // empty unless a whole frame came
+    // From the request's last byte written to the answer read whole, and the longest silence
+    // between two reads of the answer's bytes (client::Received::largest_gap).
+    std::chrono::microseconds response{0};
+    std::chrono::microseconds largest_gap{0};
     bool frame() const { return exchange.status == client::ReceiveStatus::Frame; }
     bool silent() const { return exchange.received.empty(); }
+};
+
+// A silence the master leaves inside a request: `silence` after its first `after` bytes.
+struct RequestPause {
+    std::size_t after = 0;
+    std::chrono::milliseconds silence{0};
 };
 
 class LineProbe {
@@ -48,8 +58,10 @@ class LineProbe {
     // `pdu` to `address` as the line carries it, spoiled as asked.
     std::vector<std::uint8_t> frame(std::uint8_t address, std::span<const std::uint8_t> pdu,
                                     Spoil spoil = Spoil::None) const;
-    // Sends `wire` and reads the first frame (or framing error) that comes within `wait`.
-    LineAnswer ask(std::vector<std::uint8_t> wire, std::chrono::milliseconds wait);
+    // Sends `wire` (paused as asked) and reads the first frame (or framing error) that comes
+    // within `wait`.
+    LineAnswer ask(std::vector<std::uint8_t> wire, std::chrono::milliseconds wait,
+                   RequestPause pause = {});
     LineAnswer ask(std::uint8_t address, std::span<const std::uint8_t> pdu,
                    Spoil spoil = Spoil::None);
 

@@ -60,6 +60,7 @@ class Session {
     // framing): a test's device in memory.
     void dial_with(client::Dial dial) { dial_ = std::move(dial); }
     client::Framing framing() const;
+    const client::Target& target() const { return target_; }
     const Dut& dut() const { return dut_; }
     const DutFacts& facts() const { return facts_; }
     const EngineOptions& options() const { return options_; }

@@ -2,6 +2,8 @@
 
 #include <linux/serial.h>
 #include <sys/ioctl.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
 
 #include <cerrno>
 
@@ -59,6 +61,14 @@ CharTimes rtu_char_times(unsigned baud) {
     using std::chrono::microseconds;
     if (baud == 0 || baud > kFixedTimingAbove) return {microseconds(750), microseconds(1750)};
     return {char_time_multiple(15, baud), char_time_multiple(35, baud)};
+}
+
+bool is_pseudo_terminal(const std::string& device) {
+    struct stat info {};
+    if (::stat(device.c_str(), &info) != 0 || !S_ISCHR(info.st_mode)) return false;
+    // Unix98 pty slaves take majors 136..143 (Linux's Documentation/admin-guide/devices.txt).
+    const unsigned kind = major(info.st_rdev);
+    return kind >= 136 && kind <= 143;
 }
 
 protocol::Result<asio::serial_port, std::string> open_serial_port(asio::any_io_executor executor,

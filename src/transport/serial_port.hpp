@@ -19,6 +19,10 @@ struct CharTimes {
 };
 CharTimes rtu_char_times(unsigned baud);
 
+// Whether `device` is a pseudo-terminal (a /dev/pts end, as tests and socat use): it passes
+// bytes on as they are written, never at the baud rate, so line timing through it is logical.
+bool is_pseudo_terminal(const std::string& device);
+
 // Opens the device raw (no echo, no line editing, no flow control) with the settings' baud
 // rate, data bits, parity and stop bits. The error names the device, the cause and the fix,
 // e.g. "cannot open serial port /dev/ttyUSB0: Permission denied (add your user to the dialout

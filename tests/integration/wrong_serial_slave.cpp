@@ -109,14 +109,27 @@ void WrongSerialSlave::take(const Request& request) {
     if (reply.action != device::ReplyAction::Answer) return;
     std::uint8_t address = broadcast ? kOwnAddress : request.address;
     if (fault_ == SlaveFault::ForeignAddressInAnswer) address = kOwnAddress + 1;
-    port_->send(encode(address, std::span(response).first(reply.size)));
+    const auto wire = encode(address, std::span(response).first(reply.size));
+    if (fault_ != SlaveFault::GapInAnswer) {
+        port_->send(wire);
+        return;
+    }
+    // Well over t1.5 at any baud rate, and under the tester's 20 ms reading silence, so the
+    // frame still comes whole and only its timing is wrong.
+    const std::span<const std::uint8_t> bytes(wire);
+    port_->send(bytes.first(3));
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    port_->send(bytes.subspan(3));
 }
 
 void WrongSerialSlave::serve() {
     while (!stop_) {
         // The tester sends one request and waits: a burst is one frame.
-        const auto bytes =
-            port_->receive(std::chrono::milliseconds(100), std::chrono::milliseconds(15));
+        // A burst is one frame: it ends after 15 ms of silence, or after 200 ms for the slave
+        // that joins what a silence broke.
+        const auto silence =
+            std::chrono::milliseconds(fault_ == SlaveFault::JoinsBrokenFrame ? 200 : 15);
+        const auto bytes = port_->receive(std::chrono::milliseconds(100), silence);
         if (bytes.empty()) continue;
         if (auto request = decode(bytes)) take(*request);
     }

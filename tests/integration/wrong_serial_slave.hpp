@@ -19,13 +19,15 @@ namespace mblab::test {
 
 enum class SlaveFault : std::uint8_t {
     None,
-    AnswersOtherAddress,    // serves every address as if it were its own
-    AnswersBroadcast,       // answers address 0 as if it were its own
-    ExecutesBadChecksum,    // takes a frame whose CRC or LRC is wrong
-    LowerCaseAnswer,        // ASCII: answers in lower-case hex
-    WrongLrc,               // ASCII: answers with its LRC plus one
-    CrcHighByteFirst,       // RTU: answers with the CRC's bytes swapped
-    ForeignAddressInAnswer  // answers its own requests carrying address 2
+    AnswersOtherAddress,     // serves every address as if it were its own
+    AnswersBroadcast,        // answers address 0 as if it were its own
+    ExecutesBadChecksum,     // takes a frame whose CRC or LRC is wrong
+    LowerCaseAnswer,         // ASCII: answers in lower-case hex
+    WrongLrc,                // ASCII: answers with its LRC plus one
+    CrcHighByteFirst,        // RTU: answers with the CRC's bytes swapped
+    ForeignAddressInAnswer,  // answers its own requests carrying address 2
+    JoinsBrokenFrame,        // RTU: joins the parts of a frame broken by a silence
+    GapInAnswer              // sends each answer in two parts, 10 ms apart
 };
 
 class WrongSerialSlave {
