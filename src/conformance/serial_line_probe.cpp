@@ -77,6 +77,7 @@ std::vector<std::uint8_t> LineProbe::frame(std::uint8_t address, std::span<const
 LineAnswer LineProbe::ask(std::vector<std::uint8_t> wire, std::chrono::milliseconds wait) {
     LineAnswer answer;
     answer.exchange.sent = std::move(wire);
+    answer.exchange.framing = session_.framing();
     answer.exchange.waited = wait;
     client::LinkError error;
     if (!session_.send_on_wire(answer.exchange.sent, error)) {
