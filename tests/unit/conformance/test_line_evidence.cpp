@@ -38,12 +38,21 @@ constexpr std::string_view kRead = "00 2A 00 00 00 06 01 03 00 00 00 01";
 constexpr std::string_view kAnswer = "00 2A 00 00 00 05 01 03 02 12 34";
 constexpr std::string_view kException = "00 2A 00 00 {len} 01 83 02";
 
-TEST(LineEvidence, AnRtuExchangeShowsAddressPduAndCrcLowByteFirst) {
+// The read of kRead answered kAnswer where kException was due, laid out for a line in `framing`
+// that carried `request` and `answer`.
+Exchange failed_on_line(client::Framing framing, const std::vector<std::uint8_t>& request,
+                        const std::vector<std::uint8_t>& answer) {
     LineFrames frames;
-    frames.note(hex(kRead), hex("01 03 00 00 00 01 84 0A"));
-    frames.note(hex(kAnswer), hex("01 03 02 12 34 B5 33"));
+    frames.note(hex(kRead), request);
+    frames.note(hex(kAnswer), answer);
     Exchange exchange = judged(kRead, kAnswer, kException);
-    show_as_on_line(exchange, client::Framing::Rtu, frames);
+    show_as_on_line(exchange, framing, frames);
+    return exchange;
+}
+
+TEST(LineEvidence, AnRtuExchangeShowsAddressPduAndCrcLowByteFirst) {
+    const Exchange exchange = failed_on_line(client::Framing::Rtu, hex("01 03 00 00 00 01 84 0A"),
+                                             hex("01 03 02 12 34 B5 33"));
     EXPECT_EQ(exchange.framing, client::Framing::Rtu);
     EXPECT_EQ(exchange.sent, hex("01 03 00 00 00 01 84 0A"));
     EXPECT_EQ(exchange.received, hex("01 03 02 12 34 B5 33"));
@@ -57,11 +66,8 @@ TEST(LineEvidence, AnRtuExchangeShowsAddressPduAndCrcLowByteFirst) {
 }
 
 TEST(LineEvidence, AnAsciiExchangeShowsItsText) {
-    LineFrames frames;
-    frames.note(hex(kRead), text(":010300000001FB\r\n"));
-    frames.note(hex(kAnswer), text(":0103021234B4\r\n"));
-    Exchange exchange = judged(kRead, kAnswer, kException);
-    show_as_on_line(exchange, client::Framing::Ascii, frames);
+    const Exchange exchange = failed_on_line(client::Framing::Ascii, text(":010300000001FB\r\n"),
+                                             text(":0103021234B4\r\n"));
     EXPECT_EQ(exchange.received, text(":0103021234B4\r\n"));
     // Bytes 1 (the function code) and 3 (the LRC where 12 came) differ, 4 and 5 came too many.
     EXPECT_EQ(exchange.match.differs, (std::vector<std::size_t>{1, 3, 4, 5}));
