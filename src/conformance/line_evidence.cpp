@@ -91,7 +91,18 @@ std::vector<std::size_t> differing(const std::vector<std::string>& cells,
 }  // namespace
 
 void LineFrames::note(std::span<const std::uint8_t> notation, std::span<const std::uint8_t> wire) {
-    frames_[{notation.begin(), notation.end()}] = {wire.begin(), wire.end()};
+    auto [at, added] = frames_.insert_or_assign(
+        {notation.begin(), notation.end()}, std::vector<std::uint8_t>(wire.begin(), wire.end()));
+    if (!added) return;
+    order_.push_back(at);
+    if (order_.size() <= kKept) return;
+    frames_.erase(order_.front());
+    order_.pop_front();
+}
+
+void LineFrames::clear() {
+    frames_.clear();
+    order_.clear();
 }
 
 const std::vector<std::uint8_t>* LineFrames::wire_of(std::span<const std::uint8_t> notation) const {

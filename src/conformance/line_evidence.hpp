@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <span>
 #include <string>
@@ -18,16 +19,23 @@
 namespace mblab::conformance {
 
 // The frames of one case as the line carried them, by their catalogue notation: the session
-// notes each request it lays out for the line and each answer it lays out in the notation.
+// notes each request it lays out for the line and each answer it lays out in the notation. Only
+// the last kKept are kept: a sweep sends tens of thousands, and a failure's evidence is the
+// exchange that failed, among the last.
 class LineFrames {
   public:
+    static constexpr std::size_t kKept = 1024;
+
     void note(std::span<const std::uint8_t> notation, std::span<const std::uint8_t> wire);
     // The line's bytes of a frame noted in the catalogue's notation; nullptr when not noted.
     const std::vector<std::uint8_t>* wire_of(std::span<const std::uint8_t> notation) const;
-    void clear() { frames_.clear(); }
+    void clear();
+    std::size_t size() const { return frames_.size(); }
 
   private:
-    std::map<std::vector<std::uint8_t>, std::vector<std::uint8_t>> frames_;
+    using Frames = std::map<std::vector<std::uint8_t>, std::vector<std::uint8_t>>;
+    Frames frames_;
+    std::deque<Frames::iterator> order_;  // oldest first
 };
 
 // Lays out `exchange`, held in the catalogue's notation, as it crossed a line in `framing`: the

@@ -141,7 +141,7 @@ bool Session::send_on_line(std::span<const std::uint8_t> bytes, client::LinkErro
         error.message = "the request does not fit in one serial frame";
         return false;
     }
-    line_frames_.note(bytes, std::span(adu).first(size));
+    if (in_case_) line_frames_.note(bytes, std::span(adu).first(size));
     return link_->send(std::span(adu).first(size), error);
 }
 
@@ -171,17 +171,20 @@ client::Received Session::in_case_notation(client::Received received) {
     std::array<std::uint8_t, protocol::limits::kMaxTcpAdu> adu{};
     const std::size_t size = protocol::write_adu(
         {client::Framing::Mbap, received.header.unit, line_transaction_}, received.pdu, adu);
-    line_frames_.note(std::span(adu).first(size), received.bytes);
+    if (in_case_) line_frames_.note(std::span(adu).first(size), received.bytes);
     received.bytes.assign(adu.begin(), adu.begin() + static_cast<long>(size));
     return received;
 }
 
 void Session::start_case(std::string_view id) {
     line_frames_.clear();
+    in_case_ = true;
     if (observer_ != nullptr) observer_->on_label(fmt::format("case {}", id));
 }
 
 void Session::end_case() {
+    line_frames_.clear();
+    in_case_ = false;
     if (observer_ != nullptr) observer_->on_label({});
 }
 

@@ -97,9 +97,10 @@ class Session {
     client::Received receive_from_wire(std::chrono::milliseconds timeout);
 
     // A case begins: the traffic from here on is the case's (a capture notes its id beside each
-    // packet), and the frames the line carried for the last one are forgotten.
+    // packet), and its frames on a line are kept for its evidence.
     void start_case(std::string_view id);
-    // The case is over; what follows belongs to no case.
+    // The case is over; what follows belongs to no case, and its frames are let go. Outside a
+    // case (a load run) no frame is kept.
     void end_case();
     // This case's frames on a line, as the line carried them, by their catalogue notation.
     const LineFrames& line_frames() const { return line_frames_; }
@@ -140,6 +141,7 @@ class Session {
     std::unique_ptr<client::Link> link_;
     std::uint16_t line_transaction_ = 0;  // of the request last sent on a line
     LineFrames line_frames_;
+    bool in_case_ = false;
     std::size_t requests_ = 0;
     std::size_t connection_requests_ = 0;
     std::vector<std::uint8_t> last_frame_;

@@ -115,5 +115,21 @@ TEST(LineEvidence, AsciiTextWritesWhatIsNotPrintable) {
     EXPECT_EQ(frame_cells(client::Framing::Ascii, text("0103")), 0U);
 }
 
+// A sweep on a line sends tens of thousands of frames: the last ones are kept, not all.
+TEST(LineEvidence, OnlyTheLastFramesAreKept) {
+    LineFrames frames;
+    for (std::size_t i = 0; i <= LineFrames::kKept; ++i) {
+        const std::vector<std::uint8_t> notation{static_cast<std::uint8_t>(i >> 8),
+                                                 static_cast<std::uint8_t>(i)};
+        frames.note(notation, notation);
+    }
+    EXPECT_EQ(frames.size(), LineFrames::kKept);
+    EXPECT_EQ(frames.wire_of(std::vector<std::uint8_t>{0, 0}), nullptr);
+    const std::vector<std::uint8_t> last{static_cast<std::uint8_t>(LineFrames::kKept >> 8),
+                                         static_cast<std::uint8_t>(LineFrames::kKept)};
+    ASSERT_NE(frames.wire_of(last), nullptr);
+    EXPECT_EQ(*frames.wire_of(last), last);
+}
+
 }  // namespace
 }  // namespace mblab::conformance
