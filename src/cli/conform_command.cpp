@@ -203,10 +203,6 @@ int run_conform(const ConformOptions& options) {
         }
     }
     if (!target.tcp) {
-        if (!options.reports.pcap.empty()) {
-            return usage_error("--pcap records Modbus/TCP only; " + target.name +
-                               " is not a tcp:// target");
-        }
         const bool declared = !options.dut_file.empty() || options.command->count("--unit") > 0;
         if (auto problem = conf::settle_serial_unit(dut, declared, target.name)) {
             return usage_error(*problem);
@@ -247,7 +243,7 @@ int run_conform(const ConformOptions& options) {
         }
         const conf::Provenance provenance =
             conf::make_provenance(tool, session, sources, started, result.interrupted);
-        if (!options.reports.write(result, provenance, capture, files, error))
+        if (!options.reports.write(result, provenance, capture, session.framing(), files, error))
             return usage_error(error);
     }
     // 128 + the signal, as a shell reports a program the signal ended: 130 for SIGINT, 143 for
@@ -339,7 +335,8 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
                     "<properties> (checked before any traffic)");
     cmd->add_option("--pcap", options->reports.pcap,
                     "write every exchange as a pcapng capture to FILE, the run's provenance in its "
-                    "section header (checked before any traffic)");
+                    "section header and each case's id as its packets' comment; a line's frames "
+                    "on LINKTYPE_USER0 (RTU) or USER1 (ASCII) (checked before any traffic)");
     cmd->add_option("--html", options->reports.html,
                     "write the report as one self-contained HTML page to FILE: summary, "
                     "provenance, every case, the differing bytes of failures marked, filters by "

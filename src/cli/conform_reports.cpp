@@ -45,8 +45,8 @@ bool ConformReports::check(ReportFiles& files, std::string& error) const {
 }
 
 bool ConformReports::write(const conf::RunResult& result, const conf::Provenance& provenance,
-                           const conf::Capture& capture, ReportFiles& files,
-                           std::string& error) const {
+                           const conf::Capture& capture, client::Framing framing,
+                           ReportFiles& files, std::string& error) const {
     if (!json.empty() && !emit(json, conf::json_report(result, provenance), files, error))
         return false;
     if (!junit.empty() && !emit(junit, conf::junit_report(result, provenance), files, error))
@@ -54,7 +54,7 @@ bool ConformReports::write(const conf::RunResult& result, const conf::Provenance
     if (!html.empty() && !emit(html, web::conform_html_report(result, provenance), files, error))
         return false;
     if (!pcap.empty()) {
-        if (!conf::write_pcap(pcap, capture.events(), provenance, error)) return false;
+        if (!conf::write_capture(pcap, capture.events(), framing, provenance, error)) return false;
         files.written(pcap);
     }
     return true;

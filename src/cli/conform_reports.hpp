@@ -25,8 +25,10 @@ struct ConformReports {
     bool to_stdout() const { return json == "-" || junit == "-" || html == "-"; }
     // False with `error` when a file cannot be written.
     bool check(ReportFiles& files, std::string& error) const;
+    // The capture is laid out for `framing`: TCP packets for Modbus/TCP, a line's frames else.
     bool write(const conformance::RunResult& result, const conformance::Provenance& provenance,
-               const conformance::Capture& capture, ReportFiles& files, std::string& error) const;
+               const conformance::Capture& capture, client::Framing framing, ReportFiles& files,
+               std::string& error) const;
 };
 
 }  // namespace mblab::cli

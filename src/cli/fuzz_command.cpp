@@ -328,7 +328,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
         const auto capture_path = options.reproducer + ".pcapng";
         const bool written =
             line ? conf::write_line_pcap(capture_path, rb::reproducer_capture(f.reproducer, "", 0),
-                                         provenance, failed)
+                                         framing, provenance, failed)
                  : conf::write_pcap(
                        capture_path,
                        rb::reproducer_capture(f.reproducer, target->tcp->host, target->tcp->port),
@@ -343,8 +343,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
         !conf::write_text_file(options.junit, rb::junit_report(result, provenance), failed))
         return usage_error(failed);
     if (!options.pcap.empty() &&
-        !(line ? conf::write_line_pcap(options.pcap, capture.events(), provenance, failed)
-               : conf::write_pcap(options.pcap, capture.events(), provenance, failed)))
+        !conf::write_capture(options.pcap, capture.events(), framing, provenance, failed))
         return usage_error(failed);
     if (!options.pcap.empty() && capture.dropped_bytes() > 0) {
         fmt::print(

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <vector>
 
@@ -44,6 +45,9 @@ class LinkObserver {
     virtual void on_received(std::span<const std::uint8_t> bytes) = 0;
     // `by_peer` is true when the device closed or reset the connection first.
     virtual void on_close(bool by_peer) = 0;
+    // Names what the traffic from now on is for (a conformance case: "case 7.3.1"; empty for
+    // nothing in particular), for a capture to note beside its packets.
+    virtual void on_label(std::string_view /*label*/) {}
 };
 
 enum class ReceiveStatus : std::uint8_t {

@@ -39,7 +39,7 @@ std::string attach_tls(Target& target, const security::TlsFiles& files,
                        const security::ClientSettings& settings = {});
 
 // Connects to the target; the error says why it cannot be reached ("connection refused").
-// `observer` sees the traffic of TCP links (captures are of Modbus/TCP only).
+// `observer` sees the traffic of the link: TCP segments, or a line's frames.
 protocol::Result<std::unique_ptr<Link>, LinkError> open_link(const Target& target,
                                                              std::chrono::milliseconds timeout,
                                                              LinkObserver* observer = nullptr);

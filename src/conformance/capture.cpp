@@ -4,15 +4,16 @@ namespace mblab::conformance {
 
 namespace {
 CaptureEvent event(CaptureEvent::Kind kind) {
-    return CaptureEvent{kind, std::chrono::system_clock::now(), {}, {}, false};
+    return CaptureEvent{kind, std::chrono::system_clock::now(), {}, {}, false, {}};
 }
 
 std::size_t footprint(const CaptureEvent& e) {
-    return sizeof(CaptureEvent) + e.bytes.size();
+    return sizeof(CaptureEvent) + e.bytes.size() + e.label.size();
 }
 }  // namespace
 
 void Capture::keep(CaptureEvent e) {
+    e.label = label_;
     kept_ += footprint(e);
     events_.push_back(std::move(e));
     if (bound_ == 0 || kept_ <= bound_) return;

@@ -8,6 +8,7 @@
 #include "conformance/answer_rules.hpp"
 #include "conformance/engine_support.hpp"
 #include "conformance/judge.hpp"
+#include "conformance/line_evidence.hpp"
 #include "conformance/plain_requests.hpp"
 #include "conformance/procedures.hpp"
 #include "conformance/serving_check.hpp"
@@ -92,7 +93,12 @@ SuiteResult Engine::run_suite(const Suite& suite) {
                 break;
             }
         }
+        session_.start_case(c.id);
         case_result.outcome = blocked.empty() ? run_case(c) : verdict(Verdict::NotRun, blocked);
+        // Judged in the catalogue's notation; shown as the line carried it.
+        for (auto& exchange : case_result.outcome.evidence)
+            show_as_on_line(exchange, session_.framing(), session_.line_frames());
+        session_.end_case();
         case_result.elapsed =
             std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start);
         case_result.requests = session_.requests() - requests_before;

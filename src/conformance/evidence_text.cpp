@@ -4,16 +4,14 @@
 
 #include <algorithm>
 
-#include "client/hex_text.hpp"
+#include "conformance/line_evidence.hpp"
 
 namespace mblab::conformance {
 
 namespace {
 
-constexpr std::size_t kCellWidth = 3;  // "00 "
-
 std::string received_text(const Exchange& exchange) {
-    std::string bytes = client::hex_bytes(exchange.received);
+    std::string bytes = frame_text(exchange.framing, exchange.received);
     std::string why;
     switch (exchange.status) {
         case client::ReceiveStatus::Frame:
@@ -32,10 +30,10 @@ std::string received_text(const Exchange& exchange) {
     return bytes.empty() ? why : fmt::format("{}  ({})", bytes, why);
 }
 
-std::string marks(const std::vector<std::size_t>& differs) {
+std::string marks(const Exchange& exchange) {
     std::string line;
-    for (std::size_t position : differs) {
-        const std::size_t column = position * kCellWidth;
+    for (std::size_t position : exchange.match.differs) {
+        const std::size_t column = frame_column(exchange.framing, position);
         if (line.size() < column + 2) line.resize(column + 2, ' ');
         line[column] = '^';
         line[column + 1] = '^';
@@ -43,28 +41,20 @@ std::string marks(const std::vector<std::size_t>& differs) {
     return line;
 }
 
-std::string join(const std::vector<std::string>& cells) {
-    std::string out;
-    for (const auto& cell : cells)
-        out += (out.empty() ? "" : " ") + cell;
-    return out;
-}
-
 }  // namespace
 
 std::vector<std::string> evidence_lines(const Exchange& exchange) {
     std::vector<std::string> lines;
-    lines.push_back("sent      " + client::hex_bytes(exchange.sent));
+    lines.push_back("sent      " + frame_text(exchange.framing, exchange.sent));
     lines.push_back("received  " + received_text(exchange));
     if (exchange.silence_expected) {
         lines.emplace_back("expected  nothing");
         return lines;
     }
-    const auto& cells = exchange.match.expected_cells;
-    lines.push_back("expected  " + (cells.empty() ? exchange.expected : join(cells)));
+    lines.push_back("expected  " + expected_text(exchange));
     // Only a received frame can be compared byte by byte.
     if (!exchange.received.empty() && !exchange.match.differs.empty()) {
-        lines.push_back("          " + marks(exchange.match.differs));
+        lines.push_back("          " + marks(exchange));
     }
     return lines;
 }

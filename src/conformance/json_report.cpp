@@ -1,8 +1,9 @@
 #include <nlohmann/json.hpp>
 #include <variant>
 
-#include "client/hex_text.hpp"
+#include "conformance/line_evidence.hpp"
 #include "conformance/reports.hpp"
+#include "protocol/adu.hpp"
 #include "support/name_table.hpp"
 
 namespace mblab::conformance {
@@ -24,11 +25,15 @@ double millis(std::chrono::microseconds elapsed) {
     return static_cast<double>(elapsed.count()) / 1000.0;
 }
 
+// On a line `sent` and `received` are the frames as it carried them (line_evidence.hpp), and
+// "framing" says which: "RTU" or "ASCII".
 json exchange_json(const Exchange& exchange) {
-    json out = {{"sent", client::hex_bytes(exchange.sent)},
+    json out = {{"sent", frame_text(exchange.framing, exchange.sent)},
                 {"status", status_name(exchange.status)},
-                {"received", client::hex_bytes(exchange.received)},
+                {"received", frame_text(exchange.framing, exchange.received)},
                 {"waited_ms", exchange.waited.count()}};
+    if (exchange.framing != client::Framing::Mbap)
+        out["framing"] = protocol::framing_name(exchange.framing);
     if (!exchange.detail.empty()) out["detail"] = exchange.detail;
     if (exchange.silence_expected) {
         out["expected"] = nullptr;

@@ -41,7 +41,8 @@ enum LinkType : std::uint16_t {
     kLinkRaw = 101,  // IPv4 or IPv6 with no link-layer header
     kLinkSll = 113,  // Linux cooked capture, and its second version
     kLinkSll2 = 276,
-    kLinkUser0 = 147,  // private use: what a serial line's frames are written as
+    kLinkUser0 = 147,  // private use: what an RTU line's frames are written as
+    kLinkUser1 = 148,  // private use: what an ASCII line's frames are written as
     kLinkIpv4 = 228,
     kLinkIpv6 = 229
 };

@@ -177,9 +177,10 @@ class PcapngFile {
         block.close();
     }
 
-    // `inbound`: the epb_flags direction, for packets whose link layer does not say it.
+    // `comment`: opt_comment, when not empty. `inbound`: the epb_flags direction, for packets
+    // whose link layer does not say it.
     void packet(std::chrono::microseconds since_epoch, std::span<const std::uint8_t> bytes,
-                std::optional<bool> inbound = std::nullopt) {
+                std::string_view comment, std::optional<bool> inbound = std::nullopt) {
         Block block(out_, kEnhancedPacket);
         const auto stamp = static_cast<std::uint64_t>(since_epoch.count());
         put32(0);  // interface 0
@@ -189,12 +190,13 @@ class PcapngFile {
         put32(static_cast<std::uint32_t>(bytes.size()));
         out_.insert(out_.end(), bytes.begin(), bytes.end());
         pad();
+        if (!comment.empty()) option(kComment, comment);
         if (inbound) {
             put16(kEpbFlags);
             put16(4);
             put32(*inbound ? 1U : 2U);
-            end_options();
         }
+        if (!comment.empty() || inbound) end_options();
         block.close();
     }
 
@@ -268,7 +270,7 @@ bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events
         const auto since_epoch =
             std::chrono::duration_cast<std::chrono::microseconds>(e.time.time_since_epoch());
         auto emit = [&](const std::vector<std::uint8_t>& packet) {
-            file.packet(since_epoch, packet);
+            file.packet(since_epoch, packet, e.label);
         };
         auto flush = [&](std::size_t side, bool whole_frames_only) {
             auto& bytes = pending[side];
@@ -319,17 +321,23 @@ bool write_pcap(const std::string& path, const std::vector<CaptureEvent>& events
 }
 
 bool write_line_pcap(const std::string& path, const std::vector<CaptureEvent>& events,
-                     const Provenance& provenance, std::string& error) {
+                     client::Framing framing, const Provenance& provenance, std::string& error) {
     PcapngFile file;
     file.section_header(provenance);
-    file.interface(kLinkUser0, kSnapLength);
+    file.interface(framing == client::Framing::Ascii ? kLinkUser1 : kLinkUser0, kSnapLength);
     for (const auto& e : events) {
         if (e.kind != CaptureEvent::Kind::Sent && e.kind != CaptureEvent::Kind::Received) continue;
         file.packet(
             std::chrono::duration_cast<std::chrono::microseconds>(e.time.time_since_epoch()),
-            e.bytes, e.kind == CaptureEvent::Kind::Received);
+            e.bytes, e.label, e.kind == CaptureEvent::Kind::Received);
     }
     return write_text_file(path, file.bytes(), error);
+}
+
+bool write_capture(const std::string& path, const std::vector<CaptureEvent>& events,
+                   client::Framing framing, const Provenance& provenance, std::string& error) {
+    if (framing == client::Framing::Mbap) return write_pcap(path, events, provenance, error);
+    return write_line_pcap(path, events, framing, provenance, error);
 }
 
 }  // namespace mblab::conformance

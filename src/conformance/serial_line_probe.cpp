@@ -79,6 +79,7 @@ LineAnswer LineProbe::ask(std::vector<std::uint8_t> wire, std::chrono::milliseco
                           RequestPause pause) {
     LineAnswer answer;
     answer.exchange.sent = std::move(wire);
+    answer.exchange.framing = session_.framing();
     answer.exchange.waited = wait;
     const std::span<const std::uint8_t> sent = answer.exchange.sent;
     const std::size_t first = pause.after < sent.size() ? pause.after : sent.size();

@@ -141,6 +141,7 @@ bool Session::send_on_line(std::span<const std::uint8_t> bytes, client::LinkErro
         error.message = "the request does not fit in one serial frame";
         return false;
     }
+    if (in_case_) line_frames_.note(bytes, std::span(adu).first(size));
     return link_->send(std::span(adu).first(size), error);
 }
 
@@ -162,7 +163,7 @@ client::Received Session::receive_from_wire(std::chrono::milliseconds timeout) {
     return got;
 }
 
-client::Received Session::in_case_notation(client::Received received) const {
+client::Received Session::in_case_notation(client::Received received) {
     if (received.status != client::ReceiveStatus::Frame ||
         received.header.framing == client::Framing::Mbap) {
         return received;
@@ -170,8 +171,21 @@ client::Received Session::in_case_notation(client::Received received) const {
     std::array<std::uint8_t, protocol::limits::kMaxTcpAdu> adu{};
     const std::size_t size = protocol::write_adu(
         {client::Framing::Mbap, received.header.unit, line_transaction_}, received.pdu, adu);
+    if (in_case_) line_frames_.note(std::span(adu).first(size), received.bytes);
     received.bytes.assign(adu.begin(), adu.begin() + static_cast<long>(size));
     return received;
+}
+
+void Session::start_case(std::string_view id) {
+    line_frames_.clear();
+    in_case_ = true;
+    if (observer_ != nullptr) observer_->on_label(fmt::format("case {}", id));
+}
+
+void Session::end_case() {
+    line_frames_.clear();
+    in_case_ = false;
+    if (observer_ != nullptr) observer_->on_label({});
 }
 
 client::Received Session::receive_frame(std::chrono::milliseconds timeout) {

@@ -11,6 +11,7 @@
 #include "client/link.hpp"
 #include "client/target.hpp"
 #include "conformance/dut.hpp"
+#include "conformance/line_evidence.hpp"
 
 namespace mblab::conformance {
 
@@ -42,7 +43,8 @@ class Progress {
 // in that framing, one request at a time, and the link's framer reads the answer's header and
 // PDU. The answer is handed back in the catalogue's notation (the request's transaction id, unit
 // id = the address that answered), laid out from those fields, so every case is judged the same
-// way; cases that test MBAP itself are N/A there (`requires mbap`).
+// way; cases that test MBAP itself are N/A there (`requires mbap`). The frames as the line
+// carried them are kept for the case, so that its evidence shows them (show_as_on_line).
 class Session {
   public:
     Session(client::Target target, Dut dut, EngineOptions options,
@@ -95,6 +97,15 @@ class Session {
     // link's framer read it), not in the catalogue's notation.
     client::Received receive_from_wire(std::chrono::milliseconds timeout);
 
+    // A case begins: the traffic from here on is the case's (a capture notes its id beside each
+    // packet), and its frames on a line are kept for its evidence.
+    void start_case(std::string_view id);
+    // The case is over; what follows belongs to no case, and its frames are let go. Outside a
+    // case (a load run) no frame is kept.
+    void end_case();
+    // This case's frames on a line, as the line carried them, by their catalogue notation.
+    const LineFrames& line_frames() const { return line_frames_; }
+
     std::size_t requests() const { return requests_; }
     // Whether the device ever sent a byte on any connection of this session.
     bool heard() const { return heard_; }
@@ -116,8 +127,9 @@ class Session {
 
   private:
     bool send_on_line(std::span<const std::uint8_t> bytes, client::LinkError& error);
-    // An answer from a line in the catalogue's notation.
-    client::Received in_case_notation(client::Received received) const;
+    // An answer from a line in the catalogue's notation; its line bytes are noted in
+    // line_frames_ for the evidence.
+    client::Received in_case_notation(client::Received received);
 
     client::Target target_;
     std::optional<client::Target> secure_target_;
@@ -129,6 +141,8 @@ class Session {
     Progress* progress_;
     std::unique_ptr<client::Link> link_;
     std::uint16_t line_transaction_ = 0;  // of the request last sent on a line
+    LineFrames line_frames_;
+    bool in_case_ = false;
     std::size_t requests_ = 0;
     std::size_t connection_requests_ = 0;
     std::vector<std::uint8_t> last_frame_;

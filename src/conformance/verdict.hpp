@@ -30,6 +30,9 @@ struct Exchange {
     bool silence_expected = false;  // the device was to say nothing
     std::string expected;           // the expected pattern as text; empty for silence
     MatchResult match;              // against the closest expected pattern
+    // How `sent` and `received` are laid out: the catalogue's notation (MBAP frames) while a case
+    // is judged; a line's own framing once show_as_on_line (line_evidence.hpp) has run.
+    client::Framing framing = client::Framing::Mbap;
 };
 
 // The verdict of a case, with a reason for every verdict that is not a plain PASS.

@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "conformance/evidence_text.hpp"
+#include "conformance/line_evidence.hpp"
 #include "conformance/references.hpp"
 #include "support/name_table.hpp"
 #include "web/page.hpp"
@@ -15,18 +16,17 @@ namespace {
 
 namespace conf = mblab::conformance;
 
-// evidence_lines lays bytes out in cells of "00 " after a 10-character label; the ^^ line under
-// them marks the same columns.
+// evidence_lines lays a frame out after a 10-character label, each byte two columns where
+// frame_column says; the ^^ line under them marks the same columns.
 constexpr std::size_t kLabelWidth = 10;
-constexpr std::size_t kCellWidth = 3;
 
-// `line` escaped, the two hex digits of each cell in `cells` (below `count`) wrapped in <mark>.
+// `line` escaped, the two characters of each byte in `cells` (below `count`) wrapped in <mark>.
 std::string marked_line(const std::string& line, const std::vector<std::size_t>& cells,
-                        std::size_t count) {
+                        std::size_t count, client::Framing framing) {
     std::vector<bool> marked(line.size(), false);
     for (std::size_t cell : cells) {
         if (cell >= count) continue;
-        const std::size_t column = kLabelWidth + cell * kCellWidth;
+        const std::size_t column = kLabelWidth + conf::frame_column(framing, cell);
         for (std::size_t i = column; i < column + 2 && i < line.size(); ++i)
             marked[i] = true;
     }
@@ -74,9 +74,12 @@ std::string evidence_html(const conf::Exchange& exchange) {
     std::string out = "<pre class=\"evidence\">";
     for (std::size_t i = 0; i < lines.size(); ++i) {
         if (compared && i == 1) {
-            out += marked_line(lines[i], differs, exchange.received.size());
+            out += marked_line(lines[i], differs,
+                               conf::frame_cells(exchange.framing, exchange.received),
+                               exchange.framing);
         } else if (compared && i == 2) {
-            out += marked_line(lines[i], differs, exchange.match.expected_cells.size());
+            out += marked_line(lines[i], differs, exchange.match.expected_cells.size(),
+                               exchange.framing);
         } else {
             out += html_escape(lines[i]);
         }
