@@ -116,8 +116,9 @@ int run_scan(const ScanCommandOptions& options) {
     }
     std::string failed;
     if (!conformance::write_text_file(options.output, toml, failed)) return usage_error(failed);
-    fmt::print(console, "wrote {}: check it, then run mblab conform {} --dut {}\n", options.output,
-               target->name, options.output);
+    fmt::print(
+        console, "wrote {}: check it, then run {}\n", options.output,
+        conformance::shell_words({"mblab", "conform", target->name, "--dut", options.output}));
     return kExitOk;
 }
 

@@ -201,8 +201,9 @@ void scan_unit(const Ask& ask, DeviceScan& out) {
     }
     if (out.recon.serves(0x08)) out.echo = scan_echo(ask, unit);
     const auto messaging = ask(unit, kGetAttribute);
-    out.object_messaging = messaging && !messaging->empty() &&
-                           !(is_exception(messaging, 0x5B) && (*messaging)[1] == 0x01);
+    out.object_messaging_silent = !messaging || messaging->empty();
+    out.object_messaging =
+        !out.object_messaging_silent && !(is_exception(messaging, 0x5B) && (*messaging)[1] == 0x01);
     if (out.recon.serves(0x14) && answers_data(ask, unit, 0x14)) out.file_number = 1;
     if (out.recon.serves(0x18) && answers_data(ask, unit, 0x18)) out.fifo_address = 0;
 }

@@ -44,6 +44,7 @@ struct DeviceScan {
     std::array<std::optional<AddressRange>, kTableCount> tables{};
     EchoScan echo;
     bool object_messaging = false;                // FC 5B get attribute answered other than with 01
+    bool object_messaging_silent = false;         // ... or not answered at all
     std::optional<std::uint16_t> semi_signature;  // where 5345 4D49 5F72 starts
     std::optional<std::uint16_t> file_number;     // FC 14 of file 1, record 0 answered data
     std::optional<std::uint16_t> fifo_address;    // FC 18 at 0 answered data

@@ -63,9 +63,16 @@ LearnedFact max_read_fact(const DeviceScan& scan) {
         return {"max_read", "125",
                 fmt::format("FC 03 of 125 registers (the most [APP] 6.3 allows) answered {}", at)};
     }
+    const auto& holding = scan.tables[static_cast<std::size_t>(Table::HoldingRegisters)];
+    // A read one longer would pass the last register: the map's end, not the device's limit.
+    const bool map_end =
+        holding && std::uint32_t{recon.check_address} + recon.max_read - 1 == holding->last;
     return {"max_read", std::to_string(recon.max_read),
-            fmt::format("FC 03 of {} registers answered {}, of {} did not", recon.max_read, at,
-                        recon.max_read + 1)};
+            fmt::format("FC 03 of {} registers answered {}, of {} did not{}", recon.max_read, at,
+                        recon.max_read + 1,
+                        map_end ? " (it would pass the last register: the device's own limit "
+                                  "may be higher)"
+                                : "")};
 }
 
 LearnedFact echo_fact(const DeviceScan& scan) {
@@ -76,7 +83,8 @@ LearnedFact echo_fact(const DeviceScan& scan) {
                                              : "FC 08 is not served (exception 01)"};
     }
     if (echo.echoed == 0) return {"echo_max_words", "", "FC 08/00 echoed no data word"};
-    const std::string echoed = fmt::format("FC 08/00 echoed {} data words", echo.echoed);
+    const std::string echoed =
+        fmt::format("FC 08/00 echoed {} data word{}", echo.echoed, echo.echoed == 1 ? "" : "s");
     if (echo.echoed == kMaxEchoWords) {
         return {"echo_max_words", "",
                 echoed +
@@ -88,9 +96,11 @@ LearnedFact echo_fact(const DeviceScan& scan) {
                 fmt::format("{}; {} answered exception {:02X}", echoed, echo.echoed + 1,
                             *echo.refusal)};
     }
-    return {"echo_max_words", "",
-            fmt::format("{}; {} {}, not an exception: no limit to declare", echoed, echo.echoed + 1,
-                        echo.data_refused ? "got another answer" : "no answer")};
+    return {
+        "echo_max_words", "",
+        fmt::format("{}; {} got {} where INSTR 5.7.1 expects exception 03: no limit to "
+                    "declare",
+                    echoed, echo.echoed + 1, echo.data_refused ? "another answer" : "no answer")};
 }
 
 std::vector<std::string> seen_lines(const DeviceScan& scan) {
@@ -121,8 +131,9 @@ std::vector<LearnedFact> learned_facts(const DeviceScan& scan) {
     std::vector<LearnedFact> facts;
     const std::size_t answering = scan.answering.size();
     facts.push_back({"unit", std::to_string(scan.recon.unit),
-                     fmt::format("{} of the {} unit{} that answered FC 03", scan.recon.unit,
-                                 answering, answering == 1 ? "" : "s")});
+                     answering == 1 ? std::string("the only unit that answered FC 03")
+                                    : fmt::format("{} of the {} units that answered FC 03",
+                                                  scan.recon.unit, answering)});
     facts.push_back(table_fact(scan, static_cast<std::size_t>(Table::HoldingRegisters)));
     facts.push_back(max_read_fact(scan));
     for (auto table : {Table::Coils, Table::DiscreteInputs, Table::InputRegisters})
@@ -131,8 +142,10 @@ std::vector<LearnedFact> learned_facts(const DeviceScan& scan) {
         facts.push_back({"object_messaging", "true",
                          "FC 5B get attribute (class 1, instance 1, attribute 1) was answered"});
     } else {
-        facts.push_back(
-            {"object_messaging", "", "FC 5B got no answer or exception 01 (CTP 7.13.1's request)"});
+        facts.push_back({"object_messaging", "",
+                         fmt::format("FC 5B get attribute (CTP 7.13.1's request) {}",
+                                     scan.object_messaging_silent ? "got no answer"
+                                                                  : "answered exception 01")});
     }
     if (scan.semi_signature) {
         facts.push_back({"alternate_encoding", "true",
@@ -163,8 +176,9 @@ std::string scan_dut_toml(const DeviceScan& scan, const ScanOrigin& origin) {
     std::string out = fmt::format(
         "# Declarations of the device at {}, learned by mblab scan {} at {}.\n"
         "# Each value was learned from the device's answers, not its documentation: check them\n"
-        "# against its manual, then: mblab conform {} --dut FILE\n#\n",
-        origin.target, origin.version, origin.started, origin.target);
+        "# against its manual, then: {} --dut FILE\n#\n",
+        origin.target, origin.version, origin.started,
+        conformance::shell_words({"mblab", "conform", origin.target}));
     for (const auto& line : seen_lines(scan))
         out += "# " + line + "\n";
     out += "\n";
