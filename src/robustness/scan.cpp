@@ -232,6 +232,7 @@ std::string units_text(const std::vector<std::uint8_t>& units, const char* last_
 protocol::Result<DeviceScan, std::string> scan_device(const Ask& device,
                                                       const ScanOptions& options) {
     DeviceScan out;
+    out.identity.reason = "not asked";
     const Ask ask = [&](std::uint8_t unit,
                         std::span<const std::uint8_t> pdu) -> std::optional<Bytes> {
         if (options.line && (unit == 0 || unit > kLastLineAddress)) return std::nullopt;
