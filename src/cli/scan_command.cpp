@@ -73,7 +73,7 @@ int run_scan(const ScanCommandOptions& options) {
         return usage_error(failed);
     rb::ScanOptions scan_options;
     scan_options.line = client::framing_of(*target) != client::Framing::Mbap;
-    // On Modbus/TCP 255 and 0 reach the device itself ([MBTCP] 4.4.2); a line is swept only
+    // On Modbus/TCP 255 and 0 reach the device itself ([TCPG] 4.4.1.2); a line is swept only
     // when asked, at a timeout for each silent address.
     const std::string units = !options.units.empty() ? options.units
                               : scan_options.line    ? "1"

@@ -209,7 +209,7 @@ std::string scan_text(const DeviceScan& scan) {
             fmt::format("{} {}", fact.key, fact.value.empty() ? "-" : "= " + fact.value);
         out += fmt::format("  {:<{}}  {}\n", declared, width, fact.why);
     }
-    out += fmt::format("{} requests, none of them a write carried out\n", scan.requests);
+    out += fmt::format("{} requests, none of them a write\n", scan.requests);
     return out;
 }
 
