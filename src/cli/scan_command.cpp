@@ -98,6 +98,10 @@ int run_scan(const ScanCommandOptions& options) {
         return usage_error(fmt::format("{} exists: give --force to replace it, or -o another file",
                                        options.output));
     }
+    // Checked before anything is sent, so that a scan is not run for a file that cannot be kept.
+    const auto directory = std::filesystem::path(options.output).parent_path();
+    if (!to_stdout && !directory.empty() && !std::filesystem::is_directory(directory))
+        return usage_error(fmt::format("{}: no such directory", directory.string()));
     std::signal(SIGPIPE, SIG_IGN);
     auto scan =
         rb::scan_target(*target, scan_options, std::chrono::milliseconds(options.timeout_ms));

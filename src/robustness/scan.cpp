@@ -17,7 +17,9 @@ using Bytes = std::vector<std::uint8_t>;
 
 constexpr std::array<std::uint8_t, kTableCount> kReadFunction{0x01, 0x02, 0x03, 0x04};
 // Per read, as [APP] 6.1-6.4 allow.
-constexpr std::array<std::uint16_t, kTableCount> kMostPerRead{2000, 2000, 125, 125};
+constexpr std::array<std::uint16_t, kTableCount> kMostPerRead{
+    protocol::limits::kMaxReadBits, protocol::limits::kMaxReadBits,
+    protocol::limits::kMaxReadRegisters, protocol::limits::kMaxReadRegisters};
 constexpr std::uint32_t kAddressSpace = 65536;
 // CTP 7.13.1: class 1, instance 1, get attribute 1: a read.
 constexpr std::array<std::uint8_t, 11> kGetAttribute{0x5B, 0x09, 0x00, 0x00, 0x01, 0x00,

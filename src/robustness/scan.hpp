@@ -52,7 +52,8 @@ struct DeviceScan {
     std::size_t requests = 0;
 };
 
-// The register counts a PDU can carry: FC 08 data words, and the table read limits.
+// The most FC 08/00 data words a PDU holds: 253 bytes less the function code and the
+// sub-function ([APP] 4.1).
 inline constexpr std::uint16_t kMaxEchoWords = 125;
 
 // Asks `ask` what the units of `options` answer, then scans the first that does. The error is
