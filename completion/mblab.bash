@@ -16,7 +16,7 @@ _mblab() {
         words=("${COMP_WORDS[@]}")
         cword=$COMP_CWORD
     fi
-    local commands="conform serve read write diag devid raw watch load pki fuzz profile"
+    local commands="conform serve read write diag devid raw watch load pki fuzz scan profile"
     local command="" i
     for ((i = 1; i < cword; i++)); do
         case " $commands " in *" ${words[i]} "*) command="${words[i]}"; break ;; esac
@@ -39,7 +39,7 @@ _mblab() {
             fi
             ;;
         --dut | --profile | --junit | --pcap | --html | --state | --devices | --cert | --key | --ca | \
-            --replay | --reproducer | --learn | --http-token-file)
+            --replay | --reproducer | --learn | --http-token-file | --output | -o)
             COMPREPLY=($(compgen -f -- "$cur"))
             return
             ;;
@@ -60,7 +60,7 @@ _mblab() {
             return
             ;;
         --role | --server-name | --days | --read-only-role | --write-role | --restart | --writable | \
-            --http | --http-token | --http-allow-host | --metrics | --device-pid)
+            --http | --http-token | --http-allow-host | --metrics | --device-pid | --units)
             return
             ;;
     esac

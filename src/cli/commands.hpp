@@ -65,5 +65,7 @@ void add_pki_command(CLI::App& app, CommandRunner& runner);
 // `invocation` must outlive the runner.
 void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation);
 void add_profile_command(CLI::App& app, CommandRunner& runner);
+// `invocation` must outlive the runner.
+void add_scan_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation);
 
 }  // namespace mblab::cli

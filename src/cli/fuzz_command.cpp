@@ -30,6 +30,7 @@
 #include "robustness/pcap_reader.hpp"
 #include "robustness/recon.hpp"
 #include "robustness/reproducer.hpp"
+#include "robustness/session_ask.hpp"
 #include "transport/serial_port.hpp"
 
 // `mblab fuzz TARGET`: the robustness tester (docs/robustness.md).
@@ -224,20 +225,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
     client::LinkError error;
     if (!session.connect(error))
         return usage_error(fmt::format("{}: {}", target->name, error.message));
-    std::uint16_t transaction = 0;
-    const rb::Ask ask =
-        [&](std::uint8_t unit,
-            std::span<const std::uint8_t> pdu) -> std::optional<std::vector<std::uint8_t>> {
-        client::LinkError lost;
-        if (!session.reconnect(lost)) return std::nullopt;
-        if (!session.send(rb::mbap_frame(++transaction, unit, pdu), 1, lost)) return std::nullopt;
-        auto answer = session.receive_frame(timeout);
-        if (answer.status != client::ReceiveStatus::Frame) {
-            session.close();
-            return std::nullopt;
-        }
-        return answer.pdu;
-    };
+    const rb::Ask ask = rb::session_ask(session, timeout);
     rb::Recon recon;
     if (learned) {
         recon = std::move(*learned);

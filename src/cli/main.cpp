@@ -207,6 +207,7 @@ int main(int argc, char** argv) {
     add_pki_command(app, runner);
     add_fuzz_command(app, runner, invocation);
     add_profile_command(app, runner);
+    add_scan_command(app, runner, invocation);
     app.footer(
         "Run 'mblab help COMMAND' (or 'mblab COMMAND --help') for a command's options, an example "
         "and its exit statuses.");

@@ -7,6 +7,7 @@
 
 #include "conformance/plain_requests.hpp"
 #include "protocol/request.hpp"
+#include "protocol/request_template.hpp"
 
 namespace mblab::robustness {
 
@@ -127,6 +128,10 @@ std::optional<std::string> reconnoitre(const Ask& device, const ReconOptions& op
         return answer;
     };
     for (std::uint8_t function : conformance::functions_with_plain_requests()) {
+        if (options.reads_only && protocol::writes(function)) {
+            out.not_asked.push_back(function);
+            continue;
+        }
         const auto request = probe_request(function, options.allow_writes);
         if (!request) continue;
         const auto answer = ask(options.unit, *request);
@@ -139,13 +144,12 @@ std::optional<std::string> reconnoitre(const Ask& device, const ReconOptions& op
             out.served.push_back(function);
         }
     }
-    static constexpr std::array<std::uint16_t, 5> kCandidates{0, 1, 100, 1000, 40000};
     std::optional<std::uint16_t> readable;
     if (options.check_address) {
         if (read_answered(ask(options.unit, read_holding(*options.check_address, 1)), 1))
             readable = options.check_address;
     } else {
-        for (std::uint16_t address : kCandidates) {
+        for (std::uint16_t address : kProbeAddresses) {
             if (read_answered(ask(options.unit, read_holding(address, 1)), 1)) {
                 readable = address;
                 break;

@@ -20,6 +20,10 @@ const char* table_name(Table table);
 // "coils", "discrete_inputs", ...: the JSON report's keys.
 const char* table_key(Table table);
 
+// Where a map that does not start at 0 is looked for, in this order: the liveness check's
+// holding register, and where `mblab scan` looks for each table.
+inline constexpr std::array<std::uint16_t, 5> kProbeAddresses{0, 1, 100, 1000, 40000};
+
 struct AddressRange {
     std::uint16_t first = 0;
     std::uint16_t last = 0;  // inclusive: a range may end at 0xFFFF
@@ -44,6 +48,7 @@ struct Recon {
     std::vector<std::uint8_t> served;      // function codes answered other than with exception 01
     std::vector<std::uint8_t> not_served;  // answered 01
     std::vector<std::uint8_t> silent;      // not answered at all
+    std::vector<std::uint8_t> not_asked;   // functions that write, with ReconOptions::reads_only
     std::uint16_t check_address = 0;       // a holding register FC 03 reads: the liveness check
     std::uint16_t max_read = 125;          // the largest FC 03 quantity answered there
     bool answers_unit_0 = false;
@@ -62,6 +67,9 @@ using Ask = std::function<std::optional<std::vector<std::uint8_t>>(
 struct ReconOptions {
     std::uint8_t unit = 1;
     bool allow_writes = false;
+    // Functions that write are not asked at all, not even with requests the device must refuse
+    // (a device that does not refuse them would carry them out): `mblab scan`.
+    bool reads_only = false;
     // Declared facts that replace the probed ones (from --dut).
     std::optional<std::uint16_t> max_read;
     std::optional<std::uint16_t> check_address;

@@ -43,6 +43,8 @@ complete_words() {
 [ "$(complete_words mblab serve --lis)" = --listen ] || fail "completion of 'serve --lis'"
 [ "$(complete_words mblab fu)" = fuzz ] || fail "completion of 'fu'"
 [ "$(complete_words mblab fuzz --check)" = --check-every ] || fail "completion of 'fuzz --check'"
+[ "$(complete_words mblab sc)" = scan ] || fail "completion of 'sc'"
+[ "$(complete_words mblab scan --for)" = --force ] || fail "completion of 'scan --for'"
 [ "$(complete_words mblab conform --suite polic)" = policy-2.1 ] || fail "completion of suite names"
 for command in conform serve read write diag devid raw watch load fuzz; do
     options=$(complete_words mblab "$command" --)

@@ -53,7 +53,7 @@ TEST(Citations, ThePatternCatchesWhatItIsFor) {
 TEST(Citations, NoHelpTextCitesAPrivateNote) {
     std::vector<std::vector<std::string>> helps = {{"--help"}};
     for (const char* command : {"conform", "serve", "load", "read", "write", "diag", "devid", "raw",
-                                "watch", "pki", "fuzz", "profile"}) {
+                                "watch", "pki", "fuzz", "profile", "scan"}) {
         helps.push_back({command, "--help"});
     }
     helps.push_back({"profile", "import-csv", "--help"});

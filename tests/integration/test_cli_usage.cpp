@@ -24,11 +24,11 @@ TEST(CliUsage, AnUnknownCommandListsTheCommands) {
     expect_failed(
         ran, 2,
         "mblab: unknown command 'frobnicate' (commands: conform, serve, read, write, diag, "
-        "devid, raw, watch, load, pki, fuzz, profile)\n");
+        "devid, raw, watch, load, pki, fuzz, profile, scan)\n");
     auto none = run_mblab({});
     expect_failed(none, 2,
                   "mblab: a command is required: conform, serve, read, write, diag, devid, raw, "
-                  "watch, load, pki, fuzz, profile (run 'mblab --help' for usage)\n");
+                  "watch, load, pki, fuzz, profile, scan (run 'mblab --help' for usage)\n");
 }
 
 }  // namespace
