@@ -14,28 +14,17 @@ namespace {
 
 namespace conf = mblab::conformance;
 
-// evidence_lines lays bytes out in cells of "00 " after a 10-character label; the ^^ line under
-// them marks the same columns.
-constexpr std::size_t kLabelWidth = 10;
-constexpr std::size_t kCellWidth = 3;
-
-// `line` escaped, the two hex digits of each cell in `cells` (below `count`) wrapped in <mark>.
-std::string marked_line(const std::string& line, const std::vector<std::size_t>& cells,
-                        std::size_t count) {
-    std::vector<bool> marked(line.size(), false);
-    for (std::size_t cell : cells) {
-        if (cell >= count) continue;
-        const std::size_t column = kLabelWidth + cell * kCellWidth;
-        for (std::size_t i = column; i < column + 2 && i < line.size(); ++i)
-            marked[i] = true;
-    }
+// `line` escaped, its marked columns wrapped in <mark>.
+std::string marked_line(const conf::EvidenceLine& line) {
     std::string out;
-    for (std::size_t i = 0; i < line.size(); ++i) {
-        if (marked[i] && (i == 0 || !marked[i - 1])) out += "<mark class=\"diff\">";
-        out += html_escape(std::string_view(&line[i], 1));
-        if (marked[i] && (i + 1 == line.size() || !marked[i + 1])) out += "</mark>";
+    std::size_t at = 0;
+    for (const auto& [first, last] : line.marked) {
+        out += html_escape(std::string_view(line.text).substr(at, first - at));
+        out += "<mark class=\"diff\">" +
+               html_escape(std::string_view(line.text).substr(first, last - first)) + "</mark>";
+        at = last;
     }
-    return out;
+    return out + html_escape(std::string_view(line.text).substr(at));
 }
 
 // Each citation of a case's source links to its document, the section in the link's title (the
@@ -72,21 +61,9 @@ std::string_view verdict_class(conf::Verdict verdict) {
 }
 
 std::string evidence_html(const conf::Exchange& exchange) {
-    const auto lines = conf::evidence_lines(exchange);
-    // As in evidence_lines: only a received frame is compared byte by byte.
-    const bool compared = !exchange.received.empty() && !exchange.match.differs.empty();
-    const auto& differs = exchange.match.differs;
     std::string out = "<pre class=\"evidence\">";
-    for (std::size_t i = 0; i < lines.size(); ++i) {
-        if (compared && i == 1) {
-            out += marked_line(lines[i], differs, exchange.received.size());
-        } else if (compared && i == 2) {
-            out += marked_line(lines[i], differs, exchange.match.expected_cells.size());
-        } else {
-            out += html_escape(lines[i]);
-        }
-        out += '\n';
-    }
+    for (const auto& line : conf::evidence_layout(exchange))
+        out += marked_line(line) + '\n';
     return out + "</pre>\n";
 }
 
