@@ -6,6 +6,7 @@
 #include <cctype>
 
 #include "client/hex_text.hpp"
+#include "client/tls_sniff.hpp"
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
@@ -172,6 +173,8 @@ std::string header_faults(const Exchange& exchange) {
 }  // namespace
 
 std::string describe_failure(const Exchange& exchange) {
+    // A TLS server reached over plain TCP: the link's one line says what to do.
+    if (client::is_tls_answer_text(exchange.detail)) return exchange.detail;
     const auto& got = exchange.received;
     switch (exchange.status) {
         case client::ReceiveStatus::Timeout:

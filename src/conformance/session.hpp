@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -94,6 +95,10 @@ class Session {
     // link's framer read it), not in the catalogue's notation.
     client::Received receive_from_wire(std::chrono::milliseconds timeout);
 
+    // The role the tester's certificate carries over mbaps://, once a session was
+    // made; empty on any other link and for a certificate without a role.
+    const std::string& certificate_role() const { return certificate_role_; }
+
     std::size_t requests() const { return requests_; }
     // Whether the device ever sent a byte on any connection of this session.
     bool heard() const { return heard_; }
@@ -131,6 +136,7 @@ class Session {
     std::size_t requests_ = 0;
     std::size_t connection_requests_ = 0;
     std::vector<std::uint8_t> last_frame_;
+    std::string certificate_role_;
     bool probed_ = false;
     bool heard_ = false;
     bool ever_connected_ = false;

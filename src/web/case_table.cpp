@@ -67,10 +67,38 @@ std::string evidence_html(const conf::Exchange& exchange) {
     return out + "</pre>\n";
 }
 
+namespace {
+
+// The one row of a suite that cannot apply: its case ids all in data-id, so the search by id
+// still finds it; the sources its cases cite, each once.
+std::string inapplicable_row(const conf::SuiteResult& suite, const conf::Inapplicable& why) {
+    std::string ids;
+    std::vector<std::string_view> sources;
+    for (const auto& c : suite.cases) {
+        ids += (ids.empty() ? "" : " ") + c.id;
+        if (std::find(sources.begin(), sources.end(), c.source) == sources.end())
+            sources.push_back(c.source);
+    }
+    std::string cited;
+    for (const auto source : sources)
+        cited += (cited.empty() ? "" : "; ") + source_html(source);
+    const auto label = html_escape(conf::verdict_label(conf::Verdict::NotApplicable));
+    return fmt::format(
+        "<tbody class=\"case\" data-verdict=\"{}\" data-id=\"{}\">\n<tr><td>{}</td>"
+        "<td class=\"{}\">{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n</tbody>\n",
+        label, html_escape(ids), html_escape(fmt::format("all {}", suite.cases.size())),
+        verdict_class(conf::Verdict::NotApplicable), label, html_escape(why.title),
+        html_escape(why.reason), cited);
+}
+
+}  // namespace
+
 std::string case_table(const conf::SuiteResult& suite) {
     std::string out =
         "<table class=\"cases\">\n<thead><tr><th>case</th><th>verdict</th><th>title</th>"
         "<th>reason</th><th>source</th></tr></thead>\n";
+    if (const auto why = conf::suite_inapplicable(suite.name, suite.cases))
+        return out + inapplicable_row(suite, *why) + "</table>\n";
     for (const auto& c : suite.cases) {
         const auto& outcome = c.outcome;
         out += fmt::format(

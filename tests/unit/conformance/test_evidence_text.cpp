@@ -135,5 +135,31 @@ TEST(EvidenceText, ALoneLongLineIsIndentedAfterItsFirstPiece) {
     EXPECT_EQ(wrap_evidence(lines, 0), lines);
 }
 
+CaseResult na(const std::string& id, const std::string& reason) {
+    return {id, "[SEC] R-01", "a case", Outcome{Verdict::NotApplicable, reason, {}}};
+}
+
+TEST(SuiteInapplicable, IsEveryCaseNotApplicableForOneReason) {
+    const std::vector<CaseResult> cases = {na("sec.1", "not over mbaps://"),
+                                           na("sec.2", "not over mbaps://")};
+    const auto why = suite_inapplicable("security", cases);
+    ASSERT_TRUE(why);
+    EXPECT_EQ(why->title, "all 2 cases of security");
+    EXPECT_EQ(why->reason, "not over mbaps://");
+}
+
+TEST(SuiteInapplicable, IsNotASuiteThatAppliesInPartOrHasOneCase) {
+    std::vector<CaseResult> cases = {na("sec.1", "not over mbaps://"),
+                                     na("sec.2", "the DUT does not declare pki")};
+    EXPECT_FALSE(suite_inapplicable("security", cases));
+    cases[1] = na("sec.2", "not over mbaps://");
+    cases[1].outcome.verdict = Verdict::Pass;
+    EXPECT_FALSE(suite_inapplicable("security", cases));
+    cases[1] = na("sec.2", "not over mbaps://");
+    cases[1].interrupted = true;
+    EXPECT_FALSE(suite_inapplicable("security", cases));
+    EXPECT_FALSE(suite_inapplicable("security", std::span(cases).first(1)));
+}
+
 }  // namespace
 }  // namespace mblab::conformance
