@@ -62,8 +62,12 @@ std::string_view verdict_class(conf::Verdict verdict) {
 
 std::string evidence_html(const conf::Exchange& exchange) {
     std::string out = "<pre class=\"evidence\">";
-    for (const auto& line : conf::evidence_layout(exchange))
+    for (const auto& line : conf::evidence_layout(exchange)) {
+        // The marks show which bytes differ; a ^^ line would not stay under them once the
+        // browser wraps a long frame.
+        if (line.text.find_first_not_of(" ^") == std::string::npos) continue;
         out += marked_line(line) + '\n';
+    }
     return out + "</pre>\n";
 }
 
