@@ -136,8 +136,9 @@ TEST(ConformHtml, MarksACompactedRunWholeAndWrapsTheEvidence) {
         << html;
     const auto page = conform_html_report(sample_run(), sample_provenance());
     EXPECT_TRUE(has(page, "pre.evidence { white-space: pre-wrap; overflow-wrap: anywhere; }"));
-    EXPECT_TRUE(has(page, "table.cases td:nth-child(4), table.cases td:nth-child(5) { "
-                          "overflow-wrap: anywhere; }"));
+    EXPECT_TRUE(has(page,
+                    "table.cases td:nth-child(4), table.cases td:nth-child(5) { "
+                    "overflow-wrap: anywhere; }"));
 }
 
 TEST(ConformHtml, ASuiteThatCannotApplyIsOneRow) {
