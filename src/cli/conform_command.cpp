@@ -215,8 +215,9 @@ int run_conform(const ConformOptions& options) {
     engine_options.settle = std::chrono::milliseconds(options.settle_ms);
     // With a report on standard output, the console report goes to standard error.
     const bool report_out = options.reports.to_stdout();
+    const int console_fd = report_out ? STDERR_FILENO : STDOUT_FILENO;
     conf::ConsoleReport console(report_out ? stderr : stdout, stderr, ::isatty(STDERR_FILENO) != 0,
-                                styles_wanted(report_out ? STDERR_FILENO : STDOUT_FILENO));
+                                styles_wanted(console_fd), terminal_width(console_fd));
     conf::Capture capture;
     conf::Session session(target, dut, engine_options,
                           options.reports.pcap.empty() ? nullptr : &capture, &console);

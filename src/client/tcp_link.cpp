@@ -2,6 +2,7 @@
 
 #include <utility>
 
+#include "client/tls_sniff.hpp"
 #include "protocol/mbap_header.hpp"
 
 namespace mblab::client {
@@ -12,7 +13,7 @@ protocol::Result<std::unique_ptr<Link>, LinkError> TcpLink::open(const Endpoint&
                                                                  LinkObserver* observer) {
     auto raw = RawLink::connect(endpoint, timeout, observer);
     if (!raw) return raw.error();
-    return std::unique_ptr<Link>(new TcpLink(std::move(raw.value()), std::move(name)));
+    return std::unique_ptr<Link>(new TcpLink(std::move(raw.value()), std::move(name), endpoint));
 }
 
 bool TcpLink::send(std::span<const std::uint8_t> adu, LinkError& error) {
@@ -21,6 +22,21 @@ bool TcpLink::send(std::span<const std::uint8_t> adu, LinkError& error) {
 
 Received TcpLink::receive_frame(std::chrono::milliseconds timeout) {
     Received received = raw_.receive_frame(timeout);
+    const bool first = !heard_;
+    heard_ = heard_ || !received.bytes.empty();
+    // Over plain TCP, a TLS server's first bytes, or its close before any byte, mean the port
+    // wants mbaps://; once the connection has carried Modbus, neither means anything more.
+    if (first && !endpoint_.tls) {
+        if (looks_like_tls(received.bytes)) {
+            received.status = ReceiveStatus::Malformed;
+            received.detail = tls_answer_text(endpoint_, received.bytes);
+            return received;
+        }
+        if (received.status == ReceiveStatus::Closed && received.bytes.empty()) {
+            if (auto tls = sniff_tls(endpoint_, timeout)) received.detail = std::move(*tls);
+            return received;
+        }
+    }
     // The link's lenient framer lets every header through but one whose length no frame has.
     const auto header = protocol::read_mbap_frame(received.bytes);
     if (received.status == ReceiveStatus::Malformed && header) {

@@ -39,10 +39,13 @@ class TcpLink final : public Link {
     }
 
   private:
-    TcpLink(RawLink raw, std::string name) : raw_(std::move(raw)), name_(std::move(name)) {}
+    TcpLink(RawLink raw, std::string name, Endpoint endpoint)
+        : raw_(std::move(raw)), name_(std::move(name)), endpoint_(std::move(endpoint)) {}
 
     RawLink raw_;
     std::string name_;
+    Endpoint endpoint_;
+    bool heard_ = false;  // the server has sent a byte on this connection
 };
 
 }  // namespace mblab::client

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "client/hex_text.hpp"
+#include "client/tls_sniff.hpp"
 #include "client/unit_probe.hpp"
 #include "protocol/adu.hpp"
 #include "protocol/framer.hpp"
@@ -181,6 +182,11 @@ Transactor::Attempt Transactor::await_answer(std::uint16_t transaction_id, std::
         const auto left = std::max(Clock::duration::zero(), deadline - Clock::now());
         Received received =
             link_->receive_frame(std::chrono::duration_cast<std::chrono::milliseconds>(left));
+        if (is_tls_answer_text(received.detail)) {
+            // The port speaks TLS: asking again would get the same, so this is the whole error.
+            drop_link();
+            return Failure{{ErrorKind::BadAnswer, std::move(received.detail), std::nullopt}, false};
+        }
         switch (received.status) {
             case ReceiveStatus::Frame:
                 if (observer_ != nullptr) {

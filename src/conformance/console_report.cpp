@@ -54,21 +54,24 @@ void ConsoleReport::case_finished(const Suite&, const CaseResult& result) {
         held_.push_back(result);
         return;
     }
-    if (same_na && !held_.empty()) {
-        // The whole suite is N/A for one reason: one line says so.
-        const std::string line =
-            fmt::format("  {} all {} cases of {}  ({})", verdict_cell(outcome.verdict),
-                        suite_cases_, suite_name_, outcome.reason);
-        held_.clear();
-        fmt::print(out_, "{}\n", line);
-        std::fflush(out_);
-        return;
+    if (same_na) {
+        held_.push_back(result);
+        if (auto inapplicable = suite_inapplicable(suite_name_, held_)) {
+            held_.clear();
+            fmt::print(out_, "  {} {}  ({})\n", verdict_cell(outcome.verdict), inapplicable->title,
+                       inapplicable->reason);
+            std::fflush(out_);
+            return;
+        }
+        held_.pop_back();
     }
     flush_suite();
     fmt::print(out_, "{}\n", case_line(result));
-    const std::string indent(11, ' ');
+    constexpr std::size_t kIndent = 11;
+    const std::string indent(kIndent, ' ');
     for (const auto& exchange : outcome.evidence) {
-        for (const auto& text : evidence_lines(exchange))
+        const auto lines = evidence_lines(exchange);
+        for (const auto& text : wrap_evidence(lines, width_ > kIndent ? width_ - kIndent : 0))
             fmt::print(out_, "{}{}\n", indent, text);
     }
     std::fflush(out_);

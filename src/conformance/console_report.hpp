@@ -15,8 +15,14 @@ namespace mblab::conformance {
 class ConsoleReport : public RunListener, public Progress {
   public:
     // `colour`: verdicts in colour (PASS green, FAIL red, N/A and NOT RUN yellow), for a terminal.
-    ConsoleReport(std::FILE* out, std::FILE* progress, bool show_progress, bool colour = false)
-        : out_(out), progress_(progress), show_progress_(show_progress), colour_(colour) {}
+    // `width`: the evidence of a failure is cut to lines of this many columns (0: never cut).
+    ConsoleReport(std::FILE* out, std::FILE* progress, bool show_progress, bool colour = false,
+                  std::size_t width = 0)
+        : out_(out),
+          progress_(progress),
+          show_progress_(show_progress),
+          colour_(colour),
+          width_(width) {}
 
     void header(const std::string& target, const Dut& dut, const std::string& note);
     void suite_started(const Suite& suite) override;
@@ -27,8 +33,8 @@ class ConsoleReport : public RunListener, public Progress {
     void clear() override;
 
   private:
-    // A suite none of whose cases can run here (every one N/A for one reason, such as the
-    // security suite over tcp://) is one line; its case lines wait until that is known.
+    // A suite none of whose cases can run here (suite_inapplicable) is one line; its case lines
+    // wait until that is known.
     void flush_suite();
     std::string case_line(const CaseResult& result) const;
     std::string verdict_cell(Verdict verdict) const;
@@ -37,6 +43,7 @@ class ConsoleReport : public RunListener, public Progress {
     std::FILE* progress_;
     bool show_progress_;
     bool colour_;
+    std::size_t width_;
     bool progress_shown_ = false;
     std::size_t id_width_ = 8;
     std::string suite_name_;

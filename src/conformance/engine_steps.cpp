@@ -127,7 +127,8 @@ Outcome Engine::run_steps(const Case& c, bool& fresh) {
             // Exception 01 is only right when the function is not served at all: a device that
             // serves it and answers 01 to a request it should refuse otherwise (a quantity of 0,
             // say: [APP] asks 03) fails.
-            const std::uint8_t function = pdu_of(resolved.request).front();
+            const auto asked = pdu_of(resolved.request);
+            const std::uint8_t function = asked.front();
             const std::string at_step = steps.size() > 1
                                             ? fmt::format(" (step {} of {})", i + 1, steps.size())
                                             : std::string();
@@ -141,22 +142,22 @@ Outcome Engine::run_steps(const Case& c, bool& fresh) {
                     fresh = true;
                     return verdict(Verdict::NotApplicable,
                                    fmt::format("the device answered exception 01: function {:02X} "
-                                               "is not supported{}",
-                                               function, at_step));
+                                               "is not supported{}{}",
+                                               function, at_step, role_hint(session_, asked)));
                 }
                 fail_step(i,
                           fmt::format("exception 01 (illegal function), yet the device serves "
-                                      "{} ({}): 01 says a function is not served",
-                                      service_name(pdu_of(resolved.request)),
+                                      "{} ({}): 01 says a function is not served{}",
+                                      service_name(asked),
                                       seen ? "it answered it otherwise earlier in this run"
                                            : "its plain request was answered " +
-                                                 client::hex_bytes(served->received)),
+                                                 client::hex_bytes(served->received),
+                                      role_hint(session_, asked)),
                           std::move(failed));
                 break;
             }
             // Individual access to device identification (read code 04) is optional: a device
             // whose conformity level says stream access only answers it 03 ([APP] 6.21).
-            const auto asked = pdu_of(resolved.request);
             if (c.unsupported_is_na && asked.size() == 4 && asked[0] == kEncapsulated &&
                 asked[1] == kMeiReadDeviceId && asked[kReadCodeAt] == 0x04 &&
                 is_exception(exchange, protocol::ExceptionCode::IllegalDataValue)) {
@@ -178,10 +179,12 @@ Outcome Engine::run_steps(const Case& c, bool& fresh) {
                 if (silent && !step.silence) reason += session_.no_answer_hint(resolved.request);
                 // 01 where the case's document asks for an answer: a function the device lacks,
                 // which that section requires (unless the device serves it after all).
-                if (is_exception(exchange, protocol::ExceptionCode::IllegalFunction) &&
-                    !served_anyway(asked)) {
-                    reason += fmt::format(": the device does not serve {}, which {} requires",
-                                          service_name(asked), c.source);
+                if (is_exception(exchange, protocol::ExceptionCode::IllegalFunction)) {
+                    if (!served_anyway(asked)) {
+                        reason += fmt::format(": the device does not serve {}, which {} requires",
+                                              service_name(asked), c.source);
+                    }
+                    reason += role_hint(session_, asked);
                 }
             }
             fail_step(i, std::move(reason), judgement.exchange);

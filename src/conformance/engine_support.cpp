@@ -6,6 +6,7 @@
 #include "conformance/judge.hpp"
 #include "protocol/adu.hpp"
 #include "protocol/exception_code.hpp"
+#include "protocol/function_table.hpp"
 #include "protocol/mbap_header.hpp"
 #include "protocol/response.hpp"
 
@@ -178,6 +179,17 @@ std::string service_name(std::span<const std::uint8_t> pdu) {
         return fmt::format("function 2B MEI type {:02X}", pdu[1]);
     }
     return fmt::format("function {:02X}", pdu[0]);
+}
+
+std::string role_hint(const Session& session, std::span<const std::uint8_t> pdu) {
+    const std::string& role = session.certificate_role();
+    if (role.empty() || pdu.empty()) return {};
+    // A role may read and still not use every reading function: only writes are named as such.
+    const auto* row = protocol::find_function(pdu[0]);
+    const std::string what = row != nullptr && row->writes == protocol::Writes::Yes
+                                 ? std::string("write")
+                                 : fmt::format("use function {:02X}", pdu[0]);
+    return fmt::format(", or the certificate's role {} may not {} ([SEC] R-31)", role, what);
 }
 
 }  // namespace mblab::conformance::engine_detail

@@ -73,4 +73,10 @@ std::optional<std::uint32_t> service_key(std::span<const std::uint8_t> pdu);
 // "function 03", "function 08 sub-function 0002", "function 2B MEI type 0E".
 std::string service_name(std::span<const std::uint8_t> pdu);
 
+// Over mbaps:// a role's rights refuse a request with exception 01 as a device without the
+// function does ([SEC] R-31): ", or the certificate's role ReadOnly may not write ([SEC] R-31)"
+// ("may not use function 0B" for a function that writes nothing) to add to an exception 01's
+// reason; empty when the tester's certificate carries no role.
+std::string role_hint(const Session& session, std::span<const std::uint8_t> pdu);
+
 }  // namespace mblab::conformance::engine_detail

@@ -3,8 +3,10 @@
 #include <fmt/core.h>
 
 #include <algorithm>
+#include <cctype>
 
 #include "client/hex_text.hpp"
+#include "client/tls_sniff.hpp"
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
@@ -139,9 +141,40 @@ std::string connection_count(const Exchange& exchange) {
     return fmt::format(" (request {} on this connection)", exchange.on_connection);
 }
 
+constexpr std::size_t kHeaderCells = 7;
+
+// Byte `i` of the expected PDU when the pattern fixes it (not XX, not a computed length).
+std::optional<std::uint8_t> expected_pdu_byte(const std::vector<std::string>& cells,
+                                              std::size_t i) {
+    if (cells.size() <= kHeaderCells + i) return std::nullopt;
+    const std::string& cell = cells[kHeaderCells + i];
+    if (cell.size() != 2 || !std::isxdigit(static_cast<unsigned char>(cell[0])) ||
+        !std::isxdigit(static_cast<unsigned char>(cell[1]))) {
+        return std::nullopt;
+    }
+    return static_cast<std::uint8_t>(std::stoul(cell, nullptr, 16));
+}
+
+// "; also wrong transaction id" when the MBAP header differs as well; the length field differs
+// with the kind of answer and is not named.
+std::string header_faults(const Exchange& exchange) {
+    constexpr std::size_t kLengthField = 4;
+    std::string text;
+    for (std::size_t position : exchange.match.differs) {
+        if (position >= kHeaderCells || position >= exchange.received.size()) continue;
+        if (position == kLengthField || position == kLengthField + 1) continue;
+        const auto name = field_at(position, -1);
+        if (text.find(name) != std::string::npos) continue;
+        text += (text.empty() ? "; also wrong " : ", ") + std::string(name);
+    }
+    return text;
+}
+
 }  // namespace
 
 std::string describe_failure(const Exchange& exchange) {
+    // A TLS server reached over plain TCP: the link's one line says what to do.
+    if (client::is_tls_answer_text(exchange.detail)) return exchange.detail;
     const auto& got = exchange.received;
     switch (exchange.status) {
         case client::ReceiveStatus::Timeout:
@@ -167,34 +200,44 @@ std::string describe_failure(const Exchange& exchange) {
                            : fmt::format("the device sent {} bytes when silence was expected",
                                          got.size() + exchange.discarded);
     }
-    // An exception answer to a request that expected data is the most common failure: name it.
-    // The expected pattern is in the catalogue's notation, an MBAP frame: its PDU starts after the
-    // 7 cells of the header.
+    // An answer of the wrong kind (data where an exception was due, or the converse) is said in
+    // those words: the fields that differ between the two kinds say nothing more. The expected
+    // pattern is in the catalogue's notation, an MBAP frame: its PDU starts after the 7 cells of
+    // the header.
     const auto answer = protocol::read_mbap_frame(got);
     const std::span<const std::uint8_t> pdu =
         answer ? answer->pdu : std::span<const std::uint8_t>{};
-    constexpr std::size_t kHeaderCells = 7;
-    const auto& cells = exchange.match.expected_cells;
-    const std::span<const std::string> expected_pdu = cells.size() > kHeaderCells
-                                                          ? std::span(cells).subspan(kHeaderCells)
-                                                          : std::span<const std::string>{};
-    const bool expected_exception =
-        !expected_pdu.empty() && expected_pdu[0] != "XX" && expected_pdu[0][0] >= '8';
+    const auto asked = protocol::read_mbap_frame(exchange.sent);
+    const int function = asked && !asked->pdu.empty() ? asked->pdu[0] : -1;
+    const auto wanted = expected_pdu_byte(exchange.match.expected_cells, 0);
+    const bool exception_expected = wanted && (*wanted & protocol::kExceptionBit) != 0;
+    if (!pdu.empty() && function >= 0 && pdu[0] == function && exception_expected &&
+        *wanted == (function | protocol::kExceptionBit)) {
+        const auto code = expected_pdu_byte(exchange.match.expected_cells, 1);
+        return (code ? fmt::format(
+                           "answered with data where exception {:02X} ({}) was expected", *code,
+                           protocol::exception_name(static_cast<protocol::ExceptionCode>(*code)))
+                     : std::string("answered with data where an exception was expected")) +
+               header_faults(exchange);
+    }
     if (pdu.size() == 2 && (pdu[0] & protocol::kExceptionBit) != 0) {
         auto code = static_cast<protocol::ExceptionCode>(pdu[1]);
         std::string text =
             fmt::format("exception {:02X} ({})", pdu[1], protocol::exception_name(code));
-        if (!expected_exception) return text;
-        if (expected_pdu.size() > 1 && expected_pdu[1] != "XX" &&
-            exchange.match.differs.size() == 1 &&
+        if (wanted && *wanted == function && pdu[0] == (function | protocol::kExceptionBit)) {
+            return text + " where data was expected" + header_faults(exchange);
+        }
+        if (!exception_expected) return text;
+        const auto code_wanted = expected_pdu_byte(exchange.match.expected_cells, 1);
+        if (code_wanted && exchange.match.differs.size() == 1 &&
             exchange.match.differs.front() == kHeaderCells + 1) {
-            return text + " instead of " + expected_pdu[1];
+            return fmt::format("{} instead of {:02X}", text, *code_wanted);
         }
     }
     std::vector<std::string_view> fields;
-    const int function = pdu.empty() ? -1 : pdu[0];
+    const int answered = pdu.empty() ? -1 : pdu[0];
     for (std::size_t position : exchange.match.differs) {
-        auto name = position < got.size() ? field_at(position, function)
+        auto name = position < got.size() ? field_at(position, answered)
                                           : std::string_view("missing bytes");
         if (std::find(fields.begin(), fields.end(), name) == fields.end()) fields.push_back(name);
     }

@@ -87,8 +87,18 @@ std::chrono::microseconds suite_time(const SuiteResult& suite) {
     return elapsed;
 }
 
+// The counts of the <testcase> elements a suite shows: one N/A when it cannot apply at all.
+Counts shown_counts(const SuiteResult& suite) {
+    if (!suite_inapplicable(suite.name, suite.cases)) return count(suite);
+    Counts one;
+    one.not_applicable = 1;
+    return one;
+}
+
 std::string junit_document(const RunResult& result, const std::string& suite_properties) {
-    const Counts total = result.counts();
+    Counts total;
+    for (const auto& suite : result.suites)
+        total += shown_counts(suite);
     // The total is the sum of the suites' times, so the figures agree when a reader adds them
     // up; the run's wall time (which also holds connecting and settling between cases) is the
     // JSON report's. Whole microseconds, so the printed figures add up exactly.
@@ -102,15 +112,25 @@ std::string junit_document(const RunResult& result, const std::string& suite_pro
         "time=\"{}\">\n",
         xml_escape(result.target), total.total(), total.failed, seconds(total_time));
     for (const auto& suite : result.suites) {
-        const Counts counts = count(suite);
+        const auto inapplicable = suite_inapplicable(suite.name, suite.cases);
+        const Counts counts = shown_counts(suite);
         out += fmt::format(
             "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"0\" skipped=\"{}\" "
             "time=\"{}\">\n",
             xml_escape(suite.name), counts.total(), counts.failed,
             counts.not_applicable + counts.not_run, seconds(suite_time(suite)));
         out += suite_properties;
-        for (const auto& c : suite.cases)
-            out += testcase(suite.name, c);
+        if (inapplicable) {
+            // One <testcase> says why the whole suite cannot apply, as the console's one line.
+            out += fmt::format(
+                "    <testcase classname=\"{}\" name=\"{}\" time=\"{}\">\n      <skipped "
+                "message=\"{}: {}\"/>\n    </testcase>\n",
+                xml_escape(suite.name), xml_escape(inapplicable->title), seconds(suite_time(suite)),
+                verdict_label(Verdict::NotApplicable), xml_escape(inapplicable->reason));
+        } else {
+            for (const auto& c : suite.cases)
+                out += testcase(suite.name, c);
+        }
         out += "  </testsuite>\n";
     }
     out += "</testsuites>\n";

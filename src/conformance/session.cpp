@@ -82,6 +82,10 @@ bool Session::connect(client::LinkError& error) {
         return false;
     }
     link_ = std::move(opened.value());
+    if (const auto* peer = link_->tls_peer();
+        peer != nullptr && peer->own_role.kind == security::RoleReading::Kind::Role) {
+        certificate_role_ = peer->own_role.role;
+    }
     ever_connected_ = true;
     connection_requests_ = 0;
     last_frame_.clear();

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -105,6 +106,9 @@ class Session {
     void end_case();
     // This case's frames on a line, as the line carried them, by their catalogue notation.
     const LineFrames& line_frames() const { return line_frames_; }
+    // The role the tester's certificate carries over mbaps://, once a session was
+    // made; empty on any other link and for a certificate without a role.
+    const std::string& certificate_role() const { return certificate_role_; }
 
     std::size_t requests() const { return requests_; }
     // Whether the device ever sent a byte on any connection of this session.
@@ -146,6 +150,7 @@ class Session {
     std::size_t requests_ = 0;
     std::size_t connection_requests_ = 0;
     std::vector<std::uint8_t> last_frame_;
+    std::string certificate_role_;
     bool probed_ = false;
     bool heard_ = false;
     bool ever_connected_ = false;

@@ -1,5 +1,7 @@
 #include "conformance/verdict.hpp"
 
+#include <fmt/core.h>
+
 #include "support/name_table.hpp"
 
 namespace mblab::conformance {
@@ -37,6 +39,19 @@ Counts RunResult::counts() const {
     for (const auto& suite : suites)
         total += count(suite);
     return total;
+}
+
+std::optional<Inapplicable> suite_inapplicable(std::string_view suite_name,
+                                               std::span<const CaseResult> cases) {
+    if (cases.size() < 2) return std::nullopt;
+    const std::string& reason = cases.front().outcome.reason;
+    for (const auto& c : cases) {
+        if (c.outcome.verdict != Verdict::NotApplicable || c.interrupted ||
+            c.outcome.reason != reason) {
+            return std::nullopt;
+        }
+    }
+    return Inapplicable{fmt::format("all {} cases of {}", cases.size(), suite_name), reason};
 }
 
 }  // namespace mblab::conformance

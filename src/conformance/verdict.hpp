@@ -3,6 +3,8 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -87,5 +89,16 @@ struct RunResult {
 };
 
 Counts count(const SuiteResult& suite);
+
+// A suite that cannot apply to the target (the security suite over tcp://): more than one case,
+// every one N/A for one reason. The console, the HTML report and JUnit show it as one line, in
+// these words: "all 12 cases of security" and the reason.
+struct Inapplicable {
+    std::string title;
+    std::string reason;
+};
+// `cases` are the whole suite's; nullopt when the suite applies, even in part.
+std::optional<Inapplicable> suite_inapplicable(std::string_view suite_name,
+                                               std::span<const CaseResult> cases);
 
 }  // namespace mblab::conformance

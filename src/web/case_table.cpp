@@ -5,7 +5,6 @@
 #include <algorithm>
 
 #include "conformance/evidence_text.hpp"
-#include "conformance/line_evidence.hpp"
 #include "conformance/references.hpp"
 #include "support/name_table.hpp"
 #include "web/page.hpp"
@@ -16,27 +15,17 @@ namespace {
 
 namespace conf = mblab::conformance;
 
-// evidence_lines lays a frame out after a 10-character label, each byte two columns where
-// frame_column says; the ^^ line under them marks the same columns.
-constexpr std::size_t kLabelWidth = 10;
-
-// `line` escaped, the two characters of each byte in `cells` (below `count`) wrapped in <mark>.
-std::string marked_line(const std::string& line, const std::vector<std::size_t>& cells,
-                        std::size_t count, client::Framing framing) {
-    std::vector<bool> marked(line.size(), false);
-    for (std::size_t cell : cells) {
-        if (cell >= count) continue;
-        const std::size_t column = kLabelWidth + conf::frame_column(framing, cell);
-        for (std::size_t i = column; i < column + 2 && i < line.size(); ++i)
-            marked[i] = true;
-    }
+// `line` escaped, its marked columns wrapped in <mark>.
+std::string marked_line(const conf::EvidenceLine& line) {
     std::string out;
-    for (std::size_t i = 0; i < line.size(); ++i) {
-        if (marked[i] && (i == 0 || !marked[i - 1])) out += "<mark class=\"diff\">";
-        out += html_escape(std::string_view(&line[i], 1));
-        if (marked[i] && (i + 1 == line.size() || !marked[i + 1])) out += "</mark>";
+    std::size_t at = 0;
+    for (const auto& [first, last] : line.marked) {
+        out += html_escape(std::string_view(line.text).substr(at, first - at));
+        out += "<mark class=\"diff\">" +
+               html_escape(std::string_view(line.text).substr(first, last - first)) + "</mark>";
+        at = last;
     }
-    return out;
+    return out + html_escape(std::string_view(line.text).substr(at));
 }
 
 // Each citation of a case's source links to its document, the section in the link's title (the
@@ -67,31 +56,48 @@ std::string_view verdict_class(conf::Verdict verdict) {
 }
 
 std::string evidence_html(const conf::Exchange& exchange) {
-    const auto lines = conf::evidence_lines(exchange);
-    // As in evidence_lines: only a received frame is compared byte by byte.
-    const bool compared = !exchange.received.empty() && !exchange.match.differs.empty();
-    const auto& differs = exchange.match.differs;
     std::string out = "<pre class=\"evidence\">";
-    for (std::size_t i = 0; i < lines.size(); ++i) {
-        if (compared && i == 1) {
-            out += marked_line(lines[i], differs,
-                               conf::frame_cells(exchange.framing, exchange.received),
-                               exchange.framing);
-        } else if (compared && i == 2) {
-            out += marked_line(lines[i], differs, exchange.match.expected_cells.size(),
-                               exchange.framing);
-        } else {
-            out += html_escape(lines[i]);
-        }
-        out += '\n';
+    for (const auto& line : conf::evidence_layout(exchange)) {
+        // The marks show which bytes differ; a ^^ line would not stay under them once the
+        // browser wraps a long frame.
+        if (line.text.find_first_not_of(" ^") == std::string::npos) continue;
+        out += marked_line(line) + '\n';
     }
     return out + "</pre>\n";
 }
+
+namespace {
+
+// The one row of a suite that cannot apply: its case ids all in data-id, so the search by id
+// still finds it; the sources its cases cite, each once.
+std::string inapplicable_row(const conf::SuiteResult& suite, const conf::Inapplicable& why) {
+    std::string ids;
+    std::vector<std::string_view> sources;
+    for (const auto& c : suite.cases) {
+        ids += (ids.empty() ? "" : " ") + c.id;
+        if (std::find(sources.begin(), sources.end(), c.source) == sources.end())
+            sources.push_back(c.source);
+    }
+    std::string cited;
+    for (const auto source : sources)
+        cited += (cited.empty() ? "" : "; ") + source_html(source);
+    const auto label = html_escape(conf::verdict_label(conf::Verdict::NotApplicable));
+    return fmt::format(
+        "<tbody class=\"case\" data-verdict=\"{}\" data-id=\"{}\">\n<tr><td>{}</td>"
+        "<td class=\"{}\">{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n</tbody>\n",
+        label, html_escape(ids), html_escape(fmt::format("all {}", suite.cases.size())),
+        verdict_class(conf::Verdict::NotApplicable), label, html_escape(why.title),
+        html_escape(why.reason), cited);
+}
+
+}  // namespace
 
 std::string case_table(const conf::SuiteResult& suite) {
     std::string out =
         "<table class=\"cases\">\n<thead><tr><th>case</th><th>verdict</th><th>title</th>"
         "<th>reason</th><th>source</th></tr></thead>\n";
+    if (const auto why = conf::suite_inapplicable(suite.name, suite.cases))
+        return out + inapplicable_row(suite, *why) + "</table>\n";
     for (const auto& c : suite.cases) {
         const auto& outcome = c.outcome;
         out += fmt::format(

@@ -12,8 +12,9 @@ namespace mblab::web {
 // The verdict as a CSS class name: PASS, FAIL, NA, NOTRUN.
 std::string_view verdict_class(conformance::Verdict verdict);
 
-// An exchange as the console shows it (conformance::evidence_lines), with the bytes that differ
-// from the expected ones marked <mark class="diff"> in the received and the expected lines.
+// An exchange as the console shows it (conformance::evidence_layout), with the bytes that differ
+// from the expected ones marked <mark class="diff"> in the received and the expected lines, which
+// take the place of the ^^ line.
 std::string evidence_html(const conformance::Exchange& exchange);
 
 // A table with a <tbody class="case"> per case (id, verdict, title, reason, source and the

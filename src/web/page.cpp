@@ -17,6 +17,9 @@ th { background: #f2f2f2; }
 td.number { text-align: right; font-variant-numeric: tabular-nums; }
 pre { margin: 0.3em 0; font-size: 0.9em; }
 pre#plan { white-space: pre-wrap; }
+table.cases { max-width: 100%; }
+table.cases td:nth-child(4), table.cases td:nth-child(5) { overflow-wrap: anywhere; }
+pre.evidence { white-space: pre-wrap; overflow-wrap: anywhere; }
 mark.diff { background: #ffb3b3; color: #000; font-weight: bold; }
 .banner { padding: 0.5em 0.8em; font-weight: bold; display: inline-block; }
 .PASS { color: #126b12; } .FAIL { color: #b30000; } .NA, .NOTRUN, .INCOMPLETE { color: #8a6100; }

@@ -4,7 +4,8 @@
 Debian's headless chromium opens each report from file:// through chromedriver, spoken to as
 the W3C WebDriver JSON protocol over loopback with nothing but the standard library. Checked:
 every case of the JSON report is on the page, the verdict filters and the case id search show
-exactly the cases they should, the differing bytes of a failure are marked, the load report has
+exactly the cases they should, the differing bytes of a failure are marked, a 250-byte frame's
+evidence wraps so the source column stays on a 1280-pixel screen, the load report has
 its node table and a latency chart per node, the screenshots are the window's size and not one
 colour, and the browser's console has no error.
 
@@ -222,6 +223,46 @@ def check_conform(driver, mblab, work, shots):
     return len(cases), len(failed), shot
 
 
+def check_long_frame(driver, mblab, work, shots):
+    """A 250-byte answer in a failure's evidence: at 1280 px the page does not scroll sideways
+    and the source column is on screen."""
+    # 125 holding registers whose bytes never repeat 8 times, so no run is compacted.
+    values = ", ".join(str((i << 8) | (i ^ 0x5A)) for i in range(125))
+    profile = os.path.join(work, "long.toml")
+    with open(profile, "w") as f:
+        f.write(f'name = "long frames"\n[[unit]]\nid = 1\n'
+                f'holding_registers = [{{start = 0, values = [{values}]}}]\n')
+    suite = os.path.join(work, "long-suite.toml")
+    with open(suite, "w") as f:
+        f.write('[suite]\nname = "long"\n[[case]]\nsource = "APP 6.3"\nid = "long.1"\n'
+                'title = "125 registers where 1 was expected"\n'
+                'request = "00 01 00 00 00 06 01 03 00 00 00 7D"\n'
+                'expect = "00 01 00 00 00 05 01 03 02 XX XX"\n')
+    html = os.path.join(work, "long.html")
+    run = subprocess.run([mblab, "conform", "--profile", profile, "--suite", suite,
+                          "--html", html], capture_output=True, text=True, timeout=120)
+    check(run.returncode == 1, f"conform exited {run.returncode}: {run.stdout}{run.stderr}")
+    driver.do("POST", "/window/rect", {"width": 1280, "height": HEIGHT})
+    try:
+        driver.open("file://" + html)
+        received = driver.run("return document.querySelector('pre.evidence').textContent"
+                              ".split('\\n')[1].length;")
+        check(received > 700, f"the evidence holds no 250-byte frame ({received} characters)")
+        inner = driver.run("return window.innerWidth;")
+        wide = driver.run("return document.documentElement.scrollWidth;")
+        check(wide <= inner, f"the page is {wide} px wide in a {inner} px window")
+        right = driver.run("var row = document.querySelector('tbody.case tr');"
+                           "return row.cells[4].getBoundingClientRect().right;")
+        check(0 < right <= inner, f"the source column ends at {right} px, off a {inner} px window")
+        driver.run("document.querySelector('pre.evidence').scrollIntoView({block: 'center'});")
+        shot = driver.screenshot()
+        with open(os.path.join(shots, "conform-long-frame.png"), "wb") as f:
+            f.write(shot)
+    finally:
+        driver.do("POST", "/window/rect", {"width": WIDTH, "height": HEIGHT})
+    return inner, right
+
+
 def check_load(driver, mblab, work, shots):
     serve = subprocess.Popen([mblab, "serve", "--listen", "tcp://127.0.0.1:0"],
                              stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
@@ -307,6 +348,9 @@ def check_both(driver, mblab, work, shots):
     cases, failed, shot = check_conform(driver, mblab, work, shots)
     yield (f"conform report: {cases} cases, {failed} failures, filters and search work, "
            f"screenshot {shot[0]}x{shot[1]} with {shot[2]}+ colours")
+    inner, right = check_long_frame(driver, mblab, work, shots)
+    yield (f"a 250-byte frame at {inner} px: no sideways scroll, the source column ends at "
+           f"{right:.0f} px")
     bars, shot = check_load(driver, mblab, work, shots)
     yield (f"load report: node table, latency chart of {bars} bars, "
            f"screenshot {shot[0]}x{shot[1]} with {shot[2]}+ colours")

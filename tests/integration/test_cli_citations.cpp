@@ -88,8 +88,9 @@ TEST(Citations, ReportsCiteDocumentsAndAMissingFunctionNamesTheSectionRequiringI
         run_mblab({"conform", "--profile", "rs485-instrument", "--suite", "policy-2.1", "--case",
                    "7.3.1", "--case", "7.5.1", "--junit", junit, "--html", html, "--json", json});
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_THAT(ran.out, HasSubstr("exception 01 (illegal function): the device does not serve "
-                                   "function 01, which CTP 7.3.1 requires"));
+    EXPECT_THAT(ran.out, HasSubstr("exception 01 (illegal function) where data was expected: "
+                                   "the device does not serve function 01, which CTP 7.3.1 "
+                                   "requires"));
     for (const auto& [name, text] :
          {std::pair{"console", ran.out + ran.err}, std::pair{"junit", slurp(junit)},
           std::pair{"html", slurp(html)}, std::pair{"json", slurp(json)}}) {

@@ -21,6 +21,7 @@
 #include "server/background_server.hpp"
 #include "support/faulty_server.hpp"
 #include "support/ports.hpp"
+#include "support/rewriting_handler.hpp"
 #include "support/temp_path.hpp"
 
 // `mblab conform` as users run it: exit statuses, console lines, report files.
@@ -28,6 +29,7 @@ namespace mblab::conformance {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 using test::Ran;
 
@@ -196,20 +198,81 @@ TEST(ConformCli, ASuiteThatCannotApplyIsOneLineAndTheSummarySaysWhatToDeclare) {
     server::BackgroundServer server(*loaded.value());
     auto port = server.start();
     ASSERT_TRUE(port.ok()) << port.error();
+    const std::string html = test::temp_path("inapplicable.html");
+    const std::string junit = test::temp_path("inapplicable.xml");
     auto ran = mblab({"conform", "tcp://127.0.0.1:" + std::to_string(*port), "--suite",
-                      "function-codes", "--suite", "security"});
+                      "function-codes", "--suite", "security", "--html", html, "--junit", junit});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
     // Over tcp:// no security case can run: one line, not twelve.
-    EXPECT_NE(ran.out.find("  N/A      all 12 cases of security  (a Modbus/TCP Security case: the "
-                           "device is not reached over mbaps://"),
-              std::string::npos)
+    const std::string why = "a Modbus/TCP Security case: the device is not reached over mbaps://";
+    EXPECT_NE(ran.out.find("  N/A      all 12 cases of security  (" + why), std::string::npos)
         << ran.out;
     EXPECT_EQ(ran.out.find("sec.1 "), std::string::npos) << ran.out;
+    // The HTML report and JUnit say it the same way: one row, one <testcase>.
+    const std::string page = slurp(html);
+    EXPECT_THAT(page, HasSubstr("<td>all 12 cases of security</td><td>" + why));
+    EXPECT_THAT(page, Not(HasSubstr("<td>sec.1</td>")));
+    const std::string xml = slurp(junit);
+    EXPECT_THAT(xml, HasSubstr("<testsuite name=\"security\" tests=\"1\" failures=\"0\" "
+                               "errors=\"0\" skipped=\"1\""));
+    EXPECT_THAT(xml, HasSubstr("name=\"all 12 cases of security\""));
+    EXPECT_THAT(xml, HasSubstr("<skipped message=\"N/A: " + why));
+    EXPECT_THAT(xml, Not(HasSubstr("sec.1 ")));
     // Nothing was declared: the N/A cases of function-codes are counted per missing key.
     EXPECT_NE(ran.out.find("N/A for want of a declaration, cases per DUT key: "), std::string::npos)
         << ran.out;
     EXPECT_NE(ran.out.find("coils ("), std::string::npos) << ran.out;
     EXPECT_NE(ran.out.find("registers ("), std::string::npos) << ran.out;
+}
+
+// A device built wrong: FC 01 of quantity 0 ([APP] 6.1: exception 03) is answered with 250
+// bytes of data, 00 to 27 and then 5A.
+TEST(ConformCli, DataWhereAnExceptionWasDueIsSaidInWordsWithTheLongFrameCompacted) {
+    auto loaded = device::load_profile(std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml");
+    ASSERT_TRUE(loaded.ok());
+    test::RewritingHandler wrong(
+        *loaded.value(),
+        [](std::span<const std::uint8_t> request) -> std::optional<std::vector<std::uint8_t>> {
+            if (request.size() != 5 || request[0] != 0x01 || request[3] != 0 || request[4] != 0)
+                return std::nullopt;
+            std::vector<std::uint8_t> answer = {0x01, 250};
+            for (std::uint8_t i = 0; i < 250; ++i)
+                answer.push_back(i < 40 ? i : 0x5A);
+            return answer;
+        });
+    server::BackgroundServer server(wrong);
+    auto port = server.start();
+    ASSERT_TRUE(port.ok()) << port.error();
+    const std::string html = temp("data-for-exception.html");
+    const std::string junit = temp("data-for-exception.xml");
+    // COLUMNS cuts the evidence even though standard output is a pipe here.
+    auto ran =
+        test::run_program({"/usr/bin/env", "COLUMNS=80", MBLAB_BINARY, "conform",
+                           "tcp://127.0.0.1:" + std::to_string(*port), "--suite", "function-codes",
+                           "--case", "fc01.3", "--html", html, "--junit", junit},
+                          std::chrono::seconds(60));
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    const std::string words =
+        "answered with data where exception 03 (illegal data value) was expected";
+    EXPECT_THAT(ran.out,
+                HasSubstr("FAIL     fc01.3  Read coils, quantity 0 answers 03  (" + words + ")"));
+    // The evidence is cut at 80 columns, the received bytes in three pieces, the run one cell.
+    EXPECT_THAT(ran.out, HasSubstr("           received  00 03 00 00 00 FD 01 01 FA 00 01 02"));
+    EXPECT_THAT(ran.out, HasSubstr(" 26 27 5A x210\n"));
+    std::size_t pieces = 0;
+    std::istringstream lines(ran.out);
+    for (std::string line; std::getline(lines, line);) {
+        if (!line.starts_with("           ")) continue;
+        EXPECT_LE(line.size(), 80U) << line;
+        pieces += line.starts_with("           received  ") ? 1 : 0;
+    }
+    EXPECT_EQ(pieces, 3U) << ran.out;
+    const std::string page = slurp(html);
+    EXPECT_THAT(page, HasSubstr("<td>" + words + "</td>"));
+    EXPECT_THAT(page, HasSubstr("<mark class=\"diff\">5A x210</mark>"));
+    const std::string xml = slurp(junit);
+    EXPECT_THAT(xml, HasSubstr("<failure message=\"" + words + "\""));
+    EXPECT_THAT(xml, HasSubstr(" 26 27 5A x210\n"));
 }
 
 class ConformCliFaultyTarget : public ::testing::Test {

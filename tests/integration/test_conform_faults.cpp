@@ -273,8 +273,8 @@ TEST(ConformFaults, OutOfRangeDataPastTheEndFailsNamingTheDecidingRead) {
     const auto& c = find(run, "9.1.2");
     EXPECT_EQ(verdict_label(c.outcome.verdict), "FAIL");
     EXPECT_TRUE(has(c.outcome.reason,
-                    "so the read past the end decides: read of 2 registers at "
-                    "FFFF: wrong length field, function code"))
+                    "so the read past the end decides: read of 2 registers at FFFF: answered "
+                    "with data where exception 02 (illegal data address) was expected"))
         << c.outcome.reason;
 }
 

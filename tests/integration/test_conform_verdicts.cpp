@@ -260,7 +260,7 @@ const IndividualAccessCase kIndividualAccess[] = {
     {"RefusedByADeviceThatDeclaresItFails",
      0x81,
      {"devid.2"},
-     {Verdict::Fail, Eq("exception 03 (illegal data value)")}},
+     {Verdict::Fail, Eq("exception 03 (illegal data value) where data was expected")}},
 };
 
 class ConformIndividualAccess : public ::testing::TestWithParam<IndividualAccessCase> {};

@@ -113,8 +113,50 @@ TEST(ConformHtml, MarksTheDifferingBytesOfAFailure) {
     EXPECT_EQ(evidence_html(failed_read()),
               "<pre class=\"evidence\">sent      00 00 00 00 00 06 01 01 00 00 00 01\n"
               "received  00 <mark class=\"diff\">01</mark> 00 00 00 04 01 01 01 00\n"
-              "expected  00 <mark class=\"diff\">00</mark> 00 00 00 04 01 01 01 XX\n"
-              "             ^^\n</pre>\n");
+              "expected  00 <mark class=\"diff\">00</mark> 00 00 00 04 01 01 01 XX\n</pre>\n");
+}
+
+// A 250-byte answer of one repeated byte where 2 bytes were expected: the extra bytes are one
+// cell, marked whole, and the evidence wraps instead of widening the table.
+TEST(ConformHtml, MarksACompactedRunWholeAndWrapsTheEvidence) {
+    conf::Exchange exchange;
+    exchange.sent = hex("00 00 00 00 00 06 01 03 00 00 00 7D");
+    exchange.status = client::ReceiveStatus::Frame;
+    exchange.received = hex("00 00 00 00 00 FD 01 03 FA");
+    exchange.received.insert(exchange.received.end(), 250, 0x5A);
+    exchange.expected = "00 00 00 00 00 05 01 03 02 XX XX";
+    exchange.match =
+        conf::match(conf::ResolvedPattern{conf::Pattern::parse(exchange.expected)->tokens()},
+                    exchange.received);
+    const auto html = evidence_html(exchange);
+    EXPECT_TRUE(has(html,
+                    "received  00 00 00 00 00 <mark class=\"diff\">FD</mark> 01 03 "
+                    "<mark class=\"diff\">FA</mark> 5A 5A <mark class=\"diff\">5A "
+                    "x248</mark>\n"))
+        << html;
+    const auto page = conform_html_report(sample_run(), sample_provenance());
+    EXPECT_TRUE(has(page, "pre.evidence { white-space: pre-wrap; overflow-wrap: anywhere; }"));
+    EXPECT_TRUE(has(page,
+                    "table.cases td:nth-child(4), table.cases td:nth-child(5) { "
+                    "overflow-wrap: anywhere; }"));
+}
+
+TEST(ConformHtml, ASuiteThatCannotApplyIsOneRow) {
+    conf::RunResult run = sample_run();
+    conf::SuiteResult security{"security", "Security", "security.toml", {}};
+    for (const char* id : {"sec.1", "sec.2", "sec.3"}) {
+        security.cases.push_back(
+            {id, "[SEC] R-01", "a case",
+             conf::Outcome{conf::Verdict::NotApplicable, "not over mbaps://", {}}});
+    }
+    run.suites.push_back(security);
+    const auto html = conform_html_report(run, sample_provenance());
+    EXPECT_TRUE(has(html,
+                    "<tbody class=\"case\" data-verdict=\"N/A\" data-id=\"sec.1 sec.2 "
+                    "sec.3\">\n<tr><td>all 3</td><td class=\"NA\">N/A</td><td>all 3 cases "
+                    "of security</td><td>not over mbaps://</td>"))
+        << html;
+    EXPECT_FALSE(has(html, "<td>sec.2</td>"));
 }
 
 TEST(ConformHtml, SaysTheRunWasInterrupted) {
