@@ -166,7 +166,7 @@ class BlockReader {
                 got == previous) {
                 reason = describe_duplicate(got);
             } else {
-                reason = describe_failure(judgement.exchange);
+                reason = describe_failure(judgement.exchange, session_.framing());
                 if (silent) reason += session_.no_answer_hint(request);
             }
             failure_ = fail_read(flight, std::move(reason), judgement.exchange);

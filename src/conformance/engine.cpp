@@ -207,7 +207,7 @@ std::optional<std::string> Engine::no_longer_serves() {
     session_.close();
     if (answer.served == Served::Yes) return std::nullopt;
     return "afterwards a plain read (FC 03, 1 register at 0) on a new connection got " +
-           describe_failure(e);
+           describe_failure(e, session_.framing());
 }
 
 void Engine::note_served(const Exchange& exchange) {

@@ -175,7 +175,7 @@ Outcome Engine::run_steps(const Case& c, bool& fresh) {
                 exchange.received == previous_frame) {
                 reason = describe_duplicate(exchange.received);
             } else {
-                reason = describe_failure(exchange);
+                reason = describe_failure(exchange, session_.framing());
                 if (silent && !step.silence) reason += session_.no_answer_hint(resolved.request);
                 // 01 where the case's document asks for an answer: a function the device lacks,
                 // which that section requires (unless the device serves it after all).

@@ -109,7 +109,7 @@ std::optional<Outcome> follow_device_id_stream(Session& session, const Exchange&
         const auto& asked_header = request_frame->header;
         std::optional<std::string> broken;
         if (exchange.status != client::ReceiveStatus::Frame) {
-            broken = describe_failure(exchange);
+            broken = describe_failure(exchange, session.framing());
         } else if (!got_frame || got_frame->pdu.size() < 2 ||
                    got_frame->header.transaction_id != asked_header.transaction_id ||
                    got_frame->header.protocol_id != asked_header.protocol_id ||

@@ -157,9 +157,10 @@ std::optional<std::uint8_t> expected_pdu_byte(const std::vector<std::string>& ce
 
 // "; also wrong transaction id" when the MBAP header differs as well; the length field differs
 // with the kind of answer and is not named.
-std::string header_faults(const Exchange& exchange) {
+std::string header_faults(const Exchange& exchange, client::Framing carried) {
     constexpr std::size_t kLengthField = 4;
     std::string text;
+    if (carried != client::Framing::Mbap) return text;
     for (std::size_t position : exchange.match.differs) {
         if (position >= kHeaderCells || position >= exchange.received.size()) continue;
         if (position == kLengthField || position == kLengthField + 1) continue;
@@ -172,7 +173,7 @@ std::string header_faults(const Exchange& exchange) {
 
 }  // namespace
 
-std::string describe_failure(const Exchange& exchange) {
+std::string describe_failure(const Exchange& exchange, client::Framing carried) {
     // A TLS server reached over plain TCP: the link's one line says what to do.
     if (client::is_tls_answer_text(exchange.detail)) return exchange.detail;
     const auto& got = exchange.received;
@@ -218,14 +219,14 @@ std::string describe_failure(const Exchange& exchange) {
                            "answered with data where exception {:02X} ({}) was expected", *code,
                            protocol::exception_name(static_cast<protocol::ExceptionCode>(*code)))
                      : std::string("answered with data where an exception was expected")) +
-               header_faults(exchange);
+               header_faults(exchange, carried);
     }
     if (pdu.size() == 2 && (pdu[0] & protocol::kExceptionBit) != 0) {
         auto code = static_cast<protocol::ExceptionCode>(pdu[1]);
         std::string text =
             fmt::format("exception {:02X} ({})", pdu[1], protocol::exception_name(code));
         if (wanted && *wanted == function && pdu[0] == (function | protocol::kExceptionBit)) {
-            return text + " where data was expected" + header_faults(exchange);
+            return text + " where data was expected" + header_faults(exchange, carried);
         }
         if (!exception_expected) return text;
         const auto code_wanted = expected_pdu_byte(exchange.match.expected_cells, 1);
@@ -236,11 +237,16 @@ std::string describe_failure(const Exchange& exchange) {
     }
     std::vector<std::string_view> fields;
     const int answered = pdu.empty() ? -1 : pdu[0];
+    // On a line the tester laid out the transaction id, protocol id and length from the
+    // request and the answer's size: only the address and what follows came from the device.
+    constexpr std::size_t kUnitAt = 6;
     for (std::size_t position : exchange.match.differs) {
+        if (carried != client::Framing::Mbap && position < kUnitAt) continue;
         auto name = position < got.size() ? field_at(position, answered)
                                           : std::string_view("missing bytes");
         if (std::find(fields.begin(), fields.end(), name) == fields.end()) fields.push_back(name);
     }
+    if (fields.empty()) return "wrong answer length";
     if (fields.size() == 1 && fields.front() == "missing bytes") {
         return fmt::format("the answer is too short: {} bytes where at least {} were expected",
                            got.size(), exchange.match.expected_cells.size());

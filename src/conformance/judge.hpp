@@ -48,7 +48,10 @@ Exchange unasked_exchange(client::Received got, std::span<const std::uint8_t> la
 std::string describe_duplicate(std::span<const std::uint8_t> frame);
 
 // One line saying what went wrong: "timeout after 1000 ms", "exception 02 (illegal data
-// address)", "wrong transaction id, length field", ...
-std::string describe_failure(const Exchange& exchange);
+// address)", "wrong transaction id, length field", ... `carried` is the framing the exchange
+// crossed: on a line the MBAP header of the catalogue's notation was laid out by the tester, so
+// its fields are never named.
+std::string describe_failure(const Exchange& exchange,
+                             client::Framing carried = client::Framing::Mbap);
 
 }  // namespace mblab::conformance

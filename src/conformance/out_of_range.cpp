@@ -73,7 +73,7 @@ Judgement exchange(Session& session, Read read, const std::vector<ResolvedPatter
 }
 
 Outcome failed(Session& session, Read read, const Judgement& judgement, std::string_view step) {
-    std::string reason = describe_failure(judgement.exchange);
+    std::string reason = describe_failure(judgement.exchange, session.framing());
     if (judgement.exchange.status == client::ReceiveStatus::Timeout &&
         judgement.exchange.received.empty()) {
         reason += session.no_answer_hint(judgement.exchange.sent);

@@ -64,6 +64,23 @@ TEST(FailureReason, AWrongFieldOfTheRightKindIsNamed) {
     EXPECT_EQ(describe_failure(exchange), "wrong transaction id");
 }
 
+// On a line the notation's MBAP header was laid out by the tester: a longer answer is named by
+// what the device sent (the byte count and the data), never as a wrong length field.
+TEST(FailureReason, OnALineTheLaidOutHeaderIsNeverNamed) {
+    const auto exchange =
+        judged("00 01 00 00 00 06 01 03 00 00 00 01", "00 01 00 00 00 07 01 03 04 00 00 00 00",
+               "00 01 00 00 00 05 01 03 02 XX XX");
+    EXPECT_EQ(describe_failure(exchange).rfind("wrong length field, ", 0), 0U)
+        << describe_failure(exchange);
+    const auto on_line = describe_failure(exchange, client::Framing::Rtu);
+    EXPECT_EQ(on_line.find("length field"), std::string::npos) << on_line;
+    EXPECT_NE(on_line.find("byte count"), std::string::npos) << on_line;
+    const auto other_id =
+        judged("00 01 00 00 00 06 01 03 00 00 00 01", "00 02 00 00 00 05 01 03 02 00 00",
+               "00 01 00 00 00 05 01 03 02 XX XX");
+    EXPECT_EQ(describe_failure(other_id, client::Framing::Ascii), "wrong answer length");
+}
+
 TEST(CompactHex, ARunOfEightOrMoreIdenticalBytesIsOneCell) {
     std::vector<std::uint8_t> frame = hex("00 01 00 00 00 FD 01 03 FA");
     frame.insert(frame.end(), 246, 0x5A);
