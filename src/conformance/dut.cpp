@@ -45,6 +45,8 @@ std::optional<std::int64_t> number_of(const Dut& dut, std::string_view name) {
         return dut.fifo_count_writable ? std::optional<std::int64_t>(1) : std::nullopt;
     if (name == "file_number") return widen(dut.file_number);
     if (name == "echo_max_words") return widen(dut.echo_max_words);
+    if (name == "other_address") return widen(dut.other_address);
+    if (name == "turnaround_ms") return widen(dut.turnaround_ms);
     // Security declarations are names and paths: `requires` asks only whether they were given.
     auto given = [](bool yes) { return yes ? std::optional<std::int64_t>(1) : std::nullopt; };
     if (name == "pki") return given(!dut.security.pki.empty());
@@ -111,6 +113,8 @@ const std::vector<std::string_view>& dut_keys() {
                                                        "fifo_count_writable",
                                                        "file_number",
                                                        "echo_max_words",
+                                                       "other_address",
+                                                       "turnaround_ms",
                                                        "pki",
                                                        "client_cert",
                                                        "client_key",
@@ -160,7 +164,9 @@ protocol::Result<Dut, std::string> load_dut_file(const std::string& path) {
               reader.get_number(*table, "fifo_address", dut.fifo_address, 0, 65535) &&
               reader.get(*table, "fifo_count_writable", dut.fifo_count_writable) &&
               reader.get_number(*table, "file_number", dut.file_number, 1, 65535) &&
-              reader.get_number(*table, "echo_max_words", dut.echo_max_words, 1, 124);
+              reader.get_number(*table, "echo_max_words", dut.echo_max_words, 1, 124) &&
+              reader.get_number(*table, "other_address", dut.other_address, 1, 247) &&
+              reader.get_number(*table, "turnaround_ms", dut.turnaround_ms, 0, 60000);
     SecurityDut& security = dut.security;
     ok = ok && reader.get(*table, "pki", security.pki) &&
          reader.get(*table, "client_cert", security.client.cert) &&

@@ -50,6 +50,12 @@ struct Dut {
     std::optional<std::uint16_t> file_number;
     std::optional<std::uint16_t> echo_max_words;  // FC 08/00 data limit (INSTR 5.7.1: 100)
 
+    // On a serial line [SER 2.2, 2.4.1]: an address no device on the line answers (the serial
+    // suite's "another address"; a multi-drop line knows which are free), and the delay the
+    // device needs after a broadcast before the master may ask again.
+    std::optional<std::uint8_t> other_address;
+    std::optional<std::uint32_t> turnaround_ms;
+
     // Empty over Modbus/TCP; "RTU", "ASCII" or "RTU over TCP" when the tester reaches the device
     // over a serial framing, where cases that require "mbap" are N/A.
     std::string serial_framing;

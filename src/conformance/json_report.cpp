@@ -62,6 +62,8 @@ json dut_json(const Dut& dut) {
     optional("fifo_address", dut.fifo_address);
     optional("file_number", dut.file_number);
     optional("echo_max_words", dut.echo_max_words);
+    optional("other_address", dut.other_address);
+    optional("turnaround_ms", dut.turnaround_ms);
     return out;
 }
 

@@ -112,6 +112,10 @@ std::vector<Declaration> declarations_of(
             held = number(dut.file_number);
         } else if (key == "echo_max_words") {
             held = number(dut.echo_max_words);
+        } else if (key == "other_address") {
+            held = number(dut.other_address);
+        } else if (key == "turnaround_ms") {
+            held = number(dut.turnaround_ms);
         } else if (key == "pki") {
             held = text(dut.security.pki);
         } else if (key == "client_cert") {

@@ -136,7 +136,8 @@ Outcome run_broadcast_write(Session& session, const Case& c) {
                        {}};
     }
     const auto value = static_cast<std::uint16_t>(*before ^ kFlip);
-    const auto turnaround = std::chrono::milliseconds(param(c, "turnaround_ms"));
+    const auto turnaround = std::chrono::milliseconds(session.dut().turnaround_ms.value_or(
+        static_cast<std::uint32_t>(param(c, "turnaround_ms"))));
     const auto broadcast = line.ask(line.frame(kBroadcast, line.write_request(value)), turnaround);
     if (!broadcast.silent()) return answered(session, line, broadcast, "FC 06 to address 0");
     // [SER 2.4.1]: once the turnaround delay is over the master may ask again.

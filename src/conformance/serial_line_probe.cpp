@@ -35,7 +35,10 @@ void replace_lrc(std::vector<std::uint8_t>& wire, std::uint8_t lrc) {
     wire[at + 1] = static_cast<std::uint8_t>(upper_hex(lrc));
 }
 
-std::uint8_t other_address(const Case& c, std::uint8_t own) {
+// The DUT's declaration first (it knows the line), then the case's parameter, then the next
+// address.
+std::uint8_t other_address(const Dut& dut, const Case& c, std::uint8_t own) {
+    if (dut.other_address) return *dut.other_address;
     const auto declared = param(c, "other_address");
     if (declared >= 1 && declared <= kLastAddress) return static_cast<std::uint8_t>(declared);
     return own == kLastAddress ? kLastAddress - 1 : own + 1;
@@ -46,7 +49,7 @@ std::uint8_t other_address(const Case& c, std::uint8_t own) {
 LineProbe::LineProbe(Session& session, const Case& c)
     : session_(session),
       own_(session.dut().unit),
-      other_(other_address(c, own_)),
+      other_(other_address(session.dut(), c, own_)),
       register_(static_cast<std::uint16_t>(param(c, "register"))) {}
 
 std::chrono::milliseconds LineProbe::timeout() const {

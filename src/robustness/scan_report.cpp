@@ -124,6 +124,8 @@ constexpr std::string_view kNeedsWrites =
 constexpr std::string_view kSecurity =
     "pki, client_cert, client_key, ca, read_only_role, write_role, null_role_granted: the "
     "security suite's, declared by hand (docs/security.md)";
+constexpr std::string_view kLine =
+    "other_address, turnaround_ms: what the rest of a serial line uses, known to its owner";
 
 }  // namespace
 
@@ -192,7 +194,7 @@ std::string scan_dut_toml(const DeviceScan& scan, const ScanOrigin& origin) {
     for (const auto& fact : learned_facts(scan)) {
         if (fact.value.empty()) out += fmt::format("# {}: {}\n", fact.key, fact.why);
     }
-    out += fmt::format("# {}\n# {}\n", kNeedsWrites, kSecurity);
+    out += fmt::format("# {}\n# {}\n# {}\n", kNeedsWrites, kSecurity, kLine);
     return out;
 }
 

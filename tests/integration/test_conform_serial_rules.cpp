@@ -116,6 +116,26 @@ TEST(ConformSerialRules, TheTimingCasesReportWhatTheyMeasured) {
     EXPECT_NE(run.cases["ser.10"].reason.find(timing), std::string::npos);
 }
 
+// The line's free address and the turnaround delay come from the DUT file when it declares them.
+TEST(ConformSerialRules, TheDutFileSaysTheFreeAddressAndTheTurnaround) {
+    DeviceOnLine line;
+    ASSERT_EQ(line.start("reference", "rtu", 19200, false), "");
+    const std::string dut = temp_path("line-dut.toml");
+    std::ofstream(dut) << "unit = 1\nother_address = 9\nturnaround_ms = 50\n";
+    auto run = run_suite(line_url("rtu", line.pty()),
+                         {"--suite", "serial", "--case", "ser.1", "--case", "ser.3", "--dut", dut});
+    EXPECT_EQ(run.cases["ser.1"].reason, "FC 03 to address 9 went unanswered for 600 ms")
+        << run.out;
+    EXPECT_EQ(run.cases["ser.3"].reason,
+              "executed, unanswered, and the device answered 50 ms later")
+        << run.out;
+    std::ofstream(dut) << "other_address = 248\n";
+    const auto refused = run_mblab({"conform", line_url("rtu", line.pty()), "--dut", dut});
+    EXPECT_EQ(refused.status, 2);
+    EXPECT_NE((refused.out + refused.err).find("other_address"), std::string::npos)
+        << refused.out << refused.err;
+}
+
 TEST(ConformSerialRules, AnAsciiRequestWithAPauseUnderOneSecondIsTaken) {
     DeviceOnLine line;
     ASSERT_EQ(line.start("reference", "ascii", 19200, false), "");
