@@ -17,7 +17,7 @@ TEST_F(ClientReadWrite, ReadsHoldingRegistersAsATable) {
     auto ran = mblab("read", {"holding", "0", "3"});
     EXPECT_EQ(ran.status, 0) << ran.err;
     EXPECT_EQ(ran.err, "");
-    // The reference profile keeps the SEMI signature at holding 0..2 (seed 000 7.13.2).
+    // The reference profile keeps the SEMI signature at holding 0..2 (CTP 7.13.2).
     EXPECT_EQ(ran.out,
               "address     raw     u16\n"
               "0 (0x0000)  0x5345  21317\n"

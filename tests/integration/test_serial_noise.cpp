@@ -1,4 +1,4 @@
-// Noise on a serial line (bad input 16 and 17 of PROTOCOL.md): random bytes, truncated frames,
+// Noise on a serial line [SER 2.4.2, 6.1]: random bytes, truncated frames,
 // bad checks, each alone between silences. Each is dropped, the good frame after it is served,
 // and FC 08 sub 0C (bus communication errors) counts every one.
 #include <gtest/gtest.h>

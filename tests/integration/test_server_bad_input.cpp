@@ -1,6 +1,8 @@
-// PROTOCOL.md "Bad input a server must survive", the classes the device decides (4-9, 11),
-// through a real socket to the reference profile. The classes the server decides alone
-// (1-3, 10, 12-14) are in test_server_session.cpp; 1-3 are repeated here end to end.
+// Bad input a server must survive, the classes the device decides (unknown function codes,
+// counts and byte counts out of range or disagreeing, addresses past the end, bad sub-functions),
+// through a real socket to the reference profile. The classes the server decides alone (MBAP
+// framing, lengths, unfinished and overlong frames) are in test_server_session.cpp; the framing
+// ones are repeated here end to end.
 #include <gtest/gtest.h>
 
 #include "blocking_client.hpp"

@@ -44,7 +44,8 @@ TEST_F(ServerSession, DiscardsProtocolIdNotZeroAndStaysInStep) {
     EXPECT_EQ(handler_.calls.load(), 1);
 }
 
-// Bad input 2, seed 000 9.1.3: length 0xFF with a 6-byte body is answered 03 after the wait.
+// An overlong length field, CTP 9.1.3: length 0xFF with a 6-byte body is answered 03 after the
+// wait.
 TEST_F(ServerSession, AnswersImproperLengthWithException03ThenStaysInStep) {
     start();
     auto client = connect();

@@ -48,7 +48,7 @@ TEST_F(AccessRanges, HolesAreIllegalDataAddress) {
     )");
     EXPECT_EQ(ask("03 00 64 00 0A").substr(0, 5), "03 14");
     expect_dialogue(R"(
-        03 00 64 00 0B -> 83 02  # seed 000 9.1.2: one past the end
+        03 00 64 00 0B -> 83 02  # CTP 9.1.2: one past the end
         01 00 30 00 01 -> 81 02
         02 00 00 00 09 -> 82 02
         04 00 0A 00 01 -> 84 02

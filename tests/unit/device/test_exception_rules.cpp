@@ -1,4 +1,4 @@
-// The check order of [APP] (function 01 -> value 03 -> address 02) and PROTOCOL.md's bad inputs.
+// The check order of [APP] (function 01 -> value 03 -> address 02) and the bad inputs it decides.
 #include <gtest/gtest.h>
 
 #include "device_harness.hpp"
@@ -13,14 +13,14 @@ class ExceptionRules : public ShippedDeviceTest {
 
 TEST_F(ExceptionRules, UnknownFunctionIsIllegalFunction) {
     expect_dialogue(R"(
-        25 00 01 00 01 -> A5 01  # seed 000 9.1.1
+        25 00 01 00 01 -> A5 01  # CTP 9.1.1
         41             -> C1 01
     )");
 }
 
 TEST_F(ExceptionRules, IllegalQuantityIsIllegalDataValue) {
     expect_dialogue(R"(
-        03 00 00 FF FF -> 83 03  # seed 000 9.1.4
+        03 00 00 FF FF -> 83 03  # CTP 9.1.4
         03 00 00 00 00 -> 83 03
         01 00 00 07 D1 -> 81 03
         05 00 00 12 34 -> 85 03

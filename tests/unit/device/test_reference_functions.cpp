@@ -118,7 +118,7 @@ TEST_F(ReferenceDevice, ReadsOnePrivateObject) {
 }
 
 TEST_F(ReferenceDevice, AnswersSemiGetAttribute) {
-    // seed 000 7.13.1.4 / 7.13.1.5.3
+    // CTP 7.13.1.4 / 7.13.1.5.3
     EXPECT_EQ(ask("5B 09 00 00 01 00 01 00 07 00 01"), "5B 0B 00 00 01 00 01 00 08 00 00 00 2B");
 }
 

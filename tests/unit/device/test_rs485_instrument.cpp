@@ -32,7 +32,7 @@ TEST_F(Rs485Instrument, OtherSubFunctionsAreIllegalFunction) {
 }
 
 TEST_F(Rs485Instrument, MeiTypeOtherThan0EIsIllegalFunction) {
-    // seed 001: a request with 0F in place of 0E is answered AB 01
+    // INSTR 5.7.1: a request with 0F in place of 0E is answered AB 01
     EXPECT_EQ(ask("2B 0F 01 00"), "AB 01");
 }
 

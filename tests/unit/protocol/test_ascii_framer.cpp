@@ -80,7 +80,7 @@ TEST(AsciiFramer, SeveralFramesBackToBack) {
     EXPECT_EQ(events[2], ascii_frame(":F7070200\r\n", "07 02", 0xF7));
 }
 
-// PROTOCOL.md bad input 16: each bad frame is dropped and the next good one is still found.
+// [SER 2.5.2] noise on a line: each bad frame is dropped and the next good one is still found.
 TEST(AsciiFramer, OddNumberOfHexDigits) {
     const auto events = run(std::string(":1103006B00037\r\n") + std::string(kSpecFrame));
     ASSERT_EQ(events.size(), 2U);

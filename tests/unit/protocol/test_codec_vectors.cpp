@@ -1,7 +1,7 @@
 // Byte-exact vectors: every frame decodes, and encoding the decoded message gives the same bytes.
 // Sources: the examples of [APP] (Modbus Application Protocol v1.1b3, section 6), the frames of
-// seed 000 (conformance policy 2.1, sections 7 and 9, PDU part only), seed 001 (instrument
-// self-diagnostics) and seed 003 (exception example).
+// [CTP] (conformance test policy 2.1, sections 7 and 9, PDU part only), [INSTR] (an instrument's
+// self-diagnostics) and [APP] 7 (an exception example).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -135,7 +135,7 @@ const testing::PduCase kResponses[] = {
     {"App08Sub02DiagnosticRegister", "08 00 02 12 34"},
     {"App08Sub0BBusMessages", "08 00 0B 01 08"},
     {"App08Sub01RestartEcho", "08 00 01 FF 00"},
-    // Exceptions: seed 003, seed 000 9.1, seed 001, [APP] 7.
+    // Exceptions: [CTP] 9.1, [INSTR], [APP] 7.
     {"Seed003IllegalAddress", "81 02"},
     {"Seed000_9_1_1IllegalFunction", "A5 01"},
     {"Seed000_9_1_2OutOfRange", "83 02"},

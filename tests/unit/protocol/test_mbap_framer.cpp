@@ -90,7 +90,8 @@ TEST(MbapFramer, ResetDropsThePartialFrame) {
     EXPECT_EQ(test::to_hex(event.adu), test::to_hex(kReadRequest));
 }
 
-// [TCPG 4.4.2.2] and PROTOCOL.md bad input 1: the frame is dropped and the next one still found.
+// [TCPG 4.4.2.2] and a length field out of range: the frame is dropped and the next one still
+// found.
 TEST(MbapFramer, ProtocolIdNotZeroSkipsTheFrameAndKeepsStep) {
     const auto bad = hex("00 07 00 01 00 06 11 03 00 6B 00 03");
     const auto events = run_all_chunkings(MbapFramer{}, concat({bad, kReadRequest}));
@@ -155,7 +156,8 @@ TEST(MbapFramer, ShortestFrameIsABareFunctionCode) {
 }
 
 // Lengths that are within limits but disagree with the bytes sent are the PDU decoder's and the
-// server's business (PROTOCOL.md bad input 2): the framer only waits for the declared bytes.
+// server's business (a length longer than the bytes sent): the framer only waits for the declared
+// bytes.
 TEST(MbapFramer, LengthLongerThanTheBytesSentWaits) {
     MbapFramer framer;
     std::size_t consumed = 0;

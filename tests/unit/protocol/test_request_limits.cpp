@@ -1,5 +1,5 @@
-// Every limit of PROTOCOL.md at 0 / 1 / max / max + 1, and every bad-input class the PDU codec
-// can see (PROTOCOL.md "Bad input" 4, 5, 6, 7, 8 and 9): accepted requests round-trip, refused
+// Every limit of [APP] 6 at 0 / 1 / max / max + 1, and every bad input the PDU codec can see
+// (counts, byte counts, lengths and values out of range): accepted requests round-trip, refused
 // ones name the exception a server answers and the wire field at fault.
 #include <gtest/gtest.h>
 
@@ -156,7 +156,7 @@ const testing::PduCase kRefused[] = {
     {"WriteFileRecord10000", "15 09 06 00 01 27 10 00 01 12 34", "record number", k02},
     {"WriteFileSecondReferenceBad",
      "15 14 06 00 01 00 00 00 01 12 34 06 00 02 27 0F 00 02 56 78 9A BC", "record length", k02},
-    // FC 5B fragment byte count (seed 000 7.13).
+    // FC 5B fragment byte count (CTP 7.13).
     {"ObjectMessagingCountTooLarge", "5B 0A 00 00 01 00 01 00 07 00 01", "fragment byte count",
      k03},
     {"ObjectMessagingCountTooSmall", "5B 08 00 00 01 00 01 00 07 00 01", "fragment byte count",

@@ -1,4 +1,4 @@
-// A client decodes answers from devices it does not trust (PROTOCOL.md bad input 15,
+// A client decodes answers from devices it does not trust (a count past the bytes present,
 // CVE-2023-26793): every count must match the bytes present and every field stay in range.
 // Accepted answers at each limit round-trip; refused ones name the wire field at fault.
 #include <gtest/gtest.h>
@@ -94,7 +94,7 @@ const testing::PduCase kRefused[] = {
     {"DeviceIdIndividualTwoObjects", "2B 0E 04 81 00 00 02 00 01 41 01 01 42", "number of objects"},
     {"DeviceIdTruncatedHeader", "2B 0E 01 01 00", "next object id"},
     {"ReservedMeiType", "2B 0F 00", "MEI type"},
-    // Object messaging (seed 000 7.13.1.5).
+    // Object messaging (CTP 7.13.1.5).
     {"ObjectMessagingCountOverData", "5B 0C 00 00 01 00 01 00 08 00 16 00 01",
      "fragment byte count"},
     {"ObjectMessagingNoErrorCode", "5B 07 00 00 01 00 01 00 08", "fragment byte count"},

@@ -217,7 +217,7 @@ TEST(RtuFramer, FrameUnderFourBytesAtSilence) {
 }
 
 // Silence is what delimits RTU frames: a truncated frame with a correct CRC is a frame, and the
-// PDU decoder rejects its content (PROTOCOL.md bad input 4).
+// PDU decoder rejects its content (an unknown function code).
 TEST(RtuFramer, TruncatedFrameWithCorrectCrcIsAFrameAtSilence) {
     const auto truncated = rtu(1, "03 00 00");
     const auto events = run_all_chunkings(kRequests, Segments{truncated}, true);
