@@ -54,9 +54,9 @@ INSTANTIATE_TEST_SUITE_P(Request, PduFields, ::testing::ValuesIn(kExamples),
 // Both built with a fragment byte count of 0: the encoder derives it from the parameters.
 TEST(PduEncode, ObjectMessagingDerivesTheFragmentByteCount) {
     const auto parameters = hex("00 01");
-    EXPECT_EQ(encoded(ObjectMessagingRequest{0, 0, 1, 1, 7, parameters}),
+    EXPECT_EQ(encoded(ObjectMessagingRequest{{0, 0, 1, 1, 7}, parameters}),
               hex("5B 09 00 00 01 00 01 00 07 00 01"));
-    EXPECT_EQ(encoded(ObjectMessagingResponse{0, 0, 1, 1, 8, 0x16, parameters}),
+    EXPECT_EQ(encoded(ObjectMessagingResponse{{0, 0, 1, 1, 8}, 0x16, parameters}),
               hex("5B 0B 00 00 01 00 01 00 08 00 16 00 01"));
 }
 
