@@ -104,7 +104,8 @@ TEST(CatalogueLoader, RefusesMalformedSuitesWithFileLineAndReason) {
          "semi_signature_scan, out_of_range_read, other_address_read, "
          "other_address_write, broadcast_write, broadcast_unanswered, wrong_checksum, "
          "answer_frame, "
-         "ascii_lower_case, broken_request, answer_timing, tls_handshake, tls10_refused, tls11_refused, "
+         "ascii_lower_case, broken_request, answer_timing, tls_handshake, tls10_refused, "
+         "tls11_refused, "
          "no_certificate_refused, expired_certificate_refused, foreign_ca_certificate_refused, "
          "self_signed_certificate_refused, null_role_denied, read_only_role, write_role, "
          "tls_renegotiation, tls_close_notify)"},
