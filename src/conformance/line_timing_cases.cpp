@@ -68,12 +68,6 @@ double ms(microseconds value) {
     return static_cast<double>(value.count()) / 1000.0;
 }
 
-std::array<std::uint8_t, 5> read_request(std::uint16_t address, std::uint16_t count) {
-    return {kReadHolding, static_cast<std::uint8_t>(address >> 8),
-            static_cast<std::uint8_t>(address), static_cast<std::uint8_t>(count >> 8),
-            static_cast<std::uint8_t>(count)};
-}
-
 Outcome rtu_broken_request(Session& session, const Case& c, LineProbe& line,
                            const LineTiming& timing) {
     std::string failure;
@@ -116,7 +110,7 @@ Outcome ascii_paused_request(Session& session, const Case& c, LineProbe& line) {
     const auto silence = std::min(milliseconds(param(c, "ascii_pause_ms")), kAsciiCharTimeout);
     // After ':' and the address: the device must wait for the rest.
     const RequestPause pause{3, silence};
-    const auto wire = line.frame(line.own(), read_request(line.register_address(), 1));
+    const auto wire = line.frame(line.own(), read_holding(line.register_address()));
     const auto answer = line.ask(wire, line.timeout(), pause);
     const auto what = fmt::format("FC 03 with a {} ms pause after its address", silence.count());
     if (!answer.frame() || answer.address != line.own() || answer.pdu.empty() ||
@@ -166,7 +160,7 @@ Outcome run_answer_timing(Session& session, const Case& c) {
     microseconds widest{0};
     for (std::size_t i = 0; i < reads; ++i) {
         if (i > 0) std::this_thread::sleep_for(pause);
-        const auto answer = line.ask(line.own(), read_request(address, count));
+        const auto answer = line.ask(line.own(), read_holding(address, count));
         const auto what =
             fmt::format("read {} of {} (FC 03 of {} registers at {:04X}{})", i + 1, reads, count,
                         address, i > 0 && !line.ascii() ? ", sent t3.5 after the last answer" : "");

@@ -19,16 +19,10 @@ namespace mblab::conformance {
 namespace {
 
 constexpr std::uint8_t kBroadcast = 0;
-constexpr std::uint8_t kReadHolding = 0x03;
 constexpr std::uint8_t kDiagnostics = 0x08;
 constexpr std::uint8_t kBusErrorCount = 0x0C;  // [APP 6.8.1] sub-function 0C
 // A value that differs from the one read in every bit, so its effect cannot go unseen.
 constexpr std::uint16_t kFlip = 0xFFFF;
-
-std::array<std::uint8_t, 5> read_request(std::uint16_t reg) {
-    return {kReadHolding, static_cast<std::uint8_t>(reg >> 8), static_cast<std::uint8_t>(reg), 0,
-            1};
-}
 
 Outcome pass(std::string remark) {
     return Outcome{Verdict::Pass, std::move(remark), {}};
@@ -95,7 +89,7 @@ std::optional<std::string> rtu_layout_fault(const LineAnswer& answer) {
 
 Outcome run_other_address_read(Session& session, const Case& c) {
     LineProbe line(session, c);
-    const auto answer = line.ask(line.other(), read_request(line.register_address()));
+    const auto answer = line.ask(line.other(), read_holding(line.register_address()));
     if (!answer.silent()) {
         return answered(
             session, line, answer,
@@ -170,7 +164,7 @@ Outcome run_broadcast_unanswered(Session& session, const Case& c) {
     LineProbe line(session, c);
     const bool diagnostic = param(c, "function") == kDiagnostics;
     const std::array<std::uint8_t, 5> echo{kDiagnostics, 0x00, 0x00, 0xA5, 0x5A};
-    const auto request = diagnostic ? echo : read_request(line.register_address());
+    const auto request = diagnostic ? echo : read_holding(line.register_address());
     const auto what = diagnostic ? std::string("FC 08 (return query data) to address 0")
                                  : std::string("FC 03 to address 0");
     const auto answer = line.ask(kBroadcast, request);
@@ -211,7 +205,7 @@ Outcome run_wrong_checksum(Session& session, const Case& c) {
 
 Outcome run_answer_frame(Session& session, const Case& c) {
     LineProbe line(session, c);
-    const auto answer = line.ask(line.own(), read_request(line.register_address()));
+    const auto answer = line.ask(line.own(), read_holding(line.register_address()));
     if (!line.ascii()) {
         if (auto fault = rtu_layout_fault(answer))
             return line_failure(session, *fault, answer.exchange);

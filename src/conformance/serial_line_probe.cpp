@@ -46,6 +46,12 @@ std::uint8_t other_address(const Dut& dut, const Case& c, std::uint8_t own) {
 
 }  // namespace
 
+std::array<std::uint8_t, 5> read_holding(std::uint16_t address, std::uint16_t count) {
+    return {kReadHolding, static_cast<std::uint8_t>(address >> 8),
+            static_cast<std::uint8_t>(address), static_cast<std::uint8_t>(count >> 8),
+            static_cast<std::uint8_t>(count)};
+}
+
 LineProbe::LineProbe(Session& session, const Case& c)
     : session_(session),
       own_(session.dut().unit),
@@ -125,9 +131,7 @@ std::vector<std::uint8_t> LineProbe::write_request(std::uint16_t value) const {
 }
 
 std::optional<std::uint16_t> LineProbe::read_register(std::string& failure, Exchange& failed) {
-    const std::array<std::uint8_t, 5> read{kReadHolding, static_cast<std::uint8_t>(register_ >> 8),
-                                           static_cast<std::uint8_t>(register_), 0x00, 0x01};
-    auto answer = ask(own_, read);
+    auto answer = ask(own_, read_holding(register_));
     const auto& pdu = answer.pdu;
     if (answer.frame() && answer.address == own_ && pdu.size() == 4 && pdu[0] == kReadHolding &&
         pdu[1] == 2) {

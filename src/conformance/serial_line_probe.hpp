@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <optional>
@@ -17,6 +18,9 @@ namespace mblab::conformance {
 
 class Session;
 struct Case;
+
+// FC 03 of `count` holding registers from `address`: the serial suite's plain request.
+std::array<std::uint8_t, 5> read_holding(std::uint16_t address, std::uint16_t count = 1);
 
 // How a request is spoiled before it goes out.
 enum class Spoil : std::uint8_t {

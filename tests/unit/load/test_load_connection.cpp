@@ -106,12 +106,20 @@ struct Rig {
           tally(plan.exchanges.size(), plan.cases.size()),
           connection(context, tally, 0, LoadConnection::Role::Traffic, 7) {}
 
+    // Connects and returns the requests the connection sent at once.
+    Bytes start() {
+        connection.start(clock.now());
+        return requests();
+    }
     // What the device has been sent since the last call.
     Bytes requests() {
         Bytes out(4096);
         const auto io = ports.device().read(out);
         out.resize(io.status == transport::Io::Status::Done ? io.bytes : 0);
         return out;
+    }
+    std::uint64_t failures(FailureKind kind) const {
+        return tally.failures[static_cast<std::size_t>(kind)].get();
     }
     void answer(const Bytes& bytes) {
         ASSERT_EQ(ports.device().write(bytes).bytes, bytes.size());
@@ -140,8 +148,7 @@ Bytes answer_to(const Bytes& id, const char* rest) {
 
 TEST(LoadConnection, KeepsItsWindowFullAndMatchesAnswersByTransactionId) {
     Rig rig("fc3:2", 2);
-    rig.connection.start(rig.clock.now());
-    const Bytes sent = rig.requests();
+    const Bytes sent = rig.start();
     ASSERT_EQ(sent.size(), 24U);
     EXPECT_EQ(Bytes(sent.begin() + 2, sent.begin() + 12), hex("00 00 00 06 01 03 00 00 00 02"));
     EXPECT_EQ(Bytes(sent.begin() + 14, sent.end()), hex("00 00 00 06 01 03 00 00 00 02"));
@@ -164,8 +171,7 @@ TEST(LoadConnection, KeepsItsWindowFullAndMatchesAnswersByTransactionId) {
 
 TEST(LoadConnection, AnAnswerSplitAcrossReadsIsJudgedOnceWhole) {
     Rig rig("fc3:1");
-    rig.connection.start(rig.clock.now());
-    const Bytes sent = rig.requests();
+    const Bytes sent = rig.start();
     const Bytes whole = answer_to(tid(sent), "00 00 00 05 01 03 02 12 34");
     rig.answer(Bytes(whole.begin(), whole.begin() + 5));
     EXPECT_EQ(rig.tally.answered.get(), 0U);
@@ -176,14 +182,13 @@ TEST(LoadConnection, AnAnswerSplitAcrossReadsIsJudgedOnceWhole) {
 
 TEST(LoadConnection, ATimedOutRequestCountsOnceAndItsLateAnswerIsNotCountedAgain) {
     Rig rig("fc3:1");
-    rig.connection.start(rig.clock.now());
-    const Bytes first = rig.requests();
+    const Bytes first = rig.start();
     rig.clock.advance(99ms);
     rig.connection.tick(rig.clock.now());
-    EXPECT_EQ(rig.tally.failures[static_cast<std::size_t>(FailureKind::Timeout)].get(), 0U);
+    EXPECT_EQ(rig.failures(FailureKind::Timeout), 0U);
     rig.clock.advance(2ms);
     rig.connection.tick(rig.clock.now());
-    EXPECT_EQ(rig.tally.failures[static_cast<std::size_t>(FailureKind::Timeout)].get(), 1U);
+    EXPECT_EQ(rig.failures(FailureKind::Timeout), 1U);
     ASSERT_TRUE(rig.tally.first_failure);
     EXPECT_EQ(rig.tally.first_failure->kind, FailureKind::Timeout);
     EXPECT_EQ(rig.tally.first_failure->exchange, "fc3:1");
@@ -202,12 +207,10 @@ TEST(LoadConnection, ATimedOutRequestCountsOnceAndItsLateAnswerIsNotCountedAgain
 
 TEST(LoadConnection, AnExceptionWhereDataWasDueIsAFailureWithItsBytes) {
     Rig rig("fc3:1");
-    rig.connection.start(rig.clock.now());
-    const Bytes sent = rig.requests();
+    const Bytes sent = rig.start();
     const Bytes exception = answer_to(tid(sent), "00 00 00 03 01 83 02");
     rig.answer(exception);
-    EXPECT_EQ(rig.tally.failures[static_cast<std::size_t>(FailureKind::UnexpectedException)].get(),
-              1U);
+    EXPECT_EQ(rig.failures(FailureKind::UnexpectedException), 1U);
     ASSERT_TRUE(rig.tally.first_failure);
     EXPECT_EQ(rig.tally.first_failure->evidence.sent, sent);
     EXPECT_EQ(rig.tally.first_failure->evidence.received, exception);
@@ -219,7 +222,7 @@ TEST(LoadConnection, ADroppedConnectionIsCountedAndDialledAgainAfterAPause) {
     ASSERT_EQ(rig.requests().size(), 12U);
     rig.ports.device().close();
     rig.connection.on_event(EPOLLIN, rig.clock.now());
-    EXPECT_EQ(rig.tally.failures[static_cast<std::size_t>(FailureKind::Dropped)].get(), 1U);
+    EXPECT_EQ(rig.failures(FailureKind::Dropped), 1U);
     EXPECT_TRUE(rig.ports.pairs.back()->client().is_closed());
 
     rig.clock.advance(50ms);
@@ -235,7 +238,7 @@ TEST(LoadConnection, ARefusedDialIsOneFailureWithTheReason) {
     Rig rig("fc3:1");
     rig.ports.refuse = ECONNREFUSED;
     rig.connection.start(rig.clock.now());
-    EXPECT_EQ(rig.tally.failures[static_cast<std::size_t>(FailureKind::Refused)].get(), 1U);
+    EXPECT_EQ(rig.failures(FailureKind::Refused), 1U);
     ASSERT_TRUE(rig.tally.first_failure);
     EXPECT_EQ(rig.tally.first_failure->reason, "cannot connect: connection refused");
     EXPECT_TRUE(rig.ports.pairs.empty());
