@@ -71,15 +71,19 @@ protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_serial(
     if (!opened) return LinkError{opened.error()};
     auto port = std::make_unique<Port>(std::move(opened.value()));
     if (url.kind == transport::SerialUrl::Kind::Ascii) {
-        return std::unique_ptr<Link>(new StreamLink(std::move(name), std::move(io), std::move(port),
-                                                    {.framing = Framing::Ascii}, kAsciiSilence, {},
-                                                    observer));
+        auto link = std::unique_ptr<StreamLink>(
+            new StreamLink(std::move(name), std::move(io), std::move(port),
+                           {.framing = Framing::Ascii}, kAsciiSilence, {}, observer));
+        if (url.paced) link->pace_ = transport::character_time(url.line);
+        return std::unique_ptr<Link>(std::move(link));
     }
     const auto t35 = transport::rtu_char_times(url.line.baud).t35;
-    return std::unique_ptr<Link>(
+    auto link = std::unique_ptr<StreamLink>(
         new StreamLink(std::move(name), std::move(io), std::move(port),
                        {.framing = Framing::Rtu, .direction = protocol::Direction::Response},
                        std::max<std::chrono::microseconds>(t35, kMinSerialSilence), t35, observer));
+    if (url.paced) link->pace_ = transport::character_time(url.line);
+    return std::unique_ptr<Link>(std::move(link));
 }
 
 protocol::Result<std::unique_ptr<Link>, LinkError> StreamLink::open_rtu_over_tcp(
@@ -106,6 +110,24 @@ bool StreamLink::send(std::span<const std::uint8_t> adu, LinkError& error) {
     if (Clock::now() < master_.line_free_at())
         std::this_thread::sleep_until(master_.line_free_at());
     if (observer_ != nullptr) observer_->on_sent(adu);
+    if (pace_.count() <= 0) return write_all(adu, error);
+    // A UART puts one character on the line per character time, and the far end has it once
+    // its stop bit is in: character i is written at start + (i + 1) character times. A late
+    // wake-up (a busy machine) writes every character due by then at once, so that a delay
+    // never grows into a silence that would cut the frame.
+    const auto start = Clock::now();
+    std::size_t done = 0;
+    while (done < adu.size()) {
+        std::this_thread::sleep_until(start + pace_ * static_cast<long>(done + 1));
+        const auto due = static_cast<std::size_t>((Clock::now() - start) / pace_);
+        const std::size_t count = std::clamp(due, done + 1, adu.size()) - done;
+        if (!write_all(adu.subspan(done, count), error)) return false;
+        done += count;
+    }
+    return true;
+}
+
+bool StreamLink::write_all(std::span<const std::uint8_t> adu, LinkError& error) {
     while (!adu.empty()) {
         if (fd_ < 0) {
             error.message = "connection closed";

@@ -54,6 +54,7 @@ class StreamLink final : public Link {
                std::chrono::microseconds inter_frame, LinkObserver* observer);
     // receive_frame() without telling the observer.
     Received read_frame(std::chrono::milliseconds timeout);
+    bool write_all(std::span<const std::uint8_t> bytes, LinkError& error);
 
     std::string name_;
     Framing framing_;
@@ -65,6 +66,8 @@ class StreamLink final : public Link {
     transport::SerialMaster master_;
     int fd_ = -1;
     LinkObserver* observer_ = nullptr;
+    // A character time when the URL says pace=1: requests go out at the baud rate.
+    std::chrono::nanoseconds pace_{0};
 };
 
 }  // namespace mblab::client

@@ -2,6 +2,9 @@
 
 #include <thread>
 
+#include "client/target.hpp"
+#include "protocol/limits.hpp"
+
 namespace mblab::load {
 
 namespace {
@@ -41,6 +44,7 @@ LoadLineWorker::LoadLineWorker(const LoadPlan& plan, std::size_t node, std::size
           return out;
       }()),
       tally_(*tallies_[node]),
+      framing_(client::framing_of(*plan.targets[node].line)),
       tests_(plan.settings.tests && plan.test_exchanges > 0),
       next_send_(start) {}
 
@@ -91,6 +95,7 @@ void LoadLineWorker::exchange(std::uint32_t index, bool test) {
     pace();
     const LoadSent sent{index, 0};
     const auto sent_at = LoadClock::now();
+    count_frame(chosen.request.size());
     tally_.sent.add();
     tally_.exchange(index).sent.add();
     if (!session_.send(chosen.request, 1, error)) {
@@ -105,6 +110,7 @@ void LoadLineWorker::exchange(std::uint32_t index, bool test) {
     std::optional<FailureKind> failure;
     switch (received.status) {
         case client::ReceiveStatus::Frame:
+            count_frame(received.bytes.size());
             tally_.answered.add();
             tally_.latency.record(
                 static_cast<std::uint64_t>(duration_cast<microseconds>(now - sent_at).count()));
@@ -124,6 +130,12 @@ void LoadLineWorker::exchange(std::uint32_t index, bool test) {
     count_failure(tally_, plan_, start_, *failure, &sent, seen, now);
     // What is left on the line (a late or partial answer) must not meet the next request.
     if (received.status != client::ReceiveStatus::Frame) session_.close();
+}
+
+void LoadLineWorker::count_frame(std::size_t mbap_size) {
+    if (mbap_size <= protocol::limits::kMbapHeader) return;
+    tally_.line_frames.add();
+    tally_.line_chars.add(protocol::adu_size(framing_, mbap_size - protocol::limits::kMbapHeader));
 }
 
 void LoadLineWorker::run(const std::atomic<bool>& draining) {

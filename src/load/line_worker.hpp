@@ -10,6 +10,7 @@
 #include "load/exchanges.hpp"
 #include "load/plan.hpp"
 #include "load/thread.hpp"
+#include "protocol/adu.hpp"
 #include "support/prng.hpp"
 
 namespace mblab::load {
@@ -35,6 +36,8 @@ class LoadLineWorker final : public LoadThread {
     bool next(std::uint32_t& index, bool& test);
     void pace();
     void exchange(std::uint32_t index, bool test);
+    // A frame of `mbap_size` bytes in MBAP form crossed the line in its own framing.
+    void count_frame(std::size_t mbap_size);
 
     const LoadPlan& plan_;
     std::size_t traffic_;
@@ -44,6 +47,7 @@ class LoadLineWorker final : public LoadThread {
     conformance::Session session_;
     std::vector<std::unique_ptr<NodeTally>> tallies_;
     NodeTally& tally_;
+    protocol::Framing framing_;
     bool tests_ = true;
     std::size_t test_cursor_ = 0;
     std::size_t phase_ = 0;  // position in the round: 0 is the test exchange

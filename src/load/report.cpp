@@ -7,6 +7,7 @@
 
 #include "conformance/evidence_text.hpp"
 #include "conformance/reports.hpp"
+#include "load/line_use.hpp"
 
 namespace mblab::load {
 
@@ -102,8 +103,25 @@ std::vector<json> evidence_json(const LoadPlan& plan, const LoadResult& result) 
     return out;
 }
 
+// A serial node's use of its line; nothing for Modbus/TCP and RTU over TCP.
+std::optional<LineUse> node_line_use(const LoadPlan& plan, const LoadResult& result,
+                                     std::size_t node) {
+    const auto& line = plan.targets[node].line;
+    if (!line || !line->serial) return std::nullopt;
+    const NodeResult& counts = result.nodes[node];
+    return line_use(*line->serial, counts.line_chars, counts.line_frames, result.elapsed);
+}
+
+json line_json(const std::optional<LineUse>& use) {
+    if (!use) return nullptr;
+    return {{"characters_per_s", use->chars_per_second},
+            {"limit_per_s", use->limit_per_second},
+            {"share", use->share},
+            {"logical_timing", use->logical}};
+}
+
 json node_json(const LoadPlan& plan, const LoadResult& result, const NodeResult& node,
-               json evidence) {
+               json evidence, json line) {
     json failures = {{"total", node.failure_total()}};
     for (FailureKind kind : kKinds)
         failures[std::string(failure_key(kind))] = node.failures_of(kind);
@@ -126,6 +144,7 @@ json node_json(const LoadPlan& plan, const LoadResult& result, const NodeResult&
                 {"late_answers", node.late},
                 {"tls_handshakes", node.handshakes},
                 {"tls_resumed", node.resumed},
+                {"line", std::move(line)},
                 {"requests_per_s", rate(node.answered, result.elapsed)},
                 {"failures", failures},
                 {"latency_ms", latency_json(node.latency)},
@@ -222,6 +241,12 @@ std::string load_summary(const LoadPlan& plan, const LoadResult& result) {
             millis(l.percentile(0.50)), millis(l.percentile(0.90)), millis(l.percentile(0.99)),
             millis(l.percentile(0.999)), millis(l.max()),
             load_verdict_label(node.verdict(result.interrupted)));
+    }
+    for (std::size_t i = 0; i < result.nodes.size(); ++i) {
+        if (const auto use = node_line_use(plan, result, i)) {
+            out += fmt::format("{}: line use {}\n", result.nodes[i].target,
+                               line_use_text(*plan.targets[i].line->serial, *use));
+        }
     }
     for (const auto& node : result.nodes) {
         if (node.handshakes == 0) continue;
@@ -330,7 +355,8 @@ std::string load_json_report(const LoadPlan& plan, const LoadResult& result) {
     auto evidence = evidence_json(plan, result);
     json nodes = json::array();
     for (std::size_t i = 0; i < result.nodes.size(); ++i) {
-        nodes.push_back(node_json(plan, result, result.nodes[i], std::move(evidence[i])));
+        nodes.push_back(node_json(plan, result, result.nodes[i], std::move(evidence[i]),
+                                  line_json(node_line_use(plan, result, i))));
     }
     json report = {{"tool", "mblab load"},
                    {"verdict", load_verdict_label(result.verdict())},

@@ -55,6 +55,8 @@ void merge_tally(NodeResult& result, const NodeTally& tally, const LoadPlan& pla
     result.late += tally.late.get();
     result.handshakes += tally.handshakes.get();
     result.resumed += tally.resumed.get();
+    result.line_chars += tally.line_chars.get();
+    result.line_frames += tally.line_frames.get();
     for (std::size_t k = 0; k < kFailureKinds; ++k)
         result.failures[k] += tally.failures[k].get();
     tally.latency.snapshot_into(result.latency);

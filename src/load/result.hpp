@@ -29,6 +29,8 @@ struct NodeResult {
     std::uint64_t late = 0;
     std::uint64_t handshakes = 0;  // mbaps:// nodes
     std::uint64_t resumed = 0;
+    std::uint64_t line_chars = 0;  // serial lines (load/line_use.hpp)
+    std::uint64_t line_frames = 0;
     std::array<std::uint64_t, kFailureKinds> failures{};
     LatencySnapshot latency;
     std::vector<std::uint64_t> exchange_sent;  // by LoadPlan::exchanges index

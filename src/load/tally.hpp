@@ -41,6 +41,8 @@ class NodeTally {
     Tally late;        // answers that came after their request had timed out (not counted again)
     Tally handshakes;  // mbaps:// nodes: TLS handshakes completed, resumed ones included
     Tally resumed;
+    Tally line_chars;   // serial lines: characters of the requests sent and the frames heard
+    Tally line_frames;  // and how many frames they made
     std::array<Tally, kFailureKinds> failures;
     LatencyHistogram latency;
 

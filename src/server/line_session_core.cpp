@@ -36,6 +36,7 @@ SerialLineHooks device_line_hooks(device::ReferenceDevice& device) {
 LineSetup serial_line_setup(const transport::SerialUrl& url, SerialLineHooks hooks) {
     LineSetup setup;
     setup.hooks = std::move(hooks);
+    if (url.paced) setup.pace = transport::character_time(url.line);
     if (url.kind == transport::SerialUrl::Kind::Ascii) {
         setup.framing = LineFraming::Ascii;
         setup.timing.silence = kAsciiCharTimeout;

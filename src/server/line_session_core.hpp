@@ -46,6 +46,9 @@ struct LineSetup {
         protocol::RtuFramer::UnknownLength::AwaitSilence;
     // Silence kept between a request's last byte and the answer (RTU on a line: t3.5).
     std::chrono::microseconds turnaround{0};
+    // A character time when the line is paced (pace=1): the answer goes out one character per
+    // character time, as from a UART, for ptys that would pass it on at once. 0: as written.
+    std::chrono::nanoseconds pace{0};
     // A connection without a request for this long is closed; 0: never (serial lines).
     std::chrono::milliseconds idle_timeout{0};
     SerialLineHooks hooks;

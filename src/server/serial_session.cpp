@@ -1,5 +1,6 @@
 #include "server/serial_session.hpp"
 
+#include <algorithm>
 #include <asio/write.hpp>
 #include <type_traits>
 
@@ -28,7 +29,9 @@ LineSession<Stream>::LineSession(Stream stream, std::shared_ptr<ServerCore> core
       line_(core_->handler, setup, kCarrier<Stream>,
             {core_->options.partial_frame_timeout, core_->options.frame_limit}, core_->stats,
             LineClock::now()),
-      timer_(stream_.get_executor()) {
+      timer_(stream_.get_executor()),
+      pace_(setup.pace),
+      pace_timer_(stream_.get_executor()) {
     if constexpr (kIsSerialPort<Stream>) faults_.emplace(stream_.native_handle());
 }
 
@@ -69,6 +72,7 @@ void LineSession<Stream>::close() {
     // Its place is free now, not once its pending operations have ended.
     leave_table();
     timer_.cancel();
+    pace_timer_.cancel();
 }
 
 template <class Stream>
@@ -118,18 +122,55 @@ void LineSession<Stream>::read() {
 template <class Stream>
 void LineSession<Stream>::write(std::span<const std::uint8_t> answer) {
     writing_ = true;
+    if (pace_.count() > 0) {
+        write_paced(answer, 0, LineClock::now());
+        return;
+    }
     asio::async_write(
         stream_, asio::buffer(answer.data(), answer.size()),
         [self = this->shared_from_this()](const asio::error_code& ec, std::size_t /*written*/) {
-            self->writing_ = false;
-            if (self->closed_) return;
-            if (ec) {
-                self->fail(kIsSerialPort<Stream> ? line_failure_text(ec) : ec.message());
-                return;
-            }
-            self->line_.sent(LineClock::now());
-            self->settle();
+            self->written(ec);
         });
+}
+
+template <class Stream>
+void LineSession<Stream>::write_paced(std::span<const std::uint8_t> answer, std::size_t index,
+                                      LineClock::time_point start) {
+    if (index == answer.size()) {
+        written({});
+        return;
+    }
+    // The answer is the core's until sent(), so the span stays valid across the waits. The far
+    // end has a character once its stop bit is in: character i goes at start + (i + 1)
+    // character times.
+    pace_timer_.expires_at(start + pace_ * static_cast<long>(index + 1));
+    pace_timer_.async_wait(
+        [self = this->shared_from_this(), answer, index, start](const asio::error_code& wait) {
+            if (self->closed_ || wait) return;
+            // Every character due by now goes at once, so a late wake-up never opens a silence.
+            const auto due = static_cast<std::size_t>((LineClock::now() - start) / self->pace_);
+            const std::size_t next = std::clamp(due, index + 1, answer.size());
+            asio::async_write(self->stream_, asio::buffer(answer.data() + index, next - index),
+                              [self, answer, next, start](const asio::error_code& ec, std::size_t) {
+                                  if (ec) {
+                                      self->written(ec);
+                                      return;
+                                  }
+                                  if (!self->closed_) self->write_paced(answer, next, start);
+                              });
+        });
+}
+
+template <class Stream>
+void LineSession<Stream>::written(const asio::error_code& ec) {
+    writing_ = false;
+    if (closed_) return;
+    if (ec) {
+        fail(kIsSerialPort<Stream> ? line_failure_text(ec) : ec.message());
+        return;
+    }
+    line_.sent(LineClock::now());
+    settle();
 }
 
 template <class Stream>

@@ -44,6 +44,11 @@ class LineSession final : public std::enable_shared_from_this<LineSession<Stream
     void settle();
     void read();
     void write(std::span<const std::uint8_t> answer);
+    // Writes answer[index] (and any later character already due) once `start` + index + 1
+    // character times have passed, then the rest.
+    void write_paced(std::span<const std::uint8_t> answer, std::size_t index,
+                     LineClock::time_point start);
+    void written(const asio::error_code& ec);
     void arm_timer(LineClock::time_point at);
     void count_line_faults();
     void fail(const std::string& why);
@@ -56,6 +61,8 @@ class LineSession final : public std::enable_shared_from_this<LineSession<Stream
     LineSessionCore line_;
     std::optional<transport::SerialFaultMonitor> faults_;
     asio::steady_timer timer_;
+    std::chrono::nanoseconds pace_;
+    asio::steady_timer pace_timer_;
     LineClock::time_point timer_at_ = LineClock::time_point::max();
     bool closed_ = false;
     bool in_table_ = false;

@@ -63,6 +63,13 @@ CharTimes rtu_char_times(unsigned baud) {
     return {char_time_multiple(15, baud), char_time_multiple(35, baud)};
 }
 
+std::chrono::nanoseconds character_time(const SerialSettings& settings) {
+    const unsigned bits =
+        1U + settings.data_bits + (settings.parity == Parity::None ? 0U : 1U) + settings.stop_bits;
+    const unsigned baud = settings.baud == 0 ? 19200U : settings.baud;
+    return std::chrono::nanoseconds(1'000'000'000ULL * bits / baud);
+}
+
 bool is_pseudo_terminal(const std::string& device) {
     struct stat info {};
     if (::stat(device.c_str(), &info) != 0 || !S_ISCHR(info.st_mode)) return false;

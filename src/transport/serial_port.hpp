@@ -19,6 +19,10 @@ struct CharTimes {
 };
 CharTimes rtu_char_times(unsigned baud);
 
+// One character's time on the line as set: a start bit, the data bits, the parity bit if any and
+// the stop bits, at the baud rate [SER 2.5.1, 2.5.2].
+std::chrono::nanoseconds character_time(const SerialSettings& settings);
+
 // Whether `device` is a pseudo-terminal (a /dev/pts end, as tests and socat use): it passes
 // bytes on as they are written, never at the baud rate, so line timing through it is logical.
 bool is_pseudo_terminal(const std::string& device);

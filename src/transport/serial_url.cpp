@@ -97,6 +97,9 @@ std::string_view apply_setting(std::string_view key, std::string_view value, Ser
     } else if (key == "strict") {
         if (value != "0" && value != "1") return "strict must be 0 or 1";
         out.strict_timing = value == "1";
+    } else if (key == "pace") {
+        if (value != "0" && value != "1") return "pace must be 0 or 1";
+        out.paced = value == "1";
     } else if (key == "timeout") {
         if (!parse_number(value, number) || number == 0 || number > 600'000) {
             return "timeout must be milliseconds from 1 to 600000";
@@ -107,7 +110,7 @@ std::string_view apply_setting(std::string_view key, std::string_view value, Ser
             return "units must list unit ids 0..255 like 1-10,20";
         }
     } else {
-        return "unknown setting (known: baud, parity, stop, data, strict, timeout, units)";
+        return "unknown setting (known: baud, parity, stop, data, strict, pace, timeout, units)";
     }
     return {};
 }
@@ -186,6 +189,7 @@ std::string format_serial_url(const SerialUrl& url) {
     out += "&stop=" + std::to_string(url.line.stop_bits);
     out += "&data=" + std::to_string(url.line.data_bits);
     if (url.strict_timing) out += "&strict=1";
+    if (url.paced) out += "&pace=1";
     return out;
 }
 

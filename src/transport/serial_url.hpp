@@ -14,7 +14,9 @@
 //   ascii:///dev/ttyUSB0?baud=9600&parity=E&data=7         ASCII on a serial line
 //   rtu+tcp://127.0.0.1:502                                RTU frames over a TCP connection
 // strict=1 makes a served RTU line drop frames with a gap over t1.5 inside them [SER 2.5.1.1]
-// (off by default: USB adapters deliver frames in packets with such gaps). A line given to a
+// (off by default: USB adapters deliver frames in packets with such gaps). pace=1 makes this side
+// send one character per character time, as a UART does, so that two ends of a pty (which passes
+// bytes on at once) keep a real line's timing. A line given to a
 // gateway also takes timeout=MS (how long a device may take to answer) and units=1-10,20 (the
 // unit ids routed to the line).
 namespace mblab::transport {
@@ -36,6 +38,7 @@ struct SerialUrl {
     SerialSettings line;               // Rtu, Ascii
     asio::ip::tcp::endpoint endpoint;  // RtuOverTcp
     bool strict_timing = false;        // RTU: enforce t1.5 inside frames
+    bool paced = false;                // send at the baud rate (pace=1)
     std::chrono::milliseconds response_timeout{1000};
     std::bitset<256> units;  // unit ids a gateway routes here; 1..247 unless units= is given
 };

@@ -181,7 +181,7 @@ void SerialServerThread::stop() {
 }
 
 std::string DeviceOnLine::start(const std::string& profile_name, const std::string& scheme,
-                                unsigned baud, bool open_master) {
+                                unsigned baud, bool open_master, const std::string& settings) {
     ascii_ = scheme == "ascii";
     pty_ = std::make_unique<PtyPair>();
     if (!pty_->ok()) return pty_->error();
@@ -189,7 +189,8 @@ std::string DeviceOnLine::start(const std::string& profile_name, const std::stri
     if (!loaded) return loaded.error();
     device_ = std::move(loaded.value());
     // Pseudo-terminals take only 8 data bits.
-    auto url = scheme + "://" + pty_->server_end() + "?baud=" + std::to_string(baud) + "&data=8";
+    auto url = scheme + "://" + pty_->server_end() + "?baud=" + std::to_string(baud) + "&data=8" +
+               settings;
     auto error = server_.start(*device_, url, server::device_line_hooks(*device_));
     if (!error.empty() || !open_master) return error;
     master_ = std::make_unique<RawSerialMaster>(pty_->client_end());

@@ -92,8 +92,10 @@ class DeviceOnLine {
   public:
     // "" or what failed. `scheme` is "rtu" or "ascii". Without `open_master` the client end
     // is left for another master (a gateway, pymodbus).
+    // `settings` go after the URL's baud and data bits ("&pace=1").
     std::string start(const std::string& profile_name, const std::string& scheme,
-                      unsigned baud = 19200, bool open_master = true);
+                      unsigned baud = 19200, bool open_master = true,
+                      const std::string& settings = "");
     ~DeviceOnLine();
 
     std::string ask(std::string_view address_and_pdu_hex, std::chrono::milliseconds timeout = 3s);

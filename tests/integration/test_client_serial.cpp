@@ -1,7 +1,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "serial_test_support.hpp"
 #include "support/hex.hpp"
@@ -71,6 +74,39 @@ TEST_P(ClientSerialAt, ReadsOverAscii) {
 
 INSTANTIATE_TEST_SUITE_P(Baud, ClientSerialAt, ::testing::Values(9600U, 115200U),
                          [](const auto& info) { return std::to_string(info.param); });
+
+// pace=1 on both ends: each side sends one character per character time, as a UART would, and
+// the exchange goes through whole. 1200 baud makes t3.5 32 ms, a silence no busy machine opens
+// by accident between two characters.
+TEST(ClientSerial, PacedEndsKeepALinesTimingAndStillExchangeWholeFrames) {
+    for (const std::string scheme : {"rtu", "ascii"}) {
+        DeviceOnLine line;
+        ASSERT_EQ(line.start("reference", scheme, 1200, false, "&pace=1"), "");
+        const auto url = line_url(scheme, line.pty(), 1200) + "&pace=1";
+        auto read = on_line({"read", url, "holding", "0", "2"});
+        EXPECT_EQ(read.status, 0) << scheme << ": " << read.err;
+        EXPECT_EQ(read.out, kSignature) << scheme;
+        EXPECT_EQ(on_line({"write", url, "register", "100", "4660"}).status, 0) << scheme;
+        EXPECT_EQ(on_line({"read", url, "holding", "100"}).out,
+                  "address       raw     u16\n100 (0x0064)  0x1234  4660\n")
+            << scheme;
+    }
+    // The pacing itself: 60 registers are 125 answer characters from the device, and 129
+    // request characters from the client, 9.17 ms each at 1200 8E1. A lower bound only: a
+    // slow machine can only make these take longer.
+    DeviceOnLine line;
+    ASSERT_EQ(line.start("reference", "rtu", 1200, false, "&pace=1"), "");
+    const auto url = line_url("rtu", line.pty(), 1200) + "&pace=1";
+    const auto timed = [](const std::vector<std::string>& args) {
+        const auto start = std::chrono::steady_clock::now();
+        EXPECT_EQ(on_line(args).status, 0);
+        return std::chrono::steady_clock::now() - start;
+    };
+    EXPECT_GE(timed({"read", url, "holding", "0", "60"}), std::chrono::milliseconds(1146));
+    std::vector<std::string> write = {"write", url, "registers", "200"};
+    write.insert(write.end(), 60, "7");
+    EXPECT_GE(timed(write), std::chrono::milliseconds(1182));
+}
 
 TEST(ClientSerial, BroadcastsAreRefused) {
     DeviceOnLine line;

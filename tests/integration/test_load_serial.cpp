@@ -36,6 +36,27 @@ TEST(LoadSerial, RtuAndAsciiLinesPassBesideATcpNode) {
         EXPECT_GT(sent_with_function(node, 0x03), 0U) << node.dump(2);
         EXPECT_GT(sent_with_function(node, 0x10), 0U) << node.dump(2);
     }
+    // Each line's use against what its baud rate carries; ASCII frames need no silence between
+    // them, so its limit is the baud rate over 11 bits (8E1) a character.
+    EXPECT_TRUE(run.report["nodes"][0]["line"].is_null());
+    const auto& rtu_line = run.report["nodes"][1]["line"];
+    ASSERT_TRUE(rtu_line.is_object()) << run.report["nodes"][1].dump(2);
+    EXPECT_GT(rtu_line["limit_per_s"].get<double>(), 0.0);
+    EXPECT_LT(rtu_line["limit_per_s"].get<double>(), 9600.0 / 11);
+    EXPECT_TRUE(rtu_line["logical_timing"].get<bool>());
+    const auto& ascii_line = run.report["nodes"][2]["line"];
+    ASSERT_TRUE(ascii_line.is_object());
+    EXPECT_NEAR(ascii_line["limit_per_s"].get<double>(), 115200.0 / 11, 0.5);
+    EXPECT_NEAR(ascii_line["share"].get<double>(),
+                ascii_line["characters_per_s"].get<double>() / (115200.0 / 11), 0.01);
+    EXPECT_NE(run.out.find("rtu://" + rtu.pty().client_end() +
+                           "?baud=9600&parity=E&stop=1&data=8: line use "),
+              std::string::npos)
+        << run.out;
+    EXPECT_NE(run.out.find("with t3.5 between frames (a pty passes bytes on at once: pace=1 on "
+                           "both ends keeps a line's timing)"),
+              std::string::npos)
+        << run.out;
     // The lines are named as given, settings spelled out.
     EXPECT_EQ(run.report["nodes"][1]["target"],
               "rtu://" + rtu.pty().client_end() + "?baud=9600&parity=E&stop=1&data=8");

@@ -87,8 +87,10 @@ TEST(SerialUrl, NamesWhatIsWrongInOneLine) {
                   expected);
     EXPECT_EQ(error_of("rtu:///dev/ttyS0?speed=9600"),
               "bad address 'rtu:///dev/ttyS0?speed=9600': unknown setting (known: baud, parity, "
-              "stop, data, strict, timeout, units)" +
+              "stop, data, strict, pace, timeout, units)" +
                   expected);
+    EXPECT_EQ(error_of("rtu:///dev/ttyS0?pace=yes"),
+              "bad address 'rtu:///dev/ttyS0?pace=yes': pace must be 0 or 1" + expected);
     EXPECT_EQ(error_of("rtu:///dev/ttyS0?baud"),
               "bad address 'rtu:///dev/ttyS0?baud': settings are KEY=VALUE" + expected);
     EXPECT_EQ(error_of("rtu://ttyS0"),
@@ -119,6 +121,26 @@ TEST(SerialTiming, FollowsTheBaudRateUpTo19200AndIsFixedAbove) {
     EXPECT_EQ(transport::rtu_char_times(19200).t15.count(), 860);
     EXPECT_EQ(transport::rtu_char_times(38400).t35.count(), 1750);
     EXPECT_EQ(transport::rtu_char_times(115200).t15.count(), 750);
+}
+
+TEST(SerialUrl, PaceKeepsALinesTimingAndIsSpelledOut) {
+    auto url = transport::parse_serial_url("ascii:///dev/ttyS0?pace=1&baud=9600");
+    ASSERT_TRUE(url) << url.error();
+    EXPECT_TRUE(url->paced);
+    EXPECT_EQ(transport::format_serial_url(*url),
+              "ascii:///dev/ttyS0?baud=9600&parity=E&stop=1&data=7&pace=1");
+    EXPECT_FALSE(transport::parse_serial_url("rtu:///dev/ttyS0")->paced);
+}
+
+TEST(SerialTiming, ACharacterIsStartDataParityAndStopBits) {
+    transport::SerialSettings line;  // 19200 8E1: 11 bits
+    EXPECT_EQ(transport::character_time(line).count(), 572916);
+    line.parity = Parity::None;  // 8N1: 10 bits
+    EXPECT_EQ(transport::character_time(line).count(), 520833);
+    line.baud = 9600;
+    line.data_bits = 7;
+    line.parity = Parity::Even;  // 7E1 (ASCII's default): 10 bits
+    EXPECT_EQ(transport::character_time(line).count(), 1041666);
 }
 
 TEST(SerialPort, NamesTheDeviceAndTheFixWhenItCannotOpen) {
