@@ -36,6 +36,7 @@
 #include "conformance/declaration_sources.hpp"
 #include "conformance/device_dut.hpp"
 #include "conformance/engine.hpp"
+#include "conformance/line_search.hpp"
 #include "conformance/procedures.hpp"
 #include "conformance/provenance.hpp"
 #include "conformance/reports.hpp"
@@ -250,8 +251,14 @@ int run_conform(const ConformOptions& options) {
     // 128 + the signal, as a shell reports a program the signal ended: 130 for SIGINT, 143 for
     // SIGTERM, so a script tells an interrupted run from a failed one.
     if (result.interrupted) return StopSignals::exit_status();
-    // A device that answers nothing is not under test: the target or the unit is wrong.
-    if (!result.unanswered.empty()) return usage_error(result.unanswered);
+    // A device that answers nothing is not under test: the target or the unit is wrong, or the
+    // line is set otherwise than the device.
+    if (!result.unanswered.empty()) {
+        session.close();
+        return usage_error(result.unanswered +
+                           conf::line_search_hint(target, session.dut(),
+                                                  std::chrono::milliseconds(options.timeout_ms)));
+    }
     return result.all_passed() ? kExitOk : kExitFailed;
 }
 

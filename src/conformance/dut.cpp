@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "conformance/toml_reader.hpp"
+#include "transport/serial_url.hpp"
 
 namespace mblab::conformance {
 
@@ -115,6 +116,7 @@ const std::vector<std::string_view>& dut_keys() {
                                                        "echo_max_words",
                                                        "other_address",
                                                        "turnaround_ms",
+                                                       "line_settings",
                                                        "pki",
                                                        "client_cert",
                                                        "client_key",
@@ -167,6 +169,16 @@ protocol::Result<Dut, std::string> load_dut_file(const std::string& path) {
               reader.get_number(*table, "echo_max_words", dut.echo_max_words, 1, 124) &&
               reader.get_number(*table, "other_address", dut.other_address, 1, 247) &&
               reader.get_number(*table, "turnaround_ms", dut.turnaround_ms, 0, 60000);
+    std::vector<std::pair<std::string, const toml::node*>> settings;
+    ok = ok && reader.get_strings(*table, "line_settings", settings);
+    for (const auto& [setting, node] : settings) {
+        if (!ok) break;
+        if (auto why = transport::line_settings_error(setting)) {
+            ok = reader.fail(node, "line_settings: '" + setting + "': " + *why);
+        } else {
+            dut.line_settings.push_back(setting);
+        }
+    }
     SecurityDut& security = dut.security;
     ok = ok && reader.get(*table, "pki", security.pki) &&
          reader.get(*table, "client_cert", security.client.cert) &&

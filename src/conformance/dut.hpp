@@ -55,6 +55,9 @@ struct Dut {
     // device needs after a broadcast before the master may ask again.
     std::optional<std::uint8_t> other_address;
     std::optional<std::uint32_t> turnaround_ms;
+    // Line settings to try when the device is silent at the target's, each in the serial URL's
+    // form: "baud=9600&parity=N&stop=2" [SER 2.5.1, 2.5.2].
+    std::vector<std::string> line_settings;
 
     // Empty over Modbus/TCP; "RTU", "ASCII" or "RTU over TCP" when the tester reaches the device
     // over a serial framing, where cases that require "mbap" are N/A.

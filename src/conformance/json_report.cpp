@@ -64,6 +64,7 @@ json dut_json(const Dut& dut) {
     optional("echo_max_words", dut.echo_max_words);
     optional("other_address", dut.other_address);
     optional("turnaround_ms", dut.turnaround_ms);
+    if (!dut.line_settings.empty()) out["line_settings"] = dut.line_settings;
     return out;
 }
 

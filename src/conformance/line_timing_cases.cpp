@@ -34,6 +34,7 @@ struct LineTiming {
     transport::CharTimes times{};
     unsigned baud = 0;
     bool pty = false;
+    bool paced = false;      // the tester sends at the baud rate (pace=1)
     milliseconds budget{0};  // added to every measured silence by the port and the scheduler
 
     std::string words(bool ascii) const {
@@ -41,6 +42,12 @@ struct LineTiming {
             ascii ? fmt::format("{} baud", baud)
                   : fmt::format("t1.5 = {:.2f} ms and t3.5 = {:.2f} ms at {} baud",
                                 times.t15.count() / 1000.0, times.t35.count() / 1000.0, baud);
+        if (pty && paced) {
+            return fmt::format(
+                "{}; over a pty the tester sends at the baud rate (pace=1) and sees the "
+                "device's bytes as it writes them, measured to within {} ms",
+                t, budget.count());
+        }
         if (pty) {
             return fmt::format(
                 "{}; over a pty the timing is logical (a pty does not pace bytes at the baud "
@@ -60,6 +67,7 @@ LineTiming line_timing(const Session& session, const Case& c) {
     out.baud = line.baud;
     out.times = transport::rtu_char_times(line.baud);
     out.pty = transport::is_pseudo_terminal(line.device);
+    out.paced = session.target().serial->paced;
     out.budget = milliseconds(param(c, out.pty ? "pty_latency_ms" : "latency_ms"));
     return out;
 }

@@ -116,6 +116,11 @@ std::vector<Declaration> declarations_of(
             held = number(dut.other_address);
         } else if (key == "turnaround_ms") {
             held = number(dut.turnaround_ms);
+        } else if (key == "line_settings") {
+            std::string all;
+            for (const auto& setting : dut.line_settings)
+                all += (all.empty() ? "" : ", ") + setting;
+            held = text(all);
         } else if (key == "pki") {
             held = text(dut.security.pki);
         } else if (key == "client_cert") {

@@ -115,6 +115,23 @@ std::string_view apply_setting(std::string_view key, std::string_view value, Ser
     return {};
 }
 
+// Applies a query's KEY=VALUE&... in turn; `line_only` refuses what is not a line setting.
+std::string_view apply_query(std::string_view query, SerialUrl& out, bool line_only) {
+    while (!query.empty()) {
+        auto amp = query.find('&');
+        auto pair = query.substr(0, amp);
+        query = amp == std::string_view::npos ? std::string_view{} : query.substr(amp + 1);
+        auto eq = pair.find('=');
+        if (eq == std::string_view::npos) return "settings are KEY=VALUE";
+        const auto key = pair.substr(0, eq);
+        if (line_only && key != "baud" && key != "parity" && key != "stop" && key != "data")
+            return "a line setting is one of baud, parity, stop and data";
+        auto why = apply_setting(key, pair.substr(eq + 1), out);
+        if (!why.empty()) return why;
+    }
+    return {};
+}
+
 protocol::Result<SerialUrl, std::string> parse_line_url(std::string_view url, std::string_view rest,
                                                         SerialUrl out) {
     auto question = rest.find('?');
@@ -125,15 +142,7 @@ protocol::Result<SerialUrl, std::string> parse_line_url(std::string_view url, st
     out.line.device = std::string(path);
     auto query =
         question == std::string_view::npos ? std::string_view{} : rest.substr(question + 1);
-    while (!query.empty()) {
-        auto amp = query.find('&');
-        auto pair = query.substr(0, amp);
-        query = amp == std::string_view::npos ? std::string_view{} : query.substr(amp + 1);
-        auto eq = pair.find('=');
-        if (eq == std::string_view::npos) return url_error(url, "settings are KEY=VALUE");
-        auto why = apply_setting(pair.substr(0, eq), pair.substr(eq + 1), out);
-        if (!why.empty()) return url_error(url, why);
-    }
+    if (const auto why = apply_query(query, out, false); !why.empty()) return url_error(url, why);
     if (out.kind == SerialUrl::Kind::Rtu && out.line.data_bits != 8) {
         return url_error(url, "RTU needs 8 data bits");
     }
@@ -141,6 +150,19 @@ protocol::Result<SerialUrl, std::string> parse_line_url(std::string_view url, st
 }
 
 }  // namespace
+
+std::optional<std::string> line_settings_error(std::string_view settings) {
+    if (settings.empty()) return "no setting given";
+    SerialUrl scratch;
+    const auto why = apply_query(settings, scratch, true);
+    if (why.empty()) return std::nullopt;
+    return std::string(why);
+}
+
+SerialUrl with_line_settings(SerialUrl url, std::string_view settings) {
+    apply_query(settings, url, true);
+    return url;
+}
 
 bool is_serial_url(std::string_view url) {
     return url.starts_with("rtu:") || url.starts_with("ascii:") || url.starts_with("rtu+tcp:");

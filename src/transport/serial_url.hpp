@@ -4,6 +4,7 @@
 #include <bitset>
 #include <chrono>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -49,6 +50,13 @@ bool is_serial_url(std::string_view url);
 // The error is one line naming what is wrong and showing the expected form, e.g.
 // "bad address 'rtu:///dev/ttyS0?parity=X': parity must be N, E or O (expected ...)".
 protocol::Result<SerialUrl, std::string> parse_serial_url(std::string_view url);
+
+// A serial line's settings alone, as a URL's query gives them ("baud=9600&parity=N&stop=2"):
+// what is wrong with them in a few words, or nothing. Only baud, parity, stop and data.
+std::optional<std::string> line_settings_error(std::string_view settings);
+
+// `url` with `settings` (checked by line_settings_error) put over its line's.
+SerialUrl with_line_settings(SerialUrl url, std::string_view settings);
 
 // The URL with every setting spelled out: "rtu:///dev/ttyUSB0?baud=19200&parity=E&stop=1&data=8".
 std::string format_serial_url(const SerialUrl& url);

@@ -114,6 +114,15 @@ TEST(ConformSerialRules, TheTimingCasesReportWhatTheyMeasured) {
         << run.cases["ser.10"].reason;
     EXPECT_NE(run.cases["ser.10"].reason.find("against a timeout of 600 ms"), std::string::npos);
     EXPECT_NE(run.cases["ser.10"].reason.find(timing), std::string::npos);
+    // With pace=1 the tester's requests go out at the baud rate, and the reason says so.
+    auto paced = run_suite(line_url("rtu", line.pty()) + "&pace=1",
+                           {"--suite", "serial", "--case", "ser.10"});
+    EXPECT_EQ(paced.cases["ser.10"].verdict, "PASS") << paced.out;
+    EXPECT_NE(paced.cases["ser.10"].reason.find(
+                  "at 19200 baud; over a pty the tester sends at the baud rate (pace=1) and sees "
+                  "the device's bytes as it writes them"),
+              std::string::npos)
+        << paced.cases["ser.10"].reason;
 }
 
 // The line's free address and the turnaround delay come from the DUT file when it declares them.
@@ -134,6 +143,42 @@ TEST(ConformSerialRules, TheDutFileSaysTheFreeAddressAndTheTurnaround) {
     EXPECT_EQ(refused.status, 2);
     EXPECT_NE((refused.out + refused.err).find("other_address"), std::string::npos)
         << refused.out << refused.err;
+}
+
+// A slave set to other line settings than the URL's answers nothing: the settings the DUT file
+// declares are tried, and the one-line error says which one it answers at and the URL to use.
+TEST(ConformSerialRules, TheDeclaredLineSettingsAreTriedOnASilentDevice) {
+    PtyPair pty;
+    ASSERT_TRUE(pty.ok()) << pty.error();
+    WrongSerialSlave slave;
+    ASSERT_EQ(slave.start(pty, false, SlaveFault::SetTo9600N2), "");
+    const std::string dut = temp_path("settings-dut.toml");
+    std::ofstream(dut) << "unit = 1\nline_settings = [\"baud=19200&parity=O\", "
+                          "\"baud=9600&parity=N&stop=2\"]\n";
+    const auto url = "rtu://" + pty.client_end();
+    const auto silent = run_mblab({"conform", url, "--dut", dut, "--timeout", "300"});
+    EXPECT_EQ(silent.status, 2) << silent.out << silent.err;
+    EXPECT_NE(silent.err.find("; it answers at baud=9600&parity=N&stop=2 (declared in "
+                              "line_settings): run with rtu://" +
+                              pty.client_end() + "?baud=9600&parity=N&stop=2&data=8\n"),
+              std::string::npos)
+        << silent.err;
+    // At the URL it gives, the serial suite runs and the slave passes it.
+    auto run =
+        run_suite(url + "?baud=9600&parity=N&stop=2", {"--suite", "serial", "--case", "ser.1"});
+    EXPECT_EQ(run.cases["ser.1"].verdict, "PASS") << run.out;
+    // Without the declaration nothing is tried; a setting that is not one is refused in one line.
+    std::ofstream(dut) << "unit = 1\n";
+    const auto undeclared = run_mblab({"conform", url, "--dut", dut, "--timeout", "300"});
+    EXPECT_EQ(undeclared.status, 2);
+    EXPECT_EQ(undeclared.err.find("it answers at"), std::string::npos) << undeclared.err;
+    std::ofstream(dut) << "line_settings = [\"baud=9600&units=1\"]\n";
+    const auto refused = run_mblab({"conform", url, "--dut", dut});
+    EXPECT_EQ(refused.status, 2);
+    EXPECT_NE(refused.err.find("line_settings: 'baud=9600&units=1': a line setting is one of "
+                               "baud, parity, stop and data"),
+              std::string::npos)
+        << refused.err;
 }
 
 TEST(ConformSerialRules, AnAsciiRequestWithAPauseUnderOneSecondIsTaken) {

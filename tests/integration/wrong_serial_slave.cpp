@@ -1,5 +1,9 @@
 #include "wrong_serial_slave.hpp"
 
+#include <fcntl.h>
+#include <termios.h>
+#include <unistd.h>
+
 #include <array>
 #include <cctype>
 
@@ -27,6 +31,7 @@ int hex_value(std::uint8_t c) {
 std::string WrongSerialSlave::start(const PtyPair& pty, bool ascii, SlaveFault fault) {
     ascii_ = ascii;
     fault_ = fault;
+    master_end_ = pty.client_end();
     auto loaded = device::load_profile(device::default_profile_path());
     if (!loaded) return loaded.error();
     device_ = std::move(loaded.value());
@@ -99,6 +104,7 @@ void WrongSerialSlave::take(const Request& request) {
     if (!request.checksum_ok) device_->counters().count_crc_error();
     if (!request.checksum_ok && fault_ != SlaveFault::ExecutesBadChecksum) serve = false;
     if (request.lower_case) serve = false;
+    if (fault_ == SlaveFault::SetTo9600N2 && !master_set_alike()) serve = false;
     if (!serve) return;
     // Executed as its own (a broadcast too, when it answers one).
     const bool answer_broadcast = fault_ == SlaveFault::AnswersBroadcast;
@@ -120,6 +126,16 @@ void WrongSerialSlave::take(const Request& request) {
     port_->send(bytes.first(3));
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
     port_->send(bytes.subspan(3));
+}
+
+bool WrongSerialSlave::master_set_alike() const {
+    const int fd = ::open(master_end_.c_str(), O_RDONLY | O_NOCTTY | O_NONBLOCK);
+    if (fd < 0) return false;
+    termios settings{};
+    const bool read = ::tcgetattr(fd, &settings) == 0;
+    ::close(fd);
+    return read && ::cfgetospeed(&settings) == B9600 && (settings.c_cflag & PARENB) == 0 &&
+           (settings.c_cflag & CSTOPB) != 0;
 }
 
 void WrongSerialSlave::serve() {

@@ -27,7 +27,8 @@ enum class SlaveFault : std::uint8_t {
     CrcHighByteFirst,        // RTU: answers with the CRC's bytes swapped
     ForeignAddressInAnswer,  // answers its own requests carrying address 2
     JoinsBrokenFrame,        // RTU: joins the parts of a frame broken by a silence
-    GapInAnswer              // sends each answer in two parts, 10 ms apart
+    GapInAnswer,             // sends each answer in two parts, 10 ms apart
+    SetTo9600N2              // keeps the rules, but at 9600 baud, no parity, two stop bits
 };
 
 class WrongSerialSlave {
@@ -48,7 +49,12 @@ class WrongSerialSlave {
     void serve();
     void take(const Request& request);
 
+    // SetTo9600N2: whether the master's end is set as this slave is. A pty passes bytes on
+    // whatever the settings, where a real line would garble them, so the slave looks.
+    bool master_set_alike() const;
+
     bool ascii_ = false;
+    std::string master_end_;
     SlaveFault fault_ = SlaveFault::None;
     std::unique_ptr<device::ReferenceDevice> device_;
     std::unique_ptr<RawSerialMaster> port_;  // raw bytes on the slave's end
