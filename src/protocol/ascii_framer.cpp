@@ -45,6 +45,12 @@ FrameEvent AsciiFramer::feed(std::span<const std::uint8_t> input, std::size_t& c
 
 FrameEvent AsciiFramer::on_silence() {
     if (state_ == State::Hunting) return FrameEvent{};
+    // A frame that stops after its CR lacks the end delimiter [SER 2.5.2.1]: say so.
+    if (state_ == State::AfterCr) {
+        return fail(frame_error(
+            error_.format("incomplete frame: CR not followed by 0x%02X (LF) after %zu characters",
+                          unsigned{end_}, char_count_)));
+    }
     return fail(
         frame_error(error_.format("incomplete frame: timeout after %zu characters", char_count_)));
 }

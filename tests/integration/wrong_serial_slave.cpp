@@ -90,6 +90,8 @@ std::vector<std::uint8_t> WrongSerialSlave::encode(std::uint8_t address,
         // The LRC's two digits sit before CR LF; '0'..'9' and 'A'..'E' plus one stay hex digits.
         auto& digit = wire[wire.size() - 3];
         digit = digit == '9' ? 'A' : digit == 'F' ? '0' : static_cast<std::uint8_t>(digit + 1);
+    } else if (fault_ == SlaveFault::CrWithoutLf) {
+        wire.pop_back();
     } else if (fault_ == SlaveFault::CrcHighByteFirst) {
         std::swap(wire[wire.size() - 2], wire[wire.size() - 1]);
     }
@@ -141,12 +143,21 @@ bool WrongSerialSlave::master_set_alike() const {
 void WrongSerialSlave::serve() {
     while (!stop_) {
         // The tester sends one request and waits: a burst is one frame.
-        // A burst is one frame: it ends after 15 ms of silence, or after 200 ms for the slave
-        // that joins what a silence broke.
-        const auto silence =
-            std::chrono::milliseconds(fault_ == SlaveFault::JoinsBrokenFrame ? 200 : 15);
-        const auto bytes = port_->receive(std::chrono::milliseconds(100), silence);
+        // A burst is one frame: it ends after a silence, of 200 ms for the slave that joins
+        // what a silence broke.
+        // On RTU 1 ms, under t3.5 (2 ms at 19200 baud): the tester sends its next frame t3.5
+        // after its last one, and a pty hands a frame written at once over at once.
+        const auto silence = std::chrono::milliseconds(
+            fault_ == SlaveFault::JoinsBrokenFrame ? 200 : (ascii_ ? 15 : 1));
+        auto bytes = port_->receive(std::chrono::milliseconds(100), silence);
         if (bytes.empty()) continue;
+        // An ASCII frame ends with its LF, and up to 1 s may pass between its characters
+        // [SER 2.5.2.1].
+        while (ascii_ && bytes.back() != '\n') {
+            const auto more = port_->receive(std::chrono::milliseconds(1000), silence);
+            if (more.empty()) break;
+            bytes.insert(bytes.end(), more.begin(), more.end());
+        }
         if (auto request = decode(bytes)) take(*request);
     }
 }

@@ -24,6 +24,7 @@ enum class SlaveFault : std::uint8_t {
     ExecutesBadChecksum,     // takes a frame whose CRC or LRC is wrong
     LowerCaseAnswer,         // ASCII: answers in lower-case hex
     WrongLrc,                // ASCII: answers with its LRC plus one
+    CrWithoutLf,             // ASCII: ends its answers with CR alone
     CrcHighByteFirst,        // RTU: answers with the CRC's bytes swapped
     ForeignAddressInAnswer,  // answers its own requests carrying address 2
     JoinsBrokenFrame,        // RTU: joins the parts of a frame broken by a silence

@@ -180,6 +180,16 @@ TEST(AsciiFramer, TimeoutDropsAnUnfinishedFrame) {
     EXPECT_EQ(framer.on_silence().status, FrameStatus::NeedMore);
 }
 
+TEST(AsciiFramer, AFrameStoppingAfterItsCrLacksItsLf) {
+    AsciiFramer framer;
+    const auto part = chars(":1103006B00037E\r");
+    std::size_t consumed = 0;
+    EXPECT_EQ(framer.feed(part, consumed).status, FrameStatus::NeedMore);
+    const FrameEvent event = framer.on_silence();
+    EXPECT_EQ(event.status, FrameStatus::Error);
+    EXPECT_STREQ(event.error, "incomplete frame: CR not followed by 0x0A (LF) after 16 characters");
+}
+
 TEST(AsciiFramer, ResetDropsThePartialFrame) {
     AsciiFramer framer;
     std::size_t consumed = 0;
