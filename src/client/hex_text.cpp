@@ -2,6 +2,8 @@
 
 #include <cstdio>
 
+#include "support/hex_digits.hpp"
+
 namespace mblab::client {
 
 std::string hex16(unsigned value) {
@@ -17,13 +19,12 @@ std::string hex8(unsigned value) {
 }
 
 std::string hex_bytes(std::span<const std::uint8_t> bytes) {
-    static constexpr char kDigits[] = "0123456789ABCDEF";
     std::string out;
     out.reserve(bytes.size() * 3);
     for (auto byte : bytes) {
         if (!out.empty()) out += ' ';
-        out += kDigits[byte >> 4];
-        out += kDigits[byte & 0x0F];
+        out += kHexDigits[byte >> 4];
+        out += kHexDigits[byte & 0x0F];
     }
     return out;
 }

@@ -7,6 +7,7 @@
 #include "client/hex_text.hpp"
 #include "protocol/crc16.hpp"
 #include "protocol/lrc.hpp"
+#include "support/hex_digits.hpp"
 
 namespace mblab::conformance {
 
@@ -16,12 +17,11 @@ constexpr std::size_t kMbapHeaderCells = 6;  // transaction id, protocol id, len
 constexpr std::string_view kAnyCell = "XX";
 constexpr std::string_view kRestCell = "...";
 
+// A lower-case digit is a framing error [SER 2.5.2], but it still says which byte it is.
 std::optional<std::uint8_t> hex_digit(std::uint8_t c) {
-    if (c >= '0' && c <= '9') return static_cast<std::uint8_t>(c - '0');
-    if (c >= 'A' && c <= 'F') return static_cast<std::uint8_t>(c - 'A' + 10);
-    // A lower-case digit is a framing error [SER 2.5.2], but it still says which byte it is.
-    if (c >= 'a' && c <= 'f') return static_cast<std::uint8_t>(c - 'a' + 10);
-    return std::nullopt;
+    const int value = hex_value(static_cast<char>(c));
+    if (value < 0) return std::nullopt;
+    return static_cast<std::uint8_t>(value);
 }
 
 // The bytes a frame holds: as they are, or on ASCII those its hex digits spell after the ':'.

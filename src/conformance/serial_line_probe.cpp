@@ -15,6 +15,7 @@
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/lrc.hpp"
+#include "support/hex_digits.hpp"
 
 namespace mblab::conformance {
 
@@ -25,7 +26,7 @@ constexpr std::uint8_t kWriteSingle = 0x06;
 constexpr std::uint8_t kLastAddress = 247;  // [SER 2.2]: 248..255 are reserved
 
 char upper_hex(unsigned nibble) {
-    return "0123456789ABCDEF"[nibble & 0x0F];
+    return kHexDigits[nibble & 0x0F];
 }
 
 // The two hex digits of an ASCII frame's LRC sit before its CR LF.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "device/number_codec.hpp"
+#include "support/hex_digits.hpp"
 
 namespace mblab::device {
 
@@ -109,10 +110,9 @@ std::string toml_string(std::string_view text) {
             out += '\\';
             out += c;
         } else if (u < 0x20 || u == 0x7F) {
-            constexpr std::string_view kHex = "0123456789ABCDEF";
             out += "\\u00";
-            out += kHex[u >> 4];
-            out += kHex[u & 0xF];
+            out += kHexDigits[u >> 4];
+            out += kHexDigits[u & 0xF];
         } else {
             out += c;
         }

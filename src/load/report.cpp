@@ -106,6 +106,7 @@ std::vector<json> evidence_json(const LoadPlan& plan, const LoadResult& result) 
 // A serial node's use of its line; nothing for Modbus/TCP and RTU over TCP.
 std::optional<LineUse> node_line_use(const LoadPlan& plan, const LoadResult& result,
                                      std::size_t node) {
+    if (node >= plan.targets.size()) return std::nullopt;
     const auto& line = plan.targets[node].line;
     if (!line || !line->serial) return std::nullopt;
     const NodeResult& counts = result.nodes[node];

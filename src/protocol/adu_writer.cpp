@@ -5,6 +5,7 @@
 #include "protocol/crc16.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/lrc.hpp"
+#include "support/hex_digits.hpp"
 
 namespace mblab::protocol {
 
@@ -21,9 +22,8 @@ void place_pdu(std::span<const std::uint8_t> pdu, std::span<std::uint8_t> out, s
 }
 
 std::uint8_t* put_hex(std::uint8_t* out, std::uint8_t value) {
-    static constexpr char kDigits[] = "0123456789ABCDEF";
-    *out++ = static_cast<std::uint8_t>(kDigits[value >> 4]);
-    *out++ = static_cast<std::uint8_t>(kDigits[value & 0xF]);
+    *out++ = static_cast<std::uint8_t>(kHexDigits[value >> 4]);
+    *out++ = static_cast<std::uint8_t>(kHexDigits[value & 0xF]);
     return out;
 }
 

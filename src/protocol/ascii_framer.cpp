@@ -1,18 +1,13 @@
 #include "protocol/ascii_framer.hpp"
 
 #include "protocol/lrc.hpp"
+#include "support/hex_digits.hpp"
 
 namespace mblab::protocol {
 
 namespace {
 
 constexpr std::size_t kMinBytes = 3;  // address, function code, LRC
-
-int hex_value(std::uint8_t c) {
-    if (c >= '0' && c <= '9') return c - '0';
-    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-    return -1;
-}
 
 bool lower_case_hex(std::uint8_t c) {
     return c >= 'a' && c <= 'f';
@@ -93,7 +88,7 @@ bool AsciiFramer::frame_char(std::uint8_t c, FrameEvent& event) {
 }
 
 bool AsciiFramer::hex_digit(std::uint8_t c, FrameEvent& event) {
-    int value = hex_value(c);
+    int value = upper_hex_value(static_cast<char>(c));
     // [SER 2.5.2]: the hex digits of a frame are 0-9 and A-F; a lower-case digit is a framing
     // error a strict reader drops the frame for, which the tester names rather than decodes.
     if (value < 0 && lower_case_hex(c)) {

@@ -3,6 +3,7 @@
 #include <array>
 
 #include "protocol/function_table.hpp"
+#include "support/hex_digits.hpp"
 #include "support/name_table.hpp"
 
 namespace mblab::protocol {
@@ -16,13 +17,12 @@ struct UnknownFunctionNames {
     std::array<std::array<char, kLength>, 256> names{};
 
     constexpr UnknownFunctionNames() {
-        constexpr char kDigits[] = "0123456789ABCDEF";
         constexpr char kPrefix[] = "function 0x";
         for (std::size_t code = 0; code < names.size(); ++code) {
             for (std::size_t i = 0; i + 1 < sizeof kPrefix; ++i)
                 names[code][i] = kPrefix[i];
-            names[code][kLength - 2] = kDigits[code >> 4];
-            names[code][kLength - 1] = kDigits[code & 0xF];
+            names[code][kLength - 2] = kHexDigits[code >> 4];
+            names[code][kLength - 1] = kHexDigits[code & 0xF];
         }
     }
 };

@@ -2,6 +2,7 @@
 
 #include "protocol/function_table.hpp"
 #include "protocol/limits.hpp"
+#include "support/hex_digits.hpp"
 
 namespace mblab::protocol {
 
@@ -217,12 +218,6 @@ constexpr bool same_rows_as_function_table() {
 }
 static_assert(same_rows_as_function_table(), "one template per function row, in the same order");
 
-constexpr int hex_digit(char c) {
-    if (c >= '0' && c <= '9') return c - '0';
-    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-    return -1;
-}
-
 // Uppercase hex, spaces anywhere between digits.
 std::optional<std::vector<std::uint8_t>> bytes_of_hex(std::string_view text) {
     if (text.empty()) return std::nullopt;
@@ -231,9 +226,9 @@ std::optional<std::vector<std::uint8_t>> bytes_of_hex(std::string_view text) {
     for (char c : text) {
         if (c == ' ') continue;
         if (high < 0) {
-            high = hex_digit(c);
+            high = upper_hex_value(c);
         } else {
-            out.push_back(static_cast<std::uint8_t>(high * 16 + hex_digit(c)));
+            out.push_back(static_cast<std::uint8_t>(high * 16 + upper_hex_value(c)));
             high = -1;
         }
     }
@@ -246,7 +241,7 @@ constexpr int first_byte_of_hex(std::string_view text) {
     int first = 0;
     for (char c : text) {
         if (c == ' ') continue;
-        const int value = hex_digit(c);
+        const int value = upper_hex_value(c);
         if (value < 0) return -1;
         if (digits++ < 2) first = first * 16 + value;
     }

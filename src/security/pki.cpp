@@ -23,6 +23,7 @@
 #include "security/openssl_handles.hpp"
 #include "security/role_text.hpp"
 #include "security/tls_context.hpp"
+#include "support/hex_digits.hpp"
 
 namespace mblab::security {
 
@@ -340,14 +341,13 @@ std::optional<std::string> request_problem(const PkiRequest& request) {
 // `text` for an error line: bytes below 0x20 and DEL as \xNN, so that a refused role cannot
 // move the cursor or recolour the terminal that shows the refusal.
 std::string shown(const std::string& text) {
-    static constexpr std::string_view kHex = "0123456789ABCDEF";
     std::string out;
     for (const char c : text) {
         const auto byte = static_cast<unsigned char>(c);
         if (byte < 0x20 || byte == 0x7F) {
             out += "\\x";
-            out += kHex[byte >> 4U];
-            out += kHex[byte & 0x0FU];
+            out += kHexDigits[byte >> 4U];
+            out += kHexDigits[byte & 0x0FU];
         } else {
             out += c;
         }

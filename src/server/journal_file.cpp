@@ -6,6 +6,8 @@
 #include <fstream>
 #include <optional>
 
+#include "support/hex_digits.hpp"
+
 namespace mblab::server {
 
 namespace {
@@ -136,12 +138,11 @@ std::uint32_t crc32_of(std::string_view text) {
 }
 
 std::string seal_record(std::string_view record) {
-    static constexpr char kDigits[] = "0123456789ABCDEF";
     std::string line(record);
     line += '*';
     const auto crc = crc32_of(record);
     for (int shift = 28; shift >= 0; shift -= 4)
-        line += kDigits[(crc >> shift) & 0xFU];
+        line += kHexDigits[(crc >> shift) & 0xFU];
     return line;
 }
 

@@ -4,6 +4,7 @@
 
 #include "protocol/exception_code.hpp"
 #include "protocol/function_code.hpp"
+#include "support/hex_digits.hpp"
 
 namespace mblab::server {
 
@@ -16,17 +17,9 @@ void device_failure(std::uint8_t function, device::Reply& reply, std::span<std::
     reply.size = 2;
 }
 
-constexpr char kDigits[] = "0123456789ABCDEF";
-
-int hex_digit(char c) {
-    if (c >= '0' && c <= '9') return c - '0';
-    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
-    return -1;
-}
-
 void add_word(std::string& line, std::uint32_t word) {
     for (int shift = 12; shift >= 0; shift -= 4)
-        line += kDigits[(word >> shift) & 0xFU];
+        line += kHexDigits[(word >> shift) & 0xFU];
 }
 
 // Four hex digits at `at`, or -1.
@@ -34,7 +27,7 @@ long word_at(std::string_view text, std::size_t at) {
     if (at + 4 > text.size()) return -1;
     long word = 0;
     for (std::size_t i = at; i < at + 4; ++i) {
-        const int digit = hex_digit(text[i]);
+        const int digit = upper_hex_value(text[i]);
         if (digit < 0) return -1;
         word = word * 16 + digit;
     }
@@ -81,8 +74,8 @@ std::string journal_record(const device::RequestContext& context,
     std::string line = std::to_string(context.unit);
     line += context.link == device::Link::Serial ? " S " : " T ";
     for (auto byte : request) {
-        line += kDigits[byte >> 4];
-        line += kDigits[byte & 0x0F];
+        line += kHexDigits[byte >> 4];
+        line += kHexDigits[byte & 0x0F];
     }
     return line;
 }
@@ -105,8 +98,8 @@ bool parse_journal_record(std::string_view line, device::RequestContext& context
     if (hex.empty() || hex.size() % 2 != 0) return false;
     request.clear();
     for (std::size_t i = 0; i < hex.size(); i += 2) {
-        const int high = hex_digit(hex[i]);
-        const int low = hex_digit(hex[i + 1]);
+        const int high = upper_hex_value(hex[i]);
+        const int low = upper_hex_value(hex[i + 1]);
         if (high < 0 || low < 0) return false;
         request.push_back(static_cast<std::uint8_t>(high * 16 + low));
     }
