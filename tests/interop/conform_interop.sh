@@ -38,12 +38,18 @@ input_registers = 65536
 TOML
 }
 
-# run_conform MBLAB EXPECTED_STATUS [SCHEME]: runs every shipped suite against the peer, reached
-# as SCHEME://127.0.0.1:PORT (default tcp).
+# run_conform MBLAB EXPECTED_STATUS [SCHEME|URL]: runs every shipped suite against the peer, reached
+# as SCHEME://127.0.0.1:PORT (default tcp) or at URL (one with "://"). DUT_EXTRA holds more lines
+# for the DUT file.
 run_conform() {
     write_dut
+    if [ -n "${DUT_EXTRA:-}" ]; then printf '%s\n' "$DUT_EXTRA" >> "$WORK/dut.toml"; fi
+    case "${3:-tcp}" in
+        *://*) target=$3 ;;
+        *) target="${3:-tcp}://127.0.0.1:$PEER_PORT" ;;
+    esac
     set +e
-    "$1" conform "${3:-tcp}://127.0.0.1:$PEER_PORT" --dut "$WORK/dut.toml" --json "$WORK/report.json" \
+    "$1" conform "$target" --dut "$WORK/dut.toml" --json "$WORK/report.json" \
         > "$WORK/console.txt" 2>&1
     status=$?
     set -e
