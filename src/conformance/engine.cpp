@@ -93,6 +93,10 @@ SuiteResult Engine::run_suite(const Suite& suite) {
                 break;
             }
         }
+        // A case that does not apply is N/A whatever became of the cases it depends on.
+        if (!blocked.empty()) {
+            if (auto not_applicable = check_requirements(c, session_.dut())) blocked.clear();
+        }
         session_.start_case(c.id);
         case_result.outcome = blocked.empty() ? run_case(c) : verdict(Verdict::NotRun, blocked);
         // Judged in the catalogue's notation; shown as the line carried it.
