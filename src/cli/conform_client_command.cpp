@@ -86,6 +86,15 @@ std::string client_json(const conf::RunResult& result, const conf::ClientDeclara
     return report.dump(2) + "\n";
 }
 
+// conform's JUnit report, its <testsuites> named for this command.
+std::string client_junit(const conf::RunResult& result) {
+    auto report = conf::junit_report(result);
+    const std::string_view conform = "<testsuites name=\"mblab conform ";
+    if (const auto at = report.find(conform); at != std::string::npos)
+        report.insert(at + conform.size() - 1, "-client");
+    return report;
+}
+
 int run_conform_client(const ConformClientOptions& options) {
     const auto& listen_url = options.listen;
     if (listen_url.starts_with("rtu") || listen_url.starts_with("ascii") ||
@@ -138,7 +147,7 @@ int run_conform_client(const ConformClientOptions& options) {
     console.summary(result);
     const std::pair<const std::string*, std::string> reports[] = {
         {&options.json, options.json.empty() ? "" : client_json(result, declared)},
-        {&options.junit, options.junit.empty() ? "" : conf::junit_report(result)},
+        {&options.junit, options.junit.empty() ? "" : client_junit(result)},
     };
     for (const auto& [path, text] : reports) {
         if (path->empty()) continue;

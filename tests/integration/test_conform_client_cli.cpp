@@ -2,12 +2,15 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <vector>
 
 #include "child_process.hpp"
+#include "support/temp_path.hpp"
 
 // `mblab conform-client` against clients built wrong on purpose (tests/clients/modbus_client.py,
 // one defect each) and against `mblab read`: each defect FAILs the scenario it is about and no
@@ -149,6 +152,21 @@ TEST(ConformClientCli, UsageErrors) {
         run_program({MBLAB_BINARY, "conform-client", "--error-pattern", "(", "--", "true"});
     EXPECT_EQ(regex.status, 2);
     EXPECT_THAT(regex.err, HasSubstr("--error-pattern: not a regular expression"));
+}
+
+TEST(ConformClientCli, TheJUnitReportIsConformsNamedForTheCommand) {
+    const auto path = temp_path("conform-client.xml");
+    auto argv = python_client(0, "exception-zero");
+    argv.insert(argv.begin(),
+                {MBLAB_BINARY, "conform-client", "--case", "tcp.6.02", "--junit", path, "--"});
+    const auto ran = run_program(argv, std::chrono::seconds(60));
+    EXPECT_EQ(ran.status, 1) << ran.err;
+    std::ifstream file(path);
+    std::stringstream xml;
+    xml << file.rdbuf();
+    EXPECT_THAT(xml.str(), HasSubstr("<testsuites name=\"mblab conform-client tcp://127.0.0.1:"));
+    EXPECT_THAT(xml.str(), HasSubstr("<failure message=\"exception 02 reported as success, not as "
+                                     "an error; output: &quot;0 0&quot;\""));
 }
 
 TEST(ConformClientCli, AClientThatSendsNothingFails) {

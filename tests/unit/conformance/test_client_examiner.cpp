@@ -47,6 +47,12 @@ struct Exam {
         }
         return lines;
     }
+    // A connection opens at 0 and `request` comes on it at once; its number.
+    std::size_t open_with(const std::string& request) {
+        const auto connection = exam.opened(time(0));
+        ask(connection, request, 0);
+        return connection;
+    }
     void ask(std::size_t connection, const std::string& request, int ms) {
         exam.received(connection, hex(request), time(ms));
     }
@@ -75,8 +81,7 @@ TEST(ClientExaminer, EveryScenarioCitesKnownDocuments) {
 
 TEST(ClientExaminer, NoReplyStaysSilent) {
     Exam e(ClientScenario::NoReply);
-    const auto c = e.exam.opened(Exam::time(0));
-    e.ask(c, kRequest, 0);
+    const auto c = e.open_with(kRequest);
     e.ask(c, kRequest, 500);
     EXPECT_EQ(e.at(5000), Lines{});
     EXPECT_EQ(e.exam.deadline(), ClientExaminer::Clock::time_point::max());
@@ -95,16 +100,14 @@ TEST(ClientExaminer, WrongTransactionComesFirstWithDecoys) {
 
 TEST(ClientExaminer, WrongUnitComesFirstWithDecoys) {
     Exam e(ClientScenario::WrongUnit);
-    const auto c = e.exam.opened(Exam::time(0));
-    e.ask(c, kRequest, 0);
+    e.open_with(kRequest);
     EXPECT_EQ(e.at(49), Lines{"send 00 01 00 00 00 07 02 03 04 9C A4 9C A5"});
     EXPECT_EQ(e.at(50), Lines{"send " + kRight});
 }
 
 TEST(ClientExaminer, LateReplyMeetsTheRetry) {
     Exam e(ClientScenario::LateReply);
-    const auto c = e.exam.opened(Exam::time(0));
-    e.ask(c, kRequest, 0);
+    const auto c = e.open_with(kRequest);
     EXPECT_EQ(e.at(499), Lines{});
     e.ask(c, "00 02 00 00 00 06 01 03 00 64 00 02", 500);
     EXPECT_EQ(e.at(500), Lines{"send 00 01 00 00 00 07 01 03 04 9C A4 9C A5"});
@@ -114,8 +117,7 @@ TEST(ClientExaminer, LateReplyMeetsTheRetry) {
 
 TEST(ClientExaminer, LateReplyComesAnywayWithoutARetry) {
     Exam e(ClientScenario::LateReply);
-    const auto c = e.exam.opened(Exam::time(0));
-    e.ask(c, kRequest, 0);
+    e.open_with(kRequest);
     EXPECT_EQ(e.exam.deadline(), Exam::time(800));
     EXPECT_EQ(e.at(800), Lines{"send 00 01 00 00 00 07 01 03 04 9C A4 9C A5"});
     EXPECT_FALSE(e.exam.stale_met_a_wait());
@@ -123,8 +125,7 @@ TEST(ClientExaminer, LateReplyComesAnywayWithoutARetry) {
 
 TEST(ClientExaminer, ARetryUnderTheSameIdIsNotMetWithAStaleAnswer) {
     Exam e(ClientScenario::LateReply);
-    const auto c = e.exam.opened(Exam::time(0));
-    e.ask(c, kRequest, 0);
+    const auto c = e.open_with(kRequest);
     e.ask(c, kRequest, 500);
     EXPECT_EQ(e.at(550), Lines{"send " + kRight});
     EXPECT_FALSE(e.exam.stale_met_a_wait());
@@ -139,8 +140,7 @@ TEST(ClientExaminer, MalformedAnswersThenRecovery) {
     };
     for (const auto& [which, bad] : cases) {
         Exam e(which);
-        const auto c = e.exam.opened(Exam::time(0));
-        e.ask(c, kRequest, 0);
+        const auto c = e.open_with(kRequest);
         EXPECT_EQ(e.at(0), Lines{"send " + bad});
         e.ask(c, kRequest, 100);
         EXPECT_EQ(e.at(100), Lines{"send " + kRight});
@@ -149,8 +149,7 @@ TEST(ClientExaminer, MalformedAnswersThenRecovery) {
 
 TEST(ClientExaminer, ExceptionsAnswerEveryRequest) {
     Exam e(ClientScenario::Exception, 0x0B);
-    const auto c = e.exam.opened(Exam::time(0));
-    e.ask(c, kRequest, 0);
+    const auto c = e.open_with(kRequest);
     e.ask(c, kRequest, 10);
     EXPECT_EQ(e.at(10),
               (Lines{"send 00 01 00 00 00 03 01 83 0B", "send 00 01 00 00 00 03 01 83 0B"}));
@@ -158,8 +157,7 @@ TEST(ClientExaminer, ExceptionsAnswerEveryRequest) {
 
 TEST(ClientExaminer, SplitAnswerCutsHeaderAndPdu) {
     Exam e(ClientScenario::SplitAnswer);
-    const auto c = e.exam.opened(Exam::time(0));
-    e.ask(c, kRequest, 0);
+    e.open_with(kRequest);
     EXPECT_EQ(e.at(0), Lines{"send 00 01 00"});
     EXPECT_EQ(e.at(30), Lines{"send 00 00 07 01 03 04"});
     EXPECT_EQ(e.at(60), Lines{"send 27 74 27 75"});
@@ -167,16 +165,14 @@ TEST(ClientExaminer, SplitAnswerCutsHeaderAndPdu) {
 
 TEST(ClientExaminer, TwoAnswersInOneSegment) {
     Exam e(ClientScenario::TwoAnswers);
-    const auto c = e.exam.opened(Exam::time(0));
-    e.ask(c, kRequest, 0);
+    e.open_with(kRequest);
     EXPECT_EQ(e.at(0), Lines{"send " + kRight + " 5A 5B 00 00 00 07 01 03 04 9C A4 9C A5"});
 }
 
 TEST(ClientExaminer, CloseThenAnswerOnTheNextConnection) {
     for (const auto which : {ClientScenario::CloseFin, ClientScenario::CloseReset}) {
         Exam e(which);
-        const auto first = e.exam.opened(Exam::time(0));
-        e.ask(first, kRequest, 0);
+        e.open_with(kRequest);
         EXPECT_EQ(e.at(0), Lines{which == ClientScenario::CloseFin ? "close" : "reset"});
         const auto second = e.exam.opened(Exam::time(20));
         e.ask(second, kRequest, 20);
@@ -187,28 +183,25 @@ TEST(ClientExaminer, CloseThenAnswerOnTheNextConnection) {
 
 TEST(ClientExaminer, PipelinedRequestsAreAnsweredInReverse) {
     Exam e(ClientScenario::Pipelined);
-    const auto c = e.exam.opened(Exam::time(0));
-    e.ask(c, kRequest + " 00 02 00 00 00 06 01 03 00 C8 00 01", 0);
+    e.open_with(kRequest + " 00 02 00 00 00 06 01 03 00 C8 00 01");
     EXPECT_EQ(e.at(0), Lines{"send 00 02 00 00 00 05 01 03 02 27 D8"});
     EXPECT_EQ(e.at(10), Lines{"send " + kRight});
 }
 
 TEST(ClientExaminer, ALoneRequestIsAnsweredAfterThePipelineWait) {
     Exam e(ClientScenario::Pipelined);
-    const auto c = e.exam.opened(Exam::time(0));
-    e.ask(c, kRequest, 0);
+    e.open_with(kRequest);
     EXPECT_EQ(e.at(199), Lines{});
     EXPECT_EQ(e.at(200), Lines{"send " + kRight});
 }
 
 TEST(ClientExaminer, OtherUnitsAndFunctionsAreAnsweredAsADeviceWould) {
     Exam e(ClientScenario::SplitAnswer);
-    const auto c = e.exam.opened(Exam::time(0));
-    e.ask(c, "00 07 00 00 00 06 FF 03 00 64 00 02", 0);  // another unit: silence
+    e.open_with("00 07 00 00 00 06 FF 03 00 64 00 02");  // another unit: silence
     EXPECT_EQ(e.at(100), Lines{});
     Exam w(ClientScenario::WrongFunction);
-    const auto d = w.exam.opened(Exam::time(0));
-    w.ask(d, "00 03 00 00 00 06 01 06 00 64 00 02", 0);  // not a read: 01, not malformed
+    const auto d =
+        w.open_with("00 03 00 00 00 06 01 06 00 64 00 02");  // not a read: 01, not malformed
     EXPECT_EQ(w.at(0), Lines{"send 00 03 00 00 00 03 01 86 01"});
 }
 
