@@ -174,9 +174,8 @@ CMD runs once per scenario, without a shell; in its arguments {host}, {port}, {u
 address and puts 40000 + address in every answer the client must not take, so its output shows
 which answer it used.
 
-Example:
-  mblab conform-client --client-timeout 300ms --client-retries 1 -- \
-      mblab read {url} {address} --count {count} --unit {unit} --timeout 300 --retries 1 --no-probe
+Example: mblab conform-client --client-timeout 300ms --client-retries 1 -- mblab read {url}
+  holding {address} {count} --unit {unit} --timeout 300 --retries 1 --no-probe
 
 Not done yet: serial lines (rtu://, ascii://, rtu+tcp://), mbaps://, --attach (a client that
 polls by itself), broadcast (scenario 9) and certificates (scenario 12). See

@@ -200,8 +200,7 @@ TEST(ClientExaminer, OtherUnitsAndFunctionsAreAnsweredAsADeviceWould) {
     e.open_with("00 07 00 00 00 06 FF 03 00 64 00 02");  // another unit: silence
     EXPECT_EQ(e.at(100), Lines{});
     Exam w(ClientScenario::WrongFunction);
-    const auto d =
-        w.open_with("00 03 00 00 00 06 01 06 00 64 00 02");  // not a read: 01, not malformed
+    w.open_with("00 03 00 00 00 06 01 06 00 64 00 02");  // not a read: 01, not malformed
     EXPECT_EQ(w.at(0), Lines{"send 00 03 00 00 00 03 01 86 01"});
 }
 
