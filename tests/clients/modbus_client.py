@@ -7,7 +7,11 @@ exception is an error, a timeout is retried --retries times on the same connecti
 connection is opened again for the next try. Each --defect breaks one of those rules on purpose,
 as clients in the field do, so the tests can show that the examiner finds exactly that one.
 
+With --pipeline it sends two requests at once (COUNT registers at ADDRESS, then the COUNT after
+them), pairs the answers with them by transaction id and prints the values in request order.
+
 usage: modbus_client.py HOST PORT UNIT ADDRESS COUNT [--timeout S] [--retries N] [--defect D]
+                        [--pipeline]
 """
 import argparse
 import socket
@@ -15,7 +19,8 @@ import struct
 import sys
 import time
 
-DEFECTS = ["stale", "ignore-tid", "exception-zero", "no-timeout", "retry-forever", "wrong-unit"]
+DEFECTS = ["stale", "ignore-tid", "exception-zero", "no-timeout", "retry-forever", "wrong-unit",
+           "fifo"]
 
 
 class Closed(Exception):
@@ -39,6 +44,27 @@ def read_exact(sock, size, deadline):
     return data
 
 
+def pipelined(args, unit, address, count):
+    """Two requests outstanding; with the defect "fifo" answers are paired by arrival."""
+    sock = socket.create_connection((args.host, int(args.port)), timeout=args.timeout)
+    asked = {1: address, 2: address + count}
+    sock.sendall(b"".join(struct.pack(">HHHBBHH", tid, 0, 6, unit, 3, first, count)
+                          for tid, first in asked.items()))
+    deadline = time.monotonic() + args.timeout
+    values = {}
+    try:
+        for arrival in (1, 2):
+            their_tid, _, length, _ = struct.unpack(">HHHB", read_exact(sock, 7, deadline))
+            pdu = read_exact(sock, length - 1, deadline)
+            tid = arrival if args.defect == "fifo" else their_tid
+            values[tid] = struct.unpack(">%dH" % count, pdu[2:2 + 2 * count])
+    except (socket.timeout, Closed, struct.error):
+        print("error: no answers")
+        return 1
+    print(" ".join(str(v) for tid in sorted(asked) for v in values.get(tid, ())))
+    return 0
+
+
 def main():
     parser = argparse.ArgumentParser()
     for name in ["host", "port", "unit", "address", "count"]:
@@ -46,8 +72,11 @@ def main():
     parser.add_argument("--timeout", type=float, default=1.0)
     parser.add_argument("--retries", type=int, default=0)
     parser.add_argument("--defect", choices=DEFECTS)
+    parser.add_argument("--pipeline", action="store_true")
     args = parser.parse_args()
     unit, address, count = int(args.unit), int(args.address), int(args.count)
+    if args.pipeline:
+        return pipelined(args, unit, address, count)
     defect = args.defect
     sock = None
     tid = 0

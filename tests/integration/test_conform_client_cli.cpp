@@ -131,6 +131,24 @@ TEST(ConformClientCli, TakingAnotherUnitsReplyFailsTheWrongUnitOnly) {
     expect_only(examine(1, python_client(1, "wrong-unit")), {"tcp.4"});
 }
 
+// tcp.11 alone: a pipelining client sends two requests at once in every scenario.
+TEST(ConformClientCli, PipelinedAnswersPairedByArrivalFail) {
+    for (const std::string defect : {"", "fifo"}) {
+        std::vector<std::string> argv = {
+            MBLAB_BINARY, "conform-client", "--case",  "tcp.11",    "--client-pipelining",
+            "--",         "python3",        kClient,   "{host}",    "{port}",
+            "{unit}",     "{address}",      "{count}", "--pipeline"};
+        if (!defect.empty()) argv.insert(argv.end(), {"--defect", defect});
+        const auto ran = run_program(argv, std::chrono::seconds(60));
+        EXPECT_EQ(ran.status, defect.empty() ? 0 : 1) << ran.out << ran.err;
+        EXPECT_THAT(ran.out,
+                    HasSubstr(defect.empty() ? "  PASS     tcp.11 " : "  FAIL     tcp.11 "));
+    }
+    const auto ran =
+        run_program({MBLAB_BINARY, "conform-client", "--case", "tcp.11", "--", "true"});
+    EXPECT_THAT(ran.out, HasSubstr("N/A      tcp.11"));
+}
+
 TEST(ConformClientCli, UndeclaredTimeoutAndRetriesAreNotApplicable) {
     const auto ran = run_program(
         {MBLAB_BINARY, "conform-client", "--case", "tcp.1", "--case", "tcp.2", "--", "true"});
