@@ -12,8 +12,10 @@
 #include "cli/commands.hpp"
 #include "cli/report_files.hpp"
 #include "cli/terminal_style.hpp"
+#include "conformance/capture.hpp"
 #include "conformance/client_exam_run.hpp"
 #include "conformance/console_report.hpp"
+#include "conformance/provenance.hpp"
 #include "conformance/reports.hpp"
 
 // `mblab conform-client [--listen URL] -- CMD ARGS...`: grades a Modbus client (master) the way
@@ -38,7 +40,9 @@ struct ConformClientOptions {
     std::vector<std::string> cases;
     std::string json;
     std::string junit;
+    std::string pcap;
     CLI::App* app = nullptr;
+    const Invocation* invocation = nullptr;
 };
 
 int usage_error(const std::string& message) {
@@ -124,10 +128,15 @@ int run_conform_client(const ConformClientOptions& options) {
     }
     ReportFiles files;
     std::string error;
-    if ((!options.json.empty() && !files.check("--json", options.json, error)) ||
-        (!options.junit.empty() && !files.check("--junit", options.junit, error))) {
-        return usage_error(error);
+    if (options.pcap == "-") return usage_error("--pcap -: a capture is binary; give it a file");
+    for (const auto& [option, path] :
+         {std::pair{"--json", options.json}, std::pair{"--junit", options.junit},
+          std::pair{"--pcap", options.pcap}}) {
+        if (!path.empty() && path != "-" && !files.check(option, path, error))
+            return usage_error(error);
     }
+    conf::Capture capture;
+    if (!options.pcap.empty()) exam.capture = &capture;
     auto listener = conf::ExamListener::open(listen_url);
     if (!listener) return usage_error(listener.error());
 
@@ -142,6 +151,7 @@ int run_conform_client(const ConformClientOptions& options) {
     fmt::print(console_file, "mblab conform-client {} --{}\n", (*listener)->url(), shown);
     fmt::print(console_file, "Client: {}\n", declared_text(declared));
     std::fflush(console_file);
+    const auto started = std::chrono::system_clock::now();
     auto result = conf::run_client_exam(**listener, exam, &console);
     result.target = (*listener)->url();
     console.summary(result);
@@ -157,6 +167,21 @@ int run_conform_client(const ConformClientOptions& options) {
         }
         if (!conf::write_text_file(*path, text, error)) return usage_error(error);
         files.written(*path);
+    }
+    if (!options.pcap.empty()) {
+        conf::Provenance provenance;
+        if (options.invocation) {
+            provenance.version = options.invocation->version;
+            provenance.commit = options.invocation->commit;
+            provenance.command_line = options.invocation->argv;
+        }
+        provenance.started = conf::iso8601_utc(started);
+        provenance.finished = conf::iso8601_utc(std::chrono::system_clock::now());
+        provenance.declared_by = "flags";
+        provenance.device.reason = "a client is examined, not a device";
+        if (!conf::write_pcap(options.pcap, capture.events(), provenance, error))
+            return usage_error(error);
+        files.written(options.pcap);
     }
     return result.all_passed() ? kExitOk : kExitFailed;
 }
@@ -178,16 +203,18 @@ Example: mblab conform-client --client-timeout 300ms --client-retries 1 -- mblab
   holding {address} {count} --unit {unit} --timeout 300 --retries 1 --no-probe
 
 Not done yet: serial lines (rtu://, ascii://, rtu+tcp://), mbaps://, --attach (a client that
-polls by itself), broadcast (scenario 9) and certificates (scenario 12). See
+polls by itself), broadcast (scenario 9), certificates (scenario 12) and the HTML report. See
 docs/client-conformance.md.)";
 
 }  // namespace
 
-void add_conform_client_command(CLI::App& app, CommandRunner& runner) {
+void add_conform_client_command(CLI::App& app, CommandRunner& runner,
+                                const Invocation& invocation) {
     auto [cmd, options] =
         add_command<ConformClientOptions>(app, runner, "conform-client", std::string(kSummary),
                                           help_text(kFooter), run_conform_client);
     options->app = cmd;
+    options->invocation = &invocation;
     cmd->add_option("--listen", options->listen,
                     "where the examiner listens: tcp://HOST:PORT (port 0: a free one)")
         ->capture_default_str();
@@ -218,6 +245,9 @@ void add_conform_client_command(CLI::App& app, CommandRunner& runner) {
                     "run only this scenario (tcp.3) or group (tcp.6); repeatable");
     cmd->add_option("--json", options->json, "write the JSON report to FILE ('-': stdout)");
     cmd->add_option("--junit", options->junit, "write the JUnit XML report to FILE ('-': stdout)");
+    cmd->add_option("--pcap", options->pcap,
+                    "write what every connection carried to FILE (pcapng, the examiner on port "
+                    "502, each packet's comment its scenario's id)");
     cmd->add_option("command", options->command, "the client's command and arguments, after --");
 }
 

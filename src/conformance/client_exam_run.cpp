@@ -11,6 +11,7 @@
 #include <cerrno>
 #include <cstring>
 #include <map>
+#include <optional>
 
 #include "conformance/client_examiner.hpp"
 #include "conformance/client_judge.hpp"
@@ -30,6 +31,31 @@ std::chrono::milliseconds since(Clock::time_point start) {
     return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
 }
 
+// The client's end as the capture's local side, the examiner's as its peer (the device's).
+client::LinkAddresses addresses_of(int fd) {
+    client::LinkAddresses addresses;
+    sockaddr_storage ends[2]{};
+    socklen_t sizes[2] = {sizeof ends[0], sizeof ends[1]};
+    ::getpeername(fd, reinterpret_cast<sockaddr*>(&ends[0]), &sizes[0]);
+    ::getsockname(fd, reinterpret_cast<sockaddr*>(&ends[1]), &sizes[1]);
+    addresses.ipv6 = ends[0].ss_family == AF_INET6;
+    const auto take = [&](const sockaddr_storage& end, std::array<std::uint8_t, 16>& ip,
+                          std::uint16_t& port) {
+        if (addresses.ipv6) {
+            const auto& in6 = reinterpret_cast<const sockaddr_in6&>(end);
+            std::memcpy(ip.data(), &in6.sin6_addr, 16);
+            port = ntohs(in6.sin6_port);
+        } else {
+            const auto& in4 = reinterpret_cast<const sockaddr_in&>(end);
+            std::memcpy(ip.data(), &in4.sin_addr, 4);
+            port = ntohs(in4.sin_port);
+        }
+    };
+    take(ends[0], addresses.local_ip, addresses.local_port);
+    take(ends[1], addresses.peer_ip, addresses.peer_port);
+    return addresses;
+}
+
 void reset_and_close(int fd) {
     const linger abort{1, 0};  // close() then sends an RST
     ::setsockopt(fd, SOL_SOCKET, SO_LINGER, &abort, sizeof abort);
@@ -39,10 +65,14 @@ void reset_and_close(int fd) {
 // The examiner's connections on sockets: it accepts, reads and performs the examiner's actions.
 class Wire {
   public:
-    Wire(ClientExaminer& exam, int listen_fd) : exam_(exam), listen_fd_(listen_fd) {}
+    Wire(ClientExaminer& exam, int listen_fd, Capture* capture)
+        : exam_(exam), listen_fd_(listen_fd), capture_(capture) {
+        if (capture_) capture_->on_label(exam.scenario().id);
+    }
     Wire(const Wire&) = delete;
     Wire& operator=(const Wire&) = delete;
     ~Wire() {
+        if (captured_) end_capture(*captured_, true);
         for (const auto& [id, fd] : sockets_)
             ::close(fd);
     }
@@ -74,12 +104,15 @@ class Wire {
             switch (action.kind) {
                 case ClientExaminer::Action::Kind::Send:
                     ::send(fd, action.bytes.data(), action.bytes.size(), MSG_NOSIGNAL);
+                    if (captured(action.connection)) capture_->on_received(action.bytes);
                     break;
                 case ClientExaminer::Action::Kind::Close:
                     // A FIN; what the client sends after it is read and dropped until it closes.
                     ::shutdown(fd, SHUT_WR);
+                    end_capture(action.connection, true);
                     break;
                 case ClientExaminer::Action::Kind::Reset:
+                    end_capture(action.connection, true);
                     reset_and_close(fd);
                     sockets_.erase(found);
                     break;
@@ -96,6 +129,15 @@ class Wire {
     }
 
   private:
+    // A capture holds one connection at a time: it follows the newest, and the bytes of an older
+    // one still open (a client's second connection overlapping its first) are left out.
+    bool captured(std::size_t id) const { return capture_ && captured_ == id; }
+    void end_capture(std::size_t id, bool by_examiner) {
+        if (!captured(id)) return;
+        capture_->on_close(by_examiner);
+        captured_.reset();
+    }
+
     void accept_all() {
         while (true) {
             const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
@@ -103,7 +145,12 @@ class Wire {
             const int on = 1;
             // Each action is one segment: split answers must not be joined again.
             ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &on, sizeof on);
-            sockets_[exam_.opened(Clock::now())] = fd;
+            const auto id = exam_.opened(Clock::now());
+            sockets_[id] = fd;
+            if (capture_) {
+                capture_->on_open(addresses_of(fd));
+                captured_ = id;
+            }
         }
     }
 
@@ -113,12 +160,14 @@ class Wire {
         while (true) {
             const auto got = ::recv(fd, buffer, sizeof buffer, 0);
             if (got > 0) {
+                if (captured(id)) capture_->on_sent({buffer, static_cast<std::size_t>(got)});
                 exam_.received(id,
                                std::span<const std::uint8_t>(buffer, static_cast<std::size_t>(got)),
                                Clock::now());
                 continue;
             }
             if (got < 0 && (errno == EAGAIN || errno == EINTR)) return;
+            end_capture(id, false);
             exam_.closed(id, Clock::now());
             closed_.push_back(id);
             return;
@@ -137,6 +186,8 @@ class Wire {
 
     ClientExaminer& exam_;
     int listen_fd_;
+    Capture* capture_;
+    std::optional<std::size_t> captured_;
     std::map<std::size_t, int> sockets_;
     std::vector<std::size_t> closed_;
 };
@@ -151,7 +202,7 @@ void drain_backlog(int listen_fd) {
 }
 
 ClientRun run_one(ClientExaminer& exam, ExamListener& listen, const std::vector<std::string>& argv,
-                  const ClientDeclarations& declared) {
+                  const ClientDeclarations& declared, Capture* capture) {
     ClientRun run;
     run.limit = client_run_limit(declared);
     drain_backlog(listen.fd());
@@ -163,7 +214,7 @@ ClientRun run_one(ClientExaminer& exam, ExamListener& listen, const std::vector<
     }
     auto& client = **process;
     const auto started = Clock::now();
-    Wire wire(exam, listen.fd());
+    Wire wire(exam, listen.fd(), capture);
     while (true) {
         std::vector<pollfd> polls;
         wire.add_polls(polls);
@@ -268,7 +319,7 @@ RunResult run_client_exam(ExamListener& listen, const ClientExamOptions& options
             case_result.outcome = *na;
         } else {
             ClientExaminer exam(c, declared, Clock::now());
-            const auto run = run_one(exam, listen, argv, declared);
+            const auto run = run_one(exam, listen, argv, declared, options.capture);
             case_result.outcome = judge_client(exam, declared, run);
             case_result.requests = exam.requests().size();
         }

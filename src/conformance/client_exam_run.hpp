@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "conformance/capture.hpp"
 #include "conformance/client_exam_scenarios.hpp"
 #include "conformance/engine.hpp"
 #include "conformance/verdict.hpp"
@@ -40,6 +41,9 @@ struct ClientExamOptions {
     std::vector<std::string> command;  // the client's argv, placeholders unfilled
     ClientDeclarations declared;
     std::vector<std::string> only;  // case ids (or id prefixes, "tcp.6") to run; empty: all
+    // Set: every connection's bytes, the client as the tester's side and the examiner as the
+    // device's, each packet labelled with its scenario's id.
+    Capture* capture = nullptr;
 };
 
 // The name and title of the suite the scenarios make, for the reports.

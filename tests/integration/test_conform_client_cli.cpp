@@ -172,19 +172,31 @@ TEST(ConformClientCli, UsageErrors) {
     EXPECT_THAT(regex.err, HasSubstr("--error-pattern: not a regular expression"));
 }
 
-TEST(ConformClientCli, TheJUnitReportIsConformsNamedForTheCommand) {
-    const auto path = temp_path("conform-client.xml");
+std::string slurp(const std::string& path) {
+    std::ifstream file(path, std::ios::binary);
+    std::stringstream text;
+    text << file.rdbuf();
+    return text.str();
+}
+
+TEST(ConformClientCli, TheJUnitReportAndTheCaptureNameTheCommandAndTheScenario) {
+    const auto junit = temp_path("conform-client.xml");
+    const auto pcap = temp_path("conform-client.pcapng");
     auto argv = python_client(0, "exception-zero");
-    argv.insert(argv.begin(),
-                {MBLAB_BINARY, "conform-client", "--case", "tcp.6.02", "--junit", path, "--"});
+    argv.insert(argv.begin(), {MBLAB_BINARY, "conform-client", "--case", "tcp.6.02", "--junit",
+                               junit, "--pcap", pcap, "--"});
     const auto ran = run_program(argv, std::chrono::seconds(60));
     EXPECT_EQ(ran.status, 1) << ran.err;
-    std::ifstream file(path);
-    std::stringstream xml;
-    xml << file.rdbuf();
-    EXPECT_THAT(xml.str(), HasSubstr("<testsuites name=\"mblab conform-client tcp://127.0.0.1:"));
-    EXPECT_THAT(xml.str(), HasSubstr("<failure message=\"exception 02 reported as success, not as "
-                                     "an error; output: &quot;0 0&quot;\""));
+    const auto xml = slurp(junit);
+    EXPECT_THAT(xml, HasSubstr("<testsuites name=\"mblab conform-client tcp://127.0.0.1:"));
+    EXPECT_THAT(xml, HasSubstr("<failure message=\"exception 02 reported as success, not as "
+                               "an error; output: &quot;0 0&quot;\""));
+    // pcapng (its section header block first), the scenario's id as the packets' comment and the
+    // exception answer among the packets.
+    const auto capture = slurp(pcap);
+    EXPECT_EQ(capture.substr(0, 4), std::string("\x0A\x0D\x0D\x0A", 4));
+    EXPECT_THAT(capture, HasSubstr("tcp.6.02"));
+    EXPECT_THAT(capture, HasSubstr(std::string("\x00\x03\x01\x83\x02", 5)));
 }
 
 TEST(ConformClientCli, AClientThatSendsNothingFails) {
