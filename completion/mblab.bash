@@ -16,7 +16,7 @@ _mblab() {
         words=("${COMP_WORDS[@]}")
         cword=$COMP_CWORD
     fi
-    local commands="conform serve read write diag devid raw watch load pki fuzz scan profile"
+    local commands="conform conform-client serve read write diag devid raw watch load pki fuzz scan profile"
     local command="" i
     for ((i = 1; i < cword; i++)); do
         case " $commands " in *" ${words[i]} "*) command="${words[i]}"; break ;; esac
@@ -32,8 +32,9 @@ _mblab() {
             return
             ;;
         --json)
-            # conform, load and fuzz write a report there; for the client commands it is a flag.
-            if [[ $command == conform || $command == load || $command == fuzz ]]; then
+            # conform, conform-client, load and fuzz write a report there; for the client commands
+            # it is a flag.
+            if [[ $command == conform* || $command == load || $command == fuzz ]]; then
                 COMPREPLY=($(compgen -f -- "$cur"))
                 return
             fi
@@ -60,7 +61,8 @@ _mblab() {
             return
             ;;
         --role | --server-name | --days | --read-only-role | --write-role | --restart | --writable | \
-            --http | --http-token | --http-allow-host | --metrics | --device-pid | --units)
+            --http | --http-token | --http-allow-host | --metrics | --device-pid | --units | \
+            --client-unit | --client-timeout | --client-retries | --error-pattern | --value-pattern)
             return
             ;;
     esac

@@ -54,6 +54,8 @@ struct Invocation {
 void add_serve_command(CLI::App& app, CommandRunner& runner);
 // `invocation` must outlive the runner.
 void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation);
+// `invocation` must outlive the runner.
+void add_conform_client_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation);
 void add_read_command(CLI::App& app, CommandRunner& runner);
 void add_write_command(CLI::App& app, CommandRunner& runner);
 void add_diag_command(CLI::App& app, CommandRunner& runner);

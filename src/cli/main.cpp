@@ -195,6 +195,7 @@ int main(int argc, char** argv) {
     CommandRunner runner;
     const Invocation invocation{kVersion, kCommit, std::vector<std::string>(argv, argv + argc)};
     add_conform_command(app, runner, invocation);
+    add_conform_client_command(app, runner, invocation);
     accept_conform_duration_units(app);
     add_serve_command(app, runner);
     add_read_command(app, runner);

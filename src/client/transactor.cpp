@@ -178,6 +178,7 @@ Transactor::Attempt Transactor::attempt(std::span<const std::uint8_t> request) {
 
 Transactor::Attempt Transactor::await_answer(std::uint16_t transaction_id, std::uint8_t function) {
     const auto deadline = Clock::now() + options_.timeout;
+    discarded_.clear();
     while (true) {
         const auto left = std::max(Clock::duration::zero(), deadline - Clock::now());
         Received received =
@@ -210,11 +211,12 @@ Transactor::Attempt Transactor::await_answer(std::uint16_t transaction_id, std::
                                    true};
                 }
                 if (unanswered_.size() < kMaxUnanswered) unanswered_.push_back(transaction_id);
-                return Failure{{ErrorKind::Timeout,
-                                "no answer from " + target_ + " (unit " +
-                                    std::to_string(options_.unit) + ")" + within,
-                                std::nullopt},
-                               true};
+                return Failure{
+                    {ErrorKind::Timeout,
+                     "no answer from " + target_ + " (unit " + std::to_string(options_.unit) + ")" +
+                         within + (discarded_.empty() ? "" : "; discarded " + discarded_),
+                     std::nullopt},
+                    true};
             }
             case ReceiveStatus::Closed:
                 // A TLS server that refuses our certificate after a TLS 1.3 handshake says why
@@ -250,12 +252,20 @@ std::optional<Transactor::Attempt> Transactor::judge(std::span<const std::uint8_
             note("skipped a late answer to transaction " + hex16(header.transaction_id));
             return std::nullopt;
         }
-        return Attempt(bad_answer("transaction id is " + hex16(header.transaction_id) +
-                                  ", expected " + hex16(transaction_id)));
+        // TCPG 4.4.1.1: an answer that matches no pending transaction is discarded, and the
+        // wait for this one goes on.
+        discarded_ = "an answer under transaction id " + hex16(header.transaction_id) +
+                     ", expected " + hex16(transaction_id);
+        note("discarded " + discarded_);
+        return std::nullopt;
     }
     if (header.unit != options_.unit) {
-        return Attempt(bad_answer("unit id is " + std::to_string(header.unit) + ", expected " +
-                                  std::to_string(options_.unit)));
+        // SER 2.4.1: an answer from another address leaves the response timer running; a
+        // gateway's other unit over TCP likewise.
+        discarded_ = "an answer from unit " + std::to_string(header.unit) + ", expected " +
+                     std::to_string(options_.unit);
+        note("discarded " + discarded_);
+        return std::nullopt;
     }
     if (adu->pdu.empty()) {
         return Attempt(bad_answer(header.has_transaction()

@@ -84,6 +84,9 @@ class Transactor {
     std::uint16_t next_transaction_id_ = 1;
     // Transaction ids sent on this connection whose answers never came.
     std::vector<std::uint16_t> unanswered_;
+    // An answer the wait for the current request discarded (another transaction's, another
+    // unit's), for the timeout's message.
+    std::string discarded_;
     bool probed_ = false;  // unit_hint() asked the other units already
 };
 

@@ -38,7 +38,10 @@ complete_words() {
         echo "${COMPREPLY[*]}"
     )
 }
-[ "$(complete_words mblab con)" = conform ] || fail "completion of 'con': $(complete_words mblab con)"
+[ "$(complete_words mblab con)" = "conform conform-client" ] ||
+    fail "completion of 'con': $(complete_words mblab con)"
+[ "$(complete_words mblab conform-client --client-t)" = --client-timeout ] ||
+    fail "completion of 'conform-client --client-t'"
 [ "$(complete_words mblab conform --su)" = --suite ] || fail "completion of 'conform --su'"
 [ "$(complete_words mblab serve --lis)" = --listen ] || fail "completion of 'serve --lis'"
 [ "$(complete_words mblab fu)" = fuzz ] || fail "completion of 'fu'"
@@ -46,7 +49,7 @@ complete_words() {
 [ "$(complete_words mblab sc)" = scan ] || fail "completion of 'sc'"
 [ "$(complete_words mblab scan --for)" = --force ] || fail "completion of 'scan --for'"
 [ "$(complete_words mblab conform --suite polic)" = policy-2.1 ] || fail "completion of suite names"
-for command in conform serve read write diag devid raw watch load fuzz; do
+for command in conform conform-client serve read write diag devid raw watch load fuzz; do
     options=$(complete_words mblab "$command" --)
     case " $options " in *" --help "*) ;; *) fail "no options completed for $command: $options" ;; esac
 done

@@ -52,8 +52,9 @@ TEST(Citations, ThePatternCatchesWhatItIsFor) {
 
 TEST(Citations, NoHelpTextCitesAPrivateNote) {
     std::vector<std::vector<std::string>> helps = {{"--help"}};
-    for (const char* command : {"conform", "serve", "load", "read", "write", "diag", "devid", "raw",
-                                "watch", "pki", "fuzz", "profile", "scan"}) {
+    for (const char* command :
+         {"conform", "conform-client", "serve", "load", "read", "write", "diag", "devid", "raw",
+          "watch", "pki", "fuzz", "profile", "scan"}) {
         helps.push_back({command, "--help"});
     }
     helps.push_back({"profile", "import-csv", "--help"});

@@ -430,8 +430,8 @@ TEST_F(CliGuides, DoubleDashLetsValuesBeNegative) {
 
 // Every command's help has its summary, an example and its exit statuses.
 TEST(CliGuidesUsage, EveryHelpHasAnExampleAndExitStatuses) {
-    for (const char* command :
-         {"conform", "serve", "read", "write", "diag", "devid", "raw", "watch", "load", "pki"}) {
+    for (const char* command : {"conform", "conform-client", "serve", "read", "write", "diag",
+                                "devid", "raw", "watch", "load", "pki"}) {
         auto help = run_mblab({command, "--help"});
         EXPECT_EQ(help.status, 0) << command;
         EXPECT_THAT(help.out, HasSubstr("Exit status")) << command;

@@ -23,12 +23,13 @@ TEST(CliUsage, AnUnknownCommandListsTheCommands) {
     auto ran = run_mblab({"frobnicate", "x"});
     expect_failed(
         ran, 2,
-        "mblab: unknown command 'frobnicate' (commands: conform, serve, read, write, diag, "
-        "devid, raw, watch, load, pki, fuzz, profile, scan)\n");
+        "mblab: unknown command 'frobnicate' (commands: conform, conform-client, serve, read, "
+        "write, diag, devid, raw, watch, load, pki, fuzz, profile, scan)\n");
     auto none = run_mblab({});
     expect_failed(none, 2,
-                  "mblab: a command is required: conform, serve, read, write, diag, devid, raw, "
-                  "watch, load, pki, fuzz, profile, scan (run 'mblab --help' for usage)\n");
+                  "mblab: a command is required: conform, conform-client, serve, read, write, "
+                  "diag, devid, raw, watch, load, pki, fuzz, profile, scan (run 'mblab --help' "
+                  "for usage)\n");
 }
 
 }  // namespace

@@ -112,11 +112,16 @@ TEST(ClientMalicious, WrongFunctionCode) {
                "(read holding registers)");
 }
 
+// TCPG 4.4.1.1: discarded, and the wait goes on until the timeout, which names it.
 TEST(ClientMalicious, DifferentTransactionId) {
-    auto ran = read_against([](auto request) {
-        return Answer{mbap_frame(0x1234, 0, 7, request[6], hex("03 04 00 2A 00 2B"))};
-    });
-    expect_bad(ran, "bad answer: transaction id is 0x1234, expected 0x0001");
+    auto ran = read_against(
+        [](auto request) {
+            return Answer{mbap_frame(0x1234, 0, 7, request[6], hex("03 04 00 2A 00 2B"))};
+        },
+        {"--no-probe"}, "300");
+    EXPECT_EQ(ran.status, 1);
+    EXPECT_THAT(ran.err, HasSubstr(" (unit 1) within 300 ms; discarded an answer under transaction "
+                                   "id 0x1234, expected 0x0001\n"));
 }
 
 TEST(ClientMalicious, OtherProtocolIdAndUnit) {
@@ -125,8 +130,12 @@ TEST(ClientMalicious, OtherProtocolIdAndUnit) {
     });
     expect_bad(protocol, "bad answer: MBAP protocol id is 0x0001, expected 0x0000 (Modbus)");
     auto unit =
-        read_against([](auto) { return Answer{mbap_frame(1, 0, 7, 9, hex("03 04 00 2A 00 2B"))}; });
-    expect_bad(unit, "bad answer: unit id is 9, expected 1");
+        read_against([](auto) { return Answer{mbap_frame(1, 0, 7, 9, hex("03 04 00 2A 00 2B"))}; },
+                     {"--no-probe"}, "300");
+    EXPECT_EQ(unit.status, 1);
+    EXPECT_THAT(
+        unit.err,
+        HasSubstr(" (unit 1) within 300 ms; discarded an answer from unit 9, expected 1\n"));
 }
 
 TEST(ClientMalicious, ExceptionWithTrailingBytes) {

@@ -1,0 +1,254 @@
+#include <fmt/core.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "cli/client_options.hpp"
+#include "cli/commands.hpp"
+#include "cli/report_files.hpp"
+#include "cli/terminal_style.hpp"
+#include "conformance/capture.hpp"
+#include "conformance/client_exam_run.hpp"
+#include "conformance/console_report.hpp"
+#include "conformance/provenance.hpp"
+#include "conformance/reports.hpp"
+
+// `mblab conform-client [--listen URL] -- CMD ARGS...`: grades a Modbus client (master) the way
+// conform grades a device, with an examiner device that plays it one scenario per run.
+namespace mblab::cli {
+
+namespace {
+
+namespace conf = mblab::conformance;
+
+struct ConformClientOptions {
+    std::string listen = "tcp://127.0.0.1:0";
+    std::vector<std::string> command;
+    int unit = 1;
+    int timeout_ms = 0;
+    int retries = 0;
+    bool pipelining = false;
+    int address = 100;
+    int count = 2;
+    std::string error_pattern;
+    std::string value_pattern;
+    std::vector<std::string> cases;
+    std::string json;
+    std::string junit;
+    std::string pcap;
+    CLI::App* app = nullptr;
+    const Invocation* invocation = nullptr;
+};
+
+int usage_error(const std::string& message) {
+    fmt::print(stderr, "mblab conform-client: {}\n", message);
+    return kExitUsage;
+}
+
+std::optional<std::string> bad_regex(const std::string& option, const std::string& pattern) {
+    try {
+        std::regex checked(pattern);
+    } catch (const std::regex_error& error) {
+        return option + ": not a regular expression: " + error.what();
+    }
+    return std::nullopt;
+}
+
+std::string declared_text(const conf::ClientDeclarations& declared) {
+    std::string text = fmt::format("unit {}, registers {}..{}", declared.unit, declared.address,
+                                   declared.address + declared.count - 1);
+    text += declared.timeout ? fmt::format(", timeout {} ms", declared.timeout->count())
+                             : ", timeout undeclared";
+    text +=
+        declared.retries ? fmt::format(", retries {}", *declared.retries) : ", retries undeclared";
+    if (declared.pipelining) text += ", pipelining";
+    text += declared.error_pattern.empty() ? "; errors by exit status"
+                                           : "; errors by pattern /" + declared.error_pattern + "/";
+    return text;
+}
+
+// conform's JSON report, naming this command and what the client declared instead of a device.
+std::string client_json(const conf::RunResult& result, const conf::ClientDeclarations& declared) {
+    auto report = nlohmann::json::parse(conf::json_report(result));
+    report["tool"] = "mblab conform-client";
+    report.erase("dut");
+    nlohmann::json client = {{"unit", declared.unit},
+                             {"address", declared.address},
+                             {"count", declared.count},
+                             {"pipelining", declared.pipelining},
+                             {"error_pattern", declared.error_pattern},
+                             {"value_pattern", declared.value_pattern}};
+    client["timeout_ms"] =
+        declared.timeout ? nlohmann::json(declared.timeout->count()) : nlohmann::json();
+    client["retries"] = declared.retries ? nlohmann::json(*declared.retries) : nlohmann::json();
+    report["client"] = client;
+    return report.dump(2) + "\n";
+}
+
+// conform's JUnit report, its <testsuites> named for this command.
+std::string client_junit(const conf::RunResult& result) {
+    auto report = conf::junit_report(result);
+    const std::string_view conform = "<testsuites name=\"mblab conform ";
+    if (const auto at = report.find(conform); at != std::string::npos)
+        report.insert(at + conform.size() - 1, "-client");
+    return report;
+}
+
+int run_conform_client(const ConformClientOptions& options) {
+    const auto& listen_url = options.listen;
+    if (listen_url.starts_with("rtu") || listen_url.starts_with("ascii") ||
+        listen_url.starts_with("mbaps")) {
+        return usage_error("--listen " + listen_url +
+                           ": only tcp:// is examined so far; serial lines and mbaps:// are not "
+                           "done yet");
+    }
+    if (options.command.empty()) return usage_error("give the client's command after --");
+    conf::ClientExamOptions exam;
+    exam.command = options.command;
+    exam.only = options.cases;
+    auto& declared = exam.declared;
+    declared.unit = static_cast<std::uint8_t>(options.unit);
+    declared.address = static_cast<std::uint16_t>(options.address);
+    declared.count = static_cast<std::uint16_t>(options.count);
+    if (options.app->count("--client-timeout") > 0)
+        declared.timeout = std::chrono::milliseconds(options.timeout_ms);
+    if (options.app->count("--client-retries") > 0)
+        declared.retries = static_cast<unsigned>(options.retries);
+    declared.pipelining = options.pipelining;
+    declared.error_pattern = options.error_pattern;
+    if (!options.value_pattern.empty()) declared.value_pattern = options.value_pattern;
+    for (const auto& [option, pattern] : {std::pair{"--error-pattern", declared.error_pattern},
+                                          std::pair{"--value-pattern", declared.value_pattern}}) {
+        if (auto bad = bad_regex(option, pattern)) return usage_error(*bad);
+    }
+    ReportFiles files;
+    std::string error;
+    if (options.pcap == "-") return usage_error("--pcap -: a capture is binary; give it a file");
+    for (const auto& [option, path] :
+         {std::pair{"--json", options.json}, std::pair{"--junit", options.junit},
+          std::pair{"--pcap", options.pcap}}) {
+        if (!path.empty() && path != "-" && !files.check(option, path, error))
+            return usage_error(error);
+    }
+    conf::Capture capture;
+    if (!options.pcap.empty()) exam.capture = &capture;
+    auto listener = conf::ExamListener::open(listen_url);
+    if (!listener) return usage_error(listener.error());
+
+    const bool report_out = options.json == "-" || options.junit == "-";
+    const int console_fd = report_out ? STDERR_FILENO : STDOUT_FILENO;
+    std::FILE* console_file = report_out ? stderr : stdout;
+    conf::ConsoleReport console(console_file, stderr, false, styles_wanted(console_fd),
+                                terminal_width(console_fd));
+    std::string shown;
+    for (const auto& arg : options.command)
+        shown += " " + arg;
+    fmt::print(console_file, "mblab conform-client {} --{}\n", (*listener)->url(), shown);
+    fmt::print(console_file, "Client: {}\n", declared_text(declared));
+    std::fflush(console_file);
+    const auto started = std::chrono::system_clock::now();
+    auto result = conf::run_client_exam(**listener, exam, &console);
+    result.target = (*listener)->url();
+    console.summary(result);
+    const std::pair<const std::string*, std::string> reports[] = {
+        {&options.json, options.json.empty() ? "" : client_json(result, declared)},
+        {&options.junit, options.junit.empty() ? "" : client_junit(result)},
+    };
+    for (const auto& [path, text] : reports) {
+        if (path->empty()) continue;
+        if (*path == "-") {
+            fmt::print(stdout, "{}", text);
+            continue;
+        }
+        if (!conf::write_text_file(*path, text, error)) return usage_error(error);
+        files.written(*path);
+    }
+    if (!options.pcap.empty()) {
+        conf::Provenance provenance;
+        if (options.invocation) {
+            provenance.version = options.invocation->version;
+            provenance.commit = options.invocation->commit;
+            provenance.command_line = options.invocation->argv;
+        }
+        provenance.started = conf::iso8601_utc(started);
+        provenance.finished = conf::iso8601_utc(std::chrono::system_clock::now());
+        provenance.declared_by = "flags";
+        provenance.device.reason = "a client is examined, not a device";
+        if (!conf::write_pcap(options.pcap, capture.events(), provenance, error))
+            return usage_error(error);
+        files.written(options.pcap);
+    }
+    return result.all_passed() ? kExitOk : kExitFailed;
+}
+
+constexpr std::string_view kSummary =
+    "Grade a Modbus/TCP client (master): an examiner device plays it one scenario per run of "
+    "CMD (no reply, a late answer, wrong transaction id or unit, malformed answers, exceptions, "
+    "split answers, closed connections, pipelining) and judges its requests and its output. "
+    "Exit status: 0 no scenario failed, 1 a scenario failed, 2 usage error";
+
+constexpr std::string_view kFooter = R"(
+CMD runs once per scenario, without a shell; in its arguments {host}, {port}, {url}, {unit},
+{address} and {count} are filled in. The client should read holding registers {address}..
+{address}+{count}-1 of unit {unit} and print their values; the examiner seeds them with 10000 +
+address and puts 40000 + address in every answer the client must not take, so its output shows
+which answer it used.
+
+Example: mblab conform-client --client-timeout 300ms --client-retries 1 -- mblab read {url}
+  holding {address} {count} --unit {unit} --timeout 300 --retries 1 --no-probe
+
+Not done yet: serial lines (rtu://, ascii://, rtu+tcp://), mbaps://, --attach (a client that
+polls by itself), broadcast (scenario 9), certificates (scenario 12) and the HTML report. See
+docs/client-conformance.md.)";
+
+}  // namespace
+
+void add_conform_client_command(CLI::App& app, CommandRunner& runner,
+                                const Invocation& invocation) {
+    auto [cmd, options] =
+        add_command<ConformClientOptions>(app, runner, "conform-client", std::string(kSummary),
+                                          help_text(kFooter), run_conform_client);
+    options->app = cmd;
+    options->invocation = &invocation;
+    cmd->add_option("--listen", options->listen,
+                    "where the examiner listens: tcp://HOST:PORT (port 0: a free one)")
+        ->capture_default_str();
+    cmd->add_option("--client-unit", options->unit, "the unit id the client is told to ask")
+        ->check(CLI::Range(0, 255))
+        ->capture_default_str();
+    add_duration_option(*cmd, "--client-timeout", options->timeout_ms,
+                        "the client's declared answer timeout (undeclared: scenarios 1 and 2 N/A)",
+                        DurationUnit::milliseconds, CLI::Range(1, 600000));
+    cmd->add_option("--client-retries", options->retries,
+                    "the client's declared retries after a timeout (undeclared: scenario 1 N/A)")
+        ->check(CLI::Range(0, 100));
+    cmd->add_flag("--client-pipelining", options->pipelining,
+                  "the client sends several requests before the answers (scenario 11)");
+    cmd->add_option("--address", options->address, "first holding register the client reads")
+        ->check(CLI::Range(0, 65535))
+        ->capture_default_str();
+    cmd->add_option("--count", options->count, "how many registers it reads")
+        ->check(CLI::Range(1, 125))
+        ->capture_default_str();
+    cmd->add_option("--error-pattern", options->error_pattern,
+                    "the client signals an error by printing this (ECMAScript regex); default: by "
+                    "a non-zero exit status");
+    cmd->add_option("--value-pattern", options->value_pattern,
+                    "what a value looks like in its output (regex; group 1 or the match is read as "
+                    "a decimal or 0x number); default: every number");
+    cmd->add_option("--case", options->cases,
+                    "run only this scenario (tcp.3) or group (tcp.6); repeatable");
+    cmd->add_option("--json", options->json, "write the JSON report to FILE ('-': stdout)");
+    cmd->add_option("--junit", options->junit, "write the JUnit XML report to FILE ('-': stdout)");
+    cmd->add_option("--pcap", options->pcap,
+                    "write what every connection carried to FILE (pcapng, the examiner on port "
+                    "502, each packet's comment its scenario's id)");
+    cmd->add_option("command", options->command, "the client's command and arguments, after --");
+}
+
+}  // namespace mblab::cli

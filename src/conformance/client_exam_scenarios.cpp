@@ -1,0 +1,60 @@
+#include "conformance/client_exam_scenarios.hpp"
+
+#include <fmt/core.h>
+
+namespace mblab::conformance {
+
+namespace {
+
+std::vector<ClientCase> make_cases() {
+    // TCPG 4.4.1.1 is the client's side: how it builds requests, manages its timeout and
+    // processes confirmations (an answer whose transaction id matches no pending transaction is
+    // discarded).
+    std::vector<ClientCase> cases = {
+        {"tcp.1", "no reply: times out, retries as declared, then an error",
+         "TCPG 4.4.1.1 (timeout management)", ClientScenario::NoReply},
+        {"tcp.2", "a reply after the timeout is never taken for the next request",
+         "TCPG 4.4.1.1; TCPG 3.1.3", ClientScenario::LateReply},
+        {"tcp.3", "an answer under a wrong transaction id is discarded", "TCPG 4.4.1.1; TCPG 3.1.3",
+         ClientScenario::WrongTransaction},
+        {"tcp.4", "an answer from another unit is discarded, the wait goes on",
+         "TCPG 3.1.3; SER 2.4.1", ClientScenario::WrongUnit},
+        {"tcp.5.1", "an answer with another function code is rejected", "APP 6.3; TCPG 4.4.1.1",
+         ClientScenario::WrongFunction},
+        {"tcp.5.2", "a truncated answer is rejected", "APP 6.3; TCPG 3.1.3",
+         ClientScenario::Truncated},
+        {"tcp.5.3", "an answer with extra bytes is rejected", "APP 6.3; TCPG 3.1.3",
+         ClientScenario::ExtraBytes},
+    };
+    for (const std::uint8_t code : {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x0A, 0x0B}) {
+        cases.push_back({fmt::format("tcp.6.{:02X}", code),
+                         fmt::format("exception {:02X} is an error, never a value", code), "APP 7",
+                         ClientScenario::Exception, code});
+    }
+    cases.insert(
+        cases.end(),
+        {
+            {"tcp.7.1", "an answer split over three segments is read whole", "TCPG 3.1.3",
+             ClientScenario::SplitAnswer},
+            {"tcp.7.2", "two answers in one segment: the client's own is taken", "TCPG 3.1.3",
+             ClientScenario::TwoAnswers},
+            {"tcp.8.1", "connection closed (FIN) mid-transaction: reconnects without a burst",
+             "TCPG 4.2.1", ClientScenario::CloseFin},
+            {"tcp.8.2", "connection reset mid-transaction: reconnects without a burst",
+             "TCPG 4.2.1", ClientScenario::CloseReset},
+            {"tcp.10", "a byte count that does not match the quantity is rejected", "APP 6.3",
+             ClientScenario::ByteCount},
+            {"tcp.11", "pipelined requests answered out of order are matched by transaction id",
+             "TCPG 4.2.1.1; TCPG 4.4.1.1", ClientScenario::Pipelined},
+        });
+    return cases;
+}
+
+}  // namespace
+
+const std::vector<ClientCase>& client_tcp_cases() {
+    static const std::vector<ClientCase> cases = make_cases();
+    return cases;
+}
+
+}  // namespace mblab::conformance

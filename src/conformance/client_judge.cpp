@@ -1,0 +1,340 @@
+#include "conformance/client_judge.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <regex>
+#include <set>
+
+namespace mblab::conformance {
+
+namespace {
+
+using namespace std::chrono_literals;
+using Clock = ClientExaminer::Clock;
+
+// A client may resend a little before its timeout runs out by the clock of the examiner.
+constexpr double kEarlyResend = 0.8;
+// How long after its last try's timeout a client may take to end and say so.
+constexpr auto kEndSlack = 1500ms;
+
+std::string hex_bytes(std::span<const std::uint8_t> bytes) {
+    std::string text;
+    for (const auto byte : bytes)
+        text += fmt::format("{}{:02X}", text.empty() ? "" : " ", byte);
+    return text;
+}
+
+// The client's output on one line, cut to a readable length, for a reason.
+std::string quoted(const std::string& output) {
+    constexpr std::size_t kShown = 160;
+    std::string line;
+    for (const char c : output)
+        line += (c == '\n' || c == '\r' || c == '\t') ? ' ' : c;
+    while (!line.empty() && line.back() == ' ')
+        line.pop_back();
+    if (line.size() > kShown) line = line.substr(0, kShown) + "...";
+    return "output: \"" + line + "\"";
+}
+
+std::vector<std::uint32_t> values_in(const std::string& output, const std::string& pattern) {
+    std::vector<std::uint32_t> values;
+    std::regex value;
+    try {
+        value = std::regex(pattern, std::regex::ECMAScript | std::regex::multiline);
+    } catch (const std::regex_error&) {
+        return values;  // the command line checked it
+    }
+    for (auto it = std::sregex_iterator(output.begin(), output.end(), value);
+         it != std::sregex_iterator(); ++it) {
+        const auto& match = *it;
+        const std::string text =
+            match.size() > 1 && match[1].matched ? match[1].str() : match.str();
+        try {
+            const auto number = std::stoul(text, nullptr, text.starts_with("0x") ? 16 : 10);
+            values.push_back(static_cast<std::uint32_t>(number));
+        } catch (const std::exception&) {
+        }
+    }
+    return values;
+}
+
+bool signalled_error(const ClientRun& run, const ClientDeclarations& declared) {
+    if (run.stopped) return false;
+    if (declared.error_pattern.empty()) return run.exit_status != 0;
+    try {
+        return std::regex_search(run.output, std::regex(declared.error_pattern));
+    } catch (const std::regex_error&) {
+        return run.exit_status != 0;
+    }
+}
+
+struct Facts {
+    std::vector<const ClientExaminer::Request*> asked;  // to the declared unit
+    std::vector<std::uint32_t> values;
+    std::optional<std::uint32_t> decoy;  // the first decoy the output shows
+    bool right = false;                  // every seeded value the client read shows
+    bool error = false;
+};
+
+Facts facts_of(const ClientExaminer& exam, const ClientDeclarations& declared,
+               const ClientRun& run) {
+    Facts facts;
+    for (const auto& request : exam.requests())
+        if (request.unit == declared.unit) facts.asked.push_back(&request);
+    facts.values = values_in(run.output, declared.value_pattern);
+    std::set<std::uint32_t> decoys;
+    std::set<std::uint32_t> seeded;
+    for (const auto* request : facts.asked) {
+        for (std::uint32_t i = 0; i <= request->count; ++i)
+            decoys.insert(decoy_value(request->address + i));
+        for (std::uint32_t i = 0; i < request->count; ++i)
+            seeded.insert(seeded_value(request->address + i));
+    }
+    for (const auto value : facts.values) {
+        if (!facts.decoy && decoys.contains(value)) facts.decoy = value;
+        seeded.erase(value);
+    }
+    facts.right = !facts.asked.empty() && seeded.empty();
+    facts.error = signalled_error(run, declared);
+    return facts;
+}
+
+Outcome pass(std::string remark = {}) {
+    return {Verdict::Pass, std::move(remark), {}, {}};
+}
+Outcome fail(std::string reason, const ClientRun& run) {
+    return {Verdict::Fail, reason + "; " + quoted(run.output), {}, {}};
+}
+
+// The decoy answer whose value the client showed.
+std::string decoy_source(const ClientExaminer& exam, std::uint32_t value) {
+    for (const auto& answer : exam.answers()) {
+        if (!answer.decoy) continue;
+        for (std::size_t i = 0; i + 1 < answer.bytes.size(); ++i) {
+            if (static_cast<std::uint32_t>(answer.bytes[i] << 8 | answer.bytes[i + 1]) == value)
+                return "from " + hex_bytes(answer.bytes);
+        }
+    }
+    return "";
+}
+
+Outcome took_decoy(const ClientExaminer& exam, const Facts& facts, const ClientRun& run) {
+    return fail(fmt::format("took the decoy {} {}", *facts.decoy, decoy_source(exam, *facts.decoy)),
+                run);
+}
+
+unsigned tries_of(const ClientDeclarations& declared) {
+    return declared.retries.value_or(0) + 1;
+}
+
+Outcome judge_no_reply(const ClientExaminer&, const ClientDeclarations& declared,
+                       const ClientRun& run, const Facts& facts) {
+    const auto timeout = *declared.timeout;
+    const auto tries = tries_of(declared);
+    if (facts.asked.size() > tries) {
+        return fail(fmt::format("sent {} requests where {} retries make {}: a resend storm",
+                                facts.asked.size(), *declared.retries, tries),
+                    run);
+    }
+    if (run.stopped) {
+        return fail(fmt::format("still waiting {} ms after its first request, with a declared "
+                                "timeout of {} ms and {} retries: it never timed out",
+                                run.limit.count(), timeout.count(), *declared.retries),
+                    run);
+    }
+    if (facts.asked.size() < tries) {
+        return fail(fmt::format("sent {} requests where {} retries make {}", facts.asked.size(),
+                                *declared.retries, tries),
+                    run);
+    }
+    for (std::size_t i = 1; i < facts.asked.size(); ++i) {
+        const auto gap = std::chrono::duration_cast<std::chrono::milliseconds>(
+            facts.asked[i]->at - facts.asked[i - 1]->at);
+        if (gap.count() < static_cast<long>(kEarlyResend * static_cast<double>(timeout.count()))) {
+            return fail(fmt::format("resent after {} ms, before its {} ms timeout ran out",
+                                    gap.count(), timeout.count()),
+                        run);
+        }
+    }
+    if (run.elapsed > timeout * tries + kEndSlack) {
+        return fail(
+            fmt::format("ended after {} ms; {} tries of {} ms make {} ms", run.elapsed.count(),
+                        tries, timeout.count(), (timeout * tries).count()),
+            run);
+    }
+    if (!facts.error) return fail("reported success without an answer", run);
+    return pass(fmt::format("{} request{}, then an error", facts.asked.size(),
+                            facts.asked.size() == 1 ? "" : "s"));
+}
+
+// The answer the client took must be its own: the right values, without an error.
+Outcome judge_kept_waiting(const ClientExaminer& exam, const ClientRun& run, const Facts& facts,
+                           const std::string& what) {
+    if (facts.decoy) return took_decoy(exam, facts, run);
+    if (run.stopped) return fail("never ended", run);
+    if (facts.error || !facts.right) {
+        return fail(what.empty()
+                        ? "did not take its own answer"
+                        : "reported an error instead of discarding " + what + " and taking its own",
+                    run);
+    }
+    return pass();
+}
+
+Outcome judge_rejected(const ClientExaminer& exam, const ClientRun& run, const Facts& facts) {
+    if (facts.decoy) return took_decoy(exam, facts, run);
+    if (run.stopped) return fail("never ended", run);
+    if (facts.error) return pass("rejected with an error");
+    if (facts.right && facts.asked.size() > 1) return pass("discarded it and took a later answer");
+    return fail("ended successfully without the values it was sent", run);
+}
+
+Outcome judge_exception(const ClientExaminer& exam, const ClientDeclarations& declared,
+                        const ClientRun& run, const Facts& facts) {
+    const auto code = exam.scenario().exception;
+    if (run.stopped) return fail("never ended", run);
+    if (!facts.error) {
+        return fail(fmt::format("exception {:02X} reported as success, not as an error", code),
+                    run);
+    }
+    // APP 7: 05, 06 and 0B are the codes that say "ask again later"; the others answer the same.
+    const bool may_retry = code == 0x05 || code == 0x06 || code == 0x0B;
+    const std::size_t allowed = may_retry ? tries_of(declared) : 1;
+    // Another request (a client explaining an 02 by reading around it) is no retry.
+    const auto& first = *facts.asked.front();
+    const auto repeats = std::count_if(facts.asked.begin(), facts.asked.end(), [&](const auto* r) {
+        return r->function == first.function && r->address == first.address &&
+               r->count == first.count;
+    });
+    if (static_cast<std::size_t>(repeats) > allowed) {
+        return fail(fmt::format("asked {} times after exception {:02X}", repeats, code), run);
+    }
+    const auto named = fmt::format("{:02X}", code);
+    const bool names = run.output.find(named) != std::string::npos ||
+                       run.output.find("exception " + std::to_string(code)) != std::string::npos;
+    return pass(names ? "an error naming the code"
+                      : "an error (its output does not name the code)");
+}
+
+Outcome judge_close(const ClientExaminer& exam, const ClientDeclarations& declared,
+                    const ClientRun& run, const Facts& facts) {
+    if (facts.decoy) return took_decoy(exam, facts, run);
+    if (run.stopped) return fail("never ended after the connection closed", run);
+    const auto tries = declared.retries ? tries_of(declared) : 3U;
+    // Connections that carried no request (a client checking whether the port speaks TLS) are
+    // no resend.
+    std::set<std::size_t> carried;
+    for (const auto* request : facts.asked)
+        carried.insert(request->connection);
+    if (carried.size() > tries || facts.asked.size() > tries) {
+        return fail(fmt::format("{} connections and {} requests for {} tries: a burst",
+                                carried.size(), facts.asked.size(), tries),
+                    run);
+    }
+    if (facts.right && !facts.error) return pass("reconnected and asked again");
+    if (facts.error) return pass("an error, no burst");
+    return fail("ended successfully without the values it was sent", run);
+}
+
+Outcome judge_pipelined(const ClientExaminer& exam, const ClientRun& run, const Facts& facts) {
+    if (facts.decoy) return took_decoy(exam, facts, run);
+    if (run.stopped) return fail("never ended", run);
+    if (facts.error || !facts.right) return fail("did not show every request's own values", run);
+    // Each request's first value shows in the order the requests went out.
+    std::size_t last = 0;
+    for (const auto* request : facts.asked) {
+        const auto value = seeded_value(request->address);
+        const auto at = std::find(facts.values.begin(), facts.values.end(), value);
+        const auto index = static_cast<std::size_t>(at - facts.values.begin());
+        if (index < last) return fail("values out of order: matched by arrival, not by id", run);
+        last = index;
+    }
+    return pass();
+}
+
+}  // namespace
+
+std::chrono::milliseconds client_run_limit(const ClientDeclarations& declared) {
+    const auto timeout = declared.timeout.value_or(1000ms);
+    return 2 * timeout * tries_of(declared) + 3000ms;
+}
+
+std::optional<Outcome> undeclared(const ClientCase& scenario, const ClientDeclarations& declared) {
+    // The key stays empty: conform's summary would send the user to a DUT file; the reason
+    // names the flag instead.
+    auto na = [](std::string reason, std::string_view) {
+        return Outcome{Verdict::NotApplicable, std::move(reason), {}, {}};
+    };
+    switch (scenario.scenario) {
+        case ClientScenario::NoReply:
+            if (!declared.timeout)
+                return na("the client's timeout is not declared (--client-timeout)", "timeout");
+            if (!declared.retries)
+                return na("the client's retries are not declared (--client-retries)", "retries");
+            return std::nullopt;
+        case ClientScenario::LateReply:
+            if (!declared.timeout)
+                return na("the client's timeout is not declared (--client-timeout)", "timeout");
+            if (declared.retries.value_or(0) == 0) {
+                return na(
+                    "needs --client-retries 1 or more: the stale answer must meet a later request",
+                    "retries");
+            }
+            return std::nullopt;
+        case ClientScenario::Pipelined:
+            if (!declared.pipelining)
+                return na("the client does not declare pipelining (--client-pipelining)",
+                          "pipelining");
+            return std::nullopt;
+        default:
+            return std::nullopt;
+    }
+}
+
+Outcome judge_client(const ClientExaminer& exam, const ClientDeclarations& declared,
+                     const ClientRun& run) {
+    if (auto na = undeclared(exam.scenario(), declared)) return *na;
+    const auto facts = facts_of(exam, declared, run);
+    if (facts.asked.empty()) {
+        return fail(fmt::format("sent no request to unit {} (exit status {})", declared.unit,
+                                run.exit_status),
+                    run);
+    }
+    switch (exam.scenario().scenario) {
+        case ClientScenario::NoReply:
+            return judge_no_reply(exam, declared, run, facts);
+        case ClientScenario::LateReply:
+            if (facts.decoy) return took_decoy(exam, facts, run);
+            if (!exam.stale_met_a_wait()) {
+                return {Verdict::NotApplicable,
+                        "the client did not ask again on the same connection under a new "
+                        "transaction id, so the stale answer met no wait",
+                        {},
+                        {}};
+            }
+            return judge_kept_waiting(exam, run, facts, "the stale answer");
+        case ClientScenario::WrongTransaction:
+            return judge_kept_waiting(exam, run, facts, "the wrong transaction id's answer");
+        case ClientScenario::WrongUnit:
+            return judge_kept_waiting(exam, run, facts, "the other unit's answer");
+        case ClientScenario::SplitAnswer:
+        case ClientScenario::TwoAnswers:
+            return judge_kept_waiting(exam, run, facts, "");
+        case ClientScenario::WrongFunction:
+        case ClientScenario::Truncated:
+        case ClientScenario::ExtraBytes:
+        case ClientScenario::ByteCount:
+            return judge_rejected(exam, run, facts);
+        case ClientScenario::Exception:
+            return judge_exception(exam, declared, run, facts);
+        case ClientScenario::CloseFin:
+        case ClientScenario::CloseReset:
+            return judge_close(exam, declared, run, facts);
+        case ClientScenario::Pipelined:
+            return judge_pipelined(exam, run, facts);
+    }
+    return pass();
+}
+
+}  // namespace mblab::conformance

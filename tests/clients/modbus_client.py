@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""A small Modbus/TCP client (FC 03) for the tests of `mblab conform-client`.
+
+Without --defect it follows the Messaging on TCP/IP Implementation Guide V1.0b, 4.4.1.1: an
+answer under another transaction id or from another unit is discarded and the wait goes on, an
+exception is an error, a timeout is retried --retries times on the same connection, a closed
+connection is opened again for the next try. Each --defect breaks one of those rules on purpose,
+as clients in the field do, so the tests can show that the examiner finds exactly that one.
+
+With --pipeline it sends two requests at once (COUNT registers at ADDRESS, then the COUNT after
+them), pairs the answers with them by transaction id and prints the values in request order.
+
+usage: modbus_client.py HOST PORT UNIT ADDRESS COUNT [--timeout S] [--retries N] [--defect D]
+                        [--pipeline]
+"""
+import argparse
+import socket
+import struct
+import sys
+import time
+
+DEFECTS = ["stale", "ignore-tid", "exception-zero", "no-timeout", "retry-forever", "wrong-unit",
+           "fifo"]
+
+
+class Closed(Exception):
+    pass
+
+
+def read_exact(sock, size, deadline):
+    data = b""
+    while len(data) < size:
+        if deadline is None:
+            sock.settimeout(None)
+        else:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                raise socket.timeout()
+            sock.settimeout(left)
+        chunk = sock.recv(size - len(data))
+        if not chunk:
+            raise Closed()
+        data += chunk
+    return data
+
+
+def pipelined(args, unit, address, count):
+    """Two requests outstanding; with the defect "fifo" answers are paired by arrival."""
+    sock = socket.create_connection((args.host, int(args.port)), timeout=args.timeout)
+    asked = {1: address, 2: address + count}
+    sock.sendall(b"".join(struct.pack(">HHHBBHH", tid, 0, 6, unit, 3, first, count)
+                          for tid, first in asked.items()))
+    deadline = time.monotonic() + args.timeout
+    values = {}
+    try:
+        for arrival in (1, 2):
+            their_tid, _, length, _ = struct.unpack(">HHHB", read_exact(sock, 7, deadline))
+            pdu = read_exact(sock, length - 1, deadline)
+            tid = arrival if args.defect == "fifo" else their_tid
+            values[tid] = struct.unpack(">%dH" % count, pdu[2:2 + 2 * count])
+    except (socket.timeout, Closed, struct.error):
+        print("error: no answers")
+        return 1
+    print(" ".join(str(v) for tid in sorted(asked) for v in values.get(tid, ())))
+    return 0
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    for name in ["host", "port", "unit", "address", "count"]:
+        parser.add_argument(name)
+    parser.add_argument("--timeout", type=float, default=1.0)
+    parser.add_argument("--retries", type=int, default=0)
+    parser.add_argument("--defect", choices=DEFECTS)
+    parser.add_argument("--pipeline", action="store_true")
+    args = parser.parse_args()
+    unit, address, count = int(args.unit), int(args.address), int(args.count)
+    if args.pipeline:
+        return pipelined(args, unit, address, count)
+    defect = args.defect
+    sock = None
+    tid = 0
+    sent = set()
+    tries = 0
+    while True:
+        tries += 1
+        if sock is None:
+            sock = socket.create_connection((args.host, int(args.port)), timeout=args.timeout)
+        tid = (tid + 1) & 0xFFFF
+        sent.add(tid)
+        sock.sendall(struct.pack(">HHHBBHH", tid, 0, 6, unit, 3, address, count))
+        deadline = None if defect == "no-timeout" else time.monotonic() + args.timeout
+        try:
+            while True:
+                head = read_exact(sock, 7, deadline)
+                their_tid, _, length, their_unit = struct.unpack(">HHHB", head)
+                pdu = read_exact(sock, length - 1, deadline)
+                tid_ok = their_tid == tid
+                if defect == "ignore-tid":
+                    tid_ok = True
+                elif defect == "stale":
+                    tid_ok = their_tid in sent
+                unit_ok = their_unit == unit or defect == "wrong-unit"
+                if tid_ok and unit_ok:
+                    break
+        except socket.timeout:
+            if defect == "retry-forever" or tries <= args.retries:
+                continue
+            print("error: no answer within %.3f s" % args.timeout)
+            return 1
+        except Closed:
+            sock.close()
+            sock = None
+            if tries <= args.retries:
+                continue
+            print("error: the connection closed")
+            return 1
+        if pdu[0] == 0x83:
+            if defect == "exception-zero":
+                print(" ".join("0" for _ in range(count)))
+                return 0
+            print("error: exception %02X" % pdu[1])
+            return 1
+        if pdu[0] != 3 or pdu[1] != 2 * count or len(pdu) != 2 + 2 * count:
+            print("error: bad answer " + pdu.hex())
+            return 1
+        print(" ".join(str(v) for v in struct.unpack(">%dH" % count, pdu[2:])))
+        return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
