@@ -36,6 +36,9 @@ constexpr std::string_view kPage = R"html(<!DOCTYPE html>
 </thead><tbody></tbody></table>
 <p><input id="newrule" size="40" value='{"action":"exception","exception":4,"functions":[3]}'>
 <button id="add">Add rule</button></p></section>
+<section><h2>Traffic (newest first)</h2><table id="traffic"><thead><tr><th>Time</th>
+<th>Client</th><th>Unit</th><th>Function</th><th>Request</th><th>Answer</th><th>&micro;s</th></tr>
+</thead><tbody></tbody></table></section>
 </body></html>
 )html";
 
@@ -154,6 +157,38 @@ $("add").onclick = () => {
   try { rule = JSON.parse($("newrule").value); } catch (e) { $("message").textContent = "the rule is not valid JSON"; return; }
   call("POST", unitPath() + "/faults", rule).then(loadRules).catch(() => {});
 };
+// The requests and answers the server logs (GET /api/traffic), asked for once a second: only the
+// ones after the last seen come, and the table keeps as many as the server's ring.
+let trafficLast = 0;
+const TRAFFIC_ROWS = 200;
+function requestText(t) {
+  const parts = [];
+  if (t.sub_function !== undefined) parts.push("sub " + t.sub_function);
+  if (t.address !== undefined) parts.push("address " + t.address);
+  if (t.quantity !== undefined) parts.push("quantity " + t.quantity);
+  if (t.undecoded) parts.push("does not decode: " + t.undecoded);
+  return parts.join(", ");
+}
+function answerText(t) {
+  if (t.answer === "exception") return "exception " + t.exception.code + " (" + t.exception.name + ")";
+  if (t.answer === "none") return "no answer";
+  if (t.answer === "close") return "connection closed";
+  return t.values ? t.values.join(" ") + (t.more_values ? " ..." : "") : "ok";
+}
+function pollTraffic() {
+  fetch("/api/traffic?after=" + trafficLast).then(r => r.ok ? r.json() : null).then(t => {
+    if (!t) return;
+    trafficLast = t.last;
+    const body = $("traffic").tBodies[0];
+    for (const e of t.entries) {
+      const row = body.insertRow(0);
+      [e.time.slice(11, 23), e.peer, e.unit, e.name, requestText(e), answerText(e), e.latency_us].forEach(x => cell(row, x));
+      if (e.answer === "exception") row.className = "err";
+    }
+    while (body.rows.length > TRAFFIC_ROWS) body.deleteRow(-1);
+  }).catch(() => {}).finally(() => setTimeout(pollTraffic, 1000));
+}
+pollTraffic();
 call("GET", "/api/units").then(units => {
   for (const u of units) {
     const option = document.createElement("option");

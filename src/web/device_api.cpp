@@ -123,6 +123,9 @@ ApiReply DeviceApi::handle(const ApiRequest& request) {
     if (top == "counters" && parts.size() == 3 && parts[2] == "reset") {
         return method == "POST" ? reset_counters() : wrong_method("POST");
     }
+    if (top == "traffic" && parts.size() == 2) {
+        return method == "GET" ? traffic(request.query) : wrong_method("GET");
+    }
     if (top == "state" && parts.size() == 3 && parts[2] == "save") {
         return method == "POST" ? save_state() : wrong_method("POST");
     }
@@ -355,6 +358,23 @@ ApiReply DeviceApi::save_state() {
     std::string file_or_error;
     if (!view_.save_state(file_or_error)) return api_error(500, file_or_error);
     return ok({{"saved", file_or_error}});
+}
+
+ApiReply DeviceApi::traffic(const std::map<std::string, std::string>& query) const {
+    if (!view_.traffic) return api_error(404, "this server keeps no traffic log");
+    std::uint64_t after = 0;
+    if (const auto it = query.find("after"); it != query.end()) {
+        const auto& text = it->second;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), after);
+        if (ec != std::errc() || end != text.data() + text.size()) {
+            return api_error(400, fmt::format("after={}: expected a whole number", text));
+        }
+    }
+    std::uint64_t last = 0;
+    json entries = json::array();
+    for (const auto& entry : view_.traffic->recent(after, last))
+        entries.push_back(server::traffic_json(entry));
+    return ok(json{{"last", last}, {"entries", std::move(entries)}});
 }
 
 json DeviceApi::live_event(const std::map<std::string, std::string>& page) {
