@@ -30,15 +30,6 @@ std::vector<nlohmann::json> ndjson_lines(const std::string& text) {
     return out;
 }
 
-// The Modbus address serve prints on its first line.
-std::string modbus_target(ChildProcess& serve) {
-    std::smatch match;
-    const auto line = serve.read_stdout_line(10s);
-    if (!line || !std::regex_search(*line, match, std::regex("tcp://127\\.0\\.0\\.1:[0-9]+")))
-        return {};
-    return match[0];
-}
-
 TEST(ServeLog, EachRequestIsOneNdjsonLineWithItsFieldsAndAnswer) {
     if (!have("/usr/bin/curl")) GTEST_SKIP() << "no curl";
     TempDir dir;
