@@ -11,6 +11,7 @@
 #include "support/name_table.hpp"
 #include "web/fault_rule_json.hpp"
 #include "web/json_text.hpp"
+#include "web/typed_points.hpp"
 
 namespace mblab::web {
 
@@ -171,7 +172,10 @@ ApiReply DeviceApi::units() const {
             }
             banks[name] = ranges;
         }
-        out.push_back({{"unit", spec.id}, {"name", spec.name}, {"banks", banks}});
+        out.push_back({{"unit", spec.id},
+                       {"name", spec.name},
+                       {"banks", banks},
+                       {"start_bank", start_bank(spec)}});
     }
     return ok(out);
 }
@@ -383,7 +387,15 @@ json DeviceApi::live_event(const std::map<std::string, std::string>& page) {
     const auto bank = page.find("bank");
     if (unit != page.end() && bank != page.end()) {
         auto reply = handle({"GET", "/api/units/" + unit->second + "/" + bank->second, page, ""});
-        event["page"] = json::parse(reply.body, nullptr, false);
+        auto shown = json::parse(reply.body, nullptr, false);
+        // The page's typed points, decoded as the profile lays them out (none: left out).
+        if (reply.status == 200 && shown.contains("values")) {
+            auto points = page_points(view_.device, shown["unit"].get<std::uint8_t>(),
+                                      *bank_kind(bank->second), shown["start"].get<std::uint32_t>(),
+                                      static_cast<std::uint32_t>(shown["values"].size()));
+            if (!points.empty()) shown["points"] = std::move(points);
+        }
+        event["page"] = std::move(shown);
     }
     return event;
 }

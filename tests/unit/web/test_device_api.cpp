@@ -211,5 +211,45 @@ TEST(DeviceApi, TrafficListsTheLoggedRequestsAfterTheOneAskedFor) {
     EXPECT_EQ(h.call("GET", "/api/traffic").status, 404);
 }
 
+TEST(DeviceApi, TypedPointsShowAsTheProfileLaysThemOutAndChooseTheFirstBank) {
+    // The constant's registers are set when the behaviour first runs; the range's as declared.
+    auto device = device_from(R"(
+[[unit]]
+id = 1
+holding_registers = [{start = 0, count = 10}, {start = 20, count = 2, type = "u32", name = "energy", values = [65538]}]
+input_registers = [{start = 0, count = 10, name = "temperature"}]
+[[unit.behaviours]]
+kind = "constant"
+bank = "input_registers"
+address = 2
+type = "f32"
+order = "CDAB"
+value = 21.53
+)");
+    device->behaviours().advance(std::chrono::steady_clock::now(),
+                                 std::chrono::system_clock::now());
+    web::RequestMeter meter;
+    web::DeviceApi api(web::ServeView{*device, meter, [] { return std::uint64_t{0}; }, {}});
+    const auto units = nlohmann::json::parse(api.handle({"GET", "/api/units", {}, ""}).body);
+    EXPECT_EQ(units[0]["start_bank"], "input_registers");
+    auto page = api.live_event(
+        {{"unit", "1"}, {"bank", "input_registers"}, {"start", "0"}, {"count", "10"}})["page"];
+    ASSERT_EQ(page["points"].size(), 1U) << page.dump();
+    EXPECT_EQ(page["points"][0]["address"], 2);
+    EXPECT_EQ(page["points"][0]["name"], "temperature");
+    EXPECT_EQ(page["points"][0]["type"], "f32");
+    EXPECT_EQ(page["points"][0]["order"], "CDAB");
+    EXPECT_NEAR(page["points"][0]["value"].get<double>(), 21.53, 1e-5);
+    page = api.live_event(
+        {{"unit", "1"}, {"bank", "holding_registers"}, {"start", "15"}, {"count", "10"}})["page"];
+    ASSERT_EQ(page["points"].size(), 1U) << page.dump();
+    EXPECT_EQ(page["points"][0]["name"], "energy");
+    EXPECT_EQ(page["points"][0]["value"], 65538);
+    // A page that cuts a point in two shows none of it.
+    page = api.live_event(
+        {{"unit", "1"}, {"bank", "holding_registers"}, {"start", "21"}, {"count", "5"}})["page"];
+    EXPECT_FALSE(page.contains("points")) << page.dump();
+}
+
 }  // namespace
 }  // namespace mblab::test
