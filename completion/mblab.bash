@@ -6,6 +6,13 @@ _mblab_options() {
     "$@" --help 2>/dev/null | sed -nE 's/^ +((-[A-Za-z]),)?(--[A-Za-z][-A-Za-z0-9]*).*/\2 \3/p'
 }
 
+# The shipped profiles the binary knows (built in, or installed beside it), as its refusal of an
+# unknown one names them.
+_mblab_profiles() {
+    "$1" serve ./mblab-completion-asks-for-profile-names 2>&1 |
+        sed -nE 's/.*\(shipped: (.*)\)$/\1/p' | tr -d ','
+}
+
 _mblab() {
     local cur prev words cword
     if declare -F _init_completion >/dev/null; then
@@ -39,7 +46,11 @@ _mblab() {
                 return
             fi
             ;;
-        --dut | --profile | --junit | --pcap | --html | --state | --devices | --cert | --key | --ca | \
+        --profile)
+            COMPREPLY=($(compgen -W "$(_mblab_profiles "${words[0]}")" -- "$cur") $(compgen -f -- "$cur"))
+            return
+            ;;
+        --dut | --junit | --pcap | --html | --state | --devices | --cert | --key | --ca | \
             --replay | --reproducer | --learn | --http-token-file | --output | -o)
             COMPREPLY=($(compgen -f -- "$cur"))
             return
@@ -82,6 +93,11 @@ _mblab() {
     fi
     if [[ $cur == -* ]]; then
         COMPREPLY=($(compgen -W "$(_mblab_options "${words[0]}" "$command")" -- "$cur"))
+        return
+    fi
+    # serve's one argument is the profile.
+    if [[ $command == serve ]]; then
+        COMPREPLY=($(compgen -W "$(_mblab_profiles "${words[0]}")" -- "$cur") $(compgen -f -- "$cur"))
         return
     fi
     # pki's one argument is the directory it writes into.

@@ -10,7 +10,7 @@ BUILD="build-essential cmake ninja-build pkg-config git \
 # The second compiler, sanitizers, the formatter, the peers the tests run against and the browser.
 TEST="clang-14 clang-format-14 libclang-rt-14-dev \
  python3-pymodbus python3-serial python3-serial-asyncio libmodbus-dev mbpoll socat tshark \
- libxml2-utils prometheus curl iputils-ping man-db chromium chromium-driver"
+ libxml2-utils prometheus curl iputils-ping man-db chromium chromium-driver lintian"
 case "${1:-}" in
   --build) PKGS="$BUILD" ;;
   "") PKGS="$BUILD $TEST" ;;

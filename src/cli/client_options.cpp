@@ -69,9 +69,11 @@ CLI::Option* accept_duration_units(CLI::Option* option, DurationUnit bare_unit, 
         ms ? std::chrono::duration<double>(0.001) : std::chrono::duration<double>(1);
     const char* unit_name = ms ? "milliseconds" : "seconds";
     auto rewrite = [unit, unit_name, whole](std::string& text) -> std::string {
-        // A bare number goes to the option untouched, so it is taken and refused exactly as
-        // before units were accepted (1e10 seconds still meets --idle-timeout's own limit).
-        if (parse_real(text)) return {};
+        // A bare number is in the option's unit: 0.5 is half of it, as 500us would be for
+        // milliseconds. One the duration syntax refuses (1e10) goes to the option untouched, to
+        // meet its own limits.
+        const bool bare = parse_real(text).has_value();
+        if (bare && !parse_duration(text, unit)) return {};
         auto length = parse_duration(text, unit);
         if (!length) {
             return fmt::format(
@@ -80,12 +82,18 @@ CLI::Option* accept_duration_units(CLI::Option* option, DurationUnit bare_unit, 
         }
         const double count = *length / unit;
         if (!whole) {
-            text = fmt::format("{}", count);
+            if (!bare) text = fmt::format("{}", count);
             return {};
         }
         // 1.1s is 1100.0000000000002 ms in doubles: a hair off a whole number is that number.
         const double rounded = std::round(count);
         if (std::abs(count - rounded) > 1e-6) {
+            if (bare && unit < std::chrono::seconds(1)) {
+                return fmt::format(
+                    "'{}' is not a whole number of {} (a number alone is {}: {}s "
+                    "is {:g})",
+                    text, unit_name, unit_name, text, *length / unit * 1000);
+            }
             return fmt::format("'{}' is not a whole number of {}", text, unit_name);
         }
         text = fmt::format("{:.0f}", rounded);

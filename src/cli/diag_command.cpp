@@ -173,7 +173,24 @@ int run_diag(const DiagOptions& options) {
             auto error = answer.error();
             if (error.kind == client::ErrorKind::Timeout &&
                 *sub == static_cast<std::uint16_t>(DiagnosticSub::RestartCommunications)) {
-                error.message += " (a device in listen only mode restarts without answering)";
+                // [APP] 6.8.1: a port in listen only mode restarts without answering. Whether
+                // that is what happened shows in the next request: it is answered now.
+                const std::uint8_t echo[] = {0x00, 0x00};
+                auto probe = client.diagnostics(
+                    static_cast<std::uint16_t>(DiagnosticSub::ReturnQueryData), echo);
+                if (probe || probe.error().kind == client::ErrorKind::Exception) {
+                    document["answered"] = false;
+                    document["was_listen_only"] = true;
+                    if (!out.json()) {
+                        fmt::print(
+                            "communications restarted: no answer, as a device in listen only mode "
+                            "gives none (Modbus Application Protocol 6.8.1); it answers again\n");
+                    }
+                    return out.done();
+                }
+                error.message +=
+                    " (a device in listen only mode restarts without answering, but "
+                    "this one did not answer the next request either)";
             }
             return out.fail(error);
         }

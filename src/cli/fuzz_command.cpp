@@ -14,6 +14,7 @@
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/report_files.hpp"
 #include "cli/stop_signals.hpp"
 #include "cli/tls_options.hpp"
 #include "client/raw_link.hpp"
@@ -141,6 +142,14 @@ conf::Provenance provenance_of(const FuzzCommandOptions& options,
 
 int run_fuzz(const FuzzCommandOptions& options) {
     const auto started = std::chrono::system_clock::now();
+    ReportFiles files;
+    std::string unwritable;
+    if (!files.check("--json", options.json, unwritable) ||
+        !files.check("--junit", options.junit, unwritable)) {
+        return usage_error(unwritable);
+    }
+    // A report on standard output has it to itself.
+    std::FILE* const console = files.uses_standard_output() ? stderr : stdout;
     auto target = client::parse_target(options.target);
     if (!target) return usage_error(target.error());
     if (target->secure) {
@@ -235,8 +244,8 @@ int run_fuzz(const FuzzCommandOptions& options) {
         if (!options.dut_file.empty()) recon.source = options.dut_file;
     }
     session.close();
-    fmt::print("mblab fuzz {}\n{}", target->name, rb::recon_text(recon));
-    std::fflush(stdout);
+    fmt::print(console, "mblab fuzz {}\n{}", target->name, rb::recon_text(recon));
+    std::fflush(console);
 
     rb::FuzzOptions fuzz;
     fuzz.target = *target;
@@ -270,11 +279,12 @@ int run_fuzz(const FuzzCommandOptions& options) {
         if (!steps) return usage_error(fmt::format("{}: {}", options.replay, steps.error()));
         const auto liveness = runner.replay(*steps);
         if (liveness.alive) {
-            fmt::print("replayed {} frame(s): the device still serves (checked in {} ms)\n",
+            fmt::print(console,
+                       "replayed {} frame(s): the device still serves (checked in {} ms)\n",
                        steps->size(), liveness.waited.count());
             return kExitOk;
         }
-        fmt::print("replayed {} frame(s): the device {} (waited {} ms)\n", steps->size(),
+        fmt::print(console, "replayed {} frame(s): the device {} (waited {} ms)\n", steps->size(),
                    liveness.reason, liveness.waited.count());
         return kExitFailed;
     }
@@ -299,7 +309,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
             result.memory = memory;
         }
     }
-    fmt::print("{}", rb::summary_text(result));
+    fmt::print(console, "{}", rb::summary_text(result));
 
     const auto provenance = provenance_of(options, started);
     std::string failed;
@@ -322,22 +332,23 @@ int run_fuzz(const FuzzCommandOptions& options) {
                        rb::reproducer_capture(f.reproducer, target->tcp->host, target->tcp->port),
                        provenance, failed);
         if (!written) return usage_error(failed);
-        fmt::print("reproducer written to {} (and {})\n", options.reproducer, capture_path);
+        fmt::print(console, "reproducer written to {} (and {})\n", options.reproducer,
+                   capture_path);
     }
     if (!options.json.empty() &&
-        !conf::write_text_file(options.json, rb::json_report(result, provenance), failed))
+        !ReportFiles::write(options.json, rb::json_report(result, provenance), failed))
         return usage_error(failed);
     if (!options.junit.empty() &&
-        !conf::write_text_file(options.junit, rb::junit_report(result, provenance), failed))
+        !ReportFiles::write(options.junit, rb::junit_report(result, provenance), failed))
         return usage_error(failed);
     if (!options.pcap.empty() &&
         !conf::write_capture(options.pcap, capture.events(), framing, provenance, failed))
         return usage_error(failed);
     if (!options.pcap.empty() && capture.dropped_bytes() > 0) {
-        fmt::print(
-            "{} holds the run's last frames: the first {} byte(s) were let go to bound "
-            "memory\n",
-            options.pcap, capture.dropped_bytes());
+        fmt::print(console,
+                   "{} holds the run's last frames: the first {} byte(s) were let go to bound "
+                   "memory\n",
+                   options.pcap, capture.dropped_bytes());
     }
     return result.finding ? kExitFailed : kExitOk;
 }
@@ -411,8 +422,10 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
                     "process id of a device running on this machine: its memory is reported")
         ->check(CLI::PositiveNumber);
     add_tls_options(*cmd, options->tls, "tester's (client)");
-    cmd->add_option("--json", options->json, "write the report as JSON to FILE");
-    cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
+    cmd->add_option("--json", options->json,
+                    "write the report as JSON to FILE (- for standard output)");
+    cmd->add_option("--junit", options->junit,
+                    "write the report as JUnit XML to FILE (- for standard output)");
     cmd->add_option("--pcap", options->pcap,
                     "write the run's frames as pcapng to FILE (a line's frames on "
                     "LINKTYPE_USER0); the last 32 MB or so of a longer run");

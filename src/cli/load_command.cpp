@@ -268,6 +268,8 @@ int run_load(const LoadOptions& options) {
         !files.check("--html", options.html, error)) {
         return usage_error(error);
     }
+    // A report on standard output has it to itself.
+    std::FILE* const console = files.uses_standard_output() ? stderr : stdout;
     auto plan = make_plan(options);
     if (!plan) return usage_error(plan.error());
     std::optional<LoadMetrics> metrics;
@@ -275,8 +277,8 @@ int run_load(const LoadOptions& options) {
         metrics.emplace(*plan);
         if (!metrics->start(options.metrics, error)) return usage_error(error);
     }
-    fmt::print("{}", load::load_header(*plan));
-    std::fflush(stdout);
+    fmt::print(console, "{}", load::load_header(*plan));
+    std::fflush(console);
 
     raise_descriptor_limit();
     StopSignals::catch_them();
@@ -296,8 +298,8 @@ int run_load(const LoadOptions& options) {
         std::fflush(stderr);
     });
     if (live) fmt::print(stderr, "\r\033[K");
-    fmt::print("{}", load::load_summary(*plan, result));
-    std::fflush(stdout);
+    fmt::print(console, "{}", load::load_summary(*plan, result));
+    std::fflush(console);
 
     const std::pair<const std::string&,
                     std::string (*)(const load::LoadPlan&, const load::LoadResult&)>
@@ -306,8 +308,7 @@ int run_load(const LoadOptions& options) {
                      {options.html, &web::load_html_report}};
     for (const auto& [path, write] : reports) {
         if (path.empty()) continue;
-        if (!conf::write_text_file(path, write(*plan, result), error)) return usage_error(error);
-        files.written(path);
+        if (!files.write(path, write(*plan, result), error)) return usage_error(error);
     }
     return result.verdict() == load::LoadVerdict::Pass ? kExitOk : kExitFailed;
 }
@@ -378,8 +379,10 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
         ->capture_default_str();
     cmd->add_option("--seed", options->seed, "seed of the generator's choices from the mix")
         ->capture_default_str();
-    cmd->add_option("--json", options->json, "write the report as JSON to FILE");
-    cmd->add_option("--junit", options->junit, "write the report as JUnit XML to FILE");
+    cmd->add_option("--json", options->json,
+                    "write the report as JSON to FILE (- for standard output)");
+    cmd->add_option("--junit", options->junit,
+                    "write the report as JUnit XML to FILE (- for standard output)");
     cmd->add_option("--html", options->html,
                     "write the report as one self-contained HTML page to FILE: per-node tables "
                     "and latency histograms (every report file is checked before any traffic)");

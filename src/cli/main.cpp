@@ -12,6 +12,7 @@
 #include "cli/build_info.hpp"
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/help_format.hpp"
 #include "cli/number_text.hpp"
 #include "support/suggestion.hpp"
 
@@ -192,6 +193,8 @@ int main(int argc, char** argv) {
                  "mblab"};
     app.set_version_flag("-V,--version", fmt::format("mblab {} (commit {})", kVersion, kCommit));
     app.require_subcommand(1);
+    // Set before the commands are added: each takes its parent's formatter.
+    app.formatter(std::make_shared<HelpFormatter>());
     CommandRunner runner;
     const Invocation invocation{kVersion, kCommit, std::vector<std::string>(argv, argv + argc)};
     add_conform_command(app, runner, invocation);

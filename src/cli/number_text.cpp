@@ -50,8 +50,9 @@ std::optional<std::chrono::duration<double>> parse_duration(
         std::string_view suffix;
         duration<double> length;
     };
-    // "ms" before "m" and "s", so 250ms is not read as 250m followed by junk.
-    static constexpr Unit kUnits[] = {{"ms", duration<double, std::milli>(1)},
+    // "ms" and "us" before "m" and "s", so 250ms is not read as 250m followed by junk.
+    static constexpr Unit kUnits[] = {{"us", duration<double, std::micro>(1)},
+                                      {"ms", duration<double, std::milli>(1)},
                                       {"s", duration<double>(1)},
                                       {"m", duration<double, std::ratio<60>>(1)},
                                       {"h", duration<double, std::ratio<3600>>(1)}};

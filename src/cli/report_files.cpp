@@ -7,8 +7,11 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
+
+#include "conformance/reports.hpp"
 
 namespace mblab::cli {
 
@@ -44,13 +47,16 @@ std::string why_not(const std::string& path, int error) {
 
 }  // namespace
 
-ReportFiles::~ReportFiles() {
-    for (const auto& path : created_)
-        ::unlink(path.c_str());
-}
-
 bool ReportFiles::check(std::string_view option, const std::string& path, std::string& error) {
     if (path.empty()) return true;
+    if (path == kStandardOutput) {
+        if (!standard_output_.empty()) {
+            error = "only one report can go to standard output (-)";
+            return false;
+        }
+        standard_output_ = option;
+        return true;
+    }
     const auto same = std::find_if(checked_.begin(), checked_.end(),
                                    [&](const auto& seen) { return seen.second == identity(path); });
     if (same != checked_.end()) {
@@ -58,18 +64,30 @@ bool ReportFiles::check(std::string_view option, const std::string& path, std::s
                             path, same->first);
         return false;
     }
-    int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-    const bool created = fd >= 0;
-    if (fd < 0 && errno == EEXIST) fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+    int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+    if (fd < 0 && errno == ENOENT) {
+        // Missing: tried as the temporary file the report is written through, then removed.
+        const std::string probe = fmt::format("{}.{}.tmp", path, ::getpid());
+        fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+        if (fd >= 0) ::unlink(probe.c_str());
+    }
     if (fd < 0) {
         error =
             fmt::format("{} {}: cannot write the report: {}", option, path, why_not(path, errno));
         return false;
     }
     ::close(fd);
-    if (created) created_.push_back(path);
     checked_.emplace_back(std::string(option), identity(path));
     return true;
+}
+
+bool ReportFiles::write(const std::string& path, const std::string& text, std::string& error) {
+    if (path == kStandardOutput) {
+        std::fwrite(text.data(), 1, text.size(), stdout);
+        std::fflush(stdout);
+        return true;
+    }
+    return conformance::write_text_file(path, text, error);
 }
 
 }  // namespace mblab::cli

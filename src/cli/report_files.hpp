@@ -7,27 +7,29 @@
 
 namespace mblab::cli {
 
+// "-" for a report: standard output.
+inline constexpr std::string_view kStandardOutput = "-";
+
 // The report files of a run, checked before any traffic: a run of an hour must not end with
-// "cannot write". Each is opened for writing, created when missing but never truncated, so a
-// report from an earlier run stays whole until the new one replaces it. A file the check created
-// is removed again unless the run writes it, so a refused or failed run leaves no empty report.
-// Shared by conform and load.
+// "cannot write". The check makes no file (an existing one is opened for writing, a missing one
+// is tried as the temporary file it will be written through, and removed at once), and the
+// reports are written whole when the run ends (conformance::write_text_file), so a refused,
+// failed or killed run (`conform ... | head`) leaves no empty report and an earlier report stays
+// whole until the new one replaces it. Shared by conform, load and fuzz.
 class ReportFiles {
   public:
-    ReportFiles() = default;
-    ReportFiles(const ReportFiles&) = delete;
-    ReportFiles& operator=(const ReportFiles&) = delete;
-    ~ReportFiles();
-
-    // False with `error` naming the option and the path when `path` cannot be written.
+    // False with `error` naming the option and the path when `path` cannot be written. "-" is
+    // standard output, which only one report may take.
     bool check(std::string_view option, const std::string& path, std::string& error);
 
-    // The run wrote `path`: it stays.
-    void written(const std::string& path) { std::erase(created_, path); }
+    // `text` to `path`, or to standard output for "-"; false with `error` when it cannot.
+    static bool write(const std::string& path, const std::string& text, std::string& error);
+    // Whether a report checked goes to standard output (the console text then goes to stderr).
+    bool uses_standard_output() const { return !standard_output_.empty(); }
 
   private:
-    std::vector<std::string> created_;
     std::vector<std::pair<std::string, std::string>> checked_;  // option, absolute path
+    std::string standard_output_;                               // the option that has it
 };
 
 }  // namespace mblab::cli

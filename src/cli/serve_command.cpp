@@ -25,6 +25,7 @@
 #include "cli/profile_lookup.hpp"
 #include "cli/serve_http.hpp"
 #include "cli/serve_line.hpp"
+#include "cli/serve_log.hpp"
 #include "cli/serve_state.hpp"
 #include "cli/serve_stats_line.hpp"
 #include "cli/stop_signals.hpp"
@@ -68,6 +69,7 @@ struct ServeOptions {
     std::string gateway;
     security::TlsFiles tls;  // mbaps://
     HttpOptions http;
+    LogOptions log;
 };
 
 int usage_error(const std::string& message) {
@@ -193,9 +195,23 @@ int run_serve(const ServeOptions& options) {
         live = std::make_unique<LiveDevice>(first_device, kept.handler(0));
         write_values_through(*live, first_keeper);
     }
-    auto device_handler = [&](std::size_t i) -> device::RequestHandler& {
+    auto traffic = open_traffic_log(options.log, http.has_value(), error);
+    if (!error.empty()) return usage_error(error);
+    // The log sees what the client sees: outside the counting, whatever answers.
+    std::vector<std::unique_ptr<server::LoggedHandler>> logged;
+    const auto answering = [&](std::size_t i) -> device::RequestHandler& {
+        if (gateway) return *gateway;
         if (live) return live->handler();
         return kept.handler(i);
+    };
+    for (std::size_t i = 0; traffic && i < kept.size(); ++i) {
+        logged.push_back(
+            std::make_unique<server::LoggedHandler>(answering(i), *traffic, options.listen));
+    }
+    if (live) live->show_traffic(traffic.get());
+    auto device_handler = [&](std::size_t i) -> device::RequestHandler& {
+        if (traffic) return *logged[i];
+        return answering(i);
     };
 
     std::signal(SIGPIPE, SIG_IGN);
@@ -221,8 +237,7 @@ int run_serve(const ServeOptions& options) {
                 fmt::print(stderr, "mblab serve: refused a TLS client: {}\n", reason);
             };
         }
-        device::RequestHandler& handler =
-            gateway ? static_cast<device::RequestHandler&>(*gateway) : device_handler(i);
+        device::RequestHandler& handler = device_handler(i);
         servers.push_back(
             rtu_over_tcp
                 ? std::make_unique<server::TcpServer>(
@@ -376,6 +391,7 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
                   "--save-interval says");
     cmd->add_flag("--stats", options->stats, "print a line of counters on stderr every second");
     add_http_options(*cmd, options->http);
+    add_log_options(*cmd, options->log);
     cmd->add_option("--devices", options->devices,
                     "run K devices on consecutive ports from the --listen port")
         ->check(CLI::Range(1, 1000))

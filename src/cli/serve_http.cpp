@@ -98,8 +98,8 @@ std::optional<HttpPlan> plan_http(const HttpOptions& options, std::string& error
 
 bool LiveDevice::start(const HttpPlan& plan, std::function<std::uint64_t()> connections,
                        std::function<bool(std::string&)> save_state, std::string& error) {
-    api_ = std::make_unique<web::DeviceApi>(web::ServeView{device_, meter_, std::move(connections),
-                                                           std::move(save_state), write_values_});
+    api_ = std::make_unique<web::DeviceApi>(web::ServeView{
+        device_, meter_, std::move(connections), std::move(save_state), write_values_, traffic_});
     server_ = std::make_unique<web::HttpServer>(web::GateOptions{plan.token, {}, 0, plan.names});
     web::add_device_routes(server_->routes(), *api_);
     auto port = server_->start(plan.address, error);

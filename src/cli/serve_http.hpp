@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "device/reference_device.hpp"
+#include "server/traffic_log.hpp"
 #include "web/device_api.hpp"
 #include "web/http_server.hpp"
 #include "web/request_meter.hpp"
@@ -47,6 +48,8 @@ class LiveDevice {
     device::RequestHandler& handler() { return metered_; }
     // How REST writes are made (ServeView::write_values); set before start().
     void write_values_with(web::WriteValues write) { write_values_ = std::move(write); }
+    // The requests and answers the dashboard shows; set before start().
+    void show_traffic(const server::TrafficLog* traffic) { traffic_ = traffic; }
 
     // Starts the HTTP server and prints where it listens; false with `error` when it cannot.
     bool start(const HttpPlan& plan, std::function<std::uint64_t()> connections,
@@ -61,6 +64,7 @@ class LiveDevice {
     web::RequestMeter meter_;
     web::MeteredHandler metered_;
     web::WriteValues write_values_;
+    const server::TrafficLog* traffic_ = nullptr;
     std::unique_ptr<web::DeviceApi> api_;
     std::unique_ptr<web::HttpServer> server_;
 };

@@ -1,4 +1,5 @@
 #include <fmt/core.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <memory>
@@ -179,9 +180,16 @@ std::string xml_escape(std::string_view text) {
 }
 
 bool write_text_file(const std::string& path, const std::string& text, std::string& error) {
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "wb"),
+    // Written beside it, then renamed over it: a run stopped half-way (a closed pipe, Ctrl-C)
+    // leaves the earlier report whole, or none, never an empty or cut one.
+    const std::string temporary = fmt::format("{}.{}.tmp", path, ::getpid());
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(temporary.c_str(), "wb"),
                                                          &std::fclose);
-    if (!file || std::fwrite(text.data(), 1, text.size(), file.get()) != text.size()) {
+    const bool written =
+        file && std::fwrite(text.data(), 1, text.size(), file.get()) == text.size();
+    const bool closed = file && std::fclose(file.release()) == 0;
+    if (!written || !closed || std::rename(temporary.c_str(), path.c_str()) != 0) {
+        std::remove(temporary.c_str());
         error = fmt::format("cannot write {}", path);
         return false;
     }

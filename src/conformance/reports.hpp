@@ -26,7 +26,8 @@ std::string junit_report(const RunResult& result);
 // characters other than tab and newline are not allowed in XML 1.0 and become spaces.
 std::string xml_escape(std::string_view text);
 
-// Writes `text` to `path`; false with `error` set when the file cannot be written.
+// Writes `text` to `path` whole or not at all (a temporary file renamed over it); false with
+// `error` set when the file cannot be written.
 bool write_text_file(const std::string& path, const std::string& text, std::string& error);
 
 }  // namespace mblab::conformance

@@ -123,6 +123,22 @@ std::string register_type_names() {
     return names;
 }
 
+std::string_view register_type_name(NumberType type) {
+    for (const auto& [known, each] : kRegisterTypes) {
+        if (each == type) return known;
+    }
+    return "bit";
+}
+
+std::string order_letters(ByteOrder order) {
+    std::string letters = order.low_word_first ? "CDAB" : "ABCD";
+    if (order.low_byte_first) {
+        std::swap(letters[0], letters[1]);
+        std::swap(letters[2], letters[3]);
+    }
+    return letters;
+}
+
 double largest_raw(NumberType type) {
     switch (type) {
         case NumberType::Bit:

@@ -25,6 +25,10 @@ struct NumberWords {
 // listed for messages.
 std::optional<NumberType> register_type_named(std::string_view name);
 std::string register_type_names();
+// The profile's name of a register type ("f32"); "bit" for a bit.
+std::string_view register_type_name(NumberType type);
+// The order as the profile writes it: ABCD, CDAB, BADC or DCBA.
+std::string order_letters(ByteOrder order);
 
 // The largest value the registers of `type` hold, before scaling.
 double largest_raw(NumberType type);

@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <span>
+#include <string_view>
 
 // The seam between a server (any transport) and what answers requests: the reference device,
 // a gateway, or a test double. Sans-I/O: the server owns sockets, timers and buffers.
@@ -16,6 +17,9 @@ enum class Link : std::uint8_t { Tcp, Serial };
 struct RequestContext {
     std::uint8_t unit = 0;  // MBAP unit id or serial address
     Link link = Link::Tcp;
+    // The client's address ("192.0.2.7:50312") where the link has one, for logs; it views the
+    // server's text and is valid only during the call.
+    std::string_view peer = {};
 };
 
 enum class ReplyAction : std::uint8_t {

@@ -146,8 +146,8 @@ void MbapSession::on_frame(const protocol::FrameEvent& frame, Clock::time_point 
     const auto response = protocol::mbap_pdu_room(slot->adu);
     const auto ticket = ++last_ticket_;
     SessionDeferral deferral(host_, ticket, request);
-    const auto reply = handler_.handle_or_defer({frame.header.unit, device::Link::Tcp}, frame.pdu,
-                                                response, deferral);
+    const auto reply = handler_.handle_or_defer({frame.header.unit, device::Link::Tcp, peer_},
+                                                frame.pdu, response, deferral);
     if (!reply) {
         slot->deferred = true;
         slot->ticket = ticket;

@@ -103,6 +103,9 @@ class MbapSession {
         role_ = std::move(role);
     }
 
+    // The client's address, handed to the handler with each request (RequestContext::peer).
+    void set_peer(std::string peer) { peer_ = std::move(peer); }
+
     // For a full listener choosing a connection to close.
     transport::Standing standing(Clock::time_point now) const;
     // The last complete request or answer sent.
@@ -152,6 +155,7 @@ class MbapSession {
     std::uint32_t last_ticket_ = 0;             // of the last request given to the handler
     const device::RoleRules* rules_ = nullptr;  // set: requests are authorized by role_
     std::optional<std::string> role_;
+    std::string peer_;
 
     std::array<std::uint8_t, kInputBytes> input_{};
     std::size_t input_begin_ = 0;

@@ -3,9 +3,11 @@
 #include <sys/socket.h>
 
 #include <asio/post.hpp>
+#include <cstring>
 #include <vector>
 
 #include "transport/socket_channel.hpp"
+#include "transport/tcp_url.hpp"
 #include "transport/tls_stream.hpp"
 
 namespace mblab::server {
@@ -40,7 +42,15 @@ TcpSession::TcpSession(asio::ip::tcp::socket socket, std::shared_ptr<ServerCore>
       channel_(channel_for(fd_, core_->options)),
       session_(core_->handler, limits_of(core_->options), core_->stats, *this, Clock::now()),
       driver_(*channel_, session_, core_->options, core_->stats, Clock::now()),
-      timer_(executor_) {}
+      timer_(executor_) {
+    const auto peer = channel_->peer();
+    asio::ip::tcp::endpoint endpoint;
+    if (peer.address_size > 0 && peer.address_size <= endpoint.capacity()) {
+        std::memcpy(endpoint.data(), &peer.address, peer.address_size);
+        endpoint.resize(peer.address_size);
+        session_.set_peer(transport::endpoint_text(endpoint));
+    }
+}
 
 TcpSession::~TcpSession() {
     close_socket();

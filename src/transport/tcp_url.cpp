@@ -149,15 +149,14 @@ protocol::Result<asio::ip::tcp::endpoint, std::string> parse_mbaps_url(std::stri
     return first_address(url, parse_mbaps_address(url));
 }
 
+std::string endpoint_text(const asio::ip::tcp::endpoint& endpoint) {
+    const auto host = endpoint.address().to_string();
+    return (endpoint.address().is_v6() ? '[' + host + ']' : host) + ':' +
+           std::to_string(endpoint.port());
+}
+
 std::string format_tcp_url(const asio::ip::tcp::endpoint& endpoint, bool secure) {
-    std::string out(secure ? kSecureScheme : kScheme);
-    if (endpoint.address().is_v6()) {
-        out += '[' + endpoint.address().to_string() + ']';
-    } else {
-        out += endpoint.address().to_string();
-    }
-    out += ':' + std::to_string(endpoint.port());
-    return out;
+    return std::string(secure ? kSecureScheme : kScheme) + endpoint_text(endpoint);
 }
 
 std::string format_tcp_url(const TcpAddress& address, bool secure) {

@@ -40,6 +40,8 @@ protocol::Result<std::vector<asio::ip::tcp::endpoint>, std::string> resolve_tcp_
 protocol::Result<asio::ip::tcp::endpoint, std::string> parse_tcp_url(std::string_view url);
 protocol::Result<asio::ip::tcp::endpoint, std::string> parse_mbaps_url(std::string_view url);
 
+// "127.0.0.1:1502" or "[::1]:1502".
+std::string endpoint_text(const asio::ip::tcp::endpoint& endpoint);
 // "tcp://127.0.0.1:1502", "tcp://[::1]:1502" or "tcp://plc-01.plant.lan:1502"; "mbaps://..."
 // when `secure`.
 std::string format_tcp_url(const asio::ip::tcp::endpoint& endpoint, bool secure = false);

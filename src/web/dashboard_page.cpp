@@ -25,7 +25,10 @@ constexpr std::string_view kPage = R"html(<!DOCTYPE html>
 <option>coils</option><option>discrete_inputs</option></select></label>
 <label>From <input id="start" type="number" min="0" max="65535" value="0" size="6"></label>
 <button id="prev">&lt;</button><button id="next">&gt;</button>
-<table id="values"><thead><tr><th>Address</th><th>Value</th></tr></thead><tbody></tbody></table>
+<table id="values"><thead><tr><th>Address</th><th>Value</th><th>Name</th></tr></thead><tbody>
+</tbody></table>
+<h2>Typed points</h2><table id="points"><thead><tr><th>Address</th><th>Name</th><th>Type</th>
+<th>Value</th></tr></thead><tbody></tbody></table>
 <div id="message" class="err"></div></section>
 <section><h2>Requests</h2><table id="requests"><thead><tr><th>Unit</th><th>Function</th>
 <th>Requests</th><th>Exceptions</th></tr></thead><tbody></tbody></table>
@@ -36,6 +39,9 @@ constexpr std::string_view kPage = R"html(<!DOCTYPE html>
 </thead><tbody></tbody></table>
 <p><input id="newrule" size="40" value='{"action":"exception","exception":4,"functions":[3]}'>
 <button id="add">Add rule</button></p></section>
+<section><h2>Traffic (newest first)</h2><table id="traffic"><thead><tr><th>Time</th>
+<th>Client</th><th>Unit</th><th>Function</th><th>Request</th><th>Answer</th><th>&micro;s</th></tr>
+</thead><tbody></tbody></table></section>
 </body></html>
 )html";
 
@@ -50,7 +56,7 @@ section{display:inline-block;vertical-align:top;margin-right:2em}
 constexpr std::string_view kScript = R"js("use strict";
 const PAGE = 20;
 const $ = id => document.getElementById(id);
-let source = null, lastTotal = null, lastTime = 0;
+let source = null, lastTotal = null, lastTime = 0, unitList = [];
 // serve prints the page's address with its token after '#', which no request carries: it is kept
 // for this tab and taken off the address bar.
 const given = new URLSearchParams(location.hash.slice(1)).get("token");
@@ -67,7 +73,25 @@ function call(method, path, body) {
 }
 function cell(row, text) { const td = row.insertCell(); td.textContent = text; return td; }
 function unitPath() { return "/api/units/" + $("unit").value; }
+// The name the profile gives the range that holds `address` in the bank shown.
+function rangeName(address) {
+  const unit = unitList.find(u => String(u.unit) === $("unit").value);
+  const ranges = unit ? unit.banks[$("bank").value] || [] : [];
+  const range = ranges.find(r => address >= r.start && address < r.start + r.count);
+  return range ? range.name : "";
+}
+// Numbers the profile types (f32, u32 and the rest, in their word order), decoded by the server.
+function showPoints(points) {
+  const body = $("points").tBodies[0];
+  body.innerHTML = "";
+  for (const p of points || []) {
+    const row = body.insertRow();
+    const value = Number.isInteger(p.value) ? p.value : Number(p.value.toPrecision(7));
+    [p.address, p.name, p.type + (p.type.endsWith("16") ? "" : " " + p.order), value].forEach(t => cell(row, t));
+  }
+}
 function showPage(page) {
+  showPoints(page.points);
   const body = $("values").tBodies[0];
   if (body.rows.length !== page.values.length) {
     body.innerHTML = "";
@@ -79,11 +103,13 @@ function showPage(page) {
       input.onchange = () => call("PUT", unitPath() + "/" + $("bank").value + "/" + row.cells[0].textContent,
                                   {values: [Number(input.value)]});
       row.insertCell().appendChild(input);
+      cell(row, "").style.textAlign = "left";
     });
   }
   page.values.forEach((v, i) => {
     const row = body.rows[i];
     row.cells[0].textContent = page.start + i;
+    row.cells[2].textContent = rangeName(page.start + i);
     const input = row.cells[1].firstChild;
     if (document.activeElement !== input) input.value = v === null ? "" : v;
     input.disabled = v === null;
@@ -144,7 +170,11 @@ function listen() {
     showCounters(event.counters);
   };
 }
-$("unit").onchange = () => { listen(); loadRules(); };
+$("unit").onchange = () => {
+  const unit = unitList.find(u => String(u.unit) === $("unit").value);
+  if (unit) $("bank").value = unit.start_bank;
+  listen(); loadRules();
+};
 $("bank").onchange = $("start").onchange = listen;
 $("prev").onclick = () => { $("start").value = Number($("start").value) - PAGE; listen(); };
 $("next").onclick = () => { $("start").value = Number($("start").value) + PAGE; listen(); };
@@ -154,7 +184,42 @@ $("add").onclick = () => {
   try { rule = JSON.parse($("newrule").value); } catch (e) { $("message").textContent = "the rule is not valid JSON"; return; }
   call("POST", unitPath() + "/faults", rule).then(loadRules).catch(() => {});
 };
+// The requests and answers the server logs (GET /api/traffic), asked for once a second: only the
+// ones after the last seen come, and the table keeps as many as the server's ring.
+let trafficLast = 0;
+const TRAFFIC_ROWS = 200;
+function requestText(t) {
+  const parts = [];
+  if (t.sub_function !== undefined) parts.push("sub " + t.sub_function);
+  if (t.address !== undefined) parts.push("address " + t.address);
+  if (t.quantity !== undefined) parts.push("quantity " + t.quantity);
+  if (t.undecoded) parts.push("does not decode: " + t.undecoded);
+  return parts.join(", ");
+}
+function answerText(t) {
+  if (t.answer === "exception") return "exception " + t.exception.code + " (" + t.exception.name + ")";
+  if (t.answer === "none") return "no answer";
+  if (t.answer === "close") return "connection closed";
+  return t.values ? t.values.join(" ") + (t.more_values ? " ..." : "") : "ok";
+}
+function pollTraffic() {
+  fetch("/api/traffic?after=" + trafficLast).then(r => r.ok ? r.json() : null).then(t => {
+    if (!t) return;
+    trafficLast = t.last;
+    const body = $("traffic").tBodies[0];
+    for (const e of t.entries) {
+      const row = body.insertRow(0);
+      [e.time.slice(11, 23), e.peer, e.unit, e.name, requestText(e), answerText(e), e.latency_us].forEach(x => cell(row, x));
+      if (e.answer === "exception") row.className = "err";
+    }
+    while (body.rows.length > TRAFFIC_ROWS) body.deleteRow(-1);
+  }).catch(() => {}).finally(() => setTimeout(pollTraffic, 1000));
+}
+pollTraffic();
 call("GET", "/api/units").then(units => {
+  unitList = units;
+  // The profile chooses the bank shown first: where its values move, or its first range.
+  if (units.length) $("bank").value = units[0].start_bank;
   for (const u of units) {
     const option = document.createElement("option");
     option.value = u.unit; option.textContent = u.unit + (u.name ? " " + u.name : "");

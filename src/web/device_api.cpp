@@ -11,6 +11,7 @@
 #include "support/name_table.hpp"
 #include "web/fault_rule_json.hpp"
 #include "web/json_text.hpp"
+#include "web/typed_points.hpp"
 
 namespace mblab::web {
 
@@ -123,6 +124,9 @@ ApiReply DeviceApi::handle(const ApiRequest& request) {
     if (top == "counters" && parts.size() == 3 && parts[2] == "reset") {
         return method == "POST" ? reset_counters() : wrong_method("POST");
     }
+    if (top == "traffic" && parts.size() == 2) {
+        return method == "GET" ? traffic(request.query) : wrong_method("GET");
+    }
     if (top == "state" && parts.size() == 3 && parts[2] == "save") {
         return method == "POST" ? save_state() : wrong_method("POST");
     }
@@ -168,7 +172,10 @@ ApiReply DeviceApi::units() const {
             }
             banks[name] = ranges;
         }
-        out.push_back({{"unit", spec.id}, {"name", spec.name}, {"banks", banks}});
+        out.push_back({{"unit", spec.id},
+                       {"name", spec.name},
+                       {"banks", banks},
+                       {"start_bank", start_bank(spec)}});
     }
     return ok(out);
 }
@@ -357,13 +364,38 @@ ApiReply DeviceApi::save_state() {
     return ok({{"saved", file_or_error}});
 }
 
+ApiReply DeviceApi::traffic(const std::map<std::string, std::string>& query) const {
+    if (!view_.traffic) return api_error(404, "this server keeps no traffic log");
+    std::uint64_t after = 0;
+    if (const auto it = query.find("after"); it != query.end()) {
+        const auto& text = it->second;
+        const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), after);
+        if (ec != std::errc() || end != text.data() + text.size()) {
+            return api_error(400, fmt::format("after={}: expected a whole number", text));
+        }
+    }
+    std::uint64_t last = 0;
+    json entries = json::array();
+    for (const auto& entry : view_.traffic->recent(after, last))
+        entries.push_back(server::traffic_json(entry));
+    return ok(json{{"last", last}, {"entries", std::move(entries)}});
+}
+
 json DeviceApi::live_event(const std::map<std::string, std::string>& page) {
     json event{{"counters", counters()}};
     const auto unit = page.find("unit");
     const auto bank = page.find("bank");
     if (unit != page.end() && bank != page.end()) {
         auto reply = handle({"GET", "/api/units/" + unit->second + "/" + bank->second, page, ""});
-        event["page"] = json::parse(reply.body, nullptr, false);
+        auto shown = json::parse(reply.body, nullptr, false);
+        // The page's typed points, decoded as the profile lays them out (none: left out).
+        if (reply.status == 200 && shown.contains("values")) {
+            auto points = page_points(view_.device, shown["unit"].get<std::uint8_t>(),
+                                      *bank_kind(bank->second), shown["start"].get<std::uint32_t>(),
+                                      static_cast<std::uint32_t>(shown["values"].size()));
+            if (!points.empty()) shown["points"] = std::move(points);
+        }
+        event["page"] = std::move(shown);
     }
     return event;
 }

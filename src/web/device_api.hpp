@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "device/reference_device.hpp"
+#include "server/traffic_log.hpp"
 #include "web/request_meter.hpp"
 
 // The REST API of `mblab serve --http` as requests in, replies out, without a socket
@@ -47,6 +48,8 @@ struct ServeView {
     // Writes values the way the server keeps them (`serve --durable` journals them before the
     // answer); empty: straight to the device.
     WriteValues write_values = {};
+    // The requests and answers of late (GET /api/traffic); null: none are kept.
+    const server::TrafficLog* traffic = nullptr;
 };
 
 class DeviceApi {
@@ -78,6 +81,7 @@ class DeviceApi {
     nlohmann::json counters() const;
     ApiReply reset_counters();
     ApiReply save_state();
+    ApiReply traffic(const std::map<std::string, std::string>& query) const;
     // Gives the device the enabled rules of `unit`, in order.
     void apply_rules(std::uint8_t unit);
 

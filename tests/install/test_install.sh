@@ -7,6 +7,7 @@
 # with dpkg, `mblab conform` run from /, and the package removed.
 set -euo pipefail
 build=$(cd "$1" && pwd)
+source_dir=$(cd "$(dirname "$0")/../.." && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
@@ -15,7 +16,8 @@ prefix="$work/prefix"
 cmake --install "$build" --prefix "$prefix" >/dev/null
 for f in bin/mblab share/mblab/catalogue/policy-2.1.toml share/mblab/profiles/reference.toml \
     share/doc/mblab/README.md share/doc/mblab/LICENSE share/doc/mblab/catalogue.md \
-    share/bash-completion/completions/mblab share/man/man1/mblab.1; do
+    share/doc/mblab/http-api.yaml share/doc/mblab/copyright share/doc/mblab/changelog.gz \
+    share/bash-completion/completions/mblab share/man/man1/mblab.1.gz; do
     [ -f "$prefix/$f" ] || fail "$f not installed"
 done
 if readelf -S "$prefix/bin/mblab" | grep -q '\.debug_'; then fail "installed binary has debug info"; fi
@@ -53,6 +55,13 @@ for command in conform conform-client serve read write diag devid raw watch load
     options=$(complete_words mblab "$command" --)
     case " $options " in *" --help "*) ;; *) fail "no options completed for $command: $options" ;; esac
 done
+[ "$(complete_words mblab conform --profile rs485)" = rs485-instrument ] ||
+    fail "completion of profile names: $(complete_words mblab conform --profile rs485)"
+[ "$(complete_words mblab serve mov)" = moving ] || fail "completion of 'serve mov'"
+# Every document the README links is installed.
+for doc in $(grep -oE '\]\(docs/[^)#]+' "$source_dir/README.md" | sed 's|](docs/||'); do
+    [ -f "$prefix/share/doc/mblab/$doc" ] || fail "README links docs/$doc, which is not installed"
+done
 [ "$(complete_words mblab profile imp)" = import-csv ] || fail "completion of 'profile imp'"
 [ "$(complete_words mblab profile import-csv --un)" = --unit ] ||
     fail "completion of 'profile import-csv --un': $(complete_words mblab profile import-csv --un)"
@@ -66,9 +75,20 @@ depends=$(dpkg-deb -f "$deb" Depends)
 case "$depends" in *libpcap*) fail "Depends: $depends" ;; *libc6*) ;; *) fail "Depends: $depends" ;; esac
 contents=$(dpkg-deb -c "$deb")
 for f in ./usr/bin/mblab ./usr/share/mblab/catalogue/policy-2.1.toml ./usr/share/doc/mblab/LICENSE \
-    ./usr/share/bash-completion/completions/mblab ./usr/share/man/man1/mblab.1; do
+    ./usr/share/bash-completion/completions/mblab ./usr/share/man/man1/mblab.1.gz \
+    ./usr/share/doc/mblab/copyright ./usr/share/doc/mblab/changelog.gz \
+    ./usr/share/doc/mblab/http-api.yaml; do
     grep -q " $f\$" <<<"$contents" || fail "$f not in the .deb"
 done
+[ "$(dpkg-deb -f "$deb" Recommends)" = bash-completion ] || fail "Recommends: $(dpkg-deb -f "$deb" Recommends)"
+case "$(dpkg-deb -f "$deb" Maintainer)" in *@localhost*) fail "Maintainer: $(dpkg-deb -f "$deb" Maintainer)" ;; esac
+# lintian (Debian's package checker): no error. Warnings and notes are shown, not failed on.
+if command -v lintian >/dev/null; then
+    lintian --tag-display-limit 0 "$deb" >"$work/lintian.txt" 2>&1 || true
+    if grep -q '^E: ' "$work/lintian.txt"; then fail "lintian errors: $(grep '^E: ' "$work/lintian.txt")"; fi
+else
+    fail "no lintian (scripts/install-deps.sh installs it)"
+fi
 
 if [ "${2:-}" = --deb-install ]; then
     dpkg -i "$deb" >/dev/null

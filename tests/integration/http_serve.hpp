@@ -68,6 +68,22 @@ inline Ran change(const HttpServe& serve, const std::string& method, const std::
                  "Content-Type: application/json", "--data-binary", body, serve.http() + path});
 }
 
+// The Modbus address serve prints on its first line.
+inline std::string modbus_target(ChildProcess& serve) {
+    std::smatch match;
+    const auto line = serve.read_stdout_line(10s);
+    if (!line || !std::regex_search(*line, match, std::regex("tcp://127\\.0\\.0\\.1:[0-9]+")))
+        return {};
+    return match[0];
+}
+
+// `mblab serve ARGS...` on an ephemeral port (no HTTP).
+inline std::vector<std::string> serve_argv(std::vector<std::string> args) {
+    std::vector<std::string> argv{MBLAB_BINARY, "serve", "--listen", "tcp://127.0.0.1:0"};
+    argv.insert(argv.end(), args.begin(), args.end());
+    return argv;
+}
+
 inline bool have(const char* program) {
     return ::access(program, X_OK) == 0;
 }

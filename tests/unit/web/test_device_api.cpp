@@ -1,6 +1,9 @@
 // The REST API of serve --http as calls in, JSON out, checked against what Modbus then answers.
 #include <gtest/gtest.h>
 
+#include <array>
+
+#include "server/traffic_log.hpp"
 #include "web_harness.hpp"
 
 namespace mblab::test {
@@ -179,6 +182,73 @@ TEST(DeviceApi, ListsUnitsAndTheirRanges) {
     EXPECT_EQ(units[0]["unit"], 1);
     EXPECT_EQ(units[0]["banks"]["holding_registers"][1],
               nlohmann::json::parse(R"({"start":200,"count":10,"access":"rw","name":""})"));
+}
+
+TEST(DeviceApi, TrafficListsTheLoggedRequestsAfterTheOneAskedFor) {
+    auto device = device_from(kWebProfile);
+    web::RequestMeter meter;
+    server::TrafficLog log(std::nullopt, server::TrafficFormat::Text, 3);
+    server::LoggedHandler logged(*device, log, "line");
+    web::ServeView view{*device, meter, [] { return std::uint64_t{0}; }, {}};
+    view.traffic = &log;
+    web::DeviceApi api(view);
+    std::array<std::uint8_t, 260> response{};
+    for (const char* pdu : {"03 00 00 00 01", "10 00 01 00 01 02 00 07", "03 01 2C 00 01"})
+        logged.handle({1, device::Link::Tcp, "192.0.2.1:50312"}, hex(pdu), response);
+    const auto reply = api.handle({"GET", "/api/traffic", {{"after", "1"}}, ""});
+    EXPECT_EQ(reply.status, 200) << reply.body;
+    const auto body = nlohmann::json::parse(reply.body);
+    EXPECT_EQ(body["last"], 3);
+    ASSERT_EQ(body["entries"].size(), 2U) << reply.body;
+    EXPECT_EQ(body["entries"][0]["name"], "write multiple registers");
+    EXPECT_EQ(body["entries"][0]["values"], nlohmann::json::array({7}));
+    EXPECT_EQ(body["entries"][0]["peer"], "192.0.2.1:50312");
+    EXPECT_EQ(body["entries"][1]["address"], 300);
+    EXPECT_EQ(body["entries"][1]["exception"]["code"], 2);
+    EXPECT_EQ(api.handle({"GET", "/api/traffic", {{"after", "x"}}, ""}).status, 400);
+    // A server that keeps no log says so.
+    WebHarness h;
+    EXPECT_EQ(h.call("GET", "/api/traffic").status, 404);
+}
+
+TEST(DeviceApi, TypedPointsShowAsTheProfileLaysThemOutAndChooseTheFirstBank) {
+    // The constant's registers are set when the behaviour first runs; the range's as declared.
+    auto device = device_from(R"(
+[[unit]]
+id = 1
+holding_registers = [{start = 0, count = 10}, {start = 20, count = 2, type = "u32", name = "energy", values = [65538]}]
+input_registers = [{start = 0, count = 10, name = "temperature"}]
+[[unit.behaviours]]
+kind = "constant"
+bank = "input_registers"
+address = 2
+type = "f32"
+order = "CDAB"
+value = 21.53
+)");
+    device->behaviours().advance(std::chrono::steady_clock::now(),
+                                 std::chrono::system_clock::now());
+    web::RequestMeter meter;
+    web::DeviceApi api(web::ServeView{*device, meter, [] { return std::uint64_t{0}; }, {}});
+    const auto units = nlohmann::json::parse(api.handle({"GET", "/api/units", {}, ""}).body);
+    EXPECT_EQ(units[0]["start_bank"], "input_registers");
+    auto page = api.live_event(
+        {{"unit", "1"}, {"bank", "input_registers"}, {"start", "0"}, {"count", "10"}})["page"];
+    ASSERT_EQ(page["points"].size(), 1U) << page.dump();
+    EXPECT_EQ(page["points"][0]["address"], 2);
+    EXPECT_EQ(page["points"][0]["name"], "temperature");
+    EXPECT_EQ(page["points"][0]["type"], "f32");
+    EXPECT_EQ(page["points"][0]["order"], "CDAB");
+    EXPECT_NEAR(page["points"][0]["value"].get<double>(), 21.53, 1e-5);
+    page = api.live_event(
+        {{"unit", "1"}, {"bank", "holding_registers"}, {"start", "15"}, {"count", "10"}})["page"];
+    ASSERT_EQ(page["points"].size(), 1U) << page.dump();
+    EXPECT_EQ(page["points"][0]["name"], "energy");
+    EXPECT_EQ(page["points"][0]["value"], 65538);
+    // A page that cuts a point in two shows none of it.
+    page = api.live_event(
+        {{"unit", "1"}, {"bank", "holding_registers"}, {"start", "21"}, {"count", "5"}})["page"];
+    EXPECT_FALSE(page.contains("points")) << page.dump();
 }
 
 }  // namespace

@@ -1,0 +1,91 @@
+#include "server/traffic_log.hpp"
+
+namespace mblab::server {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// What is known of a request before its answer: the answer completes it.
+struct Pending {
+    TrafficEntry entry = {};
+    Clock::time_point start = {};
+
+    void answer(TrafficLog& log, const device::Reply& reply, std::span<const std::uint8_t> pdu) {
+        entry.action = reply.action;
+        if (reply.action == device::ReplyAction::Answer) {
+            const auto size = std::min(reply.size, pdu.size());
+            entry.response.assign(pdu.begin(), pdu.begin() + static_cast<std::ptrdiff_t>(size));
+        }
+        entry.latency =
+            std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start) +
+            std::chrono::duration_cast<std::chrono::microseconds>(reply.delay);
+        log.record(std::move(entry));
+    }
+};
+
+// Hands the handler a function that logs the answer when it finally comes.
+class LoggedDeferral final : public device::Deferral {
+  public:
+    LoggedDeferral(device::Deferral& inner, TrafficLog& log, const Pending& pending)
+        : inner_(inner), log_(log), pending_(pending) {}
+
+    device::DeferredDone take() override {
+        return [done = inner_.take(), &log = log_, pending = pending_](
+                   const device::Reply& reply, std::span<const std::uint8_t> pdu) mutable {
+            pending.answer(log, reply, pdu);
+            done(reply, pdu);
+        };
+    }
+
+  private:
+    device::Deferral& inner_;
+    TrafficLog& log_;
+    const Pending& pending_;
+};
+
+}  // namespace
+
+TrafficLog::TrafficLog(std::optional<RotatingFile> out, TrafficFormat format, std::size_t ring)
+    : out_(std::move(out)), format_(format), ring_size_(ring) {}
+
+void TrafficLog::record(TrafficEntry entry) {
+    // Formatted outside the lock: only the write and the ring are shared.
+    std::string line;
+    if (out_) line = format_ == TrafficFormat::Ndjson ? traffic_ndjson(entry) : traffic_text(entry);
+    const std::lock_guard lock(mutex_);
+    ++recorded_;
+    if (out_) out_->write_line(line);
+    if (ring_size_ == 0) return;
+    if (ring_.size() == ring_size_) ring_.pop_front();
+    ring_.push_back(std::move(entry));
+}
+
+std::vector<TrafficEntry> TrafficLog::recent(std::uint64_t after, std::uint64_t& last) const {
+    const std::lock_guard lock(mutex_);
+    last = recorded_;
+    const std::uint64_t first_kept = recorded_ - ring_.size() + 1;
+    std::vector<TrafficEntry> out;
+    for (std::size_t i = 0; i < ring_.size(); ++i) {
+        if (first_kept + i > after) out.push_back(ring_[i]);
+    }
+    return out;
+}
+
+std::optional<device::Reply> LoggedHandler::handle_or_defer(const device::RequestContext& context,
+                                                            std::span<const std::uint8_t> request,
+                                                            std::span<std::uint8_t> response,
+                                                            device::Deferral& deferral) {
+    Pending pending;
+    pending.entry.time = std::chrono::system_clock::now();
+    pending.entry.peer = context.peer.empty() ? line_name_ : std::string(context.peer);
+    pending.entry.unit = context.unit;
+    pending.entry.request.assign(request.begin(), request.end());
+    pending.start = Clock::now();
+    LoggedDeferral logged(deferral, log_, pending);
+    auto reply = inner().handle_or_defer(context, request, response, logged);
+    if (reply) pending.answer(log_, *reply, response);
+    return reply;
+}
+
+}  // namespace mblab::server

@@ -1,0 +1,63 @@
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "device/request_handler.hpp"
+#include "server/rotating_file.hpp"
+#include "server/traffic_entry.hpp"
+
+// `mblab serve --log`: each request and its answer, written as a line (text or NDJSON) and kept
+// in a ring of the last ones for the dashboard. Called from the Modbus thread(s) and read from
+// the HTTP thread, so it takes a lock; the line is written at once (a log that waits for a
+// buffer to fill is no use when watching a device live).
+namespace mblab::server {
+
+enum class TrafficFormat : std::uint8_t { Text, Ndjson };
+
+inline constexpr std::size_t kTrafficRing = 200;
+
+class TrafficLog {
+  public:
+    // `out` set: each entry is written to it; `ring`: entries kept for recent().
+    TrafficLog(std::optional<RotatingFile> out, TrafficFormat format, std::size_t ring);
+
+    void record(TrafficEntry entry);
+    // The kept entries after number `after` (0: all kept), oldest first, and the number of the
+    // last one recorded, so that a reader asks only for what is new.
+    std::vector<TrafficEntry> recent(std::uint64_t after, std::uint64_t& last) const;
+
+  private:
+    mutable std::mutex mutex_;
+    std::optional<RotatingFile> out_;
+    TrafficFormat format_;
+    std::size_t ring_size_;
+    std::deque<TrafficEntry> ring_;
+    std::uint64_t recorded_ = 0;
+};
+
+// Hands each request and its answer to the log. The latency is the handler's time plus the
+// delay the reply asks for (a fault rule's "delay"): what a client waits beyond the network.
+// `line_name` stands for the peer where the link has no address (a serial line).
+class LoggedHandler final : public device::ForwardingHandler {
+  public:
+    LoggedHandler(device::RequestHandler& inner, TrafficLog& log, std::string line_name)
+        : ForwardingHandler(inner), log_(log), line_name_(std::move(line_name)) {}
+
+    std::optional<device::Reply> handle_or_defer(const device::RequestContext& context,
+                                                 std::span<const std::uint8_t> request,
+                                                 std::span<std::uint8_t> response,
+                                                 device::Deferral& deferral) override;
+
+  private:
+    TrafficLog& log_;
+    std::string line_name_;
+};
+
+}  // namespace mblab::server
