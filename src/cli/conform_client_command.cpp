@@ -161,12 +161,7 @@ int run_conform_client(const ConformClientOptions& options) {
     };
     for (const auto& [path, text] : reports) {
         if (path->empty()) continue;
-        if (*path == "-") {
-            fmt::print(stdout, "{}", text);
-            continue;
-        }
-        if (!conf::write_text_file(*path, text, error)) return usage_error(error);
-        files.written(*path);
+        if (!ReportFiles::write(*path, text, error)) return usage_error(error);
     }
     if (!options.pcap.empty()) {
         conf::Provenance provenance;
@@ -181,7 +176,6 @@ int run_conform_client(const ConformClientOptions& options) {
         provenance.device.reason = "a client is examined, not a device";
         if (!conf::write_pcap(options.pcap, capture.events(), provenance, error))
             return usage_error(error);
-        files.written(options.pcap);
     }
     return result.all_passed() ? kExitOk : kExitFailed;
 }
