@@ -14,6 +14,7 @@
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/fuzz_output.hpp"
 #include "cli/stop_signals.hpp"
 #include "cli/tls_options.hpp"
 #include "client/raw_link.hpp"
@@ -28,6 +29,7 @@
 #include "robustness/fuzz_run.hpp"
 #include "robustness/learn.hpp"
 #include "robustness/pcap_reader.hpp"
+#include "robustness/probe_finding.hpp"
 #include "robustness/recon.hpp"
 #include "robustness/reproducer.hpp"
 #include "robustness/session_ask.hpp"
@@ -237,6 +239,12 @@ int run_fuzz(const FuzzCommandOptions& options) {
     session.close();
     fmt::print("mblab fuzz {}\n{}", target->name, rb::recon_text(recon));
     std::fflush(stdout);
+    if (recon.killed_by && options.replay.empty()) {
+        return write_fuzz_outputs(rb::probe_finding(recon, target->name, options.seed, framing),
+                                  *target,
+                                  {options.reproducer, options.json, options.junit, options.pcap},
+                                  capture, provenance_of(options, started));
+    }
 
     rb::FuzzOptions fuzz;
     fuzz.target = *target;
@@ -299,47 +307,9 @@ int run_fuzz(const FuzzCommandOptions& options) {
             result.memory = memory;
         }
     }
-    fmt::print("{}", rb::summary_text(result));
-
-    const auto provenance = provenance_of(options, started);
-    std::string failed;
-    if (result.finding) {
-        const auto& f = *result.finding;
-        const std::string comment = fmt::format(
-            "mblab fuzz {} --seed {}\n{}: {} (case {})\nthe device {}\n{}\nreplay: "
-            "mblab fuzz {} --replay {}",
-            target->name, options.seed, rb::class_name(f.kind), f.case_name, f.case_number,
-            f.reason, f.minimise_note, target->name, options.reproducer);
-        if (!conf::write_text_file(options.reproducer, rb::reproducer_text(f.reproducer, comment),
-                                   failed))
-            return usage_error(failed);
-        const auto capture_path = options.reproducer + ".pcapng";
-        const bool written =
-            line ? conf::write_line_pcap(capture_path, rb::reproducer_capture(f.reproducer, "", 0),
-                                         framing, provenance, failed)
-                 : conf::write_pcap(
-                       capture_path,
-                       rb::reproducer_capture(f.reproducer, target->tcp->host, target->tcp->port),
-                       provenance, failed);
-        if (!written) return usage_error(failed);
-        fmt::print("reproducer written to {} (and {})\n", options.reproducer, capture_path);
-    }
-    if (!options.json.empty() &&
-        !conf::write_text_file(options.json, rb::json_report(result, provenance), failed))
-        return usage_error(failed);
-    if (!options.junit.empty() &&
-        !conf::write_text_file(options.junit, rb::junit_report(result, provenance), failed))
-        return usage_error(failed);
-    if (!options.pcap.empty() &&
-        !conf::write_capture(options.pcap, capture.events(), framing, provenance, failed))
-        return usage_error(failed);
-    if (!options.pcap.empty() && capture.dropped_bytes() > 0) {
-        fmt::print(
-            "{} holds the run's last frames: the first {} byte(s) were let go to bound "
-            "memory\n",
-            options.pcap, capture.dropped_bytes());
-    }
-    return result.finding ? kExitFailed : kExitOk;
+    return write_fuzz_outputs(result, *target,
+                              {options.reproducer, options.json, options.junit, options.pcap},
+                              capture, provenance_of(options, started));
 }
 
 // What `mblab --help` says of the command.

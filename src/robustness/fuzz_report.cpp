@@ -64,7 +64,11 @@ std::string recon_text(const Recon& recon) {
                codes(recon.silent), recon.check_address, recon.max_read,
                recon.answers_unit_0 ? "answered" : "not answered",
                recon.answers_unit_255 ? "answered" : "not answered") +
-           ranges;
+           ranges +
+           (recon.killed_by ? fmt::format("  stopped after the probe of FC 0x{:02X}: the device "
+                                          "no longer answers the read it answered before\n",
+                                          recon.killed_by->function)
+                            : "");
 }
 
 std::string summary_text(const FuzzResult& result) {

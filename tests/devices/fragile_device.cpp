@@ -10,6 +10,9 @@
 //                   acknowledges the writes among them without keeping them
 //   few-slots       64 connections at most: a newcomer evicts a connection stuck in a partial
 //                   frame but never an idle one, and is closed when there is none
+//   probe-23        exits on FC 17 with a write quantity of 0 (the reconnaissance's harmless probe)
+//   malformed-23    answers FC 17 with exception 01 like any code it does not serve, but exits on
+//                   one whose write quantity is over 121 (it parses before it dispatches)
 //   closes-garbage  robust: closes the connection on anything but a valid FC 03
 //   late            robust: answers 150 ms late
 //   floods-answers  robust: answers a function code no standard request uses with its exception
@@ -74,6 +77,10 @@ bool serve(Client& client) {
         const std::vector<std::uint8_t> pdu(b.begin() + 7, b.begin() + 6 + length);
         std::vector<std::uint8_t> answer;
         const unsigned quantity = pdu.size() >= 5 ? (pdu[3] << 8 | pdu[4]) : 0;
+        const unsigned write_quantity = pdu.size() >= 9 ? (pdu[7] << 8 | pdu[8]) : 1;
+        if (pdu[0] == 0x17 && ((g_mode == "probe-23" && write_quantity == 0) ||
+                               (g_mode == "malformed-23" && write_quantity > 121)))
+            std::_Exit(1);
         if (pdu[0] == 0x10 && pdu.size() >= 6 && pdu[5] != 2 * quantity && g_mode == "byte-count")
             g_deaf = true;
         const unsigned address = pdu.size() >= 3 ? (pdu[1] << 8 | pdu[2]) : 0;

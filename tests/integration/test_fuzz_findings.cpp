@@ -1,0 +1,40 @@
+// `mblab fuzz` against devices that die where a fuzzer that aims only at served code would not
+// look: on a reconnaissance probe, and on a malformed request for a code they do not serve.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "fuzz_fragile.hpp"
+
+namespace mblab::test {
+namespace {
+
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+// The harmless FC 17 probe (write quantity 0) kills the device: a finding, not a usage error.
+TEST_F(FuzzFragile, ADeviceKilledByAProbeIsAFindingWithTheProbeAsReproducer) {
+    start("probe-23");
+    auto ran =
+        fuzz({"--cases", "50", "--timeout", "300ms", "--json", (dir_ / "fuzz.json").string()});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_THAT(ran.err, Not(HasSubstr("try --unit")));
+    EXPECT_THAT(ran.out, HasSubstr("FINDING: the device stopped answering the known-good read"));
+    EXPECT_THAT(ran.out, HasSubstr("reconnaissance probe FC 0x17"));
+    const auto steps = reproducer();
+    ASSERT_EQ(steps.size(), 1U) << ran.out;
+    // MBAP header (transaction 1, protocol 0, length 11, unit 1), then the probe's PDU.
+    EXPECT_EQ(steps[0], "00 01 00 00 00 0B 01 17 00 00 00 01 00 00 00 00 00");
+    EXPECT_THAT(file_text(dir_ / "fuzz.json"), HasSubstr("reconnaissance probe FC 0x17"));
+
+    // Its reproducer replays: a restarted device dies on it again.
+    restart();
+    auto replayed =
+        run_mblab({"fuzz", tcp_target(port_), "--replay", (dir_ / "finding.hex").string()});
+    EXPECT_EQ(replayed.status, 1) << replayed.out << replayed.err;
+}
+
+}  // namespace
+}  // namespace mblab::test
