@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 
+#include "conformance/plain_requests.hpp"
 #include "protocol/request_template.hpp"
 #include "robustness/in_turn.hpp"
 #include "robustness/line_cases.hpp"
@@ -121,10 +122,11 @@ FuzzCase CaseGenerator::next() {
 
 FuzzCase CaseGenerator::mutation() {
     // The valid requests mutations start from: reads of what answers, and the plain requests of
-    // the served functions that the policy lets through.
+    // every public function that the policy lets through, served or not (a stack may parse what
+    // it then refuses with exception 01).
     std::vector<Bytes> bases = {words(0x03, {recon_.check_address, 1}),
                                 words(0x03, {recon_.check_address, recon_.max_read})};
-    for (std::uint8_t function : recon_.served) {
+    for (std::uint8_t function : conformance::functions_with_plain_requests()) {
         if (auto pdu = probe_request(function, true); pdu && may_send(*pdu, policy_))
             bases.push_back(*pdu);
         if (auto safe = probe_request(function, false)) bases.push_back(*safe);

@@ -36,5 +36,23 @@ TEST_F(FuzzFragile, ADeviceKilledByAProbeIsAFindingWithTheProbeAsReproducer) {
     EXPECT_EQ(replayed.status, 1) << replayed.out << replayed.err;
 }
 
+// The device answers FC 17 with exception 01, as a code it does not serve, yet parses it first and
+// dies on a write quantity over 121: the malformed FC 17 is tried all the same and found.
+TEST_F(FuzzFragile, AMalformedRequestForAnUnservedCodeIsTriedAndFound) {
+    start("malformed-23");
+    auto ran =
+        fuzz({"--cases", "1500", "--timeout", "300ms", "--allow-writes", "--restart", restart_});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("exception 01 for 01 02 04 05 06 07 08"));
+    const auto steps = reproducer();
+    ASSERT_EQ(steps.size(), 1U) << ran.out;
+    std::vector<unsigned> bytes;
+    for (std::size_t at = 0; at < steps[0].size(); at += 3)
+        bytes.push_back(static_cast<unsigned>(std::stoul(steps[0].substr(at, 2), nullptr, 16)));
+    ASSERT_GE(bytes.size(), 16U) << steps[0];
+    EXPECT_EQ(bytes[7], 0x17U) << steps[0];
+    EXPECT_GT(bytes[14] << 8 | bytes[15], 121U) << steps[0];
+}
+
 }  // namespace
 }  // namespace mblab::test
