@@ -11,6 +11,7 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
@@ -25,6 +26,8 @@
 #include "conformance/reports.hpp"
 #include "conformance/session.hpp"
 #include "robustness/case_generator.hpp"
+#include "robustness/class_choice.hpp"
+#include "robustness/fuzz_progress.hpp"
 #include "robustness/fuzz_report.hpp"
 #include "robustness/fuzz_run.hpp"
 #include "robustness/learn.hpp"
@@ -59,7 +62,11 @@ struct FuzzCommandOptions {
     bool allow_writes = false;
     std::string restart;
     std::string replay;
-    std::string reproducer = "fuzz-finding.hex";
+    std::string reproducer;  // "": finding-N.hex in the report directory
+    std::string report_dir;
+    bool keep_going = false;
+    std::vector<std::string> classes;
+    std::vector<std::string> skip_classes;
     std::string json;
     std::string junit;
     std::string pcap;
@@ -156,6 +163,9 @@ int run_fuzz(const FuzzCommandOptions& options) {
             fmt::format("--learn: captures are of Modbus/TCP only, not {}", target->name));
     if (options.cases == 0 && options.duration <= 0 && options.replay.empty())
         return usage_error("no budget: give --cases N or --duration D (it is pointed at devices)");
+    const auto chosen = rb::choose_classes(options.classes, options.skip_classes);
+    if (!chosen) return usage_error(chosen.error());
+    ReportDir report_dir(options.report_dir);
     rb::ReconOptions recon_options;
     recon_options.unit = static_cast<std::uint8_t>(options.unit);
     recon_options.allow_writes = options.allow_writes;
@@ -243,7 +253,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
         return write_fuzz_outputs(rb::probe_finding(recon, target->name, options.seed, framing),
                                   *target,
                                   {options.reproducer, options.json, options.junit, options.pcap},
-                                  capture, provenance_of(options, started));
+                                  report_dir, capture, provenance_of(options, started));
     }
 
     rb::FuzzOptions fuzz;
@@ -268,6 +278,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
         fuzz.duration = std::chrono::milliseconds(static_cast<long>(options.duration * 1000));
     if (!options.restart.empty())
         fuzz.restart = [command = options.restart] { return run_restart(command); };
+    fuzz.keep_going = options.keep_going;
     rb::FuzzRunner runner(fuzz, recon, observer);
 
     if (!options.replay.empty()) {
@@ -290,12 +301,23 @@ int run_fuzz(const FuzzCommandOptions& options) {
     StopSignals::catch_them();
     const bool live = ::isatty(STDERR_FILENO) != 0;
     rb::CaseGenerator generator(recon, policy, options.seed, framing, gap, limits);
+    generator.choose(*chosen);
+    rb::ProgressBudget budget{fuzz.cases, fuzz.duration};
+    // Without mutations the run ends with the fixed cases.
+    if (!generator.chosen(rb::BadInput::Mutation))
+        budget.cases =
+            std::min(budget.cases.value_or(generator.fixed_cases()), generator.fixed_cases());
+    const auto run_start = std::chrono::steady_clock::now();
     auto result = runner.run(
         generator,
         [&](const rb::FuzzResult& so_far, const rb::FuzzCase& c) {
             if (!live) return;
-            fmt::print(stderr, "\r\033[Kcase {} {}: {}", so_far.cases, rb::class_name(c.kind),
-                       c.name);
+            const auto elapsed = std::chrono::duration_cast<std::chrono::milliseconds>(
+                std::chrono::steady_clock::now() - run_start);
+            const auto line =
+                rb::progress_text(so_far.cases, budget, elapsed,
+                                  fmt::format("{}: {}", rb::class_name(c.kind), c.name));
+            fmt::print(stderr, "\r\033[K{}", line);
             std::fflush(stderr);
         },
         [] { return StopSignals::requested(); });
@@ -309,7 +331,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
     }
     return write_fuzz_outputs(result, *target,
                               {options.reproducer, options.json, options.junit, options.pcap},
-                              capture, provenance_of(options, started));
+                              report_dir, capture, provenance_of(options, started));
 }
 
 // What `mblab --help` says of the command.
@@ -321,7 +343,8 @@ constexpr std::string_view kHelp = R"(
 Exit status: 0 no finding, 1 a finding (the device stopped serving), 2 usage error,
 a file that cannot be read or written, or a target unreachable at start.
 Example: mblab fuzz tcp://127.0.0.1:1502 --cases 300 --junit fuzz.xml
-Example: mblab fuzz 'rtu:///dev/ttyUSB0?baud=19200' --unit 17 --cases 300)";
+Example: mblab fuzz 'rtu:///dev/ttyUSB0?baud=19200' --unit 17 --cases 300
+Example: mblab fuzz tcp://10.0.0.5 --keep-going --restart CMD --skip-class many-connections)";
 
 }  // namespace
 
@@ -375,8 +398,20 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     cmd->add_option("--replay", options->replay,
                     "send a reproducer's frames instead of fuzzing, then check liveness");
     cmd->add_option("--reproducer", options->reproducer,
-                    "where a finding's reproducer (hex lines) is written; FILE.pcapng too")
-        ->capture_default_str();
+                    "where the first finding's reproducer (hex lines) is written, FILE.pcapng "
+                    "too (default: finding-1.hex in the report directory)");
+    cmd->add_option("--report-dir", options->report_dir,
+                    "directory for the findings' reproducers and report.json (default: a new one "
+                    "under $XDG_STATE_HOME/mblab/fuzz, or /tmp/mblab-fuzz-XXXXXX)");
+    cmd->add_flag("--keep-going", options->keep_going,
+                  "record every finding instead of stopping at the first (the device is "
+                  "restarted with --restart, or waited for, after each)");
+    cmd->add_option("--class", options->classes,
+                    "try only these bad-input classes (comma-separated, or the option repeated)")
+        ->delimiter(',');
+    cmd->add_option("--skip-class", options->skip_classes,
+                    "leave these bad-input classes out (comma-separated, or the option repeated)")
+        ->delimiter(',');
     cmd->add_option("--device-pid", options->device_pid,
                     "process id of a device running on this machine: its memory is reported")
         ->check(CLI::PositiveNumber);

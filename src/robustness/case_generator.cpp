@@ -110,6 +110,14 @@ void CaseGenerator::pairwise() {
     }
 }
 
+void CaseGenerator::choose(const std::array<bool, kBadInputCount>& classes) {
+    chosen_ = classes;
+    std::erase_if(fixed_, [&](const FuzzCase& c) { return !chosen(c.kind); });
+    for (std::size_t i = 0; i < withheld_.size(); ++i) {
+        if (!chosen_[i]) withheld_[i] = 0;
+    }
+}
+
 FuzzCase CaseGenerator::next() {
     if (taken_ < fixed_.size()) return fixed_[taken_++];
     ++taken_;

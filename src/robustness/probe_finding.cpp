@@ -54,7 +54,7 @@ FuzzResult probe_finding(const Recon& recon, const std::string& target, std::uin
     finding.minimise_note =
         "the probe alone: the device answered the read just before it and not after it";
     finding.minimised = true;
-    result.finding = std::move(finding);
+    result.findings.push_back(std::move(finding));
     return result;
 }
 

@@ -322,16 +322,17 @@ TEST(FuzzOwnServer, ServeSurvivesEveryClassAndTheResourceCases) {
         << ran.out;
 }
 
-// On a terminal, a progress line names each case as it starts, rewritten in place, and is
-// cleared before the summary; on a pipe there is none.
+// On a terminal, a progress line names each case as it starts with the cases out of the total and
+// the time left, rewritten in place, and is cleared before the summary; on a pipe there is none.
 TEST_F(FuzzReference, TheProgressLineShowsOnATerminalOnly) {
     TempDir dir;
     const std::string command =
         std::string(MBLAB_BINARY) + " fuzz " + target() + " --cases 3 --rate 0 2>&1";
     auto ran = run_program({"/usr/bin/script", "-qec", command, "/dev/null"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_THAT(ran.out, HasSubstr("\r\033[Kcase 1 protocol-id: protocol id 0x0001"));
-    EXPECT_THAT(ran.out, HasSubstr("\r\033[Kcase 3 "));
+    EXPECT_THAT(ran.out, HasSubstr("\r\033[Kcase 1/3, about "));
+    EXPECT_THAT(ran.out, HasSubstr(" left: protocol-id: protocol id 0x0001"));
+    EXPECT_THAT(ran.out, HasSubstr("\r\033[Kcase 3/3, about 0s left: "));
     EXPECT_THAT(ran.out, HasSubstr("\r\033[K3 cases in"));
     auto piped = run_mblab({"fuzz", target(), "--cases", "3", "--rate", "0"});
     EXPECT_EQ(piped.status, 0) << piped.out << piped.err;

@@ -3,6 +3,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -52,6 +55,44 @@ TEST_F(FuzzFragile, AMalformedRequestForAnUnservedCodeIsTriedAndFound) {
     ASSERT_GE(bytes.size(), 16U) << steps[0];
     EXPECT_EQ(bytes[7], 0x17U) << steps[0];
     EXPECT_GT(bytes[14] << 8 | bytes[15], 121U) << steps[0];
+}
+
+// --keep-going with the classes chosen: every protocol-id case kills the device, each is recorded
+// and the device restarted; without --reproducer the findings go to a fresh directory under
+// $XDG_STATE_HOME, never the current one.
+TEST_F(FuzzFragile, KeepGoingRecordsEveryFindingInTheReportDirectory) {
+    start("protocol-id");
+    const auto state = dir_ / "state";
+    const auto ran = run_program({"/usr/bin/env", "XDG_STATE_HOME=" + state.string(), MBLAB_BINARY,
+                                  "fuzz", tcp_target(port_), "--rate", "0", "--keep-going",
+                                  "--class", "protocol-id,mbap-length", "--skip-class",
+                                  "mbap-length", "--restart", restart_});
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("5 findings (--keep-going):"));
+    EXPECT_THAT(ran.out, HasSubstr("5 cases in"));
+    EXPECT_THAT(ran.out, HasSubstr("(every chosen case)"));
+    EXPECT_THAT(ran.out, HasSubstr("mbap-length         n/a not chosen (--class, --skip-class)"));
+    std::vector<std::filesystem::path> made;
+    for (const auto& entry : std::filesystem::directory_iterator(state / "mblab" / "fuzz"))
+        made.push_back(entry.path());
+    ASSERT_EQ(made.size(), 1U);
+    EXPECT_THAT(ran.out, HasSubstr("report directory: " + made[0].string()));
+    for (int n = 1; n <= 5; ++n) {
+        const auto hex = made[0] / ("finding-" + std::to_string(n) + ".hex");
+        EXPECT_EQ(steps_of(file_text(hex)).size(), 1U) << hex;
+        EXPECT_TRUE(std::filesystem::exists(hex.string() + ".pcapng")) << hex;
+    }
+    const auto json = nlohmann::json::parse(file_text(made[0] / "report.json"));
+    EXPECT_EQ(json["findings"].size(), 5U);
+    EXPECT_EQ(json["findings"][4]["case"], "protocol id 0xFFFF");
+}
+
+TEST(FuzzClasses, AnUnknownClassIsOneLineNamingTheClasses) {
+    const auto ran = run_mblab({"fuzz", "tcp://127.0.0.1:1", "--class", "floods"});
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_THAT(ran.err, HasSubstr("mblab fuzz: --class 'floods' is not a class; the classes are "
+                                   "protocol-id, mbap-length,"));
+    EXPECT_EQ(std::count(ran.err.begin(), ran.err.end(), '\n'), 1);
 }
 
 }  // namespace
