@@ -1,0 +1,155 @@
+// The essential-function monitor as traces: what it sends, what the device answers and when, on a
+// manual clock; then its cycles judged PASS, DEGRADED or FAIL.
+#include <gtest/gtest.h>
+
+#include "robustness/monitor_core.hpp"
+#include "robustness/monitor_verdict.hpp"
+#include "support/hex.hpp"
+#include "support/manual_clock.hpp"
+
+namespace mblab::robustness {
+namespace {
+
+using namespace std::chrono_literals;
+using test::hex;
+using test::to_hex;
+
+MonitorSpec every_100ms() {
+    MonitorSpec spec;
+    spec.address = 7;
+    spec.period = 100ms;
+    spec.budget = 50ms;
+    return spec;
+}
+
+struct Trace {
+    explicit Trace(MonitorSpec spec = every_100ms()) : core(spec, clock.now()) {}
+    std::string sends() { return to_hex(core.poll(clock.now())); }
+    void answers(const char* text, std::chrono::milliseconds after) {
+        clock.advance(after);
+        core.received(hex(text), clock.now());
+    }
+    test::ManualClock clock;
+    MonitorCore core;
+};
+
+TEST(MonitorCore, WritesAChangingValueThenReadsItBack) {
+    Trace t;
+    EXPECT_EQ(t.sends(), "00 01 00 00 00 06 01 06 00 07 00 01");
+    EXPECT_EQ(t.sends(), "");  // the write is still out
+    t.answers("00 01 00 00 00 06 01 06 00 07 00 01", 3ms);
+    EXPECT_EQ(t.core.deadline(), t.core.cycles().back().started);  // the read is due now
+    EXPECT_EQ(t.sends(), "00 02 00 00 00 06 01 03 00 07 00 01");
+    t.answers("00 02 00 00 00 05 01 03 02 00 01", 2ms);
+    ASSERT_EQ(t.core.cycles().size(), 1U);
+    EXPECT_TRUE(t.core.cycles()[0].held());
+    EXPECT_EQ(t.core.cycles()[0].latency, 5000us);
+    // The next cycle on its period, with the next value.
+    EXPECT_EQ(t.core.deadline(), t.core.cycles()[0].started + 100ms);
+    t.clock.advance(95ms);
+    EXPECT_EQ(t.sends(), "00 03 00 00 00 06 01 06 00 07 00 02");
+}
+
+TEST(MonitorCore, ARegisterThatStopsUpdatingIsAMiss) {
+    Trace t;
+    t.sends();
+    t.answers("00 01 00 00 00 06 01 06 00 07 00 01", 1ms);
+    t.sends();
+    // The write was acknowledged, yet the register reads its old value.
+    t.answers("00 02 00 00 00 05 01 03 02 00 00", 1ms);
+    EXPECT_EQ(t.core.cycles()[0].missed, "read 0 after writing 1");
+}
+
+TEST(MonitorCore, NoAnswerWithinTheBudgetIsAMissAndALateAnswerIsIgnored) {
+    Trace t;
+    t.sends();
+    t.clock.advance(50ms);
+    EXPECT_EQ(t.sends(), "");
+    EXPECT_EQ(t.core.cycles()[0].missed, "no answer within 50 ms");
+    // The late echo of the missed cycle's write does not count for the next one.
+    t.clock.advance(50ms);
+    EXPECT_EQ(t.sends(), "00 02 00 00 00 06 01 06 00 07 00 02");
+    t.answers("00 01 00 00 00 06 01 06 00 07 00 01", 1ms);
+    EXPECT_EQ(t.sends(), "");
+    t.answers("00 02 00 00 00 06 01 06 00 07 00 02", 1ms);
+    EXPECT_EQ(t.sends(), "00 03 00 00 00 06 01 03 00 07 00 01");
+}
+
+TEST(MonitorCore, AnExceptionOrALostConnectionIsAMiss) {
+    Trace t;
+    t.sends();
+    t.answers("00 01 00 00 00 03 01 86 04", 1ms);
+    EXPECT_EQ(t.core.cycles()[0].missed, "FC 06 answered exception 04");
+    t.clock.advance(99ms);
+    t.sends();
+    t.core.connection_lost(t.clock.now());
+    EXPECT_EQ(t.core.cycles()[1].missed, "the connection closed");
+}
+
+TEST(MonitorCore, ReadOnlyJudgesTheReadAlone) {
+    MonitorSpec spec = every_100ms();
+    spec.read_only = true;
+    Trace t(spec);
+    EXPECT_EQ(t.sends(), "00 01 00 00 00 06 01 03 00 07 00 01");
+    t.answers("00 01 00 00 00 05 01 03 02 12 34", 4ms);
+    EXPECT_TRUE(t.core.cycles()[0].held());
+}
+
+// Cycles every 100 ms from `start`; `missed` says which miss.
+std::vector<MonitorCycle> cycles_from(Clock::time_point start, const std::string& pattern) {
+    std::vector<MonitorCycle> out;
+    for (std::size_t i = 0; i < pattern.size(); ++i) {
+        MonitorCycle c{start + i * 100ms, std::nullopt, {}};
+        if (pattern[i] == 'x') {
+            c.missed = "no answer within 50 ms";
+        } else {
+            c.latency = 2000us;
+        }
+        out.push_back(c);
+    }
+    return out;
+}
+
+std::vector<MonitorPhase> three_phases(Clock::time_point start) {
+    return {{"baseline", "CR 7.1", start, start + 500ms},
+            {"malformed input", "CR 3.5", start + 500ms, start + 1500ms},
+            {"recovery", "CR 7.1", start + 1500ms, start + 2000ms}};
+}
+
+TEST(MonitorVerdict, PassDegradedAndFail) {
+    const auto start = test::ManualClock().now();
+    const auto spec = every_100ms();
+    const auto phases = three_phases(start);
+    auto judged = judge_monitor(cycles_from(start, "....................."), spec, phases, 500ms);
+    EXPECT_EQ(judged.verdict, MonitorVerdict::Pass) << judged.why;
+    EXPECT_EQ(judged.phases[1].median, 2000us);
+    EXPECT_EQ(judged.recovery, 2ms);
+
+    // Lost for 300 ms in the malformed phase, back by itself: degraded within a 500 ms limit.
+    judged = judge_monitor(cycles_from(start, ".......xxx..........."), spec, phases, 500ms);
+    EXPECT_EQ(judged.verdict, MonitorVerdict::Degraded) << judged.why;
+    EXPECT_EQ(judged.longest_outage, 300ms);
+    EXPECT_EQ(judged.phases[1].missed, 3U);
+    EXPECT_FALSE(judged.phases[1].held);
+    EXPECT_TRUE(judged.phases[2].held);
+    // The same outage over a 200 ms limit fails.
+    EXPECT_EQ(
+        judge_monitor(cycles_from(start, ".......xxx..........."), spec, phases, 200ms).verdict,
+        MonitorVerdict::Fail);
+
+    // Never back: fails, however long the limit.
+    judged = judge_monitor(cycles_from(start, "..........xxxxxxxxxx"), spec, phases, 60000ms);
+    EXPECT_EQ(judged.verdict, MonitorVerdict::Fail);
+    EXPECT_EQ(judged.why, "the monitor did not come back without a restart");
+    EXPECT_FALSE(judged.recovery);
+
+    // Misses within the tolerated percent hold.
+    MonitorSpec tolerant = spec;
+    tolerant.miss_percent = 20;
+    EXPECT_EQ(
+        judge_monitor(cycles_from(start, "........x............"), tolerant, phases, 0ms).verdict,
+        MonitorVerdict::Pass);
+}
+
+}  // namespace
+}  // namespace mblab::robustness
