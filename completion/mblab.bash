@@ -71,7 +71,8 @@ _mblab() {
             return
             ;;
         --role | --server-name | --days | --read-only-role | --write-role | --restart | --writable | \
-            --http | --http-token | --http-allow-host | --metrics | --device-pid | --units)
+            --http | --http-token | --http-allow-host | --metrics | --device-pid | --units | \
+            --monitor | --baseline | --degraded-limit)
             return
             ;;
     esac

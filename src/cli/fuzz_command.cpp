@@ -15,6 +15,8 @@
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/fuzz_inputs.hpp"
+#include "cli/fuzz_monitor.hpp"
 #include "cli/fuzz_output.hpp"
 #include "cli/stop_signals.hpp"
 #include "cli/tls_options.hpp"
@@ -30,6 +32,7 @@
 #include "robustness/fuzz_progress.hpp"
 #include "robustness/fuzz_report.hpp"
 #include "robustness/fuzz_run.hpp"
+#include "robustness/iec62443_report.hpp"
 #include "robustness/learn.hpp"
 #include "robustness/pcap_reader.hpp"
 #include "robustness/probe_finding.hpp"
@@ -67,6 +70,7 @@ struct FuzzCommandOptions {
     bool keep_going = false;
     std::vector<std::string> classes;
     std::vector<std::string> skip_classes;
+    MonitorChoice monitor;
     std::string json;
     std::string junit;
     std::string pcap;
@@ -81,54 +85,6 @@ constexpr std::size_t kPcapBound = std::size_t{32} << 20;
 int usage_error(const std::string& message) {
     fmt::print(stderr, "mblab fuzz: {}\n", message);
     return kExitUsage;
-}
-
-// "START:COUNT" or "START" (one register).
-std::optional<rb::WritableRange> parse_writable(const std::string& text) {
-    const auto colon = text.find(':');
-    try {
-        std::size_t used = 0;
-        const auto start = std::stoul(text.substr(0, colon), &used, 0);
-        if (used != text.substr(0, colon).size() || start > 0xFFFF) return std::nullopt;
-        unsigned long count = 1;
-        if (colon != std::string::npos) {
-            const auto rest = text.substr(colon + 1);
-            count = std::stoul(rest, &used, 0);
-            if (used != rest.size() || count == 0 || start + count > 0x10000) return std::nullopt;
-        }
-        return rb::WritableRange{static_cast<std::uint16_t>(start),
-                                 static_cast<std::uint16_t>(count)};
-    } catch (const std::exception&) {
-        return std::nullopt;
-    }
-}
-
-bool read_file(const std::string& path, std::string& text) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return false;
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    text = buffer.str();
-    return true;
-}
-
-// VmRSS and VmHWM of a local process in kB, from /proc; nullopt when it is gone.
-std::optional<std::pair<std::size_t, std::size_t>> process_memory(int pid) {
-    std::ifstream in(fmt::format("/proc/{}/status", pid));
-    if (!in) return std::nullopt;
-    std::size_t rss = 0;
-    std::size_t peak = 0;
-    for (std::string line; std::getline(in, line);) {
-        if (line.starts_with("VmRSS:")) rss = std::stoul(line.substr(6));
-        if (line.starts_with("VmHWM:")) peak = std::stoul(line.substr(6));
-    }
-    return std::pair{rss, peak};
-}
-
-// The --restart command, through the shell; true when it exited 0.
-bool run_restart(const std::string& command) {
-    const int status = std::system(command.c_str());
-    return status == 0;
 }
 
 conf::Provenance provenance_of(const FuzzCommandOptions& options,
@@ -165,6 +121,9 @@ int run_fuzz(const FuzzCommandOptions& options) {
         return usage_error("no budget: give --cases N or --duration D (it is pointed at devices)");
     const auto chosen = rb::choose_classes(options.classes, options.skip_classes);
     if (!chosen) return usage_error(chosen.error());
+    // The monitor's spec is checked before connecting; its defaults come from reconnaissance.
+    if (const auto spec = rb::parse_monitor_spec(options.monitor.spec, {}); !spec)
+        return usage_error(spec.error());
     ReportDir report_dir(options.report_dir);
     rb::ReconOptions recon_options;
     recon_options.unit = static_cast<std::uint8_t>(options.unit);
@@ -250,11 +209,14 @@ int run_fuzz(const FuzzCommandOptions& options) {
     fmt::print("mblab fuzz {}\n{}", target->name, rb::recon_text(recon));
     std::fflush(stdout);
     if (recon.killed_by && options.replay.empty()) {
-        return write_fuzz_outputs(rb::probe_finding(recon, target->name, options.seed, framing),
-                                  *target,
-                                  {options.reproducer, options.json, options.junit, options.pcap},
-                                  report_dir, capture, provenance_of(options, started));
+        return write_fuzz_outputs(
+            rb::probe_finding(recon, target->name, options.seed, framing), *target,
+            {options.reproducer, options.json, options.junit, options.pcap, {}, {}}, report_dir,
+            capture, provenance_of(options, started));
     }
+
+    auto monitor = FuzzMonitor::make(options.monitor, *target, recon, policy, timeout);
+    if (!monitor) return usage_error(monitor.error());
 
     rb::FuzzOptions fuzz;
     fuzz.target = *target;
@@ -307,6 +269,10 @@ int run_fuzz(const FuzzCommandOptions& options) {
     if (!generator.chosen(rb::BadInput::Mutation))
         budget.cases =
             std::min(budget.cases.value_or(generator.fixed_cases()), generator.fixed_cases());
+    if (*monitor) {
+        (*monitor)->baseline();
+        (*monitor)->malformed_begin();
+    }
     const auto run_start = std::chrono::steady_clock::now();
     auto result = runner.run(
         generator,
@@ -329,9 +295,16 @@ int run_fuzz(const FuzzCommandOptions& options) {
             result.memory = memory;
         }
     }
-    return write_fuzz_outputs(result, *target,
-                              {options.reproducer, options.json, options.junit, options.pcap},
-                              report_dir, capture, provenance_of(options, started));
+    FuzzOutputs outputs{options.reproducer, options.json, options.junit, options.pcap, {}, {}};
+    if (*monitor) {
+        (*monitor)->recover();
+        const auto judged = (*monitor)->judge(result);
+        outputs.monitor_text = (*monitor)->text(judged);
+        outputs.monitor = (*monitor)->json(judged);
+        outputs.monitor_passed = judged.verdict == rb::MonitorVerdict::Pass;
+    }
+    return write_fuzz_outputs(result, *target, outputs, report_dir, capture,
+                              provenance_of(options, started));
 }
 
 // What `mblab --help` says of the command.
@@ -406,6 +379,20 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     cmd->add_flag("--keep-going", options->keep_going,
                   "record every finding instead of stopping at the first (the device is "
                   "restarted with --restart, or waited for, after each)");
+    cmd->add_option("--monitor", options->monitor.spec,
+                    "essential-function monitor beside the run, on its own connection: "
+                    "register=N,period=MS,budget=MS,miss=PERCENT (FC 06 then FC 03 read-back; "
+                    "read-only: FC 03 alone); judged PASS, DEGRADED or FAIL");
+    accept_duration_units(cmd->add_option("--baseline", options->monitor.baseline_s,
+                                          "how long the monitor runs alone first (default 2s)")
+                              ->check(CLI::NonNegativeNumber),
+                          DurationUnit::seconds, false);
+    accept_duration_units(
+        cmd->add_option("--degraded-limit", options->monitor.degraded_limit_s,
+                        "longest loss of the monitor still judged DEGRADED rather than FAIL "
+                        "(default 10s)")
+            ->check(CLI::NonNegativeNumber),
+        DurationUnit::seconds, false);
     cmd->add_option("--class", options->classes,
                     "try only these bad-input classes (comma-separated, or the option repeated)")
         ->delimiter(',');

@@ -83,7 +83,7 @@ int write_fuzz_outputs(const rb::FuzzResult& result, const client::Target& targe
                        const conf::Provenance& provenance) {
     const auto framing = client::framing_of(target);
     const bool line = framing != client::Framing::Mbap;
-    fmt::print("{}", rb::summary_text(result));
+    fmt::print("{}{}", rb::summary_text(result), outputs.monitor_text);
     std::string failed;
     for (std::size_t n = 1; n <= result.findings.size(); ++n) {
         const auto& f = result.findings[n - 1];
@@ -107,7 +107,12 @@ int write_fuzz_outputs(const rb::FuzzResult& result, const client::Target& targe
         if (!written) return write_failed(failed);
         fmt::print("reproducer written to {} (and {})\n", *path, capture_path);
     }
-    const auto json = rb::json_report(result, provenance);
+    auto json = rb::json_report(result, provenance);
+    if (outputs.monitor) {
+        auto document = nlohmann::json::parse(json);
+        document["monitor"] = *outputs.monitor;
+        json = document.dump(2) + "\n";
+    }
     if (!outputs.json.empty() && !conf::write_text_file(outputs.json, json, failed))
         return write_failed(failed);
     // The report directory holds the JSON report beside the findings it explains.
@@ -129,7 +134,7 @@ int write_fuzz_outputs(const rb::FuzzResult& result, const client::Target& targe
             "memory\n",
             outputs.pcap, capture.dropped_bytes());
     }
-    return result.findings.empty() ? kExitOk : kExitFailed;
+    return result.findings.empty() && outputs.monitor_passed ? kExitOk : kExitFailed;
 }
 
 }  // namespace mblab::cli

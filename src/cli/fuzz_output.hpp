@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 
@@ -36,10 +37,15 @@ struct FuzzOutputs {
     std::string json;
     std::string junit;
     std::string pcap;
+    // With --monitor: its phases and verdict, printed after the summary and added to the JSON
+    // report as "monitor".
+    std::string monitor_text;
+    std::optional<nlohmann::json> monitor;
+    bool monitor_passed = true;
 };
 
 // Prints the summary and writes the files; the command's exit status (2 when a file cannot be
-// written, 1 for a finding, 0 otherwise).
+// written, 1 for a finding or a monitor verdict other than PASS, 0 otherwise).
 int write_fuzz_outputs(const robustness::FuzzResult& result, const client::Target& target,
                        const FuzzOutputs& outputs, ReportDir& dir,
                        const conformance::Capture& capture,

@@ -2,6 +2,8 @@
 
 #include <fmt/core.h>
 
+#include "support/comma_list.hpp"
+
 namespace mblab::robustness {
 
 namespace {
@@ -16,12 +18,7 @@ std::string every_class() {
 // Sets `to` for each class named in `entries`; the unknown name, or "".
 std::string mark(const std::vector<std::string>& entries, bool to, ClassChoice& choice) {
     for (const auto& entry : entries) {
-        for (std::size_t from = 0; from <= entry.size();) {
-            auto end = entry.find(',', from);
-            if (end == std::string::npos) end = entry.size();
-            const auto name = entry.substr(from, end - from);
-            from = end + 1;
-            if (name.empty()) continue;
+        for (const auto& name : comma_items(entry)) {
             const auto kind = class_named(name);
             if (!kind) return name;
             choice[static_cast<std::size_t>(*kind)] = to;

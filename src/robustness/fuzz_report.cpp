@@ -6,6 +6,7 @@
 
 #include "client/hex_text.hpp"
 #include "conformance/reports.hpp"
+#include "robustness/iec62443_report.hpp"
 #include "robustness/reproducer.hpp"
 
 namespace mblab::robustness {
@@ -88,6 +89,7 @@ nlohmann::json finding_json(const Finding& f) {
                          {"vanish", step.vanish}});
     }
     return {{"class", class_name(f.kind)},
+            {"requirement", requirement_of(f.kind)},
             {"case", f.case_name},
             {"case_number", f.case_number},
             {"reason", f.reason},

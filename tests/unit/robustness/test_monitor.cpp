@@ -2,6 +2,7 @@
 // manual clock; then its cycles judged PASS, DEGRADED or FAIL.
 #include <gtest/gtest.h>
 
+#include "robustness/iec62443_report.hpp"
 #include "robustness/monitor_core.hpp"
 #include "robustness/monitor_verdict.hpp"
 #include "support/hex.hpp"
@@ -149,6 +150,45 @@ TEST(MonitorVerdict, PassDegradedAndFail) {
     EXPECT_EQ(
         judge_monitor(cycles_from(start, "........x............"), tolerant, phases, 0ms).verdict,
         MonitorVerdict::Pass);
+}
+
+TEST(MonitorSpec, ParsedOverTheDefaults) {
+    MonitorSpec defaults;
+    defaults.address = 3;
+    const auto spec = parse_monitor_spec("period=200,miss=5", defaults);
+    ASSERT_TRUE(spec) << spec.error();
+    EXPECT_EQ(spec->address, 3);
+    EXPECT_EQ(spec->period, 200ms);
+    EXPECT_EQ(spec->budget, 50ms);
+    EXPECT_EQ(spec->miss_percent, 5);
+    const auto read_only = parse_monitor_spec("register=0x10,read-only,budget=20", defaults);
+    ASSERT_TRUE(read_only) << read_only.error();
+    EXPECT_EQ(read_only->address, 16);
+    EXPECT_TRUE(read_only->read_only);
+    EXPECT_FALSE(parse_monitor_spec("register=70000", defaults));
+    EXPECT_FALSE(parse_monitor_spec("speed=3", defaults));
+    EXPECT_FALSE(parse_monitor_spec("budget=500", defaults));  // longer than the period
+}
+
+TEST(MonitorReport, PhasesAndFindingsNameTheirRequirement) {
+    EXPECT_EQ(requirement_of(BadInput::Quantity), "CR 3.5 input validation");
+    EXPECT_EQ(requirement_of(BadInput::SlowReader),
+              "CR 7.1 denial-of-service protection; CR 7.2 resource management");
+    const auto start = test::ManualClock().now();
+    const auto judged = judge_monitor(cycles_from(start, ".......xxx..........."), every_100ms(),
+                                      three_phases(start), 500ms);
+    const auto text = monitor_text(judged, every_100ms());
+    EXPECT_NE(text.find("  malformed input     10 cycles,    3 missed (30.0%), median 2.00 ms, "
+                        "worst 2.00 ms: lost [CR 3.5]\n"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("MONITOR VERDICT: DEGRADED: "), std::string::npos) << text;
+    EXPECT_NE(text.find("out of scope: Ethernet, ARP, IP and ICMP storms"), std::string::npos);
+    const auto json = monitor_json(judged, every_100ms(), cycles_from(start, "..x"));
+    EXPECT_EQ(json["verdict"], "DEGRADED");
+    EXPECT_EQ(json["cycles"][2]["at_ms"], 200);
+    EXPECT_EQ(json["cycles"][2]["missed"], "no answer within 50 ms");
+    EXPECT_EQ(json["cycles"][0]["latency_us"], 2000);
 }
 
 }  // namespace
