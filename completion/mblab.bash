@@ -72,7 +72,7 @@ _mblab() {
             ;;
         --role | --server-name | --days | --read-only-role | --write-role | --restart | --writable | \
             --http | --http-token | --http-allow-host | --metrics | --device-pid | --units | \
-            --monitor | --baseline | --degraded-limit)
+            --monitor | --baseline | --degraded-limit | --ladder | --ladder-step)
             return
             ;;
     esac

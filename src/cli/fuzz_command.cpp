@@ -124,6 +124,8 @@ int run_fuzz(const FuzzCommandOptions& options) {
     // The monitor's spec is checked before connecting; its defaults come from reconnaissance.
     if (const auto spec = rb::parse_monitor_spec(options.monitor.spec, {}); !spec)
         return usage_error(spec.error());
+    if (!options.monitor.ladder.empty() && options.monitor.spec.empty())
+        return usage_error("--ladder needs --monitor: the ladder reports the rate it held at");
     ReportDir report_dir(options.report_dir);
     rb::ReconOptions recon_options;
     recon_options.unit = static_cast<std::uint8_t>(options.unit);
@@ -271,6 +273,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
             std::min(budget.cases.value_or(generator.fixed_cases()), generator.fixed_cases());
     if (*monitor) {
         (*monitor)->baseline();
+        (*monitor)->ladder();
         (*monitor)->malformed_begin();
     }
     const auto run_start = std::chrono::steady_clock::now();
@@ -393,6 +396,13 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
                         "(default 10s)")
             ->check(CLI::NonNegativeNumber),
         DurationUnit::seconds, false);
+    cmd->add_option("--ladder", options->monitor.ladder,
+                    "with --monitor: storm the device with FC 03 at these rising rates per "
+                    "second (e.g. 100,1000,5000), a rung each, before the cases");
+    accept_duration_units(cmd->add_option("--ladder-step", options->monitor.ladder_step_s,
+                                          "how long each rung of the ladder lasts (default 2s)")
+                              ->check(CLI::PositiveNumber),
+                          DurationUnit::seconds, false);
     cmd->add_option("--class", options->classes,
                     "try only these bad-input classes (comma-separated, or the option repeated)")
         ->delimiter(',');

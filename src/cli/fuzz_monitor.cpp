@@ -43,18 +43,33 @@ protocol::Result<std::unique_ptr<FuzzMonitor>, std::string> FuzzMonitor::make(
             "read-only",
             spec->address);
     }
+    std::vector<double> rates;
+    if (!choice.ladder.empty()) {
+        auto parsed = rb::parse_rates(choice.ladder);
+        if (!parsed) return parsed.error();
+        rates = std::move(*parsed);
+    }
     client::Dial dial = [target, timeout] { return client::open_link(target, timeout, nullptr); };
-    return std::make_unique<FuzzMonitor>(*spec, std::move(dial), of_seconds(choice.baseline_s),
-                                         of_seconds(choice.degraded_limit_s));
+    return std::make_unique<FuzzMonitor>(*spec, std::move(dial), choice, std::move(rates));
 }
 
-FuzzMonitor::FuzzMonitor(rb::MonitorSpec spec, client::Dial dial,
-                         std::chrono::milliseconds baseline,
-                         std::chrono::milliseconds degraded_limit)
+FuzzMonitor::FuzzMonitor(rb::MonitorSpec spec, client::Dial dial, const MonitorChoice& choice,
+                         std::vector<double> rates)
     : spec_(spec),
+      dial_(dial),
       run_(spec, std::move(dial)),
-      baseline_(baseline),
-      degraded_limit_(degraded_limit) {}
+      rates_(std::move(rates)),
+      ladder_step_(of_seconds(choice.ladder_step_s)),
+      baseline_(of_seconds(choice.baseline_s)),
+      degraded_limit_(of_seconds(choice.degraded_limit_s)) {}
+
+void FuzzMonitor::ladder() {
+    for (double rate : rates_) {
+        rungs_.push_back(rb::storm(dial_, spec_.unit, spec_.address, rate, ladder_step_));
+        phases_.push_back({fmt::format("storm {:g}/s", rate), "CR 7.1 denial-of-service protection",
+                           rungs_.back().begin, rungs_.back().end});
+    }
+}
 
 void FuzzMonitor::baseline() {
     const auto begin = rb::Clock::now();
@@ -97,11 +112,13 @@ rb::MonitorJudgement FuzzMonitor::judge(const rb::FuzzResult& result) const {
 }
 
 std::string FuzzMonitor::text(const rb::MonitorJudgement& judged) const {
-    return rb::monitor_text(judged, spec_);
+    return rb::monitor_text(judged, spec_) + rb::ladder_text(judged, rungs_);
 }
 
 nlohmann::json FuzzMonitor::json(const rb::MonitorJudgement& judged) const {
-    return rb::monitor_json(judged, spec_, cycles_);
+    auto out = rb::monitor_json(judged, spec_, cycles_);
+    if (!rungs_.empty()) out["ladder"] = rb::ladder_json(judged, rungs_);
+    return out;
 }
 
 }  // namespace mblab::cli

@@ -13,6 +13,7 @@
 #include "robustness/fuzz_run.hpp"
 #include "robustness/monitor_run.hpp"
 #include "robustness/monitor_verdict.hpp"
+#include "robustness/storm_ladder.hpp"
 
 // `mblab fuzz --monitor`: the essential-function monitor beside the run, through its phases
 // (baseline, malformed input, recovery), judged PASS, DEGRADED or FAIL (docs/robustness.md).
@@ -22,6 +23,8 @@ struct MonitorChoice {
     std::string spec;  // --monitor's text; "" for none
     double baseline_s = 2;
     double degraded_limit_s = 10;
+    std::string ladder;  // --ladder's rates; "" for none
+    double ladder_step_s = 2;
 };
 
 class FuzzMonitor {
@@ -34,6 +37,8 @@ class FuzzMonitor {
 
     // Starts the monitor and keeps it alone for the baseline.
     void baseline();
+    // The storm ladder's rungs, each a phase, after the baseline.
+    void ladder();
     void malformed_begin();
     // After the last case: the monitor alone until it holds again (or the degraded limit has
     // passed), and a few periods more; then it stops.
@@ -42,12 +47,16 @@ class FuzzMonitor {
     std::string text(const robustness::MonitorJudgement& judged) const;
     nlohmann::json json(const robustness::MonitorJudgement& judged) const;
 
-    FuzzMonitor(robustness::MonitorSpec spec, client::Dial dial, std::chrono::milliseconds baseline,
-                std::chrono::milliseconds degraded_limit);
+    FuzzMonitor(robustness::MonitorSpec spec, client::Dial dial, const MonitorChoice& choice,
+                std::vector<double> rates);
 
   private:
     robustness::MonitorSpec spec_;
+    client::Dial dial_;
     robustness::MonitorRun run_;
+    std::vector<double> rates_;
+    std::chrono::milliseconds ladder_step_;
+    std::vector<robustness::LadderRung> rungs_;
     std::chrono::milliseconds baseline_;
     std::chrono::milliseconds degraded_limit_;
     std::vector<robustness::MonitorPhase> phases_;

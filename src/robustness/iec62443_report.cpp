@@ -12,6 +12,25 @@ double as_ms(std::chrono::microseconds span) {
     return static_cast<double>(span.count()) / 1000.0;
 }
 
+// Whether the monitor held in the rung's phase.
+bool held_at(const MonitorJudgement& judged, const LadderRung& rung) {
+    const auto name = fmt::format("storm {:g}/s", rung.rate);
+    for (const auto& p : judged.phases) {
+        if (p.phase.name == name) return p.held;
+    }
+    return false;
+}
+
+std::optional<double> highest_held(const MonitorJudgement& judged,
+                                   const std::vector<LadderRung>& rungs) {
+    std::optional<double> out;
+    for (const auto& rung : rungs) {
+        if (!held_at(judged, rung)) break;
+        out = rung.rate;
+    }
+    return out;
+}
+
 }  // namespace
 
 std::string requirement_of(BadInput kind) {
@@ -133,6 +152,41 @@ nlohmann::json monitor_json(const MonitorJudgement& judged, const MonitorSpec& s
     };
     out["recovery_ms"] = judged.recovery ? nlohmann::json(judged.recovery->count()) : nullptr;
     return out;
+}
+
+std::string ladder_text(const MonitorJudgement& judged, const std::vector<LadderRung>& rungs) {
+    if (rungs.empty()) return {};
+    std::string out = "storm ladder (FC 03 of the monitor's register, answers never waited for):\n";
+    for (const auto& rung : rungs) {
+        const auto seconds = std::chrono::duration<double>(rung.end - rung.begin).count();
+        out += fmt::format(
+            "  {:>8g}/s asked, {:>8.0f}/s sent, {:>8.0f}/s answered, {} "
+            "reconnect(s): the monitor {}\n",
+            rung.rate, static_cast<double>(rung.sent) / seconds,
+            static_cast<double>(rung.answered) / seconds, rung.reconnects,
+            held_at(judged, rung) ? "held" : "was lost");
+    }
+    const auto highest = highest_held(judged, rungs);
+    out += highest ? fmt::format("the monitor held up to {:g} requests/s [CR 7.1]\n", *highest)
+                   : std::string("the monitor was lost from the first rung [CR 7.1]\n");
+    return out;
+}
+
+nlohmann::json ladder_json(const MonitorJudgement& judged, const std::vector<LadderRung>& rungs) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const auto& rung : rungs) {
+        list.push_back(
+            {{"rate", rung.rate},
+             {"duration_ms",
+              std::chrono::duration_cast<std::chrono::milliseconds>(rung.end - rung.begin).count()},
+             {"sent", rung.sent},
+             {"answered", rung.answered},
+             {"reconnects", rung.reconnects},
+             {"held", held_at(judged, rung)}});
+    }
+    const auto highest = highest_held(judged, rungs);
+    return {{"rungs", list},
+            {"highest_rate_held", highest ? nlohmann::json(*highest) : nlohmann::json(nullptr)}};
 }
 
 }  // namespace mblab::robustness

@@ -79,6 +79,21 @@ TEST_F(ReferenceCliTest, OurServerHoldsTheMonitorThroughAStorm) {
     EXPECT_THAT(ran.out, HasSubstr("MONITOR VERDICT: PASS: the monitor held in every phase"));
 }
 
+// The ladder's rungs before the cases: our server holds the monitor at each.
+TEST_F(ReferenceCliTest, TheStormLadderReportsTheHighestRateHeld) {
+    TempDir dir;
+    auto args = monitored((dir.path() / "fuzz.json").string());
+    args.insert(args.begin(), {"fuzz", target(), "--rate", "0", "--ladder", "100,1000",
+                               "--ladder-step", "500ms"});
+    auto ran = run_mblab(args);
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("the monitor held up to 1000 requests/s [CR 7.1]"));
+    const auto report = nlohmann::json::parse(file_text(dir.path() / "fuzz.json"));
+    EXPECT_EQ(report["monitor"]["ladder"]["rungs"].size(), 2U);
+    EXPECT_GT(report["monitor"]["ladder"]["rungs"][1]["answered"].get<int>(), 300);
+    EXPECT_EQ(report["monitor"]["phases"][1]["phase"], "storm 100/s");
+}
+
 TEST(FuzzMonitorUsage, AWrongSpecIsOneLineBeforeConnecting) {
     auto ran = run_mblab({"fuzz", "tcp://127.0.0.1:1", "--monitor", "period=abc"});
     EXPECT_EQ(ran.status, 2);
@@ -89,6 +104,9 @@ TEST(FuzzMonitorUsage, AWrongSpecIsOneLineBeforeConnecting) {
     EXPECT_EQ(ran.err,
               "mblab fuzz: --monitor 'period=100,budget=200': the budget (200 ms) is longer than "
               "the period (100 ms)\n");
+    ran = run_mblab({"fuzz", "tcp://127.0.0.1:1", "--ladder", "100"});
+    EXPECT_EQ(ran.err,
+              "mblab fuzz: --ladder needs --monitor: the ladder reports the rate it held at\n");
 }
 
 }  // namespace

@@ -191,5 +191,32 @@ TEST(MonitorReport, PhasesAndFindingsNameTheirRequirement) {
     EXPECT_EQ(json["cycles"][0]["latency_us"], 2000);
 }
 
+TEST(StormLadder, RisingRatesAndTheHighestHeld) {
+    EXPECT_EQ(*parse_rates("100,500,1000"), (std::vector<double>{100, 500, 1000}));
+    EXPECT_FALSE(parse_rates("500,100"));
+    EXPECT_FALSE(parse_rates("100,x"));
+    EXPECT_FALSE(parse_rates(""));
+    // Two rungs: the monitor held at 100/s (cycles 0-4) and was lost at 1000/s (cycles 5-9).
+    const auto start = test::ManualClock().now();
+    const std::vector<MonitorPhase> phases = {
+        {"storm 100/s", "CR 7.1", start, start + 500ms},
+        {"storm 1000/s", "CR 7.1", start + 500ms, start + 1000ms},
+        {"recovery", "CR 7.1", start + 1000ms, start + 1500ms}};
+    const auto judged =
+        judge_monitor(cycles_from(start, ".....xxxx......"), every_100ms(), phases, 1000ms);
+    const std::vector<LadderRung> rungs = {{100, start, start + 500ms, 50, 50, 0},
+                                           {1000, start + 500ms, start + 1000ms, 500, 20, 1}};
+    const auto text = ladder_text(judged, rungs);
+    EXPECT_NE(text.find("       100/s asked,      100/s sent,      100/s answered, 0 "
+                        "reconnect(s): the monitor held\n"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("1000/s sent,       40/s answered, 1 reconnect(s): the monitor was lost"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("the monitor held up to 100 requests/s [CR 7.1]"), std::string::npos);
+    EXPECT_EQ(ladder_json(judged, rungs)["highest_rate_held"], 100.0);
+}
+
 }  // namespace
 }  // namespace mblab::robustness
