@@ -129,6 +129,7 @@ nlohmann::json monitor_json(const MonitorJudgement& judged, const MonitorSpec& s
     nlohmann::json samples = nlohmann::json::array();
     const auto origin = cycles.empty() ? Clock::time_point{} : cycles.front().started;
     for (const auto& c : cycles) {
+        if (c.pending()) continue;
         const auto at =
             std::chrono::duration_cast<std::chrono::milliseconds>(c.started - origin).count();
         if (c.held()) {

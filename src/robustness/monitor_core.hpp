@@ -33,7 +33,9 @@ struct MonitorCycle {
     Clock::time_point started{};
     std::optional<std::chrono::microseconds> latency;  // when it held
     std::string missed;  // why it did not: "no answer within 50 ms", "read 7 after writing 8"
-    bool held() const { return missed.empty(); }
+    bool held() const { return latency.has_value(); }
+    // Neither held nor missed yet: the cycle under way when the monitor stopped.
+    bool pending() const { return !held() && missed.empty(); }
 };
 
 class MonitorCore {

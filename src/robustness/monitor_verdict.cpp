@@ -34,12 +34,12 @@ MonitorJudgement judge_monitor(const std::vector<MonitorCycle>& cycles, const Mo
         PhaseJudgement judged{phase};
         std::vector<std::chrono::microseconds> latencies;
         for (const auto& c : cycles) {
-            if (c.started < phase.begin || c.started >= phase.end) continue;
+            if (c.pending() || c.started < phase.begin || c.started >= phase.end) continue;
             ++judged.cycles;
-            if (!c.held()) {
-                ++judged.missed;
-            } else if (c.latency) {
+            if (c.held()) {
                 latencies.push_back(*c.latency);
+            } else {
+                ++judged.missed;
             }
         }
         if (judged.cycles > 0) {
@@ -55,25 +55,31 @@ MonitorJudgement judge_monitor(const std::vector<MonitorCycle>& cycles, const Mo
         out.phases.push_back(std::move(judged));
     }
     // Outages: missed cycles in a row, from the first's start to the next held one's start.
-    std::optional<Clock::time_point> lost_since;
+    // The first missed cycle of the run of them under way, or none (a plain pointer: g++ 12 takes
+    // an optional time point for one used uninitialised).
+    const MonitorCycle* lost_since = nullptr;
+    const MonitorCycle* last_done = nullptr;
     for (const auto& c : cycles) {
+        if (c.pending()) continue;
+        last_done = &c;
         if (!c.held()) {
-            if (!lost_since) lost_since = c.started;
-        } else if (lost_since) {
-            out.longest_outage = std::max(out.longest_outage, ms(c.started - *lost_since));
-            lost_since.reset();
+            if (lost_since == nullptr) lost_since = &c;
+        } else if (lost_since != nullptr) {
+            out.longest_outage = std::max(out.longest_outage, ms(c.started - lost_since->started));
+            lost_since = nullptr;
         }
     }
-    const bool recovered = !cycles.empty() && cycles.back().held();
-    if (lost_since && !phases.empty())
-        out.longest_outage = std::max(out.longest_outage, ms(phases.back().end - *lost_since));
+    const bool recovered = last_done != nullptr && last_done->held();
+    if (lost_since != nullptr && !phases.empty()) {
+        out.longest_outage =
+            std::max(out.longest_outage, ms(phases.back().end - lost_since->started));
+    }
     if (!phases.empty()) {
         const auto& last = phases.back();
         for (const auto& c : cycles) {
             if (c.started >= last.begin && c.started < last.end && c.held()) {
                 out.recovery = ms(c.started - last.begin) +
-                               std::chrono::duration_cast<std::chrono::milliseconds>(
-                                   c.latency.value_or(std::chrono::microseconds(0)));
+                               std::chrono::duration_cast<std::chrono::milliseconds>(*c.latency);
                 break;
             }
         }

@@ -144,6 +144,12 @@ TEST(MonitorVerdict, PassDegradedAndFail) {
     EXPECT_EQ(judged.why, "the monitor did not come back without a restart");
     EXPECT_FALSE(judged.recovery);
 
+    // The cycle under way when the monitor stopped is neither: a device that never came back
+    // is not taken for one that did.
+    auto unfinished = cycles_from(start, "..........xxxxxxxxx");
+    unfinished.push_back({start + 1900ms, std::nullopt, {}});
+    EXPECT_EQ(judge_monitor(unfinished, spec, phases, 60000ms).verdict, MonitorVerdict::Fail);
+
     // Misses within the tolerated percent hold.
     MonitorSpec tolerant = spec;
     tolerant.miss_percent = 20;
