@@ -104,6 +104,15 @@ conf::Provenance provenance_of(const FuzzCommandOptions& options,
     return provenance;
 }
 
+FuzzOutputs outputs_of(const FuzzCommandOptions& options) {
+    FuzzOutputs out;
+    out.reproducer = options.reproducer;
+    out.json = options.json;
+    out.junit = options.junit;
+    out.pcap = options.pcap;
+    return out;
+}
+
 int run_fuzz(const FuzzCommandOptions& options) {
     const auto started = std::chrono::system_clock::now();
     auto target = client::parse_target(options.target);
@@ -211,10 +220,9 @@ int run_fuzz(const FuzzCommandOptions& options) {
     fmt::print("mblab fuzz {}\n{}", target->name, rb::recon_text(recon));
     std::fflush(stdout);
     if (recon.killed_by && options.replay.empty()) {
-        return write_fuzz_outputs(
-            rb::probe_finding(recon, target->name, options.seed, framing), *target,
-            {options.reproducer, options.json, options.junit, options.pcap, {}, {}}, report_dir,
-            capture, provenance_of(options, started));
+        return write_fuzz_outputs(rb::probe_finding(recon, target->name, options.seed, framing),
+                                  *target, outputs_of(options), report_dir, capture,
+                                  provenance_of(options, started));
     }
 
     auto monitor = FuzzMonitor::make(options.monitor, *target, recon, policy, timeout);
@@ -298,12 +306,13 @@ int run_fuzz(const FuzzCommandOptions& options) {
             result.memory = memory;
         }
     }
-    FuzzOutputs outputs{options.reproducer, options.json, options.junit, options.pcap, {}, {}};
+    FuzzOutputs outputs = outputs_of(options);
     if (*monitor) {
         (*monitor)->recover();
         const auto judged = (*monitor)->judge(result);
         outputs.monitor_text = (*monitor)->text(judged);
         outputs.monitor = (*monitor)->json(judged);
+        outputs.monitor_html = (*monitor)->html(result, judged);
         outputs.monitor_passed = judged.verdict == rb::MonitorVerdict::Pass;
     }
     return write_fuzz_outputs(result, *target, outputs, report_dir, capture,

@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "robustness/iec62443_report.hpp"
+#include "robustness/monitor_html.hpp"
 
 namespace mblab::cli {
 
@@ -119,6 +120,11 @@ nlohmann::json FuzzMonitor::json(const rb::MonitorJudgement& judged) const {
     auto out = rb::monitor_json(judged, spec_, cycles_);
     if (!rungs_.empty()) out["ladder"] = rb::ladder_json(judged, rungs_);
     return out;
+}
+
+std::string FuzzMonitor::html(const rb::FuzzResult& result,
+                              const rb::MonitorJudgement& judged) const {
+    return rb::monitor_html(result, judged, spec_, cycles_, rungs_);
 }
 
 }  // namespace mblab::cli

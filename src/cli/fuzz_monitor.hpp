@@ -46,6 +46,8 @@ class FuzzMonitor {
     robustness::MonitorJudgement judge(const robustness::FuzzResult& result) const;
     std::string text(const robustness::MonitorJudgement& judged) const;
     nlohmann::json json(const robustness::MonitorJudgement& judged) const;
+    std::string html(const robustness::FuzzResult& result,
+                     const robustness::MonitorJudgement& judged) const;
 
     FuzzMonitor(robustness::MonitorSpec spec, client::Dial dial, const MonitorChoice& choice,
                 std::vector<double> rates);

@@ -116,6 +116,12 @@ int write_fuzz_outputs(const rb::FuzzResult& result, const client::Target& targe
     if (!outputs.json.empty() && !conf::write_text_file(outputs.json, json, failed))
         return write_failed(failed);
     // The report directory holds the JSON report beside the findings it explains.
+    if (!outputs.monitor_html.empty()) {
+        if (!dir.make(failed)) return write_failed(failed);
+        const auto path = dir.made() + "/monitor.html";
+        if (!conf::write_text_file(path, outputs.monitor_html, failed)) return write_failed(failed);
+        fmt::print("monitor's chart written to {}\n", path);
+    }
     if (dir.given() || !dir.made().empty()) {
         if (!dir.make(failed)) return write_failed(failed);
         const auto path = dir.made() + "/report.json";

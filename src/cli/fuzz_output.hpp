@@ -39,8 +39,9 @@ struct FuzzOutputs {
     std::string pcap;
     // With --monitor: its phases and verdict, printed after the summary and added to the JSON
     // report as "monitor".
-    std::string monitor_text;
-    std::optional<nlohmann::json> monitor;
+    std::string monitor_text = {};
+    std::optional<nlohmann::json> monitor = {};
+    std::string monitor_html = {};  // written to the report directory as monitor.html
     bool monitor_passed = true;
 };
 

@@ -83,8 +83,9 @@ TEST_F(ReferenceCliTest, OurServerHoldsTheMonitorThroughAStorm) {
 TEST_F(ReferenceCliTest, TheStormLadderReportsTheHighestRateHeld) {
     TempDir dir;
     auto args = monitored((dir.path() / "fuzz.json").string());
-    args.insert(args.begin(), {"fuzz", target(), "--rate", "0", "--ladder", "100,1000",
-                               "--ladder-step", "500ms"});
+    args.insert(args.begin(),
+                {"fuzz", target(), "--rate", "0", "--ladder", "100,1000", "--ladder-step", "500ms",
+                 "--report-dir", (dir.path() / "report").string()});
     auto ran = run_mblab(args);
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
     EXPECT_THAT(ran.out, HasSubstr("the monitor held up to 1000 requests/s [CR 7.1]"));
@@ -92,6 +93,12 @@ TEST_F(ReferenceCliTest, TheStormLadderReportsTheHighestRateHeld) {
     EXPECT_EQ(report["monitor"]["ladder"]["rungs"].size(), 2U);
     EXPECT_GT(report["monitor"]["ladder"]["rungs"][1]["answered"].get<int>(), 300);
     EXPECT_EQ(report["monitor"]["phases"][1]["phase"], "storm 100/s");
+    // The chart of the monitor's latency through the phases, beside the JSON report.
+    const auto page = file_text(dir.path() / "report" / "monitor.html");
+    EXPECT_THAT(page, HasSubstr("<polyline points="));
+    EXPECT_THAT(page, HasSubstr("<td>storm 1000/s</td>"));
+    EXPECT_THAT(ran.out, HasSubstr("monitor's chart written to " +
+                                   (dir.path() / "report" / "monitor.html").string()));
 }
 
 TEST(FuzzMonitorUsage, AWrongSpecIsOneLineBeforeConnecting) {

@@ -4,6 +4,7 @@
 
 #include "robustness/iec62443_report.hpp"
 #include "robustness/monitor_core.hpp"
+#include "robustness/monitor_html.hpp"
 #include "robustness/monitor_verdict.hpp"
 #include "support/hex.hpp"
 #include "support/manual_clock.hpp"
@@ -222,6 +223,41 @@ TEST(StormLadder, RisingRatesAndTheHighestHeld) {
         << text;
     EXPECT_NE(text.find("the monitor held up to 100 requests/s [CR 7.1]"), std::string::npos);
     EXPECT_EQ(ladder_json(judged, rungs)["highest_rate_held"], 100.0);
+}
+
+// The page: the chart with a point per cycle that held and a red mark per cycle missed, the
+// verdict, the phases with their requirements, each finding with its reproducer.
+TEST(MonitorHtml, TheChartThePhasesAndTheFindings) {
+    const auto start = test::ManualClock().now();
+    const auto cycles = cycles_from(start, ".......xxx...........");
+    const auto judged = judge_monitor(cycles, every_100ms(), three_phases(start), 500ms);
+    FuzzResult result;
+    result.target = "tcp://127.0.0.1:1502";
+    Finding finding;
+    finding.kind = BadInput::SlowReader;
+    finding.case_name = "40000 reads <unread>";
+    finding.reason = "refuses connections";
+    finding.reproducer = {Step(0, {0x00, 0x01})};
+    result.findings.push_back(finding);
+    const auto page = monitor_html(result, judged, every_100ms(), cycles, {});
+    const auto count = [&](const std::string& what) {
+        std::size_t n = 0;
+        for (auto at = page.find(what); at != std::string::npos; at = page.find(what, at + 1))
+            ++n;
+        return n;
+    };
+    EXPECT_EQ(count("<svg "), 1U);
+    EXPECT_EQ(count("fill=\"#d00\"><title>no answer within 50 ms</title>"), 3U);
+    EXPECT_EQ(count("<polyline points="), 1U);
+    EXPECT_NE(page.find("<strong>Verdict: DEGRADED</strong>"), std::string::npos);
+    EXPECT_NE(page.find("<td>malformed input</td><td>10</td><td>3 (30.0%)</td>"),
+              std::string::npos);
+    EXPECT_NE(page.find("<h3>slow-reader: 40000 reads &lt;unread&gt; [CR 7.1 denial-of-service "
+                        "protection; CR 7.2 resource management]</h3>"),
+              std::string::npos)
+        << page;
+    EXPECT_NE(page.find("<pre>00 01\n</pre>"), std::string::npos) << page;
+    EXPECT_NE(page.find("Out of scope: Ethernet, ARP, IP and ICMP storms"), std::string::npos);
 }
 
 }  // namespace
