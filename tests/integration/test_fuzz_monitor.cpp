@@ -15,11 +15,12 @@ namespace {
 using ::testing::HasSubstr;
 
 // The pipelined class alone (its cases send up to 200 requests at once: a storm for these
-// devices), a monitor every 50 ms within 40 ms on register 50, lost for 2 s at most.
+// devices), a monitor every 50 ms within 40 ms on register 50, lost for 2 s at most; the JSON
+// report to `json`, and the report directory (monitor.html) beside it, not under /tmp.
 std::vector<std::string> monitored(const std::string& json) {
     return {"--class",    "pipelined", "--monitor",        "register=50,period=50,budget=40",
             "--baseline", "500ms",     "--degraded-limit", "2s",
-            "--json",     json};
+            "--json",     json,        "--report-dir",     json + ".d"};
 }
 
 std::vector<std::string> missed_reasons(const nlohmann::json& report) {
@@ -83,9 +84,8 @@ TEST_F(ReferenceCliTest, OurServerHoldsTheMonitorThroughAStorm) {
 TEST_F(ReferenceCliTest, TheStormLadderReportsTheHighestRateHeld) {
     TempDir dir;
     auto args = monitored((dir.path() / "fuzz.json").string());
-    args.insert(args.begin(),
-                {"fuzz", target(), "--rate", "0", "--ladder", "100,1000", "--ladder-step", "500ms",
-                 "--report-dir", (dir.path() / "report").string()});
+    args.insert(args.begin(), {"fuzz", target(), "--rate", "0", "--ladder", "100,1000",
+                               "--ladder-step", "500ms"});
     auto ran = run_mblab(args);
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
     EXPECT_THAT(ran.out, HasSubstr("the monitor held up to 1000 requests/s [CR 7.1]"));
@@ -94,11 +94,11 @@ TEST_F(ReferenceCliTest, TheStormLadderReportsTheHighestRateHeld) {
     EXPECT_GT(report["monitor"]["ladder"]["rungs"][1]["answered"].get<int>(), 300);
     EXPECT_EQ(report["monitor"]["phases"][1]["phase"], "storm 100/s");
     // The chart of the monitor's latency through the phases, beside the JSON report.
-    const auto page = file_text(dir.path() / "report" / "monitor.html");
+    const auto page = file_text(dir.path() / "fuzz.json.d" / "monitor.html");
     EXPECT_THAT(page, HasSubstr("<polyline points="));
     EXPECT_THAT(page, HasSubstr("<td>storm 1000/s</td>"));
     EXPECT_THAT(ran.out, HasSubstr("monitor's chart written to " +
-                                   (dir.path() / "report" / "monitor.html").string()));
+                                   (dir.path() / "fuzz.json.d" / "monitor.html").string()));
 }
 
 TEST(FuzzMonitorUsage, AWrongSpecIsOneLineBeforeConnecting) {
