@@ -55,12 +55,23 @@ _mblab() {
             COMPREPLY=($(compgen -f -- "$cur"))
             return
             ;;
-        --catalogue | --pki)
+        --catalogue | --pki | --report-dir)
             COMPREPLY=($(compgen -d -- "$cur"))
             return
             ;;
         --key-type)
             COMPREPLY=($(compgen -W "ec rsa" -- "$cur"))
+            return
+            ;;
+        --class | --skip-class)
+            # A comma-separated list: the class after the last comma is completed.
+            local classes="protocol-id mbap-length oversize truncated quantity byte-count address-wrap
+                unknown-function sub-function file-record unit-id split-frame partial-header pipelined
+                many-connections slow-reader half-open flood boundary frame-check short-frame line-gap
+                noise ascii-text pairwise mutation"
+            local head="" last="$cur"
+            if [[ $cur == *,* ]]; then head="${cur%,*},"; last="${cur##*,}"; fi
+            COMPREPLY=($(compgen -P "$head" -W "$classes" -- "$last"))
             return
             ;;
         --base)
@@ -73,7 +84,8 @@ _mblab() {
             ;;
         --role | --server-name | --days | --read-only-role | --write-role | --restart | --writable | \
             --http | --http-token | --http-allow-host | --metrics | --device-pid | --units | \
-            --client-unit | --client-timeout | --client-retries | --error-pattern | --value-pattern)
+            --client-unit | --client-timeout | --client-retries | --error-pattern | --value-pattern | \
+            --monitor | --baseline | --degraded-limit | --ladder | --ladder-step)
             return
             ;;
     esac

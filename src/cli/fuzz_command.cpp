@@ -11,9 +11,13 @@
 #include <sstream>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/fuzz_inputs.hpp"
+#include "cli/fuzz_monitor.hpp"
+#include "cli/fuzz_output.hpp"
 #include "cli/report_files.hpp"
 #include "cli/stop_signals.hpp"
 #include "cli/tls_options.hpp"
@@ -25,10 +29,14 @@
 #include "conformance/reports.hpp"
 #include "conformance/session.hpp"
 #include "robustness/case_generator.hpp"
+#include "robustness/class_choice.hpp"
+#include "robustness/fuzz_progress.hpp"
 #include "robustness/fuzz_report.hpp"
 #include "robustness/fuzz_run.hpp"
+#include "robustness/iec62443_report.hpp"
 #include "robustness/learn.hpp"
 #include "robustness/pcap_reader.hpp"
+#include "robustness/probe_finding.hpp"
 #include "robustness/recon.hpp"
 #include "robustness/reproducer.hpp"
 #include "robustness/session_ask.hpp"
@@ -58,7 +66,12 @@ struct FuzzCommandOptions {
     bool allow_writes = false;
     std::string restart;
     std::string replay;
-    std::string reproducer = "fuzz-finding.hex";
+    std::string reproducer;  // "": finding-N.hex in the report directory
+    std::string report_dir;
+    bool keep_going = false;
+    std::vector<std::string> classes;
+    std::vector<std::string> skip_classes;
+    MonitorChoice monitor;
     std::string json;
     std::string junit;
     std::string pcap;
@@ -73,54 +86,6 @@ constexpr std::size_t kPcapBound = std::size_t{32} << 20;
 int usage_error(const std::string& message) {
     fmt::print(stderr, "mblab fuzz: {}\n", message);
     return kExitUsage;
-}
-
-// "START:COUNT" or "START" (one register).
-std::optional<rb::WritableRange> parse_writable(const std::string& text) {
-    const auto colon = text.find(':');
-    try {
-        std::size_t used = 0;
-        const auto start = std::stoul(text.substr(0, colon), &used, 0);
-        if (used != text.substr(0, colon).size() || start > 0xFFFF) return std::nullopt;
-        unsigned long count = 1;
-        if (colon != std::string::npos) {
-            const auto rest = text.substr(colon + 1);
-            count = std::stoul(rest, &used, 0);
-            if (used != rest.size() || count == 0 || start + count > 0x10000) return std::nullopt;
-        }
-        return rb::WritableRange{static_cast<std::uint16_t>(start),
-                                 static_cast<std::uint16_t>(count)};
-    } catch (const std::exception&) {
-        return std::nullopt;
-    }
-}
-
-bool read_file(const std::string& path, std::string& text) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) return false;
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    text = buffer.str();
-    return true;
-}
-
-// VmRSS and VmHWM of a local process in kB, from /proc; nullopt when it is gone.
-std::optional<std::pair<std::size_t, std::size_t>> process_memory(int pid) {
-    std::ifstream in(fmt::format("/proc/{}/status", pid));
-    if (!in) return std::nullopt;
-    std::size_t rss = 0;
-    std::size_t peak = 0;
-    for (std::string line; std::getline(in, line);) {
-        if (line.starts_with("VmRSS:")) rss = std::stoul(line.substr(6));
-        if (line.starts_with("VmHWM:")) peak = std::stoul(line.substr(6));
-    }
-    return std::pair{rss, peak};
-}
-
-// The --restart command, through the shell; true when it exited 0.
-bool run_restart(const std::string& command) {
-    const int status = std::system(command.c_str());
-    return status == 0;
 }
 
 conf::Provenance provenance_of(const FuzzCommandOptions& options,
@@ -138,6 +103,16 @@ conf::Provenance provenance_of(const FuzzCommandOptions& options,
                                                        : "reconnaissance";
     provenance.device.reason = "not asked: the robustness tester does not read identification";
     return provenance;
+}
+
+FuzzOutputs outputs_of(const FuzzCommandOptions& options, std::FILE* console) {
+    FuzzOutputs out;
+    out.console = console;
+    out.reproducer = options.reproducer;
+    out.json = options.json;
+    out.junit = options.junit;
+    out.pcap = options.pcap;
+    return out;
 }
 
 int run_fuzz(const FuzzCommandOptions& options) {
@@ -163,6 +138,14 @@ int run_fuzz(const FuzzCommandOptions& options) {
             fmt::format("--learn: captures are of Modbus/TCP only, not {}", target->name));
     if (options.cases == 0 && options.duration <= 0 && options.replay.empty())
         return usage_error("no budget: give --cases N or --duration D (it is pointed at devices)");
+    const auto chosen = rb::choose_classes(options.classes, options.skip_classes);
+    if (!chosen) return usage_error(chosen.error());
+    // The monitor's spec is checked before connecting; its defaults come from reconnaissance.
+    if (const auto spec = rb::parse_monitor_spec(options.monitor.spec, {}); !spec)
+        return usage_error(spec.error());
+    if (!options.monitor.ladder.empty() && options.monitor.spec.empty())
+        return usage_error("--ladder needs --monitor: the ladder reports the rate it held at");
+    ReportDir report_dir(options.report_dir);
     rb::ReconOptions recon_options;
     recon_options.unit = static_cast<std::uint8_t>(options.unit);
     recon_options.allow_writes = options.allow_writes;
@@ -246,6 +229,14 @@ int run_fuzz(const FuzzCommandOptions& options) {
     session.close();
     fmt::print(console, "mblab fuzz {}\n{}", target->name, rb::recon_text(recon));
     std::fflush(console);
+    if (recon.killed_by && options.replay.empty()) {
+        return write_fuzz_outputs(rb::probe_finding(recon, target->name, options.seed, framing),
+                                  *target, outputs_of(options, console), report_dir, capture,
+                                  provenance_of(options, started));
+    }
+
+    auto monitor = FuzzMonitor::make(options.monitor, *target, recon, policy, timeout);
+    if (!monitor) return usage_error(monitor.error());
 
     rb::FuzzOptions fuzz;
     fuzz.target = *target;
@@ -269,6 +260,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
         fuzz.duration = std::chrono::milliseconds(static_cast<long>(options.duration * 1000));
     if (!options.restart.empty())
         fuzz.restart = [command = options.restart] { return run_restart(command); };
+    fuzz.keep_going = options.keep_going;
     rb::FuzzRunner runner(fuzz, recon, observer);
 
     if (!options.replay.empty()) {
@@ -292,12 +284,28 @@ int run_fuzz(const FuzzCommandOptions& options) {
     StopSignals::catch_them();
     const bool live = ::isatty(STDERR_FILENO) != 0;
     rb::CaseGenerator generator(recon, policy, options.seed, framing, gap, limits);
+    generator.choose(*chosen);
+    rb::ProgressBudget budget{fuzz.cases, fuzz.duration};
+    // Without mutations the run ends with the fixed cases.
+    if (!generator.chosen(rb::BadInput::Mutation))
+        budget.cases =
+            std::min(budget.cases.value_or(generator.fixed_cases()), generator.fixed_cases());
+    if (*monitor) {
+        (*monitor)->baseline();
+        (*monitor)->ladder();
+        (*monitor)->malformed_begin();
+    }
+    const auto run_start = std::chrono::steady_clock::now();
     auto result = runner.run(
         generator,
         [&](const rb::FuzzResult& so_far, const rb::FuzzCase& c) {
             if (!live) return;
-            fmt::print(stderr, "\r\033[Kcase {} {}: {}", so_far.cases, rb::class_name(c.kind),
-                       c.name);
+            const auto elapsed = std::chrono::duration_cast<std::chrono::milliseconds>(
+                std::chrono::steady_clock::now() - run_start);
+            const auto line =
+                rb::progress_text(so_far.cases, budget, elapsed,
+                                  fmt::format("{}: {}", rb::class_name(c.kind), c.name));
+            fmt::print(stderr, "\r\033[K{}", line);
             std::fflush(stderr);
         },
         [] { return StopSignals::requested(); });
@@ -309,48 +317,17 @@ int run_fuzz(const FuzzCommandOptions& options) {
             result.memory = memory;
         }
     }
-    fmt::print(console, "{}", rb::summary_text(result));
-
-    const auto provenance = provenance_of(options, started);
-    std::string failed;
-    if (result.finding) {
-        const auto& f = *result.finding;
-        const std::string comment = fmt::format(
-            "mblab fuzz {} --seed {}\n{}: {} (case {})\nthe device {}\n{}\nreplay: "
-            "mblab fuzz {} --replay {}",
-            target->name, options.seed, rb::class_name(f.kind), f.case_name, f.case_number,
-            f.reason, f.minimise_note, target->name, options.reproducer);
-        if (!conf::write_text_file(options.reproducer, rb::reproducer_text(f.reproducer, comment),
-                                   failed))
-            return usage_error(failed);
-        const auto capture_path = options.reproducer + ".pcapng";
-        const bool written =
-            line ? conf::write_line_pcap(capture_path, rb::reproducer_capture(f.reproducer, "", 0),
-                                         framing, provenance, failed)
-                 : conf::write_pcap(
-                       capture_path,
-                       rb::reproducer_capture(f.reproducer, target->tcp->host, target->tcp->port),
-                       provenance, failed);
-        if (!written) return usage_error(failed);
-        fmt::print(console, "reproducer written to {} (and {})\n", options.reproducer,
-                   capture_path);
+    FuzzOutputs outputs = outputs_of(options, console);
+    if (*monitor) {
+        (*monitor)->recover();
+        const auto judged = (*monitor)->judge(result);
+        outputs.monitor_text = (*monitor)->text(judged);
+        outputs.monitor = (*monitor)->json(judged);
+        outputs.monitor_html = (*monitor)->html(result, judged);
+        outputs.monitor_passed = judged.verdict == rb::MonitorVerdict::Pass;
     }
-    if (!options.json.empty() &&
-        !ReportFiles::write(options.json, rb::json_report(result, provenance), failed))
-        return usage_error(failed);
-    if (!options.junit.empty() &&
-        !ReportFiles::write(options.junit, rb::junit_report(result, provenance), failed))
-        return usage_error(failed);
-    if (!options.pcap.empty() &&
-        !conf::write_capture(options.pcap, capture.events(), framing, provenance, failed))
-        return usage_error(failed);
-    if (!options.pcap.empty() && capture.dropped_bytes() > 0) {
-        fmt::print(console,
-                   "{} holds the run's last frames: the first {} byte(s) were let go to bound "
-                   "memory\n",
-                   options.pcap, capture.dropped_bytes());
-    }
-    return result.finding ? kExitFailed : kExitOk;
+    return write_fuzz_outputs(result, *target, outputs, report_dir, capture,
+                              provenance_of(options, started));
 }
 
 // What `mblab --help` says of the command.
@@ -362,7 +339,8 @@ constexpr std::string_view kHelp = R"(
 Exit status: 0 no finding, 1 a finding (the device stopped serving), 2 usage error,
 a file that cannot be read or written, or a target unreachable at start.
 Example: mblab fuzz tcp://127.0.0.1:1502 --cases 300 --junit fuzz.xml
-Example: mblab fuzz 'rtu:///dev/ttyUSB0?baud=19200' --unit 17 --cases 300)";
+Example: mblab fuzz 'rtu:///dev/ttyUSB0?baud=19200' --unit 17 --cases 300
+Example: mblab fuzz tcp://10.0.0.5 --keep-going --restart CMD --skip-class many-connections)";
 
 }  // namespace
 
@@ -416,8 +394,41 @@ void add_fuzz_command(CLI::App& app, CommandRunner& runner, const Invocation& in
     cmd->add_option("--replay", options->replay,
                     "send a reproducer's frames instead of fuzzing, then check liveness");
     cmd->add_option("--reproducer", options->reproducer,
-                    "where a finding's reproducer (hex lines) is written; FILE.pcapng too")
-        ->capture_default_str();
+                    "where the first finding's reproducer (hex lines) is written, FILE.pcapng "
+                    "too (default: finding-1.hex in the report directory)");
+    cmd->add_option("--report-dir", options->report_dir,
+                    "directory for the findings' reproducers and report.json (default: a new one "
+                    "under $XDG_STATE_HOME/mblab/fuzz, or /tmp/mblab-fuzz-XXXXXX)");
+    cmd->add_flag("--keep-going", options->keep_going,
+                  "record every finding instead of stopping at the first (the device is "
+                  "restarted with --restart, or waited for, after each)");
+    cmd->add_option("--monitor", options->monitor.spec,
+                    "essential-function monitor beside the run, on its own connection: "
+                    "register=N,period=MS,budget=MS,miss=PERCENT (FC 06 then FC 03 read-back; "
+                    "read-only: FC 03 alone); judged PASS, DEGRADED or FAIL");
+    accept_duration_units(cmd->add_option("--baseline", options->monitor.baseline_s,
+                                          "how long the monitor runs alone first (default 2s)")
+                              ->check(CLI::NonNegativeNumber),
+                          DurationUnit::seconds, false);
+    accept_duration_units(
+        cmd->add_option("--degraded-limit", options->monitor.degraded_limit_s,
+                        "longest loss of the monitor still judged DEGRADED rather than FAIL "
+                        "(default 10s)")
+            ->check(CLI::NonNegativeNumber),
+        DurationUnit::seconds, false);
+    cmd->add_option("--ladder", options->monitor.ladder,
+                    "with --monitor: storm the device with FC 03 at these rising rates per "
+                    "second (e.g. 100,1000,5000), a rung each, before the cases");
+    accept_duration_units(cmd->add_option("--ladder-step", options->monitor.ladder_step_s,
+                                          "how long each rung of the ladder lasts (default 2s)")
+                              ->check(CLI::PositiveNumber),
+                          DurationUnit::seconds, false);
+    cmd->add_option("--class", options->classes,
+                    "try only these bad-input classes (comma-separated, or the option repeated)")
+        ->delimiter(',');
+    cmd->add_option("--skip-class", options->skip_classes,
+                    "leave these bad-input classes out (comma-separated, or the option repeated)")
+        ->delimiter(',');
     cmd->add_option("--device-pid", options->device_pid,
                     "process id of a device running on this machine: its memory is reported")
         ->check(CLI::PositiveNumber);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 
+#include "conformance/plain_requests.hpp"
 #include "protocol/request_template.hpp"
 #include "robustness/in_turn.hpp"
 #include "robustness/line_cases.hpp"
@@ -109,6 +110,14 @@ void CaseGenerator::pairwise() {
     }
 }
 
+void CaseGenerator::choose(const std::array<bool, kBadInputCount>& classes) {
+    chosen_ = classes;
+    std::erase_if(fixed_, [&](const FuzzCase& c) { return !chosen(c.kind); });
+    for (std::size_t i = 0; i < withheld_.size(); ++i) {
+        if (!chosen_[i]) withheld_[i] = 0;
+    }
+}
+
 FuzzCase CaseGenerator::next() {
     if (taken_ < fixed_.size()) return fixed_[taken_++];
     ++taken_;
@@ -121,10 +130,11 @@ FuzzCase CaseGenerator::next() {
 
 FuzzCase CaseGenerator::mutation() {
     // The valid requests mutations start from: reads of what answers, and the plain requests of
-    // the served functions that the policy lets through.
+    // every public function that the policy lets through, served or not (a stack may parse what
+    // it then refuses with exception 01).
     std::vector<Bytes> bases = {words(0x03, {recon_.check_address, 1}),
                                 words(0x03, {recon_.check_address, recon_.max_read})};
-    for (std::uint8_t function : recon_.served) {
+    for (std::uint8_t function : conformance::functions_with_plain_requests()) {
         if (auto pdu = probe_request(function, true); pdu && may_send(*pdu, policy_))
             bases.push_back(*pdu);
         if (auto safe = probe_request(function, false)) bases.push_back(*safe);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
@@ -45,7 +46,13 @@ class CaseGenerator {
                   std::chrono::milliseconds gap = std::chrono::milliseconds(2),
                   ResourceLimits limits = {});
 
-    // The next case; fixed ones first, then mutations.
+    // Keeps the fixed cases of the chosen classes only, and the mutations only when that class
+    // is chosen (indexed by BadInput).
+    void choose(const std::array<bool, kBadInputCount>& classes);
+    bool chosen(BadInput kind) const { return chosen_[static_cast<std::size_t>(kind)]; }
+    // No case is left: the fixed ones are taken and mutations are not chosen.
+    bool exhausted() const { return !chosen(BadInput::Mutation) && taken_ >= fixed_.size(); }
+    // The next case; fixed ones first, then mutations. Not to be called once exhausted.
     FuzzCase next();
     // Fixed cases left out because they would write outside the policy, per class.
     const std::vector<std::size_t>& withheld() const { return withheld_; }
@@ -79,6 +86,11 @@ class CaseGenerator {
     std::vector<FuzzCase> fixed_;
     std::size_t taken_ = 0;
     std::vector<std::size_t> withheld_;
+    std::array<bool, kBadInputCount> chosen_ = [] {
+        std::array<bool, kBadInputCount> all{};
+        all.fill(true);
+        return all;
+    }();
 };
 
 }  // namespace mblab::robustness

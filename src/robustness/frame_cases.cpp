@@ -4,6 +4,7 @@
 #include <array>
 #include <initializer_list>
 
+#include "conformance/plain_requests.hpp"
 #include "protocol/function_table.hpp"
 #include "protocol/request_template.hpp"
 #include "robustness/case_generator.hpp"
@@ -115,7 +116,9 @@ void CaseGenerator::fixed_frames() {
                   multiple_write(0x10, w, over, count, count));
     }
 
-    for (std::uint8_t function : recon_.served) {
+    // Every public code, served or not: many stacks parse a request before they dispatch it, so
+    // a code answered with exception 01 may still read past a short frame.
+    for (std::uint8_t function : conformance::functions_with_plain_requests()) {
         add_frame(BadInput::Truncated, fmt::format("FC 0x{:02X} alone", function), Bytes{function});
         auto whole = probe_request(function, true);
         if (!whole || whole->size() < 3) continue;
@@ -133,8 +136,8 @@ void CaseGenerator::fixed_frames() {
     }
 
     // Each quantity at 0, one past its limit ([APP] 6, from the request template) and 0xFFFF.
+    // Served or not, as above.
     for (std::uint8_t function : {0x01, 0x02, 0x03, 0x04, 0x0F, 0x10}) {
-        if (!recon_.serves(function)) continue;
         for (std::uint16_t quantity :
              {std::uint16_t{0}, past_limit(function), std::uint16_t{0xFFFF}}) {
             const std::string name = fmt::format("FC 0x{:02X} quantity {}", function, quantity);
@@ -147,7 +150,7 @@ void CaseGenerator::fixed_frames() {
             }
         }
     }
-    if (recon_.serves(0x17)) {
+    {
         const auto read_over = past_limit(0x17, protocol::FieldRole::ReadQuantity);
         const auto write_over = past_limit(0x17);
         add_frame(BadInput::Quantity, "FC 0x17 read quantity 0", read_write(check, 0, w, 1, 2, 2));

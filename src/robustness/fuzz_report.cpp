@@ -6,6 +6,7 @@
 
 #include "client/hex_text.hpp"
 #include "conformance/reports.hpp"
+#include "robustness/iec62443_report.hpp"
 #include "robustness/reproducer.hpp"
 
 namespace mblab::robustness {
@@ -51,6 +52,62 @@ std::string finding_comment(const Finding& finding) {
                        finding.case_number, finding.reason, finding.minimise_note);
 }
 
+std::string finding_text(const Finding& f) {
+    std::string out =
+        fmt::format("FINDING: the device {} (waited {} ms)\n", f.reason, f.waited.count());
+    out += fmt::format("  case {}, {}: {}\n", f.case_number, class_name(f.kind), f.case_name);
+    out += fmt::format("  {}\n", f.minimise_note);
+    out += "  reproducer:\n";
+    // A resource case's reproducer runs to thousands of lines: the file holds them all.
+    constexpr std::size_t kShown = 20;
+    constexpr std::size_t kLongest = 200;
+    std::string text = reproducer_text(f.reproducer, "");
+    std::size_t lines = 0;
+    for (std::size_t from = 0; from < text.size(); ++lines) {
+        const auto end = text.find('\n', from);
+        if (lines < kShown) {
+            const auto line = text.substr(from, end - from);
+            out += "    " +
+                   (line.size() > kLongest ? fmt::format("{} ... ({} characters)",
+                                                         line.substr(0, kLongest), line.size())
+                                           : line) +
+                   "\n";
+        }
+        from = end + 1;
+    }
+    if (lines > kShown) out += fmt::format("    ... {} more step(s)\n", lines - kShown);
+    return out;
+}
+
+nlohmann::json finding_json(const Finding& f) {
+    nlohmann::json steps = nlohmann::json::array();
+    for (const auto& step : f.reproducer) {
+        steps.push_back({{"connection", step.connection},
+                         {"hex", client::hex_bytes(step.bytes)},
+                         {"pause_ms", step.pause.count()},
+                         {"unread", step.unread},
+                         {"vanish", step.vanish}});
+    }
+    return {{"class", class_name(f.kind)},
+            {"requirement", requirement_of(f.kind)},
+            {"case", f.case_name},
+            {"case_number", f.case_number},
+            {"reason", f.reason},
+            {"waited_ms", f.waited.count()},
+            {"minimised", f.minimised},
+            {"minimise_note", f.minimise_note},
+            {"frames_since_check", f.since_check.size()},
+            {"reproducer", steps}};
+}
+
+// The first finding of `kind`, or null.
+const Finding* finding_of(const FuzzResult& result, BadInput kind) {
+    for (const auto& f : result.findings) {
+        if (f.kind == kind) return &f;
+    }
+    return nullptr;
+}
+
 }  // namespace
 
 std::string recon_text(const Recon& recon) {
@@ -64,7 +121,11 @@ std::string recon_text(const Recon& recon) {
                codes(recon.silent), recon.check_address, recon.max_read,
                recon.answers_unit_0 ? "answered" : "not answered",
                recon.answers_unit_255 ? "answered" : "not answered") +
-           ranges;
+           ranges +
+           (recon.killed_by ? fmt::format("  stopped after the probe of FC 0x{:02X}: the device "
+                                          "no longer answers the read it answered before\n",
+                                          recon.killed_by->function)
+                            : "");
 }
 
 std::string summary_text(const FuzzResult& result) {
@@ -109,33 +170,14 @@ std::string summary_text(const FuzzResult& result) {
             m.pid, static_cast<double>(m.start_kb) / 1024.0, static_cast<double>(m.end_kb) / 1024.0,
             static_cast<double>(m.peak_kb) / 1024.0);
     }
-    if (!result.finding) {
+    if (result.findings.empty()) {
         out += "no finding: the device served every liveness check\n";
         return out;
     }
-    const auto& f = *result.finding;
-    out += fmt::format("FINDING: the device {} (waited {} ms)\n", f.reason, f.waited.count());
-    out += fmt::format("  case {}, {}: {}\n", f.case_number, class_name(f.kind), f.case_name);
-    out += fmt::format("  {}\n", f.minimise_note);
-    out += "  reproducer:\n";
-    // A resource case's reproducer runs to thousands of lines: the file holds them all.
-    constexpr std::size_t kShown = 20;
-    constexpr std::size_t kLongest = 200;
-    std::string text = reproducer_text(f.reproducer, "");
-    std::size_t lines = 0;
-    for (std::size_t from = 0; from < text.size(); ++lines) {
-        const auto end = text.find('\n', from);
-        if (lines < kShown) {
-            const auto line = text.substr(from, end - from);
-            out += "    " +
-                   (line.size() > kLongest ? fmt::format("{} ... ({} characters)",
-                                                         line.substr(0, kLongest), line.size())
-                                           : line) +
-                   "\n";
-        }
-        from = end + 1;
-    }
-    if (lines > kShown) out += fmt::format("    ... {} more step(s)\n", lines - kShown);
+    if (result.findings.size() > 1)
+        out += fmt::format("{} findings (--keep-going):\n", result.findings.size());
+    for (const auto& f : result.findings)
+        out += finding_text(f);
     return out;
 }
 
@@ -148,7 +190,7 @@ std::string json_report(const FuzzResult& result, const conformance::Provenance&
                            {"run", result.classes[i].run},
                            {"withheld", result.classes[i].withheld},
                            {"not_applicable", result.classes[i].not_applicable},
-                           {"finding", result.finding && result.finding->kind == kind}});
+                           {"finding", finding_of(result, kind) != nullptr}});
     }
     const auto& r = result.recon;
     nlohmann::json document = {
@@ -183,7 +225,7 @@ std::string json_report(const FuzzResult& result, const conformance::Provenance&
           {"acknowledged_writes", result.ledger.acknowledged},
           {"floods_without_acknowledged_writes", result.ledger.unacknowledged}}},
         {"classes", classes},
-        {"verdict", result.finding ? "finding" : "no finding"},
+        {"verdict", result.findings.empty() ? "no finding" : "finding"},
     };
     if (result.memory) {
         document["device_memory_kb"] = {{"pid", result.memory->pid},
@@ -191,44 +233,34 @@ std::string json_report(const FuzzResult& result, const conformance::Provenance&
                                         {"end", result.memory->end_kb},
                                         {"peak", result.memory->peak_kb}};
     }
-    if (result.finding) {
-        const auto& f = *result.finding;
-        nlohmann::json steps = nlohmann::json::array();
-        for (const auto& step : f.reproducer) {
-            steps.push_back({{"connection", step.connection},
-                             {"hex", client::hex_bytes(step.bytes)},
-                             {"pause_ms", step.pause.count()},
-                             {"unread", step.unread},
-                             {"vanish", step.vanish}});
-        }
-        document["finding"] = {{"class", class_name(f.kind)},
-                               {"case", f.case_name},
-                               {"case_number", f.case_number},
-                               {"reason", f.reason},
-                               {"waited_ms", f.waited.count()},
-                               {"minimised", f.minimised},
-                               {"minimise_note", f.minimise_note},
-                               {"frames_since_check", f.since_check.size()},
-                               {"reproducer", steps}};
-    }
+    nlohmann::json findings = nlohmann::json::array();
+    for (const auto& f : result.findings)
+        findings.push_back(finding_json(f));
+    // "finding" is the first, as before --keep-going; "findings" has them all.
+    if (!result.findings.empty()) document["finding"] = findings.front();
+    document["findings"] = findings;
     return document.dump(2) + "\n";
 }
 
 std::string junit_report(const FuzzResult& result, const conformance::Provenance& provenance) {
     using conformance::xml_escape;
     std::size_t skipped = 0;
-    for (const auto& tally : result.classes)
-        skipped += tally.run == 0 ? 1 : 0;
+    std::size_t failures = 0;
+    for (std::size_t i = 0; i < kBadInputCount; ++i) {
+        const bool failed = finding_of(result, static_cast<BadInput>(i)) != nullptr;
+        failures += failed ? 1 : 0;
+        skipped += result.classes[i].run == 0 && !failed ? 1 : 0;
+    }
     const double seconds = static_cast<double>(result.elapsed.count()) / 1000.0;
     std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
     out += fmt::format(
         "<testsuites name=\"mblab fuzz {}\" tests=\"{}\" failures=\"{}\" "
         "time=\"{:.3f}\">\n",
-        xml_escape(result.target), kBadInputCount, result.finding ? 1 : 0, seconds);
+        xml_escape(result.target), kBadInputCount, failures, seconds);
     out += fmt::format(
         "  <testsuite name=\"robustness\" tests=\"{}\" failures=\"{}\" errors=\"0\" "
         "skipped=\"{}\" time=\"{:.3f}\">\n",
-        kBadInputCount, result.finding ? 1 : 0, skipped, seconds);
+        kBadInputCount, failures, skipped, seconds);
     out += "    <properties>\n";
     for (const auto& line : conformance::provenance_lines(provenance)) {
         const auto colon = line.find(": ");
@@ -243,8 +275,8 @@ std::string junit_report(const FuzzResult& result, const conformance::Provenance
         const auto& tally = result.classes[i];
         out += fmt::format("    <testcase classname=\"robustness\" name=\"{}\" time=\"0\">",
                            class_name(kind));
-        if (result.finding && result.finding->kind == kind) {
-            const auto& f = *result.finding;
+        if (const auto* found = finding_of(result, kind)) {
+            const auto& f = *found;
             out += fmt::format(
                 "\n      <failure message=\"{}\" type=\"finding\">{}</failure>\n    ",
                 xml_escape(fmt::format("the device {} after: {}", f.reason, f.case_name)),

@@ -118,8 +118,11 @@ FuzzResult FuzzRunner::run(CaseGenerator& generator, const FuzzProgress& progres
     for (std::size_t i = 0; i < generator.withheld().size(); ++i)
         result.classes[i].withheld = generator.withheld()[i];
     for (std::size_t i = 0; i < kBadInputCount; ++i) {
-        if (auto why = not_applicable(static_cast<BadInput>(i), framing_))
+        if (auto why = not_applicable(static_cast<BadInput>(i), framing_)) {
             result.classes[i].not_applicable = *why;
+        } else if (!generator.chosen(static_cast<BadInput>(i))) {
+            result.classes[i].not_applicable = "not chosen (--class, --skip-class)";
+        }
     }
     auto& half_open = result.classes[static_cast<std::size_t>(BadInput::HalfOpen)];
     if (half_open.not_applicable.empty() && !generator.limits().half_open) {
@@ -139,6 +142,8 @@ FuzzResult FuzzRunner::run(CaseGenerator& generator, const FuzzProgress& progres
         std::string out_of_budget;
         if (options_.cases && result.cases >= *options_.cases) {
             out_of_budget = "case budget";
+        } else if (generator.exhausted()) {
+            out_of_budget = "every chosen case";
         } else if (options_.duration && clock.now() - start >= *options_.duration) {
             out_of_budget = "time budget";
         } else if (stop && stop()) {
@@ -208,15 +213,33 @@ FuzzResult FuzzRunner::run(CaseGenerator& generator, const FuzzProgress& progres
         } else {
             minimise_finding(finding);
         }
-        result.finding = std::move(finding);
-        result.stopped_by = "finding";
-        break;
+        result.findings.push_back(std::move(finding));
+        if (!options_.keep_going) {
+            result.stopped_by = "finding";
+            break;
+        }
+        if (!recover()) {
+            result.stopped_by = "finding; the device did not come back";
+            break;
+        }
+        since_check.clear();
+        origins.clear();
+        connection_base = 0;
+        if (!out_of_budget.empty()) break;
     }
     links_->close_all();
     result.one_connection_at_a_time = oracle_.one_at_a_time();
     result.sends = sends_;
     result.elapsed = clock.since(start);
     return result;
+}
+
+bool FuzzRunner::recover() {
+    links_->close_all();
+    if (options_.restart && !options_.restart()) return false;
+    if (!oracle_.wait_alive(options_.restart_patience).alive) return false;
+    oracle_.open_bystander();
+    return true;
 }
 
 void FuzzRunner::minimise_finding(Finding& finding) {
@@ -278,8 +301,9 @@ void FuzzRunner::minimise_finding(Finding& finding) {
     finding.minimise_note =
         fmt::format("minimised from {} to {} frame(s) in {} replays", finding.since_check.size(),
                     finding.reproducer.size(), replays);
-    // Leave the device running, as it was found.
-    if (options_.restart) options_.restart();
+    // Leave the device running, as it was found; with keep_going the run restarts it once it
+    // goes on (a second restart command could race the first's device for its port).
+    if (options_.restart && !options_.keep_going) options_.restart();
 }
 
 }  // namespace mblab::robustness

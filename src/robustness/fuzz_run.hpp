@@ -39,6 +39,9 @@ struct FuzzOptions {
     // Restarts the device (the user's --restart command); empty when none was given.
     std::function<bool()> restart;
     std::chrono::milliseconds restart_patience{10000};
+    // Record every finding instead of stopping at the first: after each, the device is restarted
+    // (or, without a restart command, waited for up to restart_patience) and the run goes on.
+    bool keep_going = false;
     // How links to the device open: client::open_link on the target when unset (tests give a
     // memory link); the target still names the run and its framing.
     Dial dial;
@@ -97,8 +100,10 @@ struct FuzzResult {
     std::array<ClassTally, kBadInputCount> classes{};
     std::chrono::milliseconds longest_wait{0};  // the oracle's longest check
     std::chrono::milliseconds elapsed{0};
-    std::optional<Finding> finding;
-    std::string stopped_by;  // "case budget", "time budget", "finding", "interrupted"
+    std::vector<Finding> findings;  // in the order found; one at most without keep_going
+    // "case budget", "time budget", "every chosen case", "finding", "interrupted", or "finding;
+    // the device did not come back" when keep_going could not go on.
+    std::string stopped_by;
     bool one_connection_at_a_time = false;  // the bystander check was dropped
     LedgerTally ledger;
     std::optional<DeviceMemory> memory;
@@ -125,6 +130,9 @@ class FuzzRunner {
     std::string check_ledger(const WriteLedger& ledger, std::uint16_t acknowledged,
                              std::uint16_t highest_sent, FuzzResult& result);
     void minimise_finding(Finding& finding);
+    // After a finding with keep_going: the device restarted or back by itself, the bystander
+    // open again; false when it did not come back.
+    bool recover();
 
     FuzzOptions options_;
     Recon recon_;

@@ -235,7 +235,6 @@ std::vector<Request> requests(const Recon& recon, const std::optional<WritableRa
           {"read code", Width::Byte, true, exact({0x01, 0x02, 0x03, 0x04, 0x00, 0x05, 0xFF})},
           {"object id", Width::Byte, true, exact({0x00, 0x02, 0x03, 0x07, 0x80, 0xFF})}}},
     };
-    std::erase_if(all, [&](const Request& r) { return !recon.serves(r.function); });
     return all;
 }
 

@@ -127,6 +127,25 @@ std::optional<std::string> reconnoitre(const Ask& device, const ReconOptions& op
         if (answer && unit == options.unit) note_answered(pdu, *answer, out.ranges);
         return answer;
     };
+    // The register the liveness check reads, found before any probe so that each probe can be
+    // judged by it: a device that answered it before a probe and not after was killed by it.
+    std::optional<std::uint16_t> readable;
+    if (options.check_address) {
+        if (read_answered(ask(options.unit, read_holding(*options.check_address, 1)), 1))
+            readable = options.check_address;
+    } else {
+        for (std::uint16_t address : kProbeAddresses) {
+            if (read_answered(ask(options.unit, read_holding(address, 1)), 1)) {
+                readable = address;
+                break;
+            }
+        }
+    }
+    // A second read: one lost answer is not a death.
+    const auto still_answers = [&] {
+        return read_answered(ask(options.unit, read_holding(*readable, 1)), 1) ||
+               read_answered(ask(options.unit, read_holding(*readable, 1)), 1);
+    };
     for (std::uint8_t function : conformance::functions_with_plain_requests()) {
         if (options.reads_only && protocol::writes(function)) {
             out.not_asked.push_back(function);
@@ -143,17 +162,10 @@ std::optional<std::string> reconnoitre(const Ask& device, const ReconOptions& op
         } else {
             out.served.push_back(function);
         }
-    }
-    std::optional<std::uint16_t> readable;
-    if (options.check_address) {
-        if (read_answered(ask(options.unit, read_holding(*options.check_address, 1)), 1))
-            readable = options.check_address;
-    } else {
-        for (std::uint16_t address : kProbeAddresses) {
-            if (read_answered(ask(options.unit, read_holding(address, 1)), 1)) {
-                readable = address;
-                break;
-            }
+        if (readable && !still_answers()) {
+            out.check_address = *readable;
+            out.killed_by = ProbeDeath{function, *request};
+            return std::nullopt;
         }
     }
     if (!readable) {

@@ -43,6 +43,13 @@ class AnsweredRanges {
     std::array<std::vector<AddressRange>, kTableCount> tables_;
 };
 
+// A reconnaissance probe after which the device stopped answering the read it answered before:
+// a finding of its own, with the probe as its reproducer.
+struct ProbeDeath {
+    std::uint8_t function = 0;
+    std::vector<std::uint8_t> request;  // the probe's PDU
+};
+
 struct Recon {
     std::uint8_t unit = 1;
     std::vector<std::uint8_t> served;      // function codes answered other than with exception 01
@@ -56,6 +63,8 @@ struct Recon {
     // "probed", the DUT file that declared unit and max_read, or "learned from FILE (...)".
     std::string source = "probed";
     AnsweredRanges ranges;  // where requests were answered with data or an echo
+    // Set when a probe killed the device: the reconnaissance stopped there, the rest is unknown.
+    std::optional<ProbeDeath> killed_by;
 
     bool serves(std::uint8_t function) const;
 };
@@ -87,6 +96,8 @@ bool note_answered(std::span<const std::uint8_t> request, std::span<const std::u
                    AnsweredRanges& ranges);
 
 // Fails with one line when no holding register answers FC 03 (nothing to check liveness with).
+// The register is looked for before the probes and read again after each: a device that answered
+// it before a probe and answers it no more after is left in `out.killed_by`, with no failure.
 std::optional<std::string> reconnoitre(const Ask& ask, const ReconOptions& options, Recon& out);
 
 }  // namespace mblab::robustness

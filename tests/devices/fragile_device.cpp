@@ -10,6 +10,15 @@
 //                   acknowledges the writes among them without keeping them
 //   few-slots       64 connections at most: a newcomer evicts a connection stuck in a partial
 //                   frame but never an idle one, and is closed when there is none
+//   probe-23        exits on FC 17 with a write quantity of 0 (the reconnaissance's harmless probe)
+//   malformed-23    answers FC 17 with exception 01 like any code it does not serve, but exits on
+//                   one whose write quantity is over 121 (it parses before it dispatches)
+//   storm-degrades  serves FC 06 on registers 0..99; the first time more than 8 requests come at
+//                   once it stalls for 400 ms, then serves as before (it recovers by itself)
+//   storm-breaks-writes  as storm-degrades, but after such a storm answers every FC 06 with
+//                   exception 04 until restarted (reads still served)
+//   stale-register  as storm-degrades, but after such a storm acknowledges FC 06 without keeping
+//                   the value: the register silently stops updating
 //   closes-garbage  robust: closes the connection on anything but a valid FC 03
 //   late            robust: answers 150 ms late
 //   floods-answers  robust: answers a function code no standard request uses with its exception
@@ -43,6 +52,8 @@ struct Client {
 
 std::string g_mode;
 bool g_deaf = false;
+bool g_stalled = false;  // storm-degrades: once
+bool g_broken = false;   // storm-breaks-writes, stale-register: since the first storm
 std::array<std::uint16_t, 100> g_registers{};
 
 // Whole requests waiting in `b`.
@@ -61,6 +72,15 @@ bool serve(Client& client) {
     auto& b = client.buffer;
     std::vector<std::uint8_t> out;
     const bool forgetful = g_mode == "loses-writes" && whole_requests(b) > 8;
+    const bool monitored =
+        g_mode == "storm-degrades" || g_mode == "storm-breaks-writes" || g_mode == "stale-register";
+    if (monitored && whole_requests(b) > 8) {
+        if (g_mode == "storm-degrades" && !g_stalled) {
+            g_stalled = true;
+            std::this_thread::sleep_for(std::chrono::milliseconds(400));
+        }
+        g_broken = g_mode != "storm-degrades";
+    }
     while (b.size() >= 7) {
         const unsigned protocol = b[2] << 8 | b[3];
         const unsigned length = b[4] << 8 | b[5];
@@ -74,6 +94,10 @@ bool serve(Client& client) {
         const std::vector<std::uint8_t> pdu(b.begin() + 7, b.begin() + 6 + length);
         std::vector<std::uint8_t> answer;
         const unsigned quantity = pdu.size() >= 5 ? (pdu[3] << 8 | pdu[4]) : 0;
+        const unsigned write_quantity = pdu.size() >= 9 ? (pdu[7] << 8 | pdu[8]) : 1;
+        if (pdu[0] == 0x17 && ((g_mode == "probe-23" && write_quantity == 0) ||
+                               (g_mode == "malformed-23" && write_quantity > 121)))
+            std::_Exit(1);
         if (pdu[0] == 0x10 && pdu.size() >= 6 && pdu[5] != 2 * quantity && g_mode == "byte-count")
             g_deaf = true;
         const unsigned address = pdu.size() >= 3 ? (pdu[1] << 8 | pdu[2]) : 0;
@@ -84,13 +108,16 @@ bool serve(Client& client) {
                 answer.push_back(static_cast<std::uint8_t>(value >> 8));
                 answer.push_back(static_cast<std::uint8_t>(value));
             }
-        } else if (g_mode == "loses-writes" && pdu[0] == 0x06) {
-            if (pdu.size() != 5) {
+        } else if ((g_mode == "loses-writes" || monitored) && pdu[0] == 0x06) {
+            if (g_broken && g_mode == "storm-breaks-writes") {
+                answer = {0x86, 0x04};
+            } else if (pdu.size() != 5) {
                 answer = {0x86, 0x03};
             } else if (address >= g_registers.size()) {
                 answer = {0x86, 0x02};
             } else {
-                if (!forgetful) g_registers[address] = static_cast<std::uint16_t>(quantity);
+                if (!forgetful && !(g_broken && g_mode == "stale-register"))
+                    g_registers[address] = static_cast<std::uint16_t>(quantity);
                 answer = pdu;
             }
         } else if (g_mode == "closes-garbage") {

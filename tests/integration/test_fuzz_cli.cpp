@@ -24,6 +24,7 @@
 #include "child_process.hpp"
 #include "device/profile_paths.hpp"
 #include "device/reference_device.hpp"
+#include "fuzz_fragile.hpp"
 #include "support/faulty_server.hpp"
 #include "support/ports.hpp"
 #include "support/temp_dir.hpp"
@@ -47,64 +48,6 @@ constexpr bool kAddressSanitizer = false;
 #else
 constexpr bool kAddressSanitizer = false;
 #endif
-
-bool accepts(std::uint16_t port) {
-    const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-    sockaddr_in address{};
-    address.sin_family = AF_INET;
-    address.sin_port = htons(port);
-    address.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    const bool ok = ::connect(fd, reinterpret_cast<sockaddr*>(&address), sizeof address) == 0;
-    ::close(fd);
-    return ok;
-}
-
-// The reproducer's step lines (comments dropped).
-std::vector<std::string> steps_of(const std::string& text) {
-    std::vector<std::string> steps;
-    std::istringstream lines(text);
-    for (std::string line; std::getline(lines, line);) {
-        if (!line.empty() && line[0] != '#') steps.push_back(line);
-    }
-    return steps;
-}
-
-// A fragile device on a free loopback port, started (and restarted) by a shell command.
-class FuzzFragile : public ::testing::Test {
-  protected:
-    void start(const std::string& mode) {
-        port_ = closed_port();
-        const auto pid_file = (dir_ / "device.pid").string();
-        restart_ = "kill $(cat " + pid_file + " 2>/dev/null) 2>/dev/null; " +
-                   std::string(MBLAB_FRAGILE_DEVICE) + " " + mode + " " + std::to_string(port_) +
-                   " " + pid_file + " >/dev/null 2>&1 </dev/null &";
-        restart();
-    }
-    // Runs the restart command and waits until the new device (a new pid) listens.
-    void restart() {
-        const auto before = file_text(dir_ / "device.pid");
-        ASSERT_EQ(std::system(restart_.c_str()), 0);
-        for (int i = 0; i < 250 && (file_text(dir_ / "device.pid") == before || !accepts(port_));
-             ++i)
-            std::this_thread::sleep_for(std::chrono::milliseconds(20));
-        ASSERT_TRUE(accepts(port_));
-    }
-    // Every device this test started: the one fuzz left running after minimising may not have
-    // written its pid yet.
-    void TearDown() override { kill_processes_naming((dir_ / "device.pid").string()); }
-    Ran fuzz(std::vector<std::string> args) const {
-        args.insert(args.begin(), {"fuzz", tcp_target(port_), "--reproducer",
-                                   (dir_ / "finding.hex").string(), "--rate", "0"});
-        return run_mblab(args);
-    }
-    std::vector<std::string> reproducer() const {
-        return steps_of(file_text(dir_ / "finding.hex"));
-    }
-
-    TempDir dir_;
-    std::uint16_t port_ = 0;
-    std::string restart_;
-};
 
 TEST_F(FuzzFragile, ACrashOnProtocolIdIsMinimisedToTheOneFrame) {
     start("protocol-id");
@@ -379,16 +322,17 @@ TEST(FuzzOwnServer, ServeSurvivesEveryClassAndTheResourceCases) {
         << ran.out;
 }
 
-// On a terminal, a progress line names each case as it starts, rewritten in place, and is
-// cleared before the summary; on a pipe there is none.
+// On a terminal, a progress line names each case as it starts with the cases out of the total and
+// the time left, rewritten in place, and is cleared before the summary; on a pipe there is none.
 TEST_F(FuzzReference, TheProgressLineShowsOnATerminalOnly) {
     TempDir dir;
     const std::string command =
         std::string(MBLAB_BINARY) + " fuzz " + target() + " --cases 3 --rate 0 2>&1";
     auto ran = run_program({"/usr/bin/script", "-qec", command, "/dev/null"});
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_THAT(ran.out, HasSubstr("\r\033[Kcase 1 protocol-id: protocol id 0x0001"));
-    EXPECT_THAT(ran.out, HasSubstr("\r\033[Kcase 3 "));
+    EXPECT_THAT(ran.out, HasSubstr("\r\033[Kcase 1/3, about "));
+    EXPECT_THAT(ran.out, HasSubstr(" left: protocol-id: protocol id 0x0001"));
+    EXPECT_THAT(ran.out, HasSubstr("\r\033[Kcase 3/3, about 0s left: "));
     EXPECT_THAT(ran.out, HasSubstr("\r\033[K3 cases in"));
     auto piped = run_mblab({"fuzz", target(), "--cases", "3", "--rate", "0"});
     EXPECT_EQ(piped.status, 0) << piped.out << piped.err;

@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
 #include <set>
+#include <string>
 
 #include "robustness/case_generator.hpp"
 #include "robustness/line_cases.hpp"
@@ -169,17 +172,53 @@ std::size_t withheld_pairwise(const CaseGenerator& generator) {
     return at < withheld.size() ? withheld[at] : 0;
 }
 
-TEST(CaseGeneratorPairwise, OnlyTheServedFunctionsWithALayout) {
+// Served or not: a device may parse a request before it finds it does not serve it.
+TEST(CaseGeneratorPairwise, EveryFunctionWithALayoutServedOrNot) {
     const WritePolicy all{true, std::nullopt};
-    EXPECT_EQ(functions_of(pairwise_cases(reference_recon(), all)),
-              (std::set<std::uint8_t>{0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x08, 0x0F, 0x10, 0x16,
-                                      0x17, 0x2B}));
+    const std::set<std::uint8_t> laid_out{0x01, 0x02, 0x03, 0x04, 0x05, 0x06,
+                                          0x08, 0x0F, 0x10, 0x16, 0x17, 0x2B};
+    EXPECT_EQ(functions_of(pairwise_cases(reference_recon(), all)), laid_out);
     Recon two;
     two.served = {0x03, 0x10};
-    EXPECT_EQ(functions_of(pairwise_cases(two, all)), (std::set<std::uint8_t>{0x03, 0x10}));
-    Recon none;
-    none.served = {0x14, 0x18};
-    EXPECT_TRUE(pairwise_cases(none, all).empty());
+    EXPECT_EQ(functions_of(pairwise_cases(two, all)), laid_out);
+}
+
+// A device that serves FC 03 alone: the malformed requests of every other public code are made
+// all the same, and a write among them only where writes are allowed.
+TEST(CaseGenerator, MalformedRequestsCoverCodesTheDeviceDoesNotServe) {
+    Recon recon;
+    recon.served = {0x03};
+    recon.not_served = {0x01, 0x02, 0x04, 0x05, 0x06, 0x0F, 0x10, 0x17};
+    CaseGenerator allowed(recon, {true, std::nullopt}, 1);
+    std::map<std::string, std::vector<std::uint8_t>> pdu_of;
+    for (const auto& c : take(allowed, allowed.fixed_cases())) {
+        const auto bytes = all_bytes(c);
+        if (c.steps.size() == 1 && bytes.size() > 7)
+            pdu_of[c.name] = std::vector<std::uint8_t>(bytes.begin() + 7, bytes.end());
+    }
+    // FC 17 with a write quantity over 121 and of 0 (the read and write quantities at 0x03, 0x07).
+    ASSERT_TRUE(pdu_of.count("FC 0x17 write quantity 122"));
+    EXPECT_EQ(pdu_of["FC 0x17 write quantity 122"][0], 0x17);
+    EXPECT_EQ(pdu_of["FC 0x17 write quantity 122"][8], 122);
+    EXPECT_TRUE(pdu_of.count("FC 0x17 read quantity 0"));
+    EXPECT_TRUE(pdu_of.count("FC 0x17 byte count 0 for 1 written registers"));
+    EXPECT_TRUE(std::any_of(pdu_of.begin(), pdu_of.end(), [](const auto& named) {
+        const auto& pdu = named.second;
+        return named.first.starts_with("FC 0x17 unit") && pdu.size() >= 9 && pdu[7] == 0 &&
+               pdu[8] == 0;
+    })) << "no pairwise FC 17 row with a write quantity of 0";
+    for (const char* name : {"FC 0x17 alone", "FC 0x17 cut to 2 bytes", "FC 0x01 quantity 0",
+                             "FC 0x04 quantity 126", "FC 0x10 quantity 124", "FC 0x0F quantity 0"})
+        EXPECT_TRUE(pdu_of.count(name)) << name;
+
+    // Without permission the reads are still made, the writes withheld and counted.
+    CaseGenerator none(recon, {}, 1);
+    std::set<std::string> names;
+    for (const auto& c : take(none, none.fixed_cases()))
+        names.insert(c.name);
+    EXPECT_TRUE(names.count("FC 0x04 quantity 126"));
+    EXPECT_FALSE(names.count("FC 0x17 write quantity 122"));
+    EXPECT_GT(none.withheld()[static_cast<std::size_t>(BadInput::Quantity)], 0U);
 }
 
 // A function at a time in turn: the first pairwise cases reach every function, each with its

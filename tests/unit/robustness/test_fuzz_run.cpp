@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "device/reference_device.hpp"
+#include "robustness/class_choice.hpp"
 #include "robustness/fuzz_run.hpp"
 #include "support/hex.hpp"
 #include "support/manual_clock.hpp"
@@ -150,7 +151,7 @@ TEST(FuzzRunner, AHealthyDeviceGivesNoFinding) {
     auto options = target.options();
     options.cases = 120;
     const auto result = target.run(std::move(options));
-    EXPECT_FALSE(result.finding) << result.finding->reason;
+    EXPECT_TRUE(result.findings.empty()) << result.findings.front().reason;
     EXPECT_EQ(result.stopped_by, "case budget");
     EXPECT_EQ(result.cases, 120U);
     EXPECT_EQ(result.checks, 120U);
@@ -166,8 +167,8 @@ TEST(FuzzRunner, ADeviceThatDiesOnAnUnknownFunctionIsFoundAndMinimised) {
     options.cases = 400;
     options.check_every = 10;
     const auto result = target.run(std::move(options));
-    ASSERT_TRUE(result.finding);
-    const auto& finding = *result.finding;
+    ASSERT_EQ(result.findings.size(), 1U);
+    const auto& finding = result.findings.front();
     EXPECT_EQ(finding.kind, BadInput::UnknownFunction);
     EXPECT_EQ(finding.case_name, "FC 0x41");
     EXPECT_TRUE(finding.minimised) << finding.minimise_note;
@@ -180,12 +181,79 @@ TEST(FuzzRunner, ADeviceThatDiesOnAnUnknownFunctionIsFoundAndMinimised) {
     EXPECT_FALSE(target.memory.dead());
 }
 
+// With keep_going each finding is recorded, the device restarted, and the run goes on to the next.
+TEST(FuzzRunner, KeepGoingRecordsEveryFindingAndRestartsAfterEach) {
+    MemoryTarget target(Framing::Mbap);
+    target.memory.die_on([](const client::Received& request) {
+        return !request.pdu.empty() && (request.pdu[0] == 0x41 || request.pdu[0] == 0x45);
+    });
+    auto options = target.options();
+    options.cases = 400;
+    options.keep_going = true;
+    const auto result = target.run(std::move(options));
+    // FC 0x41, then the pipelined case that carries an FC 0x41 among its 30 requests, then FC 0x45:
+    // each found on a restarted device, in the order run.
+    std::vector<std::string> found;
+    for (const auto& f : result.findings)
+        found.push_back(f.case_name);
+    EXPECT_EQ(found,
+              (std::vector<std::string>{
+                  "FC 0x41", "30 requests, valid, unknown and protocol id 1 in turn", "FC 0x45"}));
+    EXPECT_LT(result.findings[0].case_number, result.findings[2].case_number);
+    EXPECT_EQ(result.stopped_by, "case budget");
+    EXPECT_EQ(result.cases, 400U);
+    EXPECT_FALSE(target.memory.dead());
+}
+
+// Without a restart command a device that stays dead ends the run, findings kept.
+TEST(FuzzRunner, KeepGoingStopsWhenTheDeviceDoesNotComeBack) {
+    MemoryTarget target(Framing::Mbap);
+    target.memory.die_on([](const client::Received& request) {
+        return !request.pdu.empty() && request.pdu[0] == 0x41;
+    });
+    auto options = target.options();
+    options.cases = 400;
+    options.keep_going = true;
+    options.restart = nullptr;
+    options.restart_patience = 2000ms;
+    const auto result = target.run(std::move(options));
+    ASSERT_EQ(result.findings.size(), 1U);
+    EXPECT_EQ(result.stopped_by, "finding; the device did not come back");
+}
+
+// A run of the chosen classes alone ends once their cases are done when mutations are not chosen.
+TEST(FuzzRunner, TheChosenClassesAloneAndTheRunEndsWithThem) {
+    MemoryTarget target(Framing::Mbap);
+    auto options = target.options();
+    options.cases = 100000;
+    CaseGenerator generator(target.recon(), {}, 1, Framing::Mbap, 2ms,
+                            {.connections = 50, .half_open = false});
+    ClassChoice choice{};
+    choice[static_cast<std::size_t>(BadInput::ProtocolId)] = true;
+    choice[static_cast<std::size_t>(BadInput::Truncated)] = true;
+    generator.choose(choice);
+    FuzzRunner runner(std::move(options), target.recon(), nullptr);
+    const auto result = runner.run(generator, nullptr, nullptr);
+    EXPECT_EQ(result.stopped_by, "every chosen case");
+    EXPECT_EQ(result.cases, generator.fixed_cases());
+    EXPECT_EQ(result.classes[static_cast<std::size_t>(BadInput::ProtocolId)].run, 5U);
+    EXPECT_GT(result.classes[static_cast<std::size_t>(BadInput::Truncated)].run, 0U);
+    EXPECT_EQ(result.classes[static_cast<std::size_t>(BadInput::Mutation)].not_applicable,
+              "not chosen (--class, --skip-class)");
+    for (std::size_t i = 0; i < kBadInputCount; ++i) {
+        const auto kind = static_cast<BadInput>(i);
+        if (kind != BadInput::ProtocolId && kind != BadInput::Truncated) {
+            EXPECT_EQ(result.classes[i].run, 0U) << class_name(kind);
+        }
+    }
+}
+
 TEST(FuzzRunner, OnALineOneLinkCarriesAHealthyRun) {
     MemoryTarget target(Framing::Rtu);
     auto options = target.options();
     options.cases = 100;
     const auto result = target.run(std::move(options));
-    EXPECT_FALSE(result.finding) << result.finding->reason;
+    EXPECT_TRUE(result.findings.empty()) << result.findings.front().reason;
     EXPECT_EQ(result.checks, 100U);
     EXPECT_EQ(target.memory.opened(), 1U);
 }
@@ -200,8 +268,8 @@ TEST(FuzzRunner, OnALineADeviceDeafAfterABadCrcIsMinimisedToThatFrame) {
     options.cases = 300;
     options.check_every = 10;
     const auto result = target.run(std::move(options));
-    ASSERT_TRUE(result.finding);
-    const auto& finding = *result.finding;
+    ASSERT_EQ(result.findings.size(), 1U);
+    const auto& finding = result.findings.front();
     EXPECT_EQ(finding.case_name, "bad CRC to address 247 (the last unicast)");
     EXPECT_TRUE(finding.minimised) << finding.minimise_note;
     ASSERT_EQ(finding.reproducer.size(), 1U) << finding.minimise_note;

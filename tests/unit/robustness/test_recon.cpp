@@ -54,5 +54,32 @@ TEST(Recon, NoReadableRegisterIsOneLine) {
               "liveness check needs one (try --unit)");
 }
 
+// The device answered the read before the FC 10 probe and never after it: the probe killed it.
+TEST(Recon, AProbeAfterWhichTheReadGoesUnansweredIsLeftAsTheKiller) {
+    bool dead = false;
+    const Ask dies_on_fc10 = [&](std::uint8_t unit, std::span<const std::uint8_t> pdu) {
+        if (dead) return std::optional<std::vector<std::uint8_t>>{};
+        if (pdu[0] == 0x10) dead = true;
+        return fake(unit, pdu);
+    };
+    Recon recon;
+    ASSERT_FALSE(reconnoitre(dies_on_fc10, {}, recon));
+    ASSERT_TRUE(recon.killed_by);
+    EXPECT_EQ(recon.killed_by->function, 0x10);
+    EXPECT_EQ(recon.killed_by->request, *probe_request(0x10, false));
+    EXPECT_EQ(recon.check_address, 100);
+    // The probes before it were judged as usual.
+    EXPECT_EQ(recon.served, (std::vector<std::uint8_t>{0x03, 0x06}));
+
+    // A device that answers nothing from the start is the usage error it always was.
+    Recon silent;
+    EXPECT_TRUE(reconnoitre(
+        [](std::uint8_t, std::span<const std::uint8_t>) {
+            return std::optional<std::vector<std::uint8_t>>{};
+        },
+        {}, silent));
+    EXPECT_FALSE(silent.killed_by);
+}
+
 }  // namespace
 }  // namespace mblab::robustness

@@ -1,0 +1,130 @@
+#include "cli/fuzz_monitor.hpp"
+
+#include <fmt/core.h>
+
+#include <thread>
+
+#include "robustness/iec62443_report.hpp"
+#include "robustness/monitor_html.hpp"
+
+namespace mblab::cli {
+
+namespace rb = mblab::robustness;
+
+namespace {
+
+std::chrono::milliseconds of_seconds(double seconds) {
+    return std::chrono::milliseconds(static_cast<long>(seconds * 1000));
+}
+
+}  // namespace
+
+protocol::Result<std::unique_ptr<FuzzMonitor>, std::string> FuzzMonitor::make(
+    const MonitorChoice& choice, const client::Target& target, const rb::Recon& recon,
+    const rb::WritePolicy& policy, std::chrono::milliseconds timeout) {
+    if (choice.spec.empty()) return std::unique_ptr<FuzzMonitor>();
+    if (client::framing_of(target) != client::Framing::Mbap)
+        return std::string(
+            "--monitor: a serial line has one link, which the cases hold: the monitor needs a "
+            "connection of its own (tcp:// or mbaps://)");
+    rb::MonitorSpec defaults;
+    defaults.unit = recon.unit;
+    defaults.address = recon.check_address;
+    auto spec = rb::parse_monitor_spec(choice.spec, defaults);
+    if (!spec) return spec.error();
+    const std::vector<std::uint8_t> write = {0x06, static_cast<std::uint8_t>(spec->address >> 8),
+                                             static_cast<std::uint8_t>(spec->address), 0, 1};
+    // Naming the register is leave to write it; the liveness check's register, the default, is
+    // written only where the write policy allows it.
+    const bool named = choice.spec.find("register=") != std::string::npos;
+    if (!spec->read_only && !named && !rb::may_send(write, policy)) {
+        return fmt::format(
+            "--monitor writes holding register {}: name the register it may write "
+            "(--monitor register=N, one the cases do not write), or watch it with --monitor "
+            "read-only",
+            spec->address);
+    }
+    std::vector<double> rates;
+    if (!choice.ladder.empty()) {
+        auto parsed = rb::parse_rates(choice.ladder);
+        if (!parsed) return parsed.error();
+        rates = std::move(*parsed);
+    }
+    client::Dial dial = [target, timeout] { return client::open_link(target, timeout, nullptr); };
+    return std::make_unique<FuzzMonitor>(*spec, std::move(dial), choice, std::move(rates));
+}
+
+FuzzMonitor::FuzzMonitor(rb::MonitorSpec spec, client::Dial dial, const MonitorChoice& choice,
+                         std::vector<double> rates)
+    : spec_(spec),
+      dial_(dial),
+      run_(spec, std::move(dial)),
+      rates_(std::move(rates)),
+      ladder_step_(of_seconds(choice.ladder_step_s)),
+      baseline_(of_seconds(choice.baseline_s)),
+      degraded_limit_(of_seconds(choice.degraded_limit_s)) {}
+
+void FuzzMonitor::ladder() {
+    for (double rate : rates_) {
+        rungs_.push_back(rb::storm(dial_, spec_.unit, spec_.address, rate, ladder_step_));
+        phases_.push_back({fmt::format("storm {:g}/s", rate), "CR 7.1 denial-of-service protection",
+                           rungs_.back().begin, rungs_.back().end});
+    }
+}
+
+void FuzzMonitor::baseline() {
+    const auto begin = rb::Clock::now();
+    run_.start();
+    std::this_thread::sleep_for(baseline_);
+    phases_.push_back({"baseline", "reference for CR 7.1 and CR 7.2: the monitor alone", begin,
+                       rb::Clock::now()});
+}
+
+void FuzzMonitor::malformed_begin() {
+    phases_.push_back({"malformed input",
+                       "CR 3.5 input validation; CR 7.1 denial-of-service protection; CR 7.2 "
+                       "resource management",
+                       rb::Clock::now(), rb::Clock::time_point::max()});
+}
+
+void FuzzMonitor::recover() {
+    const auto begin = rb::Clock::now();
+    phases_.back().end = begin;
+    run_.wait_held(begin, degraded_limit_ + spec_.period);
+    // A few periods more: back means staying back.
+    std::this_thread::sleep_for(spec_.period * 5);
+    run_.stop();
+    phases_.push_back({"recovery",
+                       "CR 7.1 denial-of-service protection; CR 3.6 deterministic "
+                       "output: back without a restart",
+                       begin, rb::Clock::now()});
+    cycles_ = run_.cycles();
+}
+
+rb::MonitorJudgement FuzzMonitor::judge(const rb::FuzzResult& result) const {
+    auto judged = rb::judge_monitor(cycles_, spec_, phases_, degraded_limit_);
+    if (!result.findings.empty()) {
+        // A device that stopped serving the check failed, whatever the monitor saw around it.
+        judged.verdict = rb::MonitorVerdict::Fail;
+        judged.why = fmt::format("the device stopped serving ({} finding(s)); {}",
+                                 result.findings.size(), judged.why);
+    }
+    return judged;
+}
+
+std::string FuzzMonitor::text(const rb::MonitorJudgement& judged) const {
+    return rb::monitor_text(judged, spec_) + rb::ladder_text(judged, rungs_);
+}
+
+nlohmann::json FuzzMonitor::json(const rb::MonitorJudgement& judged) const {
+    auto out = rb::monitor_json(judged, spec_, cycles_);
+    if (!rungs_.empty()) out["ladder"] = rb::ladder_json(judged, rungs_);
+    return out;
+}
+
+std::string FuzzMonitor::html(const rb::FuzzResult& result,
+                              const rb::MonitorJudgement& judged) const {
+    return rb::monitor_html(result, judged, spec_, cycles_, rungs_);
+}
+
+}  // namespace mblab::cli

@@ -1,0 +1,68 @@
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "client/target.hpp"
+#include "protocol/result.hpp"
+#include "robustness/case_generator.hpp"
+#include "robustness/fuzz_run.hpp"
+#include "robustness/monitor_run.hpp"
+#include "robustness/monitor_verdict.hpp"
+#include "robustness/storm_ladder.hpp"
+
+// `mblab fuzz --monitor`: the essential-function monitor beside the run, through its phases
+// (baseline, malformed input, recovery), judged PASS, DEGRADED or FAIL (docs/robustness.md).
+namespace mblab::cli {
+
+struct MonitorChoice {
+    std::string spec;  // --monitor's text; "" for none
+    double baseline_s = 2;
+    double degraded_limit_s = 10;
+    std::string ladder;  // --ladder's rates; "" for none
+    double ladder_step_s = 2;
+};
+
+class FuzzMonitor {
+  public:
+    // Nothing when no monitor was asked for; one line when the spec is wrong, the target is a
+    // serial line, or the register may not be written under `policy`.
+    static protocol::Result<std::unique_ptr<FuzzMonitor>, std::string> make(
+        const MonitorChoice& choice, const client::Target& target, const robustness::Recon& recon,
+        const robustness::WritePolicy& policy, std::chrono::milliseconds timeout);
+
+    // Starts the monitor and keeps it alone for the baseline.
+    void baseline();
+    // The storm ladder's rungs, each a phase, after the baseline.
+    void ladder();
+    void malformed_begin();
+    // After the last case: the monitor alone until it holds again (or the degraded limit has
+    // passed), and a few periods more; then it stops.
+    void recover();
+    robustness::MonitorJudgement judge(const robustness::FuzzResult& result) const;
+    std::string text(const robustness::MonitorJudgement& judged) const;
+    nlohmann::json json(const robustness::MonitorJudgement& judged) const;
+    std::string html(const robustness::FuzzResult& result,
+                     const robustness::MonitorJudgement& judged) const;
+
+    FuzzMonitor(robustness::MonitorSpec spec, client::Dial dial, const MonitorChoice& choice,
+                std::vector<double> rates);
+
+  private:
+    robustness::MonitorSpec spec_;
+    client::Dial dial_;
+    robustness::MonitorRun run_;
+    std::vector<double> rates_;
+    std::chrono::milliseconds ladder_step_;
+    std::vector<robustness::LadderRung> rungs_;
+    std::chrono::milliseconds baseline_;
+    std::chrono::milliseconds degraded_limit_;
+    std::vector<robustness::MonitorPhase> phases_;
+    std::vector<robustness::MonitorCycle> cycles_;  // once stopped
+};
+
+}  // namespace mblab::cli

@@ -1,0 +1,264 @@
+// The essential-function monitor as traces: what it sends, what the device answers and when, on a
+// manual clock; then its cycles judged PASS, DEGRADED or FAIL.
+#include <gtest/gtest.h>
+
+#include "robustness/iec62443_report.hpp"
+#include "robustness/monitor_core.hpp"
+#include "robustness/monitor_html.hpp"
+#include "robustness/monitor_verdict.hpp"
+#include "support/hex.hpp"
+#include "support/manual_clock.hpp"
+
+namespace mblab::robustness {
+namespace {
+
+using namespace std::chrono_literals;
+using test::hex;
+using test::to_hex;
+
+MonitorSpec every_100ms() {
+    MonitorSpec spec;
+    spec.address = 7;
+    spec.period = 100ms;
+    spec.budget = 50ms;
+    return spec;
+}
+
+struct Trace {
+    explicit Trace(MonitorSpec spec = every_100ms()) : core(spec, clock.now()) {}
+    std::string sends() { return to_hex(core.poll(clock.now())); }
+    void answers(const char* text, std::chrono::milliseconds after) {
+        clock.advance(after);
+        core.received(hex(text), clock.now());
+    }
+    test::ManualClock clock;
+    MonitorCore core;
+};
+
+TEST(MonitorCore, WritesAChangingValueThenReadsItBack) {
+    Trace t;
+    EXPECT_EQ(t.sends(), "00 01 00 00 00 06 01 06 00 07 00 01");
+    EXPECT_EQ(t.sends(), "");  // the write is still out
+    t.answers("00 01 00 00 00 06 01 06 00 07 00 01", 3ms);
+    EXPECT_EQ(t.core.deadline(), t.core.cycles().back().started);  // the read is due now
+    EXPECT_EQ(t.sends(), "00 02 00 00 00 06 01 03 00 07 00 01");
+    t.answers("00 02 00 00 00 05 01 03 02 00 01", 2ms);
+    ASSERT_EQ(t.core.cycles().size(), 1U);
+    EXPECT_TRUE(t.core.cycles()[0].held());
+    EXPECT_EQ(t.core.cycles()[0].latency, 5000us);
+    // The next cycle on its period, with the next value.
+    EXPECT_EQ(t.core.deadline(), t.core.cycles()[0].started + 100ms);
+    t.clock.advance(95ms);
+    EXPECT_EQ(t.sends(), "00 03 00 00 00 06 01 06 00 07 00 02");
+}
+
+TEST(MonitorCore, ARegisterThatStopsUpdatingIsAMiss) {
+    Trace t;
+    t.sends();
+    t.answers("00 01 00 00 00 06 01 06 00 07 00 01", 1ms);
+    t.sends();
+    // The write was acknowledged, yet the register reads its old value.
+    t.answers("00 02 00 00 00 05 01 03 02 00 00", 1ms);
+    EXPECT_EQ(t.core.cycles()[0].missed, "read 0 after writing 1");
+}
+
+TEST(MonitorCore, NoAnswerWithinTheBudgetIsAMissAndALateAnswerIsIgnored) {
+    Trace t;
+    t.sends();
+    t.clock.advance(50ms);
+    EXPECT_EQ(t.sends(), "");
+    EXPECT_EQ(t.core.cycles()[0].missed, "no answer within 50 ms");
+    // The late echo of the missed cycle's write does not count for the next one.
+    t.clock.advance(50ms);
+    EXPECT_EQ(t.sends(), "00 02 00 00 00 06 01 06 00 07 00 02");
+    t.answers("00 01 00 00 00 06 01 06 00 07 00 01", 1ms);
+    EXPECT_EQ(t.sends(), "");
+    t.answers("00 02 00 00 00 06 01 06 00 07 00 02", 1ms);
+    EXPECT_EQ(t.sends(), "00 03 00 00 00 06 01 03 00 07 00 01");
+}
+
+TEST(MonitorCore, AnExceptionOrALostConnectionIsAMiss) {
+    Trace t;
+    t.sends();
+    t.answers("00 01 00 00 00 03 01 86 04", 1ms);
+    EXPECT_EQ(t.core.cycles()[0].missed, "FC 06 answered exception 04");
+    t.clock.advance(99ms);
+    t.sends();
+    t.core.connection_lost(t.clock.now());
+    EXPECT_EQ(t.core.cycles()[1].missed, "the connection closed");
+}
+
+TEST(MonitorCore, ReadOnlyJudgesTheReadAlone) {
+    MonitorSpec spec = every_100ms();
+    spec.read_only = true;
+    Trace t(spec);
+    EXPECT_EQ(t.sends(), "00 01 00 00 00 06 01 03 00 07 00 01");
+    t.answers("00 01 00 00 00 05 01 03 02 12 34", 4ms);
+    EXPECT_TRUE(t.core.cycles()[0].held());
+}
+
+// Cycles every 100 ms from `start`; `missed` says which miss.
+std::vector<MonitorCycle> cycles_from(Clock::time_point start, const std::string& pattern) {
+    std::vector<MonitorCycle> out;
+    for (std::size_t i = 0; i < pattern.size(); ++i) {
+        MonitorCycle c{start + i * 100ms, std::nullopt, {}};
+        if (pattern[i] == 'x') {
+            c.missed = "no answer within 50 ms";
+        } else {
+            c.latency = 2000us;
+        }
+        out.push_back(c);
+    }
+    return out;
+}
+
+std::vector<MonitorPhase> three_phases(Clock::time_point start) {
+    return {{"baseline", "CR 7.1", start, start + 500ms},
+            {"malformed input", "CR 3.5", start + 500ms, start + 1500ms},
+            {"recovery", "CR 7.1", start + 1500ms, start + 2000ms}};
+}
+
+TEST(MonitorVerdict, PassDegradedAndFail) {
+    const auto start = test::ManualClock().now();
+    const auto spec = every_100ms();
+    const auto phases = three_phases(start);
+    auto judged = judge_monitor(cycles_from(start, "....................."), spec, phases, 500ms);
+    EXPECT_EQ(judged.verdict, MonitorVerdict::Pass) << judged.why;
+    EXPECT_EQ(judged.phases[1].median, 2000us);
+    EXPECT_EQ(judged.recovery, 2ms);
+
+    // Lost for 300 ms in the malformed phase, back by itself: degraded within a 500 ms limit.
+    judged = judge_monitor(cycles_from(start, ".......xxx..........."), spec, phases, 500ms);
+    EXPECT_EQ(judged.verdict, MonitorVerdict::Degraded) << judged.why;
+    EXPECT_EQ(judged.longest_outage, 300ms);
+    EXPECT_EQ(judged.phases[1].missed, 3U);
+    EXPECT_FALSE(judged.phases[1].held);
+    EXPECT_TRUE(judged.phases[2].held);
+    // The same outage over a 200 ms limit fails.
+    EXPECT_EQ(
+        judge_monitor(cycles_from(start, ".......xxx..........."), spec, phases, 200ms).verdict,
+        MonitorVerdict::Fail);
+
+    // Never back: fails, however long the limit.
+    judged = judge_monitor(cycles_from(start, "..........xxxxxxxxxx"), spec, phases, 60000ms);
+    EXPECT_EQ(judged.verdict, MonitorVerdict::Fail);
+    EXPECT_EQ(judged.why, "the monitor did not come back without a restart");
+    EXPECT_FALSE(judged.recovery);
+
+    // The cycle under way when the monitor stopped is neither: a device that never came back
+    // is not taken for one that did.
+    auto unfinished = cycles_from(start, "..........xxxxxxxxx");
+    unfinished.push_back({start + 1900ms, std::nullopt, {}});
+    EXPECT_EQ(judge_monitor(unfinished, spec, phases, 60000ms).verdict, MonitorVerdict::Fail);
+
+    // Misses within the tolerated percent hold.
+    MonitorSpec tolerant = spec;
+    tolerant.miss_percent = 20;
+    EXPECT_EQ(
+        judge_monitor(cycles_from(start, "........x............"), tolerant, phases, 0ms).verdict,
+        MonitorVerdict::Pass);
+}
+
+TEST(MonitorSpec, ParsedOverTheDefaults) {
+    MonitorSpec defaults;
+    defaults.address = 3;
+    const auto spec = parse_monitor_spec("period=200,miss=5", defaults);
+    ASSERT_TRUE(spec) << spec.error();
+    EXPECT_EQ(spec->address, 3);
+    EXPECT_EQ(spec->period, 200ms);
+    EXPECT_EQ(spec->budget, 50ms);
+    EXPECT_EQ(spec->miss_percent, 5);
+    const auto read_only = parse_monitor_spec("register=0x10,read-only,budget=20", defaults);
+    ASSERT_TRUE(read_only) << read_only.error();
+    EXPECT_EQ(read_only->address, 16);
+    EXPECT_TRUE(read_only->read_only);
+    EXPECT_FALSE(parse_monitor_spec("register=70000", defaults));
+    EXPECT_FALSE(parse_monitor_spec("speed=3", defaults));
+    EXPECT_FALSE(parse_monitor_spec("budget=500", defaults));  // longer than the period
+}
+
+TEST(MonitorReport, PhasesAndFindingsNameTheirRequirement) {
+    EXPECT_EQ(requirement_of(BadInput::Quantity), "CR 3.5 input validation");
+    EXPECT_EQ(requirement_of(BadInput::SlowReader),
+              "CR 7.1 denial-of-service protection; CR 7.2 resource management");
+    const auto start = test::ManualClock().now();
+    const auto judged = judge_monitor(cycles_from(start, ".......xxx..........."), every_100ms(),
+                                      three_phases(start), 500ms);
+    const auto text = monitor_text(judged, every_100ms());
+    EXPECT_NE(text.find("  malformed input     10 cycles,    3 missed (30.0%), median 2.00 ms, "
+                        "worst 2.00 ms: lost [CR 3.5]\n"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("MONITOR VERDICT: DEGRADED: "), std::string::npos) << text;
+    EXPECT_NE(text.find("out of scope: Ethernet, ARP, IP and ICMP storms"), std::string::npos);
+    const auto json = monitor_json(judged, every_100ms(), cycles_from(start, "..x"));
+    EXPECT_EQ(json["verdict"], "DEGRADED");
+    EXPECT_EQ(json["cycles"][2]["at_ms"], 200);
+    EXPECT_EQ(json["cycles"][2]["missed"], "no answer within 50 ms");
+    EXPECT_EQ(json["cycles"][0]["latency_us"], 2000);
+}
+
+TEST(StormLadder, RisingRatesAndTheHighestHeld) {
+    EXPECT_EQ(*parse_rates("100,500,1000"), (std::vector<double>{100, 500, 1000}));
+    EXPECT_FALSE(parse_rates("500,100"));
+    EXPECT_FALSE(parse_rates("100,x"));
+    EXPECT_FALSE(parse_rates(""));
+    // Two rungs: the monitor held at 100/s (cycles 0-4) and was lost at 1000/s (cycles 5-9).
+    const auto start = test::ManualClock().now();
+    const std::vector<MonitorPhase> phases = {
+        {"storm 100/s", "CR 7.1", start, start + 500ms},
+        {"storm 1000/s", "CR 7.1", start + 500ms, start + 1000ms},
+        {"recovery", "CR 7.1", start + 1000ms, start + 1500ms}};
+    const auto judged =
+        judge_monitor(cycles_from(start, ".....xxxx......"), every_100ms(), phases, 1000ms);
+    const std::vector<LadderRung> rungs = {{100, start, start + 500ms, 50, 50, 0},
+                                           {1000, start + 500ms, start + 1000ms, 500, 20, 1}};
+    const auto text = ladder_text(judged, rungs);
+    EXPECT_NE(text.find("       100/s asked,      100/s sent,      100/s answered, 0 "
+                        "reconnect(s): the monitor held\n"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("1000/s sent,       40/s answered, 1 reconnect(s): the monitor was lost"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("the monitor held up to 100 requests/s [CR 7.1]"), std::string::npos);
+    EXPECT_EQ(ladder_json(judged, rungs)["highest_rate_held"], 100.0);
+}
+
+// The page: the chart with a point per cycle that held and a red mark per cycle missed, the
+// verdict, the phases with their requirements, each finding with its reproducer.
+TEST(MonitorHtml, TheChartThePhasesAndTheFindings) {
+    const auto start = test::ManualClock().now();
+    const auto cycles = cycles_from(start, ".......xxx...........");
+    const auto judged = judge_monitor(cycles, every_100ms(), three_phases(start), 500ms);
+    FuzzResult result;
+    result.target = "tcp://127.0.0.1:1502";
+    Finding finding;
+    finding.kind = BadInput::SlowReader;
+    finding.case_name = "40000 reads <unread>";
+    finding.reason = "refuses connections";
+    finding.reproducer = {Step(0, {0x00, 0x01})};
+    result.findings.push_back(finding);
+    const auto page = monitor_html(result, judged, every_100ms(), cycles, {});
+    const auto count = [&](const std::string& what) {
+        std::size_t n = 0;
+        for (auto at = page.find(what); at != std::string::npos; at = page.find(what, at + 1))
+            ++n;
+        return n;
+    };
+    EXPECT_EQ(count("<svg "), 1U);
+    EXPECT_EQ(count("fill=\"#d00\"><title>no answer within 50 ms</title>"), 3U);
+    EXPECT_EQ(count("<polyline points="), 1U);
+    EXPECT_NE(page.find("<strong>Verdict: DEGRADED</strong>"), std::string::npos);
+    EXPECT_NE(page.find("<td>malformed input</td><td>10</td><td>3 (30.0%)</td>"),
+              std::string::npos);
+    EXPECT_NE(page.find("<h3>slow-reader: 40000 reads &lt;unread&gt; [CR 7.1 denial-of-service "
+                        "protection; CR 7.2 resource management]</h3>"),
+              std::string::npos)
+        << page;
+    EXPECT_NE(page.find("<pre>00 01\n</pre>"), std::string::npos) << page;
+    EXPECT_NE(page.find("Out of scope: Ethernet, ARP, IP and ICMP storms"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace mblab::robustness
