@@ -27,7 +27,10 @@ mark.diff { background: #ffb3b3; color: #000; font-weight: bold; }
 .banner.INCOMPLETE, .banner.NOTRUN { background: #fbf0d0; }
 .controls { position: sticky; top: 0; background: #fff; padding: 0.5em 0; border-bottom: 1px solid #ccc; }
 .controls label { margin-right: 1em; }
-svg.histogram { background: #fafafa; border: 1px solid #ddd; }
+svg.histogram { background: #fafafa; border: 1px solid #ddd; font-size: 12px; }
+svg.histogram .axis-title { font-weight: bold; }
+table#nodes { max-width: 100%; }
+table#nodes td:first-child { overflow-wrap: anywhere; }
 svg.histogram rect.bar { fill: #3b6fb6; }
 svg.histogram text { font-size: 10px; fill: #333; }
 )";

@@ -5,8 +5,9 @@ Debian's headless chromium opens each report from file:// through chromedriver, 
 the W3C WebDriver JSON protocol over loopback with nothing but the standard library. Checked:
 every case of the JSON report is on the page, the verdict filters and the case id search show
 exactly the cases they should, the differing bytes of a failure are marked, a 250-byte frame's
-evidence wraps so the source column stays on a 1280-pixel screen, the load report has
-its node table and a latency chart per node, the screenshots are the window's size and not one
+evidence wraps so the source column stays on a 1280-pixel screen (the load report's latency
+columns too), the load report has its node table and a latency chart per node with named axes,
+the screenshots are the window's size and not one
 colour, and the browser's console has no error.
 
 Usage: check_reports.py MBLAB [SCREENSHOT_DIR]
@@ -295,6 +296,22 @@ def check_load(driver, mblab, work, shots):
     check(height > 100, f"the latency chart is not drawn ({height} px high)")
     check(driver.run("return document.getElementById('outcome').textContent;") == "PASS",
           "the load report does not say PASS")
+    titles = driver.run("return Array.from(document.querySelectorAll('svg.histogram "
+                        ".axis-title')).map(t => t.textContent);")
+    check(titles == ["answers", "latency (ms)"], f"the latency chart's axes are named {titles}")
+    # At 1280 px the page does not scroll sideways and every latency column is on screen.
+    driver.do("POST", "/window/rect", {"width": 1280, "height": HEIGHT})
+    try:
+        driver.open("file://" + html)
+        inner = driver.run("return window.innerWidth;")
+        wide = driver.run("return document.documentElement.scrollWidth;")
+        check(wide <= inner, f"the load report is {wide} px wide in a {inner} px window")
+        right = driver.run("var head = document.querySelector('#nodes tr').cells;"
+                           "return head[head.length - 2].getBoundingClientRect().right;")
+        check(0 < right <= inner, f"the max ms column ends at {right} px, off a {inner} px window")
+    finally:
+        driver.do("POST", "/window/rect", {"width": WIDTH, "height": HEIGHT})
+    driver.open("file://" + html)
     driver.run("document.querySelector('svg.histogram').scrollIntoView({block: 'center'});")
     shot = check_screenshot(driver, os.path.join(shots, "load.png"))
     errors = driver.console_errors()

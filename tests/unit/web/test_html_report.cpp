@@ -208,8 +208,12 @@ TEST(LoadHtml, DrawsTheLatencyHistogramAsBars) {
     }
     EXPECT_EQ(bars, 4U);
     EXPECT_EQ(answers, 6U);
-    EXPECT_TRUE(has(svg, "0.050 ms"));
-    EXPECT_TRUE(has(svg, "5.000 ms"));
+    // Both axes are named; the latency axis has ticks from the first bar's lower edge to the
+    // last bar's upper one.
+    EXPECT_TRUE(has(svg, ">answers</text>"));
+    EXPECT_TRUE(has(svg, ">latency (ms)</text>"));
+    EXPECT_TRUE(has(svg, ">0.050</text>"));
+    EXPECT_TRUE(has(svg, ">5.000</text>"));
     EXPECT_TRUE(has(latency_svg(load::LatencySnapshot{}), "no answers"));
 }
 
@@ -236,6 +240,10 @@ TEST(LoadHtml, HasANodeTableAHistogramPerNodeAndTheFailure) {
     EXPECT_TRUE(has(html, "<table id=\"nodes\">"));
     EXPECT_TRUE(has(html, "<tr class=\"node\"><td>tcp://127.0.0.1:1502</td>"));
     EXPECT_TRUE(has(html, "<tr class=\"node\"><td>tcp://127.0.0.1:&lt;&amp;&gt;</td>"));
+    // A column for the one kind of failure seen, none for the kinds nobody counted, so the
+    // latency columns stay on screen.
+    EXPECT_TRUE(has(html, "<th>failures</th><th>wrong_answer</th><th>p50 ms</th>")) << html;
+    EXPECT_FALSE(has(html, "<th>timeout</th>"));
     std::size_t charts = 0;
     for (auto at = html.find("<svg class=\"histogram\""); at != std::string::npos;
          at = html.find("<svg class=\"histogram\"", at + 1))
