@@ -162,10 +162,10 @@ TEST(ConformClientCli, UsageErrors) {
     const auto no_command = run_program({MBLAB_BINARY, "conform-client"});
     EXPECT_EQ(no_command.status, 2);
     EXPECT_THAT(no_command.err, HasSubstr("give the client's command after --"));
-    const auto serial =
-        run_program({MBLAB_BINARY, "conform-client", "--listen", "rtu:///dev/null", "--", "true"});
-    EXPECT_EQ(serial.status, 2);
-    EXPECT_THAT(serial.err, HasSubstr("only tcp:// is examined so far"));
+    const auto tls = run_program(
+        {MBLAB_BINARY, "conform-client", "--listen", "mbaps://127.0.0.1:0", "--", "true"});
+    EXPECT_EQ(tls.status, 2);
+    EXPECT_THAT(tls.err, HasSubstr("mbaps:// is not examined yet"));
     const auto regex =
         run_program({MBLAB_BINARY, "conform-client", "--error-pattern", "(", "--", "true"});
     EXPECT_EQ(regex.status, 2);
