@@ -137,19 +137,8 @@ void ExamLine::flush() const {
 }
 
 Suite client_line_suite() {
-    Suite suite{"client-line",
-                "a Modbus serial line client (master) against the examiner",
-                "SER 2.4.1",
-                "",
-                {}};
-    for (const auto& c : client_line_cases()) {
-        Case entry;
-        entry.id = c.id;
-        entry.source = c.source;
-        entry.title = c.title;
-        suite.cases.push_back(entry);
-    }
-    return suite;
+    return client_suite("client-line", "a Modbus serial line client (master) against the examiner",
+                        "SER 2.4.1", client_line_cases());
 }
 
 RunResult run_client_line_exam(ExamLine& line, const ClientExamOptions& options,

@@ -279,9 +279,10 @@ std::string ExamListener::url() const {
     return "tcp://" + (v6 ? "[" + host_ + "]" : host_) + ":" + std::to_string(port_);
 }
 
-Suite client_tcp_suite() {
-    Suite suite{"client-tcp", "a Modbus/TCP client against the examiner", "TCPG 4.4.1.1", "", {}};
-    for (const auto& c : client_tcp_cases()) {
+Suite client_suite(std::string name, std::string title, std::string source,
+                   const std::vector<ClientCase>& cases) {
+    Suite suite{std::move(name), std::move(title), std::move(source), "", {}};
+    for (const auto& c : cases) {
         Case entry;
         entry.id = c.id;
         entry.source = c.source;
@@ -289,6 +290,11 @@ Suite client_tcp_suite() {
         suite.cases.push_back(entry);
     }
     return suite;
+}
+
+Suite client_tcp_suite() {
+    return client_suite("client-tcp", "a Modbus/TCP client against the examiner", "TCPG 4.4.1.1",
+                        client_tcp_cases());
 }
 
 RunResult run_client_exam(ExamListener& listen, const ClientExamOptions& options,

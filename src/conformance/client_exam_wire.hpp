@@ -36,6 +36,10 @@ struct ExamCarrier {
     std::function<std::unique_ptr<ExamWire>(ClientExaminer&)> wire;
 };
 
+// The suite `cases` make, for the reports.
+Suite client_suite(std::string name, std::string title, std::string source,
+                   const std::vector<ClientCase>& cases);
+
 RunResult run_client_cases(const ExamCarrier& carrier, const ClientExamOptions& options,
                            RunListener* listener);
 

@@ -36,6 +36,21 @@ TURNAROUND = 0.1  # Modbus over Serial Line V1.02, 2.4.1: typically 100 to 200 m
 SILENCE = 0.01    # a pty passes bytes at once: a pause this long ends an RTU frame
 
 
+def show(pdu, defect, count):
+    """Prints the answer's values, or the error it is; the exit status."""
+    if pdu[0] == 0x83:
+        if defect == "exception-zero":
+            print(" ".join("0" for _ in range(count)))
+            return 0
+        print("error: exception %02X" % pdu[1])
+        return 1
+    if pdu[0] != 3 or pdu[1] != 2 * count or len(pdu) != 2 + 2 * count:
+        print("error: bad answer " + pdu.hex())
+        return 1
+    print(" ".join(str(v) for v in struct.unpack(">%dH" % count, pdu[2:])))
+    return 0
+
+
 def crc16(data):
     crc = 0xFFFF
     for byte in data:
@@ -96,18 +111,7 @@ def line_client(args, unit, address, count):
                 continue
             print("error: no answer within %.3f s" % args.timeout)
             return 1
-        pdu = frame[1:-2]
-        if pdu[0] == 0x83:
-            if args.defect == "exception-zero":
-                print(" ".join("0" for _ in range(count)))
-                return 0
-            print("error: exception %02X" % pdu[1])
-            return 1
-        if pdu[0] != 3 or pdu[1] != 2 * count or len(pdu) != 2 + 2 * count:
-            print("error: bad answer " + pdu.hex())
-            return 1
-        print(" ".join(str(v) for v in struct.unpack(">%dH" % count, pdu[2:])))
-        return 0
+        return show(frame[1:-2], args.defect, count)
 
 
 class Closed(Exception):
@@ -204,17 +208,7 @@ def main():
                 continue
             print("error: the connection closed")
             return 1
-        if pdu[0] == 0x83:
-            if defect == "exception-zero":
-                print(" ".join("0" for _ in range(count)))
-                return 0
-            print("error: exception %02X" % pdu[1])
-            return 1
-        if pdu[0] != 3 or pdu[1] != 2 * count or len(pdu) != 2 + 2 * count:
-            print("error: bad answer " + pdu.hex())
-            return 1
-        print(" ".join(str(v) for v in struct.unpack(">%dH" % count, pdu[2:])))
-        return 0
+        return show(pdu, defect, count)
 
 
 if __name__ == "__main__":

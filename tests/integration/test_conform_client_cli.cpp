@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "child_process.hpp"
+#include "conform_client_support.hpp"
 #include "support/temp_path.hpp"
 
 // `mblab conform-client` against clients built wrong on purpose (tests/clients/modbus_client.py,
@@ -20,13 +21,8 @@ namespace {
 
 using ::testing::HasSubstr;
 
-const std::string kClient = std::string(MBLAB_SOURCE_DIR) + "/tests/clients/modbus_client.py";
-
-struct Verdicts {
-    int status = -1;
-    std::map<std::string, std::string> by_case;  // id -> PASS, FAIL, N/A
-    std::string console;
-};
+const std::string& kClient = kModbusClient;
+using Verdicts = ClientVerdicts;
 
 // Runs conform-client with the declarations (timeout 300 ms, `retries`) and `client`, its
 // JSON report on standard output.
@@ -41,17 +37,7 @@ Verdicts examine(unsigned retries, std::vector<std::string> client) {
                                      "-",
                                      "--"};
     argv.insert(argv.end(), client.begin(), client.end());
-    const auto ran = run_program(argv, std::chrono::seconds(240));
-    Verdicts verdicts{ran.status, {}, ran.err};
-    const auto report = nlohmann::json::parse(ran.out, nullptr, false);
-    if (report.is_discarded()) {
-        ADD_FAILURE() << "no JSON report: " << ran.out << ran.err;
-        return verdicts;
-    }
-    EXPECT_EQ(report["tool"], "mblab conform-client");
-    for (const auto& c : report["suites"][0]["cases"])
-        verdicts.by_case[c["id"].get<std::string>()] = c["verdict"].get<std::string>();
-    return verdicts;
+    return client_verdicts(argv);
 }
 
 std::vector<std::string> python_client(unsigned retries, const std::string& defect) {
@@ -73,17 +59,7 @@ std::vector<std::string> python_client(unsigned retries, const std::string& defe
 // Every case is PASS but those in `failing` (FAIL) and `na` (N/A).
 void expect_only(const Verdicts& verdicts, const std::vector<std::string>& failing,
                  const std::vector<std::string>& na = {"tcp.11"}) {
-    ASSERT_EQ(verdicts.by_case.size(), 21U) << verdicts.console;
-    for (const auto& [id, verdict] : verdicts.by_case) {
-        const bool fails = std::find(failing.begin(), failing.end(), id) != failing.end();
-        const bool skipped = std::find(na.begin(), na.end(), id) != na.end();
-        EXPECT_EQ(verdict, fails     ? "FAIL"
-                           : skipped ? "N/A"
-                                     : "PASS")
-            << id << "\n"
-            << verdicts.console;
-    }
-    EXPECT_EQ(verdicts.status, failing.empty() ? 0 : 1);
+    expect_verdicts(verdicts, 21U, failing, na);
 }
 
 TEST(ConformClientCli, MblabReadPassesEveryScenarioThatApplies) {

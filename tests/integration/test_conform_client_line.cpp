@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "child_process.hpp"
+#include "conform_client_support.hpp"
 #include "support/temp_path.hpp"
 
 // `mblab conform-client` on a serial line: the examiner makes a pty pair (rtu:///dev/ptmx) and
@@ -21,13 +22,7 @@ namespace {
 
 using ::testing::HasSubstr;
 
-const std::string kClient = std::string(MBLAB_SOURCE_DIR) + "/tests/clients/modbus_client.py";
-
-struct Verdicts {
-    int status = -1;
-    std::map<std::string, std::string> by_case;  // id -> PASS, FAIL, N/A
-    std::string console;
-};
+using Verdicts = ClientVerdicts;
 
 Verdicts examine(const std::string& listen, std::vector<std::string> flags,
                  const std::vector<std::string>& client) {
@@ -36,24 +31,15 @@ Verdicts examine(const std::string& listen, std::vector<std::string> flags,
     argv.insert(argv.end(), flags.begin(), flags.end());
     argv.push_back("--");
     argv.insert(argv.end(), client.begin(), client.end());
-    const auto ran = run_program(argv, std::chrono::seconds(240));
-    Verdicts verdicts{ran.status, {}, ran.err};
-    const auto report = nlohmann::json::parse(ran.out, nullptr, false);
-    if (report.is_discarded()) {
-        ADD_FAILURE() << "no JSON report: " << ran.out << ran.err;
-        return verdicts;
-    }
-    for (const auto& c : report["suites"][0]["cases"])
-        verdicts.by_case[c["id"].get<std::string>()] = c["verdict"].get<std::string>();
-    return verdicts;
+    return client_verdicts(argv);
 }
 
 const std::vector<std::string> kDeclared = {"--client-timeout", "300", "--client-retries", "1"};
 
 std::vector<std::string> rtu_master(const std::string& defect) {
-    std::vector<std::string> argv = {"python3", kClient,     "{url}",   "-",
-                                     "{unit}",  "{address}", "{count}", "--timeout",
-                                     "0.3",     "--retries", "1"};
+    std::vector<std::string> argv = {"python3", kModbusClient, "{url}",   "-",
+                                     "{unit}",  "{address}",   "{count}", "--timeout",
+                                     "0.3",     "--retries",   "1"};
     if (!defect.empty()) argv.insert(argv.end(), {"--defect", defect});
     return argv;
 }
@@ -66,17 +52,7 @@ std::vector<std::string> mblab_read() {
 // Every case is PASS but those in `failing` (FAIL) and `na` (N/A).
 void expect_only(const Verdicts& verdicts, const std::vector<std::string>& failing,
                  const std::vector<std::string>& na = {}) {
-    ASSERT_EQ(verdicts.by_case.size(), 12U) << verdicts.console;
-    for (const auto& [id, verdict] : verdicts.by_case) {
-        const bool fails = std::find(failing.begin(), failing.end(), id) != failing.end();
-        const bool skipped = std::find(na.begin(), na.end(), id) != na.end();
-        EXPECT_EQ(verdict, fails     ? "FAIL"
-                           : skipped ? "N/A"
-                                     : "PASS")
-            << id << "\n"
-            << verdicts.console;
-    }
-    EXPECT_EQ(verdicts.status, failing.empty() ? 0 : 1);
+    expect_verdicts(verdicts, 12U, failing, na);
 }
 
 TEST(ConformClientLine, MblabReadPassesEveryScenarioThatAppliesOverRtuAndAscii) {

@@ -4,7 +4,6 @@
 #include <vector>
 
 #include "conformance/client_examiner.hpp"
-#include "conformance/references.hpp"
 #include "support/hex.hpp"
 
 // The examiner of `mblab conform-client` on a serial line (RTU and ASCII), hex in and hex out on
@@ -63,14 +62,6 @@ struct Line {
 };
 
 using Lines = std::vector<std::string>;
-
-TEST(ClientLineExaminer, EveryScenarioCitesKnownDocuments) {
-    for (const auto& c : client_line_cases()) {
-        EXPECT_FALSE(c.source.empty()) << c.id;
-        for (const auto& cited : citations(c.source))
-            EXPECT_FALSE(cited.url.empty()) << c.id << ": " << cited.text;
-    }
-}
 
 TEST(ClientLineExaminer, AnotherSlavesAnswerComesFirstWithDecoysThenTheRightOne) {
     Line line(ClientScenario::WrongUnit);
