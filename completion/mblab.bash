@@ -50,7 +50,7 @@ _mblab() {
             COMPREPLY=($(compgen -W "$(_mblab_profiles "${words[0]}")" -- "$cur") $(compgen -f -- "$cur"))
             return
             ;;
-        --dut | --junit | --pcap | --html | --state | --devices | --cert | --key | --ca | \
+        --dut | --declare | --junit | --pcap | --html | --state | --devices | --cert | --key | --ca | \
             --replay | --reproducer | --learn | --http-token-file | --output | -o)
             COMPREPLY=($(compgen -f -- "$cur"))
             return

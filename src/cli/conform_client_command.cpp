@@ -13,10 +13,13 @@
 #include "cli/report_files.hpp"
 #include "cli/terminal_style.hpp"
 #include "conformance/capture.hpp"
+#include "conformance/client_declarations_file.hpp"
+#include "conformance/client_exam_line.hpp"
 #include "conformance/client_exam_run.hpp"
 #include "conformance/console_report.hpp"
 #include "conformance/provenance.hpp"
 #include "conformance/reports.hpp"
+#include "transport/serial_url.hpp"
 
 // `mblab conform-client [--listen URL] -- CMD ARGS...`: grades a Modbus client (master) the way
 // conform grades a device, with an examiner device that plays it one scenario per run.
@@ -33,6 +36,8 @@ struct ConformClientOptions {
     int timeout_ms = 0;
     int retries = 0;
     bool pipelining = false;
+    bool broadcast = false;
+    std::string declare;
     int address = 100;
     int count = 2;
     std::string error_pattern;
@@ -67,6 +72,7 @@ std::string declared_text(const conf::ClientDeclarations& declared) {
     text +=
         declared.retries ? fmt::format(", retries {}", *declared.retries) : ", retries undeclared";
     if (declared.pipelining) text += ", pipelining";
+    if (declared.broadcast) text += ", broadcasts";
     text += declared.error_pattern.empty() ? "; errors by exit status"
                                            : "; errors by pattern /" + declared.error_pattern + "/";
     return text;
@@ -81,6 +87,7 @@ std::string client_json(const conf::RunResult& result, const conf::ClientDeclara
                              {"address", declared.address},
                              {"count", declared.count},
                              {"pipelining", declared.pipelining},
+                             {"broadcast", declared.broadcast},
                              {"error_pattern", declared.error_pattern},
                              {"value_pattern", declared.value_pattern}};
     client["timeout_ms"] =
@@ -99,33 +106,65 @@ std::string client_junit(const conf::RunResult& result) {
     return report;
 }
 
+// The file's declarations (--declare), each flag given on the command line put over them.
+std::optional<std::string> declare(const ConformClientOptions& options,
+                                   conf::ClientDeclarations& declared) {
+    if (!options.declare.empty()) {
+        auto from_file = conf::read_client_declarations(options.declare);
+        if (!from_file) return "--declare " + from_file.error();
+        declared = std::move(*from_file);
+    }
+    const auto given = [&](const char* flag) { return options.app->count(flag) > 0; };
+    if (given("--client-unit")) declared.unit = static_cast<std::uint8_t>(options.unit);
+    if (given("--address")) declared.address = static_cast<std::uint16_t>(options.address);
+    if (given("--count")) declared.count = static_cast<std::uint16_t>(options.count);
+    if (given("--client-timeout")) declared.timeout = std::chrono::milliseconds(options.timeout_ms);
+    if (given("--client-retries")) declared.retries = static_cast<unsigned>(options.retries);
+    if (given("--client-pipelining")) declared.pipelining = options.pipelining;
+    if (given("--client-broadcast")) declared.broadcast = options.broadcast;
+    if (given("--error-pattern")) declared.error_pattern = options.error_pattern;
+    if (given("--value-pattern") && !options.value_pattern.empty())
+        declared.value_pattern = options.value_pattern;
+    for (const auto& [option, pattern] : {std::pair{"--error-pattern", declared.error_pattern},
+                                          std::pair{"--value-pattern", declared.value_pattern}}) {
+        if (auto bad = bad_regex(option, pattern)) return bad;
+    }
+    return std::nullopt;
+}
+
+// The examiner where --listen says: a TCP listener or a serial line.
+struct ExamPlace {
+    std::unique_ptr<conf::ExamListener> tcp;
+    std::unique_ptr<conf::ExamLine> line;
+    std::string url() const { return tcp ? tcp->url() : line->url(); }
+};
+
+std::optional<std::string> open_place(const std::string& url, ExamPlace& place) {
+    if (url.starts_with("mbaps")) {
+        return "--listen " + url + ": mbaps:// is not examined yet; use tcp://, rtu:// or ascii://";
+    }
+    if (transport::is_serial_url(url)) {
+        auto line = conf::ExamLine::open(url);
+        if (!line) return line.error();
+        place.line = std::move(*line);
+        return std::nullopt;
+    }
+    auto listener = conf::ExamListener::open(url);
+    if (!listener) return listener.error();
+    place.tcp = std::move(*listener);
+    return std::nullopt;
+}
+
 int run_conform_client(const ConformClientOptions& options) {
     const auto& listen_url = options.listen;
-    if (listen_url.starts_with("rtu") || listen_url.starts_with("ascii") ||
-        listen_url.starts_with("mbaps")) {
-        return usage_error("--listen " + listen_url +
-                           ": only tcp:// is examined so far; serial lines and mbaps:// are not "
-                           "done yet");
-    }
     if (options.command.empty()) return usage_error("give the client's command after --");
     conf::ClientExamOptions exam;
     exam.command = options.command;
     exam.only = options.cases;
     auto& declared = exam.declared;
-    declared.unit = static_cast<std::uint8_t>(options.unit);
-    declared.address = static_cast<std::uint16_t>(options.address);
-    declared.count = static_cast<std::uint16_t>(options.count);
-    if (options.app->count("--client-timeout") > 0)
-        declared.timeout = std::chrono::milliseconds(options.timeout_ms);
-    if (options.app->count("--client-retries") > 0)
-        declared.retries = static_cast<unsigned>(options.retries);
-    declared.pipelining = options.pipelining;
-    declared.error_pattern = options.error_pattern;
-    if (!options.value_pattern.empty()) declared.value_pattern = options.value_pattern;
-    for (const auto& [option, pattern] : {std::pair{"--error-pattern", declared.error_pattern},
-                                          std::pair{"--value-pattern", declared.value_pattern}}) {
-        if (auto bad = bad_regex(option, pattern)) return usage_error(*bad);
-    }
+    if (auto bad = declare(options, declared)) return usage_error(*bad);
+    if (!options.pcap.empty() && transport::is_serial_url(listen_url))
+        return usage_error("--pcap: a serial line is not captured yet");
     ReportFiles files;
     std::string error;
     if (options.pcap == "-") return usage_error("--pcap -: a capture is binary; give it a file");
@@ -137,8 +176,8 @@ int run_conform_client(const ConformClientOptions& options) {
     }
     conf::Capture capture;
     if (!options.pcap.empty()) exam.capture = &capture;
-    auto listener = conf::ExamListener::open(listen_url);
-    if (!listener) return usage_error(listener.error());
+    ExamPlace place;
+    if (auto bad = open_place(listen_url, place)) return usage_error(*bad);
 
     const bool report_out = options.json == "-" || options.junit == "-";
     const int console_fd = report_out ? STDERR_FILENO : STDOUT_FILENO;
@@ -148,12 +187,15 @@ int run_conform_client(const ConformClientOptions& options) {
     std::string shown;
     for (const auto& arg : options.command)
         shown += " " + arg;
-    fmt::print(console_file, "mblab conform-client {} --{}\n", (*listener)->url(), shown);
+    fmt::print(console_file, "mblab conform-client {} --{}\n", place.url(), shown);
+    if (place.line && place.line->client_url() != place.line->url())
+        fmt::print(console_file, "Client's end: {}\n", place.line->client_url());
     fmt::print(console_file, "Client: {}\n", declared_text(declared));
     std::fflush(console_file);
     const auto started = std::chrono::system_clock::now();
-    auto result = conf::run_client_exam(**listener, exam, &console);
-    result.target = (*listener)->url();
+    auto result = place.tcp ? conf::run_client_exam(*place.tcp, exam, &console)
+                            : conf::run_client_line_exam(*place.line, exam, &console);
+    result.target = place.url();
     console.summary(result);
     const std::pair<const std::string*, std::string> reports[] = {
         {&options.json, options.json.empty() ? "" : client_json(result, declared)},
@@ -172,7 +214,7 @@ int run_conform_client(const ConformClientOptions& options) {
         }
         provenance.started = conf::iso8601_utc(started);
         provenance.finished = conf::iso8601_utc(std::chrono::system_clock::now());
-        provenance.declared_by = "flags";
+        provenance.declared_by = options.declare.empty() ? "flags" : options.declare;
         provenance.device.reason = "a client is examined, not a device";
         if (!conf::write_pcap(options.pcap, capture.events(), provenance, error))
             return usage_error(error);
@@ -181,9 +223,10 @@ int run_conform_client(const ConformClientOptions& options) {
 }
 
 constexpr std::string_view kSummary =
-    "Grade a Modbus/TCP client (master): an examiner device plays it one scenario per run of "
-    "CMD (no reply, a late answer, wrong transaction id or unit, malformed answers, exceptions, "
-    "split answers, closed connections, pipelining) and judges its requests and its output. "
+    "Grade a Modbus/TCP or serial line client (master): an examiner device plays it one scenario "
+    "per run of CMD (no reply, a late answer, wrong transaction id, unit or slave address, "
+    "malformed answers, bad CRC or LRC, exceptions, split answers, closed connections, "
+    "pipelining, broadcast) and judges its requests and its output. "
     "Exit status: 0 no scenario failed, 1 a scenario failed, 2 usage error";
 
 constexpr std::string_view kFooter = R"(
@@ -196,9 +239,11 @@ which answer it used.
 Example: mblab conform-client --client-timeout 300ms --client-retries 1 -- mblab read {url}
   holding {address} {count} --unit {unit} --timeout 300 --retries 1 --no-probe
 
-Not done yet: serial lines (rtu://, ascii://, rtu+tcp://), mbaps://, --attach (a client that
-polls by itself), broadcast (scenario 9), certificates (scenario 12) and the HTML report. See
-docs/client-conformance.md.)";
+On a line: --listen rtu:///dev/ptmx?baud=19200 makes a pty pair and gives the client its end
+in {url}; --listen rtu:///dev/ttyUSB0 serves that device (write the client's end in CMD).
+
+Not done yet: rtu+tcp://, mbaps://, --attach (a client that polls by itself), certificates
+(scenario 12), a capture of a line and the HTML report. See docs/client-conformance.md.)";
 
 }  // namespace
 
@@ -210,7 +255,9 @@ void add_conform_client_command(CLI::App& app, CommandRunner& runner,
     options->app = cmd;
     options->invocation = &invocation;
     cmd->add_option("--listen", options->listen,
-                    "where the examiner listens: tcp://HOST:PORT (port 0: a free one)")
+                    "where the examiner listens: tcp://HOST:PORT (port 0: a free one), or the "
+                    "serial line it serves: rtu:///DEV?baud=.. or ascii:///DEV (/dev/ptmx: a new "
+                    "pty pair, the client's end in {url})")
         ->capture_default_str();
     cmd->add_option("--client-unit", options->unit, "the unit id the client is told to ask")
         ->check(CLI::Range(0, 255))
@@ -223,6 +270,12 @@ void add_conform_client_command(CLI::App& app, CommandRunner& runner,
         ->check(CLI::Range(0, 100));
     cmd->add_flag("--client-pipelining", options->pipelining,
                   "the client sends several requests before the answers (scenario 11)");
+    cmd->add_flag("--client-broadcast", options->broadcast,
+                  "the client can send a broadcast on a line (scenario 9; {unit} is then 0)");
+    cmd->add_option("--declare", options->declare,
+                    "read the client's declarations from this TOML file (keys named as the "
+                    "flags: client-unit, client-timeout in ms, ...); flags override it")
+        ->check(CLI::ExistingFile);
     cmd->add_option("--address", options->address, "first holding register the client reads")
         ->check(CLI::Range(0, 65535))
         ->capture_default_str();

@@ -13,9 +13,8 @@
 #include <map>
 #include <optional>
 
-#include "conformance/client_examiner.hpp"
+#include "conformance/client_exam_wire.hpp"
 #include "conformance/client_judge.hpp"
-#include "conformance/client_process.hpp"
 #include "transport/tcp_url.hpp"
 
 namespace mblab::conformance {
@@ -63,7 +62,7 @@ void reset_and_close(int fd) {
 }
 
 // The examiner's connections on sockets: it accepts, reads and performs the examiner's actions.
-class Wire {
+class Wire final : public ExamWire {
   public:
     Wire(ClientExaminer& exam, int listen_fd, Capture* capture)
         : exam_(exam), listen_fd_(listen_fd), capture_(capture) {
@@ -71,19 +70,19 @@ class Wire {
     }
     Wire(const Wire&) = delete;
     Wire& operator=(const Wire&) = delete;
-    ~Wire() {
+    ~Wire() override {
         if (captured_) end_capture(*captured_, true);
         for (const auto& [id, fd] : sockets_)
             ::close(fd);
     }
 
-    void add_polls(std::vector<pollfd>& polls) const {
+    void add_polls(std::vector<pollfd>& polls) const override {
         polls.push_back({listen_fd_, POLLIN, 0});
         for (const auto& [id, fd] : sockets_)
             polls.push_back({fd, POLLIN, 0});
     }
 
-    void on_polled(const std::vector<pollfd>& polls) {
+    void on_polled(const std::vector<pollfd>& polls) override {
         for (const auto& polled : polls) {
             if (polled.revents == 0) continue;
             if (polled.fd == listen_fd_) {
@@ -96,7 +95,7 @@ class Wire {
         forget_closed();
     }
 
-    void perform() {
+    void perform() override {
         for (auto& action : exam_.due(Clock::now())) {
             const auto found = sockets_.find(action.connection);
             if (found == sockets_.end()) continue;
@@ -120,7 +119,7 @@ class Wire {
         }
     }
 
-    std::chrono::milliseconds wait() const {
+    std::chrono::milliseconds wait() const override {
         const auto deadline = exam_.deadline();
         if (deadline == Clock::time_point::max()) return kPollSlice;
         const auto left =
@@ -201,11 +200,10 @@ void drain_backlog(int listen_fd) {
     }
 }
 
-ClientRun run_one(ClientExaminer& exam, ExamListener& listen, const std::vector<std::string>& argv,
-                  const ClientDeclarations& declared, Capture* capture) {
+ClientRun run_one(ExamWire& wire, const std::vector<std::string>& argv,
+                  const ClientDeclarations& declared) {
     ClientRun run;
     run.limit = client_run_limit(declared);
-    drain_backlog(listen.fd());
     auto process = ClientProcess::start(argv);
     if (!process) {
         run.exit_status = 127;
@@ -214,7 +212,6 @@ ClientRun run_one(ClientExaminer& exam, ExamListener& listen, const std::vector<
     }
     auto& client = **process;
     const auto started = Clock::now();
-    Wire wire(exam, listen.fd(), capture);
     while (true) {
         std::vector<pollfd> polls;
         wire.add_polls(polls);
@@ -232,6 +229,7 @@ ClientRun run_one(ClientExaminer& exam, ExamListener& listen, const std::vector<
         }
     }
     run.elapsed = since(started);
+    run.ended = Clock::now();
     run.exit_status = client.exit_status();
     run.output = client.output();
     return run;
@@ -281,9 +279,10 @@ std::string ExamListener::url() const {
     return "tcp://" + (v6 ? "[" + host_ + "]" : host_) + ":" + std::to_string(port_);
 }
 
-Suite client_tcp_suite() {
-    Suite suite{"client-tcp", "a Modbus/TCP client against the examiner", "TCPG 4.4.1.1", "", {}};
-    for (const auto& c : client_tcp_cases()) {
+Suite client_suite(std::string name, std::string title, std::string source,
+                   const std::vector<ClientCase>& cases) {
+    Suite suite{std::move(name), std::move(title), std::move(source), "", {}};
+    for (const auto& c : cases) {
         Case entry;
         entry.id = c.id;
         entry.source = c.source;
@@ -293,33 +292,53 @@ Suite client_tcp_suite() {
     return suite;
 }
 
+Suite client_tcp_suite() {
+    return client_suite("client-tcp", "a Modbus/TCP client against the examiner", "TCPG 4.4.1.1",
+                        client_tcp_cases());
+}
+
 RunResult run_client_exam(ExamListener& listen, const ClientExamOptions& options,
                           RunListener* listener) {
+    const auto& declared = options.declared;
+    ExamCarrier carrier{
+        client_tcp_suite(),
+        &client_tcp_cases(),
+        {listen.host(), std::to_string(listen.port()), listen.url(), std::to_string(declared.unit),
+         std::to_string(declared.address), std::to_string(declared.count)},
+        protocol::Framing::Mbap,
+        [&](ClientExaminer& exam) -> std::unique_ptr<ExamWire> {
+            drain_backlog(listen.fd());
+            return std::make_unique<Wire>(exam, listen.fd(), options.capture);
+        }};
+    return run_client_cases(carrier, options, listener);
+}
+
+RunResult run_client_cases(const ExamCarrier& carrier, const ClientExamOptions& options,
+                           RunListener* listener) {
     RunResult result;
     result.target = options.command.empty() ? "" : options.command.front();
-    const auto suite = client_tcp_suite();
+    const auto& suite = carrier.suite;
     SuiteResult suite_result{suite.name, suite.title, "", {}};
     if (listener) listener->suite_started(suite);
-    const auto& declared = options.declared;
-    const ClientPlaceholders values{listen.host(),
-                                    std::to_string(listen.port()),
-                                    listen.url(),
-                                    std::to_string(declared.unit),
-                                    std::to_string(declared.address),
-                                    std::to_string(declared.count)};
-    std::vector<std::string> argv;
-    for (const auto& arg : options.command)
-        argv.push_back(fill_placeholders(arg, values));
     const auto started = Clock::now();
-    for (const auto& c : client_tcp_cases()) {
+    for (const auto& c : *carrier.cases) {
         if (!chosen(c, options.only)) continue;
         CaseResult case_result{c.id, c.source, c.title, {}, {}, 0, false};
         const auto case_start = Clock::now();
+        auto declared = options.declared;
+        auto values = carrier.values;
+        // SER 2.2: a broadcast goes to address 0.
+        if (c.scenario == ClientScenario::Broadcast) declared.unit = 0;
+        values.unit = std::to_string(declared.unit);
         if (auto na = undeclared(c, declared)) {
             case_result.outcome = *na;
         } else {
-            ClientExaminer exam(c, declared, Clock::now());
-            const auto run = run_one(exam, listen, argv, declared, options.capture);
+            std::vector<std::string> argv;
+            for (const auto& arg : options.command)
+                argv.push_back(fill_placeholders(arg, values));
+            ClientExaminer exam(c, declared, Clock::now(), carrier.framing);
+            const auto wire = carrier.wire(exam);
+            const auto run = run_one(*wire, argv, declared);
             case_result.outcome = judge_client(exam, declared, run);
             case_result.requests = exam.requests().size();
         }

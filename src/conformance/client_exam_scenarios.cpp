@@ -50,7 +50,33 @@ std::vector<ClientCase> make_cases() {
     return cases;
 }
 
+std::vector<ClientCase> make_line_cases() {
+    // SER 2.4.1: the master's response timeout; an answer from another address is discarded and
+    // the timer keeps running; a broadcast is answered by none and followed by a turnaround delay.
+    std::vector<ClientCase> cases = {
+        {"ser.1", "no reply: times out, retries as declared, then an error",
+         "SER 2.4.1 (response time-out)", ClientScenario::NoReply},
+        {"ser.4", "a reply from another slave address is discarded, the timer keeps running",
+         "SER 2.4.1", ClientScenario::WrongUnit},
+        {"ser.5", "an answer with a bad CRC or LRC is rejected and the client recovers",
+         "SER 2.5.1.2; SER 2.5.2.2", ClientScenario::BadCheck},
+    };
+    for (const std::uint8_t code : {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x0A, 0x0B}) {
+        cases.push_back({fmt::format("ser.6.{:02X}", code),
+                         fmt::format("exception {:02X} is an error, never a value", code),
+                         "APP 7; SER 2.4.1", ClientScenario::Exception, code});
+    }
+    cases.push_back({"ser.9", "broadcast: no wait for an answer, a turnaround delay after it",
+                     "SER 2.2; SER 2.4.1", ClientScenario::Broadcast});
+    return cases;
+}
+
 }  // namespace
+
+const std::vector<ClientCase>& client_line_cases() {
+    static const std::vector<ClientCase> cases = make_line_cases();
+    return cases;
+}
 
 const std::vector<ClientCase>& client_tcp_cases() {
     static const std::vector<ClientCase> cases = make_cases();

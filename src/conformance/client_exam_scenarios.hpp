@@ -7,8 +7,8 @@
 #include <vector>
 
 // What `mblab conform-client` examines: the scenarios an examiner device plays to a Modbus/TCP
-// client (master), what the client declares about itself, and the register values the examiner
-// seeds and the decoys it puts in the answers a client must not take.
+// or serial line client (master), what the client declares about itself, and the register values
+// the examiner seeds and the decoys it puts in the answers a client must not take.
 namespace mblab::conformance {
 
 enum class ClientScenario : std::uint8_t {
@@ -26,6 +26,8 @@ enum class ClientScenario : std::uint8_t {
     CloseReset,        // the same with a reset
     ByteCount,         // the byte count and the registers disagree with the quantity asked
     Pipelined,         // several requests outstanding, answered in reverse order
+    BadCheck,          // a line: the first answer's CRC or LRC is wrong (decoys)
+    Broadcast,         // a line: the client asks address 0, which no device answers
 };
 
 struct ClientCase {
@@ -38,6 +40,8 @@ struct ClientCase {
 
 // The Modbus/TCP scenarios, in the order they run.
 const std::vector<ClientCase>& client_tcp_cases();
+// The serial line scenarios (RTU or ASCII alike), in the order they run.
+const std::vector<ClientCase>& client_line_cases();
 
 // What the client's user declares. Undeclared timeout or retries make the scenarios that need
 // them N/A.
@@ -48,6 +52,8 @@ struct ClientDeclarations {
     std::optional<std::chrono::milliseconds> timeout;
     std::optional<unsigned> retries;
     bool pipelining = false;
+    // Whether it can send a broadcast on a line (scenario 9 is N/A when it cannot).
+    bool broadcast = false;
     // How the client signals an error: a non-zero exit status, or (set) its output matching this
     // ECMAScript regular expression.
     std::string error_pattern;

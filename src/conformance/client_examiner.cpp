@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <utility>
 
+#include "protocol/adu.hpp"
 #include "protocol/adu_writer.hpp"
 #include "protocol/function_code.hpp"
 #include "protocol/limits.hpp"
@@ -51,21 +52,17 @@ std::vector<std::uint8_t> register_pdu(const ClientExaminer::Request& request, b
     return pdu;
 }
 
-std::vector<std::uint8_t> mbap(std::uint16_t transaction_id, std::uint8_t unit,
-                               std::span<const std::uint8_t> pdu) {
-    std::vector<std::uint8_t> adu(protocol::limits::kMaxTcpAdu);
-    adu.resize(protocol::write_mbap_adu({transaction_id, 0, 0, unit}, pdu, adu));
-    return adu;
-}
-
 }  // namespace
 
 ClientExaminer::ClientExaminer(ClientCase scenario, ClientDeclarations declared,
-                               Clock::time_point now)
-    : scenario_(std::move(scenario)), declared_(std::move(declared)), started_(now) {}
+                               Clock::time_point now, protocol::Framing framing)
+    : scenario_(std::move(scenario)),
+      declared_(std::move(declared)),
+      started_(now),
+      framing_(framing) {}
 
 std::size_t ClientExaminer::opened(Clock::time_point now) {
-    connections_.push_back(std::make_unique<Connection>());
+    connections_.push_back(std::make_unique<Connection>(framing_));
     connections_.back()->opened_at = now;
     return connections_.size() - 1;
 }
@@ -85,20 +82,41 @@ void ClientExaminer::received(std::size_t connection, std::span<const std::uint8
         std::size_t consumed = 0;
         const auto event = framer.feed(bytes, consumed);
         bytes = bytes.subspan(consumed);
-        if (!event.is_frame()) continue;
-        Request request{now,
-                        connection,
-                        {event.adu.begin(), event.adu.end()},
-                        event.header.transaction_id,
-                        event.header.unit};
-        if (!event.pdu.empty()) request.function = event.pdu.front();
-        if (is_register_read(request.function) && event.pdu.size() >= 5) {
-            request.address = word(event.pdu, 1);
-            request.count = word(event.pdu, 3);
-        }
-        requests_.push_back(request);
-        on_request(request, now);
+        if (event.is_frame()) on_frame(connection, event, now);
     }
+}
+
+void ClientExaminer::quiet(std::size_t connection, Clock::time_point now) {
+    if (connection >= connections_.size()) return;
+    const auto event = connections_[connection]->framer.on_silence();
+    if (event.is_frame()) on_frame(connection, event, now);
+}
+
+void ClientExaminer::on_frame(std::size_t connection, const protocol::FrameEvent& event,
+                              Clock::time_point now) {
+    Request request{now,
+                    connection,
+                    {event.adu.begin(), event.adu.end()},
+                    event.header.transaction_id,
+                    event.header.unit};
+    if (!event.pdu.empty()) request.function = event.pdu.front();
+    if (is_register_read(request.function) && event.pdu.size() >= 5) {
+        request.address = word(event.pdu, 1);
+        request.count = word(event.pdu, 3);
+    }
+    requests_.push_back(request);
+    on_request(request, now);
+}
+
+std::vector<std::uint8_t> ClientExaminer::frame(std::uint16_t transaction_id, std::uint8_t unit,
+                                                std::span<const std::uint8_t> pdu) const {
+    std::vector<std::uint8_t> adu(protocol::limits::kMaxAsciiChars);
+    protocol::AduHeader header;
+    header.framing = framing_;
+    header.unit = unit;
+    header.transaction_id = transaction_id;
+    adu.resize(protocol::write_adu(header, pdu, adu));
+    return adu;
 }
 
 void ClientExaminer::closed(std::size_t connection, Clock::time_point) {
@@ -137,8 +155,8 @@ std::vector<ClientExaminer::Action> ClientExaminer::due(Clock::time_point now) {
 
 std::vector<std::uint8_t> ClientExaminer::register_answer(const Request& request,
                                                           std::uint16_t transaction_id,
-                                                          std::uint8_t unit, bool decoy) {
-    return mbap(transaction_id, unit, register_pdu(request, decoy, request.function));
+                                                          std::uint8_t unit, bool decoy) const {
+    return frame(transaction_id, unit, register_pdu(request, decoy, request.function));
 }
 
 std::vector<std::uint8_t> ClientExaminer::right(const Request& request) const {
@@ -147,7 +165,7 @@ std::vector<std::uint8_t> ClientExaminer::right(const Request& request) const {
         // APP 7: a function the examiner does not serve is 01, a bad quantity 03.
         const std::uint8_t code = is_register_read(request.function) ? 0x03 : 0x01;
         const std::uint8_t pdu[] = {static_cast<std::uint8_t>(request.function | 0x80), code};
-        return mbap(request.transaction_id, request.unit, pdu);
+        return frame(request.transaction_id, request.unit, pdu);
     }
     return register_answer(request, request.transaction_id, request.unit, false);
 }
@@ -168,6 +186,8 @@ void ClientExaminer::schedule(Action action) {
 }
 
 void ClientExaminer::on_request(const Request& request, Clock::time_point now) {
+    // SER 2.2: a broadcast is executed by every slave and answered by none.
+    if (request.unit == 0 && framing_ != protocol::Framing::Mbap) return;
     if (request.unit != declared_.unit) return;  // not the unit the client was told: silence
     const std::size_t index = asked_++;
     const bool first = index == 0;
@@ -175,6 +195,7 @@ void ClientExaminer::on_request(const Request& request, Clock::time_point now) {
         static_cast<std::uint8_t>(declared_.unit == 0xFF ? 0xFE : declared_.unit + 1);
     switch (scenario_.scenario) {
         case ClientScenario::NoReply:
+        case ClientScenario::Broadcast:
             return;
         case ClientScenario::LateReply:
             if (first) {
@@ -215,6 +236,7 @@ void ClientExaminer::on_request(const Request& request, Clock::time_point now) {
         case ClientScenario::Truncated:
         case ClientScenario::ExtraBytes:
         case ClientScenario::ByteCount:
+        case ClientScenario::BadCheck:
             if (first && is_register_read(request.function)) {
                 answer(request, malformed(request), true, now);
             } else {
@@ -224,7 +246,7 @@ void ClientExaminer::on_request(const Request& request, Clock::time_point now) {
         case ClientScenario::Exception: {
             const std::uint8_t pdu[] = {static_cast<std::uint8_t>(request.function | 0x80),
                                         scenario_.exception};
-            answer(request, mbap(request.transaction_id, request.unit, pdu), false, now);
+            answer(request, frame(request.transaction_id, request.unit, pdu), false, now);
             return;
         }
         case ClientScenario::SplitAnswer: {
@@ -290,6 +312,17 @@ std::vector<std::uint8_t> ClientExaminer::malformed(const Request& request) cons
             pdu.push_back(0xDE);
             pdu.push_back(0xAD);
             break;
+        case ClientScenario::BadCheck: {
+            // SER 2.5.1.2, 2.5.2.2: the last check character is off by one, the frame else whole.
+            auto bad = frame(request.transaction_id, request.unit, pdu);
+            if (framing_ == protocol::Framing::Ascii) {
+                auto& digit = bad[bad.size() - 3];  // the LRC's low hex digit, before CR LF
+                digit = digit == '0' ? '1' : '0';
+            } else {
+                bad.back() ^= 1;
+            }
+            return bad;
+        }
         default:
             // ByteCount: a consistent answer for one register fewer (one more when one was asked).
             if (request.count > 1) {
@@ -300,7 +333,7 @@ std::vector<std::uint8_t> ClientExaminer::malformed(const Request& request) cons
             pdu[1] = static_cast<std::uint8_t>(pdu.size() - 2);
             break;
     }
-    return mbap(request.transaction_id, request.unit, pdu);
+    return frame(request.transaction_id, request.unit, pdu);
 }
 
 void ClientExaminer::answer_pipeline(std::size_t connection, Clock::time_point now) {

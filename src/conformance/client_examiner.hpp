@@ -55,12 +55,16 @@ class ClientExaminer {
         bool decoy = false;
     };
 
-    ClientExaminer(ClientCase scenario, ClientDeclarations declared, Clock::time_point now);
+    // `framing`: MBAP for TCP; RTU or ASCII for a line, which is connection 0 opened once.
+    ClientExaminer(ClientCase scenario, ClientDeclarations declared, Clock::time_point now,
+                   protocol::Framing framing = protocol::Framing::Mbap);
 
     // A client connected; the returned number names the connection from now on.
     std::size_t opened(Clock::time_point now);
     void received(std::size_t connection, std::span<const std::uint8_t> bytes,
                   Clock::time_point now);
+    // A line went quiet: RTU ends a frame whose length its layout does not give (t3.5).
+    void quiet(std::size_t connection, Clock::time_point now);
     // The client closed the connection (or it broke): nothing more is sent on it.
     void closed(std::size_t connection, Clock::time_point now);
 
@@ -80,19 +84,22 @@ class ClientExaminer {
 
     // The answer to `request` the examiner would give a well-behaved device's way, with the
     // seeded values (or decoys), under `transaction_id` and `unit`.
-    static std::vector<std::uint8_t> register_answer(const Request& request,
-                                                     std::uint16_t transaction_id,
-                                                     std::uint8_t unit, bool decoy);
+    std::vector<std::uint8_t> register_answer(const Request& request, std::uint16_t transaction_id,
+                                              std::uint8_t unit, bool decoy) const;
 
   private:
     struct Connection {
-        protocol::Framer framer{{.framing = protocol::Framing::Mbap}};
+        explicit Connection(protocol::Framing framing) : framer({.framing = framing}) {}
+        protocol::Framer framer;
         Clock::time_point opened_at = {};
         bool open = true;
         std::vector<std::size_t> outstanding = {};  // Pipelined: requests not yet answered
     };
 
+    void on_frame(std::size_t connection, const protocol::FrameEvent& event, Clock::time_point now);
     void on_request(const Request& request, Clock::time_point now);
+    std::vector<std::uint8_t> frame(std::uint16_t transaction_id, std::uint8_t unit,
+                                    std::span<const std::uint8_t> pdu) const;
     void answer(const Request& request, std::vector<std::uint8_t> bytes, bool decoy,
                 Clock::time_point at);
     void answer_pipeline(std::size_t connection, Clock::time_point now);
@@ -103,6 +110,7 @@ class ClientExaminer {
     ClientCase scenario_;
     ClientDeclarations declared_;
     Clock::time_point started_;
+    protocol::Framing framing_;
     std::vector<std::unique_ptr<Connection>> connections_;
     std::vector<Request> requests_;
     std::vector<Answer> answers_;

@@ -253,6 +253,36 @@ Outcome judge_pipelined(const ClientExaminer& exam, const ClientRun& run, const 
     return pass();
 }
 
+// SER 2.4.1 gives a turnaround delay of typically 100 to 200 ms; its floor is the least a
+// master may leave the slaves to execute a broadcast.
+constexpr auto kTurnaround = 100ms;
+
+Outcome judge_broadcast(const ClientDeclarations& declared, const ClientRun& run,
+                        const Facts& facts) {
+    if (run.stopped) return fail("never ended after a broadcast", run);
+    if (facts.error) return fail("reported an error for a broadcast, which no device answers", run);
+    const auto after =
+        std::chrono::duration_cast<std::chrono::milliseconds>(run.ended - facts.asked.back()->at);
+    if (after >= *declared.timeout) {
+        return fail(fmt::format("ended {} ms after its broadcast, its timeout being {} ms: it "
+                                "waited for an answer",
+                                after.count(), declared.timeout->count()),
+                    run);
+    }
+    const auto& requests = facts.asked;
+    for (std::size_t i = 1; i < requests.size(); ++i) {
+        const auto gap = std::chrono::duration_cast<std::chrono::milliseconds>(requests[i]->at -
+                                                                               requests[i - 1]->at);
+        if (gap < kTurnaround) {
+            return fail(fmt::format("sent its next request {} ms after a broadcast, within the "
+                                    "{} ms turnaround delay",
+                                    gap.count(), kTurnaround.count()),
+                        run);
+        }
+    }
+    return pass(fmt::format("ended {} ms after its broadcast", after.count()));
+}
+
 }  // namespace
 
 std::chrono::milliseconds client_run_limit(const ClientDeclarations& declared) {
@@ -286,6 +316,13 @@ std::optional<Outcome> undeclared(const ClientCase& scenario, const ClientDeclar
             if (!declared.pipelining)
                 return na("the client does not declare pipelining (--client-pipelining)",
                           "pipelining");
+            return std::nullopt;
+        case ClientScenario::Broadcast:
+            if (!declared.broadcast)
+                return na("the client does not declare broadcasts (--client-broadcast)",
+                          "broadcast");
+            if (!declared.timeout)
+                return na("the client's timeout is not declared (--client-timeout)", "timeout");
             return std::nullopt;
         default:
             return std::nullopt;
@@ -325,6 +362,7 @@ Outcome judge_client(const ClientExaminer& exam, const ClientDeclarations& decla
         case ClientScenario::Truncated:
         case ClientScenario::ExtraBytes:
         case ClientScenario::ByteCount:
+        case ClientScenario::BadCheck:
             return judge_rejected(exam, run, facts);
         case ClientScenario::Exception:
             return judge_exception(exam, declared, run, facts);
@@ -333,6 +371,8 @@ Outcome judge_client(const ClientExaminer& exam, const ClientDeclarations& decla
             return judge_close(exam, declared, run, facts);
         case ClientScenario::Pipelined:
             return judge_pipelined(exam, run, facts);
+        case ClientScenario::Broadcast:
+            return judge_broadcast(declared, run, facts);
     }
     return pass();
 }

@@ -16,7 +16,8 @@ struct ClientRun {
     bool stopped = false;  // still running at the scenario's limit: the examiner killed it
     std::string output;    // standard output and standard error, in the order they came
     std::chrono::milliseconds elapsed{0};
-    std::chrono::milliseconds limit{0};  // how long it was given
+    std::chrono::milliseconds limit{0};                // how long it was given
+    std::chrono::steady_clock::time_point ended = {};  // when it was seen to end
 };
 
 // The declarations a scenario needs and does not have: N/A, with the reason and the key.

@@ -10,17 +10,108 @@ as clients in the field do, so the tests can show that the examiner finds exactl
 With --pipeline it sends two requests at once (COUNT registers at ADDRESS, then the COUNT after
 them), pairs the answers with them by transaction id and prints the values in request order.
 
+Given an rtu:///DEVICE?baud=N URL for HOST (PORT is then ignored) it is an RTU master on that
+serial device instead (Modbus over Serial Line V1.02): a frame with a bad CRC or from another
+slave address is discarded and the response timer keeps running (2.4.1), and a request to
+address 0 is a broadcast, answered by none, after which it waits the turnaround delay.
+
 usage: modbus_client.py HOST PORT UNIT ADDRESS COUNT [--timeout S] [--retries N] [--defect D]
                         [--pipeline]
 """
 import argparse
+import os
+import select
 import socket
 import struct
 import sys
+import termios
 import time
+import tty
+import urllib.parse
 
 DEFECTS = ["stale", "ignore-tid", "exception-zero", "no-timeout", "retry-forever", "wrong-unit",
-           "fifo"]
+           "fifo", "wrong-slave", "broadcast-wait"]
+
+TURNAROUND = 0.1  # Modbus over Serial Line V1.02, 2.4.1: typically 100 to 200 ms
+SILENCE = 0.01    # a pty passes bytes at once: a pause this long ends an RTU frame
+
+
+def show(pdu, defect, count):
+    """Prints the answer's values, or the error it is; the exit status."""
+    if pdu[0] == 0x83:
+        if defect == "exception-zero":
+            print(" ".join("0" for _ in range(count)))
+            return 0
+        print("error: exception %02X" % pdu[1])
+        return 1
+    if pdu[0] != 3 or pdu[1] != 2 * count or len(pdu) != 2 + 2 * count:
+        print("error: bad answer " + pdu.hex())
+        return 1
+    print(" ".join(str(v) for v in struct.unpack(">%dH" % count, pdu[2:])))
+    return 0
+
+
+def crc16(data):
+    crc = 0xFFFF
+    for byte in data:
+        crc ^= byte
+        for _ in range(8):
+            crc = (crc >> 1) ^ 0xA001 if crc & 1 else crc >> 1
+    return struct.pack("<H", crc)
+
+
+def open_line(url):
+    parts = urllib.parse.urlparse(url)
+    baud = int(urllib.parse.parse_qs(parts.query).get("baud", ["19200"])[0])
+    fd = os.open(parts.path, os.O_RDWR | os.O_NOCTTY)
+    tty.setraw(fd)
+    attrs = termios.tcgetattr(fd)
+    speed = getattr(termios, "B%d" % baud)
+    attrs[4] = attrs[5] = speed
+    termios.tcsetattr(fd, termios.TCSANOW, attrs)
+    return fd
+
+
+def read_frame(fd, deadline):
+    """The bytes of one frame: from the first byte until the line goes quiet."""
+    data = b""
+    while True:
+        wait = SILENCE if data else (None if deadline is None else deadline - time.monotonic())
+        if wait is not None and wait <= 0:
+            raise socket.timeout()
+        ready, _, _ = select.select([fd], [], [], wait)
+        if not ready:
+            if data:
+                return data
+            raise socket.timeout()
+        data += os.read(fd, 256)
+
+
+def line_client(args, unit, address, count):
+    fd = open_line(args.host)
+    request = struct.pack(">BBHH", unit, 3, address, count)
+    tries = 0
+    while True:
+        tries += 1
+        os.write(fd, request + crc16(request))
+        if unit == 0 and args.defect != "broadcast-wait":
+            time.sleep(TURNAROUND)
+            print("broadcast sent")
+            return 0
+        deadline = None if args.defect == "no-timeout" else time.monotonic() + args.timeout
+        try:
+            while True:
+                frame = read_frame(fd, deadline)
+                if len(frame) < 5 or crc16(frame[:-2]) != frame[-2:]:
+                    continue
+                if frame[0] == unit or args.defect == "wrong-slave":
+                    break
+        except socket.timeout:
+            if args.defect == "retry-forever" or tries <= args.retries:
+                continue
+            print("error: no answer within %.3f s" % args.timeout)
+            return 1
+        return show(frame[1:-2], args.defect, count)
 
 
 class Closed(Exception):
@@ -75,6 +166,8 @@ def main():
     parser.add_argument("--pipeline", action="store_true")
     args = parser.parse_args()
     unit, address, count = int(args.unit), int(args.address), int(args.count)
+    if args.host.startswith("rtu://"):
+        return line_client(args, unit, address, count)
     if args.pipeline:
         return pipelined(args, unit, address, count)
     defect = args.defect
@@ -115,17 +208,7 @@ def main():
                 continue
             print("error: the connection closed")
             return 1
-        if pdu[0] == 0x83:
-            if defect == "exception-zero":
-                print(" ".join("0" for _ in range(count)))
-                return 0
-            print("error: exception %02X" % pdu[1])
-            return 1
-        if pdu[0] != 3 or pdu[1] != 2 * count or len(pdu) != 2 + 2 * count:
-            print("error: bad answer " + pdu.hex())
-            return 1
-        print(" ".join(str(v) for v in struct.unpack(">%dH" % count, pdu[2:])))
-        return 0
+        return show(pdu, defect, count)
 
 
 if __name__ == "__main__":

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "child_process.hpp"
+#include "conform_client_support.hpp"
 #include "support/temp_path.hpp"
 
 // `mblab conform-client` against clients built wrong on purpose (tests/clients/modbus_client.py,
@@ -20,13 +21,8 @@ namespace {
 
 using ::testing::HasSubstr;
 
-const std::string kClient = std::string(MBLAB_SOURCE_DIR) + "/tests/clients/modbus_client.py";
-
-struct Verdicts {
-    int status = -1;
-    std::map<std::string, std::string> by_case;  // id -> PASS, FAIL, N/A
-    std::string console;
-};
+const std::string& kClient = kModbusClient;
+using Verdicts = ClientVerdicts;
 
 // Runs conform-client with the declarations (timeout 300 ms, `retries`) and `client`, its
 // JSON report on standard output.
@@ -41,17 +37,7 @@ Verdicts examine(unsigned retries, std::vector<std::string> client) {
                                      "-",
                                      "--"};
     argv.insert(argv.end(), client.begin(), client.end());
-    const auto ran = run_program(argv, std::chrono::seconds(240));
-    Verdicts verdicts{ran.status, {}, ran.err};
-    const auto report = nlohmann::json::parse(ran.out, nullptr, false);
-    if (report.is_discarded()) {
-        ADD_FAILURE() << "no JSON report: " << ran.out << ran.err;
-        return verdicts;
-    }
-    EXPECT_EQ(report["tool"], "mblab conform-client");
-    for (const auto& c : report["suites"][0]["cases"])
-        verdicts.by_case[c["id"].get<std::string>()] = c["verdict"].get<std::string>();
-    return verdicts;
+    return client_verdicts(argv);
 }
 
 std::vector<std::string> python_client(unsigned retries, const std::string& defect) {
@@ -73,17 +59,7 @@ std::vector<std::string> python_client(unsigned retries, const std::string& defe
 // Every case is PASS but those in `failing` (FAIL) and `na` (N/A).
 void expect_only(const Verdicts& verdicts, const std::vector<std::string>& failing,
                  const std::vector<std::string>& na = {"tcp.11"}) {
-    ASSERT_EQ(verdicts.by_case.size(), 21U) << verdicts.console;
-    for (const auto& [id, verdict] : verdicts.by_case) {
-        const bool fails = std::find(failing.begin(), failing.end(), id) != failing.end();
-        const bool skipped = std::find(na.begin(), na.end(), id) != na.end();
-        EXPECT_EQ(verdict, fails     ? "FAIL"
-                           : skipped ? "N/A"
-                                     : "PASS")
-            << id << "\n"
-            << verdicts.console;
-    }
-    EXPECT_EQ(verdicts.status, failing.empty() ? 0 : 1);
+    expect_verdicts(verdicts, 21U, failing, na);
 }
 
 TEST(ConformClientCli, MblabReadPassesEveryScenarioThatApplies) {
@@ -162,10 +138,10 @@ TEST(ConformClientCli, UsageErrors) {
     const auto no_command = run_program({MBLAB_BINARY, "conform-client"});
     EXPECT_EQ(no_command.status, 2);
     EXPECT_THAT(no_command.err, HasSubstr("give the client's command after --"));
-    const auto serial =
-        run_program({MBLAB_BINARY, "conform-client", "--listen", "rtu:///dev/null", "--", "true"});
-    EXPECT_EQ(serial.status, 2);
-    EXPECT_THAT(serial.err, HasSubstr("only tcp:// is examined so far"));
+    const auto tls = run_program(
+        {MBLAB_BINARY, "conform-client", "--listen", "mbaps://127.0.0.1:0", "--", "true"});
+    EXPECT_EQ(tls.status, 2);
+    EXPECT_THAT(tls.err, HasSubstr("mbaps:// is not examined yet"));
     const auto regex =
         run_program({MBLAB_BINARY, "conform-client", "--error-pattern", "(", "--", "true"});
     EXPECT_EQ(regex.status, 2);

@@ -72,10 +72,12 @@ TEST(ClientExaminer, SeededAndDecoyValuesAreFarApart) {
 }
 
 TEST(ClientExaminer, EveryScenarioCitesKnownDocuments) {
-    for (const auto& c : client_tcp_cases()) {
-        EXPECT_FALSE(c.source.empty()) << c.id;
-        for (const auto& cited : citations(c.source))
-            EXPECT_FALSE(cited.url.empty()) << c.id << ": " << cited.text;
+    for (const auto* cases : {&client_tcp_cases(), &client_line_cases()}) {
+        for (const auto& c : *cases) {
+            EXPECT_FALSE(c.source.empty()) << c.id;
+            for (const auto& cited : citations(c.source))
+                EXPECT_FALSE(cited.url.empty()) << c.id << ": " << cited.text;
+        }
     }
 }
 
