@@ -147,5 +147,42 @@ TEST(SunSpecModels, ErrorsNameTheFileAndThePoint) {
     EXPECT_FALSE(parse_sunspec_model("[1]", "m.json"));
 }
 
+void expect_same_layout(const SunSpecGroup& ours, const SunSpecGroup& official,
+                        const std::string& where) {
+    ASSERT_EQ(ours.points.size(), official.points.size()) << where;
+    for (std::size_t i = 0; i < ours.points.size(); ++i) {
+        const SunSpecPoint& mine = ours.points[i];
+        const SunSpecPoint& theirs = official.points[i];
+        const std::string at = where + "." + theirs.name;
+        EXPECT_EQ(mine.name, theirs.name) << at;
+        EXPECT_EQ(mine.offset, theirs.offset) << at;
+        EXPECT_EQ(mine.type, theirs.type) << at;
+        EXPECT_EQ(mine.size, theirs.size) << at;
+        EXPECT_EQ(mine.sf, theirs.sf) << at;
+        EXPECT_EQ(mine.writable, theirs.writable) << at;
+    }
+    ASSERT_EQ(ours.groups.size(), official.groups.size()) << where;
+    for (std::size_t i = 0; i < ours.groups.size(); ++i) {
+        EXPECT_EQ(ours.groups[i].count_point, official.groups[i].count_point) << where;
+        expect_same_layout(ours.groups[i], official.groups[i], where + "." + ours.groups[i].name);
+    }
+}
+
+// The project's own definitions (sunspec/, written from the public model descriptions) must lay
+// out every point where the official ones do.
+TEST(SunSpecModels, OwnDefinitionsAgreeWithTheOfficialOnes) {
+    REQUIRE_OFFICIAL_MODELS();
+    const auto ours = read_sunspec_models(std::filesystem::path(MBLAB_SOURCE_DIR) / "sunspec");
+    ASSERT_TRUE(ours) << ours.error();
+    EXPECT_TRUE(ours->count(1) == 1 && ours->count(103) == 1);
+    for (const auto& [id, model] : *ours) {
+        const auto official =
+            read_sunspec_model(official_models() / ("model_" + std::to_string(id) + ".json"));
+        ASSERT_TRUE(official) << official.error();
+        EXPECT_EQ(model.fixed_length, official->fixed_length) << "model " << id;
+        expect_same_layout(model.group, official->group, "model " + std::to_string(id));
+    }
+}
+
 }  // namespace
 }  // namespace mblab::device
