@@ -202,6 +202,7 @@ int main(int argc, char** argv) {
     accept_conform_duration_units(app);
     add_serve_command(app, runner);
     add_read_command(app, runner);
+    add_sunspec_command(app, runner);
     add_write_command(app, runner);
     add_diag_command(app, runner);
     add_devid_command(app, runner);

@@ -111,7 +111,9 @@ class ModelDecoder {
             if (found == scales.end()) return;
             reading.scale = found->second;
         }
-        reading.value = reading.scale ? *raw * std::pow(10.0, *reading.scale) : *raw;
+        // Dividing by 10^n for a negative scale factor keeps 2301 * 10^-1 exactly 230.1.
+        const int sf = reading.scale.value_or(0);
+        reading.value = sf < 0 ? *raw / std::pow(10.0, -sf) : *raw * std::pow(10.0, sf);
     }
 
     void note(const std::string& problem) {
