@@ -23,7 +23,7 @@ _mblab() {
         words=("${COMP_WORDS[@]}")
         cword=$COMP_CWORD
     fi
-    local commands="conform conform-client serve read write diag devid raw watch load pki fuzz scan profile"
+    local commands="conform conform-client serve read write diag devid raw watch sunspec load pki fuzz scan profile"
     local command="" i
     for ((i = 1; i < cword; i++)); do
         case " $commands " in *" ${words[i]} "*) command="${words[i]}"; break ;; esac
@@ -55,7 +55,7 @@ _mblab() {
             COMPREPLY=($(compgen -f -- "$cur"))
             return
             ;;
-        --catalogue | --pki | --report-dir)
+        --catalogue | --pki | --report-dir | --sunspec-models)
             COMPREPLY=($(compgen -d -- "$cur"))
             return
             ;;

@@ -57,6 +57,7 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
 // `invocation` must outlive the runner.
 void add_conform_client_command(CLI::App& app, CommandRunner& runner, const Invocation& invocation);
 void add_read_command(CLI::App& app, CommandRunner& runner);
+void add_sunspec_command(CLI::App& app, CommandRunner& runner);
 void add_write_command(CLI::App& app, CommandRunner& runner);
 void add_diag_command(CLI::App& app, CommandRunner& runner);
 void add_devid_command(CLI::App& app, CommandRunner& runner);

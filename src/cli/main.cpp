@@ -212,6 +212,7 @@ int main(int argc, char** argv) {
     add_fuzz_command(app, runner, invocation);
     add_profile_command(app, runner);
     add_scan_command(app, runner, invocation);
+    add_sunspec_command(app, runner);
     app.footer(
         "Run 'mblab help COMMAND' (or 'mblab COMMAND --help') for a command's options, an example "
         "and its exit statuses.");

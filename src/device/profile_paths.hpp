@@ -15,6 +15,12 @@ inline std::filesystem::path profiles_dir() {
     return shipped_dir("MBLAB_PROFILES_DIR", "profiles");
 }
 
+// The SunSpec model definitions: the official set a user points at with MBLAB_SUNSPEC_MODELS
+// (or --sunspec-models), else the project's own definitions of the models it serves.
+inline std::filesystem::path sunspec_models_dir() {
+    return shipped_dir("MBLAB_SUNSPEC_MODELS", "sunspec");
+}
+
 inline std::filesystem::path default_profile_path() {
     return profiles_dir() / "reference.toml";
 }

@@ -13,7 +13,7 @@ errors=$(mktemp)
 trap 'rm -f "$errors"' EXIT
 text=$(MANWIDTH=100 man --warnings -l "$page" 2>"$errors")
 [ ! -s "$errors" ] || fail "man -l warns: $(cat "$errors")"
-for command in conform conform-client serve load read write diag devid raw watch pki fuzz scan "profile import-csv"; do
+for command in conform conform-client serve load read write diag devid raw watch sunspec pki fuzz scan "profile import-csv"; do
     upper=$(tr a-z A-Z <<<"${command%% *}")
     grep -q "^MBLAB $upper\$" <<<"$text" || fail "no section MBLAB $upper"
     # shellcheck disable=SC2086 # "profile import-csv" is a command and its subcommand

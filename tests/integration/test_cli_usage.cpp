@@ -24,12 +24,12 @@ TEST(CliUsage, AnUnknownCommandListsTheCommands) {
     expect_failed(
         ran, 2,
         "mblab: unknown command 'frobnicate' (commands: conform, conform-client, serve, read, "
-        "write, diag, devid, raw, watch, load, pki, fuzz, profile, scan)\n");
+        "write, diag, devid, raw, watch, load, pki, fuzz, profile, scan, sunspec)\n");
     auto none = run_mblab({});
     expect_failed(none, 2,
                   "mblab: a command is required: conform, conform-client, serve, read, write, "
-                  "diag, devid, raw, watch, load, pki, fuzz, profile, scan (run 'mblab --help' "
-                  "for usage)\n");
+                  "diag, devid, raw, watch, load, pki, fuzz, profile, scan, sunspec (run 'mblab "
+                  "--help' for usage)\n");
 }
 
 }  // namespace

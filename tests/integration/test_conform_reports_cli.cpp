@@ -193,7 +193,7 @@ TEST(ConformReportsCli, AnUnknownProfileNameListsTheShippedOnes) {
     expect_failed(ran, 2,
                   "mblab conform: --profile: no profile file or shipped profile named "
                   "'no-such-profile' (shipped: access-ranges, moving, multi-unit, "
-                  "reference, rs485-instrument)\n");
+                  "reference, rs485-instrument, sunspec-inverter)\n");
     EXPECT_EQ(ran.out, "");
 }
 

@@ -1,0 +1,173 @@
+#include "device/sunspec_model.hpp"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <utility>
+
+namespace mblab::device {
+namespace {
+
+struct TypeInfo {
+    SunSpecType type;
+    std::string_view name;
+    std::uint16_t size;
+};
+
+constexpr std::array<TypeInfo, 23> kTypes{{
+    {SunSpecType::Int16, "int16", 1},           {SunSpecType::Int32, "int32", 2},
+    {SunSpecType::Int64, "int64", 4},           {SunSpecType::Uint16, "uint16", 1},
+    {SunSpecType::Uint32, "uint32", 2},         {SunSpecType::Uint64, "uint64", 4},
+    {SunSpecType::Acc16, "acc16", 1},           {SunSpecType::Acc32, "acc32", 2},
+    {SunSpecType::Acc64, "acc64", 4},           {SunSpecType::Bitfield16, "bitfield16", 1},
+    {SunSpecType::Bitfield32, "bitfield32", 2}, {SunSpecType::Bitfield64, "bitfield64", 4},
+    {SunSpecType::Enum16, "enum16", 1},         {SunSpecType::Enum32, "enum32", 2},
+    {SunSpecType::Float32, "float32", 2},       {SunSpecType::Float64, "float64", 4},
+    {SunSpecType::String, "string", 0},         {SunSpecType::Pad, "pad", 1},
+    {SunSpecType::Ipaddr, "ipaddr", 2},         {SunSpecType::Ipv6addr, "ipv6addr", 8},
+    {SunSpecType::Eui48, "eui48", 4},           {SunSpecType::Sunssf, "sunssf", 1},
+    {SunSpecType::Count, "count", 1},
+}};
+
+std::uint64_t joined(std::span<const std::uint16_t> words) {
+    std::uint64_t raw = 0;
+    for (std::uint16_t word : words)
+        raw = (raw << 16) | word;
+    return raw;
+}
+
+// The "not implemented" value of a numeric type, in its width (Information Model Specification,
+// "Point types"); accumulators use 0, strings and addresses all zero bits.
+std::uint64_t not_implemented_raw(SunSpecType type) {
+    switch (type) {
+        case SunSpecType::Int16:
+        case SunSpecType::Sunssf:
+        case SunSpecType::Pad:
+            return 0x8000;
+        case SunSpecType::Int32:
+            return 0x80000000;
+        case SunSpecType::Int64:
+            return 0x8000000000000000;
+        case SunSpecType::Uint16:
+        case SunSpecType::Bitfield16:
+        case SunSpecType::Enum16:
+        case SunSpecType::Count:
+            return 0xFFFF;
+        case SunSpecType::Uint32:
+        case SunSpecType::Bitfield32:
+        case SunSpecType::Enum32:
+            return 0xFFFFFFFF;
+        case SunSpecType::Uint64:
+        case SunSpecType::Bitfield64:
+            return 0xFFFFFFFFFFFFFFFF;
+        case SunSpecType::Float32:
+            return 0x7FC00000;
+        case SunSpecType::Float64:
+            return 0x7FF8000000000000;
+        case SunSpecType::Eui48:
+            return 0xFFFFFFFFFFFF;
+        default:
+            return 0;
+    }
+}
+
+std::uint32_t group_length(const SunSpecGroup& group,
+                           const std::map<std::string, std::uint32_t>& counts) {
+    std::uint32_t length = 0;
+    for (const SunSpecPoint& point : group.points)
+        length += point.size;
+    for (const SunSpecGroup& child : group.groups) {
+        std::uint32_t times = child.fixed_count;
+        if (!child.count_point.empty() || child.fixed_count == 0) {
+            const auto found =
+                counts.find(child.count_point.empty() ? child.name : child.count_point);
+            times = found == counts.end() ? 0 : found->second;
+        }
+        length += times * group_length(child, counts);
+    }
+    return length;
+}
+
+}  // namespace
+
+std::optional<SunSpecType> sunspec_type_named(std::string_view name) {
+    for (const TypeInfo& info : kTypes) {
+        if (info.name == name) return info.type;
+    }
+    return std::nullopt;
+}
+
+std::string_view sunspec_type_name(SunSpecType type) {
+    return kTypes[static_cast<std::size_t>(type)].name;
+}
+
+std::uint16_t sunspec_type_size(SunSpecType type) {
+    return kTypes[static_cast<std::size_t>(type)].size;
+}
+
+const SunSpecPoint* SunSpecGroup::point(std::string_view point_name) const {
+    for (const SunSpecPoint& candidate : points) {
+        if (candidate.name == point_name) return &candidate;
+    }
+    return nullptr;
+}
+
+std::uint32_t SunSpecModel::length_with(const std::map<std::string, std::uint32_t>& counts) const {
+    // ID and L precede what L counts.
+    return group_length(group, counts) - 2;
+}
+
+std::vector<std::uint16_t> not_implemented_words(const SunSpecPoint& point) {
+    std::vector<std::uint16_t> words(point.size, 0);
+    const std::uint64_t raw = not_implemented_raw(point.type);
+    for (std::size_t i = 0; i < words.size() && i < 4; ++i) {
+        words[words.size() - 1 - i] = static_cast<std::uint16_t>(raw >> (16 * i));
+    }
+    return words;
+}
+
+bool is_not_implemented(const SunSpecPoint& point, std::span<const std::uint16_t> words) {
+    const std::vector<std::uint16_t> expected = not_implemented_words(point);
+    return words.size() == expected.size() &&
+           std::equal(words.begin(), words.end(), expected.begin());
+}
+
+std::optional<double> sunspec_raw_value(SunSpecType type, std::span<const std::uint16_t> words) {
+    const std::uint64_t raw = joined(words);
+    switch (type) {
+        case SunSpecType::Int16:
+        case SunSpecType::Sunssf:
+            return static_cast<std::int16_t>(raw);
+        case SunSpecType::Int32:
+            return static_cast<std::int32_t>(raw);
+        case SunSpecType::Int64:
+            return static_cast<double>(static_cast<std::int64_t>(raw));
+        case SunSpecType::Float32:
+            return std::bit_cast<float>(static_cast<std::uint32_t>(raw));
+        case SunSpecType::Float64:
+            return std::bit_cast<double>(raw);
+        case SunSpecType::String:
+        case SunSpecType::Pad:
+        case SunSpecType::Ipaddr:
+        case SunSpecType::Ipv6addr:
+        case SunSpecType::Eui48:
+            return std::nullopt;
+        default:
+            return static_cast<double>(raw);
+    }
+}
+
+std::string sunspec_string(std::span<const std::uint16_t> words) {
+    std::string text;
+    for (std::uint16_t word : words) {
+        for (int shift : {8, 0}) {
+            const char c = static_cast<char>((word >> shift) & 0xFF);
+            if (c == '\0') return text;
+            text.push_back(c);
+        }
+    }
+    return text;
+}
+
+}  // namespace mblab::device

@@ -1,0 +1,88 @@
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "test_client_support.hpp"
+
+// `mblab sunspec` against the shipped sunspec-inverter profile served in-process.
+namespace mblab::test {
+namespace {
+
+class SunspecCli : public ClientCliTest {
+  protected:
+    void SetUp() override {
+        auto loaded = device::load_profile(device::profiles_dir() / "sunspec-inverter.toml");
+        ASSERT_TRUE(loaded) << loaded.error();
+        device_ = std::move(loaded.value());
+        start_server(*device_);
+    }
+};
+
+TEST_F(SunspecCli, PrintsEachModelAndPointScaled) {
+    auto ran = mblab("sunspec", {});
+    ASSERT_EQ(ran.status, 0) << ran.err;
+    EXPECT_EQ(ran.out.rfind("SunSpec marker at 40000, 2 models, end model at 40122\n\n"
+                            "model 1 common (Common) at 40002, length 66\n"
+                            "  40002  ID                       1\n"
+                            "  40003  L                        66\n"
+                            "  40004  Mn                       \"mblab\"\n",
+                            0),
+              0U)
+        << ran.out;
+    for (const char* line : {"  40036  Opt                      (not implemented)\n",
+                             "model 103 inverter (Inverter (Three Phase)) at 40070, length 50\n",
+                             "  40072  A                        12.34 A\n",
+                             "  40080  PhVphA                   230.1 V\n",
+                             "  40094  WH                       1000000 Wh\n",
+                             "  40108  St                       4 (MPPT)\n",
+                             "  40090  VAr                      (not implemented)\n"}) {
+        EXPECT_NE(ran.out.find(line), std::string::npos) << line << ran.out;
+    }
+}
+
+TEST_F(SunspecCli, JsonHasEveryPoint) {
+    auto ran = mblab("sunspec", {"--json"});
+    ASSERT_EQ(ran.status, 0) << ran.err;
+    const auto document = nlohmann::json::parse(ran.out);
+    const auto& sunspec = document["sunspec"];
+    EXPECT_EQ(sunspec["base"], 40000);
+    ASSERT_EQ(sunspec["models"].size(), 2U);
+    const auto& inverter = sunspec["models"][1];
+    EXPECT_EQ(inverter["id"], 103);
+    EXPECT_EQ(inverter["points"].size(), 45U);
+    const auto& hz = inverter["points"][16];
+    EXPECT_EQ(hz["name"], "Hz");
+    EXPECT_EQ(hz["value"], 50.0);
+    EXPECT_EQ(hz["scale"], -2);
+    EXPECT_EQ(hz["units"], "Hz");
+    EXPECT_EQ(hz["raw"], "0x1388");
+}
+
+// The official set, when it is beside the source tree, decodes the device the same way.
+TEST_F(SunspecCli, ReadsWithTheOfficialModels) {
+    const auto official =
+        std::filesystem::path(MBLAB_SOURCE_DIR) / ".." / "shared" / "sunspec-models" / "json";
+    if (!std::filesystem::is_directory(official)) {
+        GTEST_SKIP() << "the official SunSpec models are not at " << official;
+    }
+    auto ran = mblab("sunspec", {"--sunspec-models", official.string()});
+    ASSERT_EQ(ran.status, 0) << ran.err;
+    EXPECT_NE(ran.out.find("  40072  A                        12.34 A\n"), std::string::npos)
+        << ran.out;
+    EXPECT_NE(ran.out.find("  40108  St                       4 (MPPT)\n"), std::string::npos);
+}
+
+TEST_F(SunspecCli, NoMarkerIsAFailure) {
+    // The reference device has no marker anywhere; the server goes before its device.
+    server_.reset();
+    auto reference = device::load_profile(device::default_profile_path());
+    ASSERT_TRUE(reference) << reference.error();
+    device_ = std::move(reference.value());
+    start_server(*device_);
+    auto ran = mblab("sunspec", {});
+    EXPECT_EQ(ran.status, 1);
+    EXPECT_EQ(ran.err,
+              "mblab sunspec: no SunSpec marker (\"SunS\", 0x5375 0x6E53) at 40000, 0, 50000\n");
+}
+
+}  // namespace
+}  // namespace mblab::test
