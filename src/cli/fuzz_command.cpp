@@ -35,6 +35,7 @@
 #include "robustness/fuzz_run.hpp"
 #include "robustness/iec62443_report.hpp"
 #include "robustness/learn.hpp"
+#include "robustness/monitor_junit.hpp"
 #include "robustness/pcap_reader.hpp"
 #include "robustness/probe_finding.hpp"
 #include "robustness/recon.hpp"
@@ -324,6 +325,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
         outputs.monitor_text = (*monitor)->text(judged);
         outputs.monitor = (*monitor)->json(judged);
         outputs.monitor_html = (*monitor)->html(result, judged);
+        outputs.monitor_junit = rb::monitor_junit_suite(judged);
         outputs.monitor_passed = judged.verdict == rb::MonitorVerdict::Pass;
     }
     return write_fuzz_outputs(result, *target, outputs, report_dir, capture,
