@@ -1,0 +1,26 @@
+# Shared by the test_robustness_monitor_*.sh interop tests; sourced, not run (after
+# conform_interop.sh, which starts the peer).
+# fuzz_monitored ARGS...: mblab fuzz against the peer with the essential-function monitor on
+# holding register 50, every 100 ms within 50 ms; the console in $WORK/fuzz.out, the JUnit report
+# in $WORK/fuzz.xml, the exit status in FUZZ_STATUS.
+fuzz_monitored() {
+    FUZZ_STATUS=0
+    "$MBLAB" fuzz "tcp://127.0.0.1:$PEER_PORT" --writable 0:10 \
+        --monitor register=50,period=100,budget=50 --report-dir "$WORK/report" \
+        --junit "$WORK/fuzz.xml" "$@" > "$WORK/fuzz.out" 2>&1 || FUZZ_STATUS=$?
+}
+
+fail() {
+    echo "FAIL: $1" >&2
+    cat "$WORK/fuzz.out" >&2
+    exit 1
+}
+
+expect_out() {
+    grep -qF -- "$1" "$WORK/fuzz.out" || fail "expected the line: $1"
+}
+
+# missed_in PHASE: the cycles the monitor missed in that phase, from its console line.
+missed_in() {
+    sed -n "s/^  $1 *[0-9]* cycles, *\([0-9]*\) missed.*/\1/p" "$WORK/fuzz.out"
+}
