@@ -24,3 +24,17 @@ expect_out() {
 missed_in() {
     sed -n "s/^  $1 *[0-9]* cycles, *\([0-9]*\) missed.*/\1/p" "$WORK/fuzz.out"
 }
+
+# expect_lost_under_malformed VERDICT_TEXT: exit status 1, the verdict line beginning so, the
+# monitor held through the baseline and missed cycles during the malformed input, and the JUnit
+# report's monitor suite failing that phase and the verdict.
+expect_lost_under_malformed() {
+    [ "$FUZZ_STATUS" = 1 ] || fail "exit status $FUZZ_STATUS, not 1"
+    expect_out "MONITOR VERDICT: $1"
+    [ "$(missed_in baseline)" = 0 ] || fail "the monitor missed cycles in the baseline"
+    [ "$(missed_in 'malformed input')" -gt 0 ] || fail "the monitor missed nothing meanwhile"
+    grep -q '<testcase classname="monitor" name="malformed input" time="[0-9.]*">$' \
+        "$WORK/fuzz.xml" || fail "the JUnit report does not fail the malformed-input phase"
+    grep -qF "<failure message=\"$1" "$WORK/fuzz.xml" ||
+        fail "the JUnit report does not fail the monitor's verdict"
+}
