@@ -35,7 +35,6 @@
 #include "robustness/fuzz_run.hpp"
 #include "robustness/iec62443_report.hpp"
 #include "robustness/learn.hpp"
-#include "robustness/monitor_junit.hpp"
 #include "robustness/pcap_reader.hpp"
 #include "robustness/probe_finding.hpp"
 #include "robustness/recon.hpp"
