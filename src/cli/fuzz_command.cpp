@@ -324,6 +324,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
         outputs.monitor_text = (*monitor)->text(judged);
         outputs.monitor = (*monitor)->json(judged);
         outputs.monitor_html = (*monitor)->html(result, judged);
+        outputs.monitor_junit = rb::monitor_junit_suite(judged);
         outputs.monitor_passed = judged.verdict == rb::MonitorVerdict::Pass;
     }
     return write_fuzz_outputs(result, *target, outputs, report_dir, capture,

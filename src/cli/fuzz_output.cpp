@@ -130,7 +130,11 @@ int write_fuzz_outputs(const rb::FuzzResult& result, const client::Target& targe
         fmt::print(outputs.console, "report directory: {}\n", dir.made());
     }
     if (!outputs.junit.empty() &&
-        !ReportFiles::write(outputs.junit, rb::junit_report(result, provenance), failed))
+        !ReportFiles::write(
+            outputs.junit,
+            rb::junit_report(result, provenance,
+                             outputs.monitor_junit ? &*outputs.monitor_junit : nullptr),
+            failed))
         return write_failed(failed);
     if (!outputs.pcap.empty() &&
         !conf::write_capture(outputs.pcap, capture.events(), framing, provenance, failed))

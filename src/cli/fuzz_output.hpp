@@ -10,6 +10,7 @@
 #include "conformance/capture.hpp"
 #include "conformance/provenance.hpp"
 #include "robustness/fuzz_run.hpp"
+#include "robustness/monitor_junit.hpp"
 
 // What `mblab fuzz` leaves behind once a run is over: the summary on the console, each finding's
 // reproducer (hex lines and a pcapng of its frames) in the report directory, the JSON and JUnit
@@ -45,6 +46,7 @@ struct FuzzOutputs {
     std::string monitor_text = {};
     std::optional<nlohmann::json> monitor = {};
     std::string monitor_html = {};  // written to the report directory as monitor.html
+    std::optional<robustness::JunitSuite> monitor_junit = {};  // a second suite in --junit
     bool monitor_passed = true;
 };
 

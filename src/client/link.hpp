@@ -48,6 +48,9 @@ class Link {
     // device is left holding a half-open connection. False (the link unchanged) where the system
     // does not allow it.
     virtual bool vanish() { return false; }
+    // The TCP socket under the link, for asking the kernel about the connection (when data last
+    // arrived); -1 where there is none (a serial line, a closed link).
+    virtual int tcp_descriptor() const { return -1; }
     // The TLS session of an mbaps:// link once it is up; nullptr for other links.
     virtual const security::TlsPeer* tls_peer() const { return nullptr; }
 };

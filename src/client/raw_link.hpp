@@ -84,6 +84,7 @@ class RawLink {
     // Closes the socket in TCP repair mode, so no FIN or reset leaves: the peer keeps a half-open
     // connection. Needs CAP_NET_ADMIN; false, and the link still open, without it.
     bool vanish();
+    int descriptor() const { return fd_; }
     // Whether vanish() is allowed here (the capability, asked of a socket of our own).
     static bool can_vanish();
 

@@ -31,6 +31,7 @@ class TcpLink final : public Link {
         return raw_.send_for(bytes, timeout, error);
     }
     bool vanish() override { return raw_.vanish(); }
+    int tcp_descriptor() const override { return raw_.descriptor(); }
     Received next_frame(std::chrono::milliseconds timeout) override {
         return raw_.next_frame(timeout);
     }

@@ -242,7 +242,8 @@ std::string json_report(const FuzzResult& result, const conformance::Provenance&
     return document.dump(2) + "\n";
 }
 
-std::string junit_report(const FuzzResult& result, const conformance::Provenance& provenance) {
+std::string junit_report(const FuzzResult& result, const conformance::Provenance& provenance,
+                         const JunitSuite* suite) {
     using conformance::xml_escape;
     std::size_t skipped = 0;
     std::size_t failures = 0;
@@ -256,7 +257,8 @@ std::string junit_report(const FuzzResult& result, const conformance::Provenance
     out += fmt::format(
         "<testsuites name=\"mblab fuzz {}\" tests=\"{}\" failures=\"{}\" "
         "time=\"{:.3f}\">\n",
-        xml_escape(result.target), kBadInputCount, failures, seconds);
+        xml_escape(result.target), kBadInputCount + (suite ? suite->tests : 0),
+        failures + (suite ? suite->failures : 0), seconds);
     out += fmt::format(
         "  <testsuite name=\"robustness\" tests=\"{}\" failures=\"{}\" errors=\"0\" "
         "skipped=\"{}\" time=\"{:.3f}\">\n",
@@ -290,7 +292,9 @@ std::string junit_report(const FuzzResult& result, const conformance::Provenance
         }
         out += "</testcase>\n";
     }
-    out += "  </testsuite>\n</testsuites>\n";
+    out += "  </testsuite>\n";
+    if (suite != nullptr) out += suite->xml;
+    out += "</testsuites>\n";
     return out;
 }
 

@@ -32,10 +32,11 @@ void MonitorCore::miss(std::string why) {
 }
 
 std::vector<std::uint8_t> MonitorCore::poll(Clock::time_point now) {
-    if (waiting_ != Waiting::Nothing && now >= cycles_.back().started + spec_.budget)
+    if (waiting_ != Waiting::Nothing && !pending_read_ && now >= deadline())
         miss(fmt::format("no answer within {} ms", spec_.budget.count()));
     if (pending_read_) {
         pending_read_ = false;
+        sent_ = now;
         return request(words(0x03, spec_.address, 1));
     }
     if (waiting_ != Waiting::Nothing || now < next_start_) return {};
@@ -44,6 +45,8 @@ std::vector<std::uint8_t> MonitorCore::poll(Clock::time_point now) {
     while (next_start_ <= now)
         next_start_ += spec_.period;
     input_.clear();
+    sent_ = now;
+    device_ = std::chrono::microseconds(0);
     // A value that changes every cycle, never 0: a register stuck at its reset value is caught.
     value_ = static_cast<std::uint16_t>((cycles_.size() - 1) % 0xFFFF + 1);
     if (spec_.read_only) {
@@ -70,6 +73,9 @@ void MonitorCore::received(std::span<const std::uint8_t> bytes, Clock::time_poin
 
 void MonitorCore::answer(std::span<const std::uint8_t> pdu, Clock::time_point now) {
     const auto expected = words(0x06, spec_.address, value_);
+    // An arrival the kernel dated before the send (clocks read apart) counts as none.
+    device_ += std::max(std::chrono::microseconds(0),
+                        std::chrono::duration_cast<std::chrono::microseconds>(now - sent_));
     if (waiting_ == Waiting::Write) {
         if (!std::equal(pdu.begin(), pdu.end(), expected.begin(), expected.end())) {
             miss(pdu.size() >= 2 && pdu[0] == 0x86
@@ -93,9 +99,14 @@ void MonitorCore::answer(std::span<const std::uint8_t> pdu, Clock::time_point no
         miss(fmt::format("read {} after writing {}", read, value_));
         return;
     }
+    // Read after the budget (the owner drains the connection before it calls poll()): late.
+    if (device_ > spec_.budget) {
+        miss(fmt::format("answered in {:.1f} ms, over the {} ms budget", device_.count() / 1000.0,
+                         spec_.budget.count()));
+        return;
+    }
     waiting_ = Waiting::Nothing;
-    cycles_.back().latency =
-        std::chrono::duration_cast<std::chrono::microseconds>(now - cycles_.back().started);
+    cycles_.back().latency = device_;
 }
 
 void MonitorCore::connection_lost(Clock::time_point now) {
@@ -106,7 +117,7 @@ void MonitorCore::connection_lost(Clock::time_point now) {
 
 Clock::time_point MonitorCore::deadline() const {
     if (pending_read_) return cycles_.back().started;
-    if (waiting_ != Waiting::Nothing) return cycles_.back().started + spec_.budget;
+    if (waiting_ != Waiting::Nothing) return sent_ + (spec_.budget - device_);
     return next_start_;
 }
 

@@ -31,7 +31,9 @@ struct MonitorSpec {
 
 struct MonitorCycle {
     Clock::time_point started{};
-    std::optional<std::chrono::microseconds> latency;  // when it held
+    // When it held: the device's time, from each request's send to its answer (the tester's own
+    // time between the write's echo and the read-back's send is not the device's).
+    std::optional<std::chrono::microseconds> latency;
     std::string missed;  // why it did not: "no answer within 50 ms", "read 7 after writing 8"
     bool held() const { return latency.has_value(); }
     // Neither held nor missed yet: the cycle under way when the monitor stopped.
@@ -45,7 +47,8 @@ class MonitorCore {
     // Moves time on: a cycle whose budget has passed is missed, and a new one starts on its
     // period. The bytes to send now (a request), or none.
     std::vector<std::uint8_t> poll(Clock::time_point now);
-    // Bytes the connection read at `now`.
+    // Bytes the connection read, arrived at `now` (the kernel's arrival time where the owner knows
+    // it: a tester starved of CPU must not blame the device for answers it read late).
     void received(std::span<const std::uint8_t> bytes, Clock::time_point now);
     // The connection closed or broke: the cycle under way is missed; the owner opens another.
     void connection_lost(Clock::time_point now);
@@ -66,7 +69,9 @@ class MonitorCore {
     Waiting waiting_ = Waiting::Nothing;
     bool pending_read_ = false;  // the write was echoed: the read-back is poll()'s to send
     std::uint16_t transaction_ = 0;
-    std::uint16_t value_ = 0;  // written this cycle
+    std::uint16_t value_ = 0;              // written this cycle
+    Clock::time_point sent_{};             // the request under way went out
+    std::chrono::microseconds device_{0};  // the device's time so far this cycle
     std::vector<std::uint8_t> input_;
     std::vector<MonitorCycle> cycles_;
 };

@@ -34,7 +34,9 @@ std::vector<std::string> missed_reasons(const nlohmann::json& report) {
 TEST_F(FuzzFragile, AStallUnderAStormThatPassesIsDegraded) {
     start("storm-degrades");
     const auto json = (dir_ / "fuzz.json").string();
-    auto ran = fuzz(monitored(json));
+    auto args = monitored(json);
+    args.insert(args.end(), {"--junit", (dir_ / "fuzz.xml").string()});
+    auto ran = fuzz(args);
     EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
     EXPECT_THAT(ran.out, HasSubstr("no finding"));
     EXPECT_THAT(ran.out, HasSubstr("MONITOR VERDICT: DEGRADED: the monitor was lost for "));
@@ -45,6 +47,14 @@ TEST_F(FuzzFragile, AStallUnderAStormThatPassesIsDegraded) {
     EXPECT_EQ(report["monitor"]["phases"][0]["phase"], "baseline");
     EXPECT_TRUE(report["monitor"]["phases"][0]["held"]);
     EXPECT_TRUE(report["monitor"]["phases"][2]["held"]);
+    // CI reads the monitor as it reads findings: the phase that lost it and the verdict fail.
+    const auto junit = file_text(dir_ / "fuzz.xml");
+    EXPECT_THAT(junit, HasSubstr("<testsuite name=\"essential-function monitor\" tests=\"4\" "
+                                 "failures=\"2\""));
+    EXPECT_THAT(junit, ::testing::ContainsRegex("name=\"malformed input\" time=\"[0-9.]+\">\n "
+                                                "     <failure message=\"[0-9]+ of [0-9]+ cycles "
+                                                "missed"));
+    EXPECT_THAT(junit, HasSubstr("<failure message=\"DEGRADED: the monitor was lost for "));
 }
 
 TEST_F(FuzzFragile, WritesRefusedAfterAStormUntilARestartFail) {

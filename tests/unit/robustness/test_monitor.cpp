@@ -5,6 +5,7 @@
 #include "robustness/iec62443_report.hpp"
 #include "robustness/monitor_core.hpp"
 #include "robustness/monitor_html.hpp"
+#include "robustness/monitor_junit.hpp"
 #include "robustness/monitor_verdict.hpp"
 #include "support/hex.hpp"
 #include "support/manual_clock.hpp"
@@ -86,6 +87,27 @@ TEST(MonitorCore, AnExceptionOrALostConnectionIsAMiss) {
     t.sends();
     t.core.connection_lost(t.clock.now());
     EXPECT_EQ(t.core.cycles()[1].missed, "the connection closed");
+}
+
+TEST(MonitorCore, TheDeviceIsJudgedOnItsOwnTimeNotTheTesters) {
+    Trace t;
+    t.sends();
+    t.answers("00 01 00 00 00 06 01 06 00 07 00 01", 10ms);
+    // The tester's thread sends the read-back 60 ms after the echo (starved of CPU): not the
+    // device's time, so the budget is not spent and the read is still awaited.
+    t.clock.advance(60ms);
+    EXPECT_EQ(t.sends(), "00 02 00 00 00 06 01 03 00 07 00 01");
+    EXPECT_EQ(t.core.deadline(), t.clock.now() + 40ms);
+    t.answers("00 02 00 00 00 05 01 03 02 00 01", 5ms);
+    EXPECT_EQ(t.core.cycles()[0].latency, 15000us);
+
+    // An answer that arrived over the budget holds not, even when read before poll() judged it.
+    t.clock.advance(25ms);
+    t.sends();
+    t.answers("00 03 00 00 00 06 01 06 00 07 00 02", 30ms);
+    t.sends();
+    t.answers("00 04 00 00 00 05 01 03 02 00 02", 25ms);
+    EXPECT_EQ(t.core.cycles()[1].missed, "answered in 55.0 ms, over the 50 ms budget");
 }
 
 TEST(MonitorCore, ReadOnlyJudgesTheReadAlone) {
@@ -258,6 +280,24 @@ TEST(MonitorHtml, TheChartThePhasesAndTheFindings) {
         << page;
     EXPECT_NE(page.find("<pre>00 01\n</pre>"), std::string::npos) << page;
     EXPECT_NE(page.find("Out of scope: Ethernet, ARP, IP and ICMP storms"), std::string::npos);
+}
+
+TEST(MonitorJunit, APhaseThatLostTheMonitorAndTheVerdictFail) {
+    const auto start = Clock::time_point{} + 1h;
+    const auto judged = judge_monitor(cycles_from(start, ".....xx.........."), every_100ms(),
+                                      three_phases(start), 10000ms);
+    ASSERT_EQ(judged.verdict, MonitorVerdict::Degraded);
+    const auto suite = monitor_junit_suite(judged);
+    EXPECT_EQ(suite.tests, 4U);
+    EXPECT_EQ(suite.failures, 2U);
+    EXPECT_NE(suite.xml.find("<testcase classname=\"monitor\" name=\"baseline\" time=\"0.500\">"
+                             "</testcase>"),
+              std::string::npos);
+    EXPECT_NE(suite.xml.find("name=\"malformed input\" time=\"1.000\">\n      <failure "
+                             "message=\"2 of 10 cycles missed (20.0%)\" type=\"monitor lost\">"
+                             "CR 3.5</failure>"),
+              std::string::npos);
+    EXPECT_NE(suite.xml.find("<failure message=\"DEGRADED: "), std::string::npos);
 }
 
 }  // namespace

@@ -1,0 +1,49 @@
+#include "robustness/monitor_junit.hpp"
+
+#include <fmt/core.h>
+
+#include "conformance/reports.hpp"
+
+namespace mblab::robustness {
+
+JunitSuite monitor_junit_suite(const MonitorJudgement& judged) {
+    using conformance::xml_escape;
+    JunitSuite out;
+    std::string cases;
+    for (const auto& p : judged.phases) {
+        const double seconds =
+            static_cast<double>(
+                std::chrono::duration_cast<std::chrono::milliseconds>(p.phase.end - p.phase.begin)
+                    .count()) /
+            1000.0;
+        ++out.tests;
+        cases += fmt::format("    <testcase classname=\"monitor\" name=\"{}\" time=\"{:.3f}\">",
+                             xml_escape(p.phase.name), seconds > 0 ? seconds : 0.0);
+        if (!p.held) {
+            ++out.failures;
+            cases += fmt::format(
+                "\n      <failure message=\"{}\" type=\"monitor lost\">{}</failure>\n    ",
+                xml_escape(fmt::format("{} of {} cycles missed ({:.1f}%)", p.missed, p.cycles,
+                                       p.missed_percent)),
+                xml_escape(p.phase.requirement));
+        }
+        cases += "</testcase>\n";
+    }
+    ++out.tests;
+    cases += "    <testcase classname=\"monitor\" name=\"verdict\" time=\"0\">";
+    if (judged.verdict != MonitorVerdict::Pass) {
+        ++out.failures;
+        cases +=
+            fmt::format("\n      <failure message=\"{}\" type=\"{}\"/>\n    ",
+                        xml_escape(fmt::format("{}: {}", verdict_name(judged.verdict), judged.why)),
+                        verdict_name(judged.verdict));
+    }
+    cases += "</testcase>\n";
+    out.xml = fmt::format(
+        "  <testsuite name=\"essential-function monitor\" tests=\"{}\" failures=\"{}\" "
+        "errors=\"0\" skipped=\"0\" time=\"0\">\n{}  </testsuite>\n",
+        out.tests, out.failures, cases);
+    return out;
+}
+
+}  // namespace mblab::robustness
