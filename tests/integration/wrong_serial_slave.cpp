@@ -26,6 +26,30 @@ int hex_value(std::uint8_t c) {
     return -1;
 }
 
+// Whether `bytes` are a frame whose CRC holds (the CRC over a whole frame leaves 0).
+bool crc_holds(std::span<const std::uint8_t> bytes) {
+    return bytes.size() >= 4 && protocol::crc16(bytes) == 0;
+}
+
+// A burst cut into frames: each shortest run whose CRC holds, and the bytes between them.
+std::vector<std::vector<std::uint8_t>> rtu_frames(const std::vector<std::uint8_t>& burst) {
+    std::vector<std::vector<std::uint8_t>> out;
+    const std::span<const std::uint8_t> all(burst);
+    std::size_t junk = 0;  // start of bytes that belong to no frame yet
+    for (std::size_t at = 0; at < burst.size(); ++at) {
+        for (std::size_t size = 4; at + size <= burst.size(); ++size) {
+            if (!crc_holds(all.subspan(at, size))) continue;
+            if (junk < at) out.emplace_back(burst.begin() + junk, burst.begin() + at);
+            out.emplace_back(burst.begin() + at, burst.begin() + at + size);
+            at += size - 1;
+            junk = at + 1;
+            break;
+        }
+    }
+    if (junk < burst.size()) out.emplace_back(burst.begin() + junk, burst.end());
+    return out;
+}
+
 }  // namespace
 
 std::string WrongSerialSlave::start(const PtyPair& pty, bool ascii, SlaveFault fault) {
@@ -145,10 +169,8 @@ void WrongSerialSlave::serve() {
         // The tester sends one request and waits: a burst is one frame.
         // A burst is one frame: it ends after a silence, of 200 ms for the slave that joins
         // what a silence broke.
-        // On RTU 1 ms, under t3.5 (2 ms at 19200 baud): the tester sends its next frame t3.5
-        // after its last one, and a pty hands a frame written at once over at once.
-        const auto silence = std::chrono::milliseconds(
-            fault_ == SlaveFault::JoinsBrokenFrame ? 200 : (ascii_ ? 15 : 1));
+        const auto silence =
+            std::chrono::milliseconds(fault_ == SlaveFault::JoinsBrokenFrame ? 200 : 15);
         auto bytes = port_->receive(std::chrono::milliseconds(100), silence);
         if (bytes.empty()) continue;
         // An ASCII frame ends with its LF, and up to 1 s may pass between its characters
@@ -158,7 +180,13 @@ void WrongSerialSlave::serve() {
             if (more.empty()) break;
             bytes.insert(bytes.end(), more.begin(), more.end());
         }
-        if (auto request = decode(bytes)) take(*request);
+        // The tester may send its next RTU frame t3.5 after its last one, well inside this
+        // slave's silence: a burst is cut into the frames whose CRC holds, and what lies
+        // between them.
+        for (const auto& frame :
+             ascii_ ? std::vector<std::vector<std::uint8_t>>{bytes} : rtu_frames(bytes)) {
+            if (auto request = decode(frame)) take(*request);
+        }
     }
 }
 
