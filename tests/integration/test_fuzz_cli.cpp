@@ -27,6 +27,7 @@
 #include "fuzz_fragile.hpp"
 #include "support/faulty_server.hpp"
 #include "support/ports.hpp"
+#include "support/sanitizer.hpp"
 #include "support/temp_dir.hpp"
 #include "test_client_support.hpp"
 
@@ -34,20 +35,6 @@ namespace mblab::test {
 namespace {
 
 using ::testing::HasSubstr;
-
-// Whether this build (and so the mblab it runs) has AddressSanitizer: g++ says so with
-// __SANITIZE_ADDRESS__, clang with __has_feature.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 TEST_F(FuzzFragile, ACrashOnProtocolIdIsMinimisedToTheOneFrame) {
     start("protocol-id");

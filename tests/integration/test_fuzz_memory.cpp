@@ -14,6 +14,7 @@
 #include "blocking_client.hpp"
 #include "child_process.hpp"
 #include "support/ports.hpp"
+#include "support/sanitizer.hpp"
 #include "support/temp_dir.hpp"
 #include "test_client_support.hpp"
 
@@ -21,19 +22,6 @@ namespace mblab::test {
 namespace {
 
 using ::testing::HasSubstr;
-
-// AddressSanitizer's shadow memory and quarantine add to any process's resident memory.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr long kSanitizerKb = 256 * 1024;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr long kSanitizerKb = 256 * 1024;
-#else
-constexpr long kSanitizerKb = 0;
-#endif
-#else
-constexpr long kSanitizerKb = 0;
-#endif
 
 TEST(FuzzMemory, AFloodOfAnswersIsNotKept) {
     using namespace std::chrono_literals;
