@@ -15,6 +15,7 @@ Exit status 0 passed, 1 failed, 77 skipped (no chromium or chromedriver on this 
 """
 
 import base64
+import contextlib
 import json
 import os
 import re
@@ -224,6 +225,21 @@ def check_conform(driver, mblab, work, shots):
     return len(cases), len(failed), shot
 
 
+@contextlib.contextmanager
+def laptop_window(driver, html):
+    """`html` opened in a 1280-pixel window: yields the window's inner width after checking
+    that the page does not scroll sideways; the usual size is back afterwards."""
+    driver.do("POST", "/window/rect", {"width": 1280, "height": HEIGHT})
+    try:
+        driver.open("file://" + html)
+        inner = driver.run("return window.innerWidth;")
+        wide = driver.run("return document.documentElement.scrollWidth;")
+        check(wide <= inner, f"{html} is {wide} px wide in a {inner} px window")
+        yield inner
+    finally:
+        driver.do("POST", "/window/rect", {"width": WIDTH, "height": HEIGHT})
+
+
 def check_long_frame(driver, mblab, work, shots):
     """A 250-byte answer in a failure's evidence: at 1280 px the page does not scroll sideways
     and the source column is on screen."""
@@ -243,15 +259,10 @@ def check_long_frame(driver, mblab, work, shots):
     run = subprocess.run([mblab, "conform", "--profile", profile, "--suite", suite,
                           "--html", html], capture_output=True, text=True, timeout=120)
     check(run.returncode == 1, f"conform exited {run.returncode}: {run.stdout}{run.stderr}")
-    driver.do("POST", "/window/rect", {"width": 1280, "height": HEIGHT})
-    try:
-        driver.open("file://" + html)
+    with laptop_window(driver, html) as inner:
         received = driver.run("return document.querySelector('pre.evidence').textContent"
                               ".split('\\n')[1].length;")
         check(received > 700, f"the evidence holds no 250-byte frame ({received} characters)")
-        inner = driver.run("return window.innerWidth;")
-        wide = driver.run("return document.documentElement.scrollWidth;")
-        check(wide <= inner, f"the page is {wide} px wide in a {inner} px window")
         right = driver.run("var row = document.querySelector('tbody.case tr');"
                            "return row.cells[4].getBoundingClientRect().right;")
         check(0 < right <= inner, f"the source column ends at {right} px, off a {inner} px window")
@@ -259,8 +270,6 @@ def check_long_frame(driver, mblab, work, shots):
         shot = driver.screenshot()
         with open(os.path.join(shots, "conform-long-frame.png"), "wb") as f:
             f.write(shot)
-    finally:
-        driver.do("POST", "/window/rect", {"width": WIDTH, "height": HEIGHT})
     return inner, right
 
 
@@ -300,17 +309,10 @@ def check_load(driver, mblab, work, shots):
                         ".axis-title')).map(t => t.textContent);")
     check(titles == ["answers", "latency (ms)"], f"the latency chart's axes are named {titles}")
     # At 1280 px the page does not scroll sideways and every latency column is on screen.
-    driver.do("POST", "/window/rect", {"width": 1280, "height": HEIGHT})
-    try:
-        driver.open("file://" + html)
-        inner = driver.run("return window.innerWidth;")
-        wide = driver.run("return document.documentElement.scrollWidth;")
-        check(wide <= inner, f"the load report is {wide} px wide in a {inner} px window")
+    with laptop_window(driver, html) as inner:
         right = driver.run("var head = document.querySelector('#nodes tr').cells;"
                            "return head[head.length - 2].getBoundingClientRect().right;")
         check(0 < right <= inner, f"the max ms column ends at {right} px, off a {inner} px window")
-    finally:
-        driver.do("POST", "/window/rect", {"width": WIDTH, "height": HEIGHT})
     driver.open("file://" + html)
     driver.run("document.querySelector('svg.histogram').scrollIntoView({block: 'center'});")
     shot = check_screenshot(driver, os.path.join(shots, "load.png"))
