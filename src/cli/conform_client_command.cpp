@@ -240,7 +240,8 @@ Example: mblab conform-client --client-timeout 300ms --client-retries 1 -- mblab
   holding {address} {count} --unit {unit} --timeout 300 --retries 1 --no-probe
 
 On a line: --listen rtu:///dev/ptmx?baud=19200 makes a pty pair and gives the client its end
-in {url}; --listen rtu:///dev/ttyUSB0 serves that device (write the client's end in CMD).
+in {url}, and as a path and a speed in {device} and {baud} (mbpoll -m rtu -b {baud} {device});
+--listen rtu:///dev/ttyUSB0 serves that device (write the client's end in CMD).
 
 Not done yet: rtu+tcp://, mbaps://, --attach (a client that polls by itself), certificates
 (scenario 12), a capture of a line and the HTML report. See docs/client-conformance.md.)";

@@ -101,6 +101,7 @@ protocol::Result<std::unique_ptr<ExamLine>, std::string> ExamLine::open(const st
         10ms, std::chrono::ceil<std::chrono::milliseconds>(
                   transport::rtu_char_times(parsed->line.baud).t35));
     line->url_ = transport::format_serial_url(*parsed);
+    line->baud_ = parsed->line.baud;
     if (parsed->line.device == "/dev/ptmx") {
         line->fd_ = ::posix_openpt(O_RDWR | O_NOCTTY | O_CLOEXEC);
         const char* name = nullptr;
@@ -111,9 +112,11 @@ protocol::Result<std::unique_ptr<ExamLine>, std::string> ExamLine::open(const st
         auto client = *parsed;
         client.line.device = name;
         line->client_url_ = transport::format_serial_url(client);
+        line->client_device_ = name;
         line->held_end_ = ::open(name, O_RDWR | O_NOCTTY | O_CLOEXEC);
         // The client's end raw as well: no line discipline may change an answer on its way.
-        if (line->held_end_ < 0 || !make_raw(line->held_end_))
+        if (line->held_end_ < 0 || !make_raw(line->held_end_) ||
+            ::tcgetattr(line->held_end_, &line->held_settings_) != 0)
             return "cannot open " + std::string(name) + ": " + std::strerror(errno);
     } else {
         auto port = transport::open_serial_port(line->io_.get_executor(), parsed->line);
@@ -121,6 +124,7 @@ protocol::Result<std::unique_ptr<ExamLine>, std::string> ExamLine::open(const st
         line->port_.emplace(std::move(*port));
         line->fd_ = line->port_->native_handle();
         line->client_url_ = line->url_;
+        line->client_device_ = parsed->line.device;
     }
     ::fcntl(line->fd_, F_SETFL, ::fcntl(line->fd_, F_GETFL) | O_NONBLOCK);
     return line;
@@ -133,7 +137,13 @@ ExamLine::~ExamLine() {
 
 void ExamLine::flush() const {
     ::tcflush(fd_, TCIOFLUSH);
-    if (held_end_ >= 0) ::tcflush(held_end_, TCIOFLUSH);
+    if (held_end_ >= 0) {
+        ::tcflush(held_end_, TCIOFLUSH);
+        // And the client's end set as the pair was made, for every run: pyserial (pymodbus's
+        // serial client) fails with EINVAL to set parity on a pty its last run left at the
+        // same speed with parity (the pty drops PARENB).
+        ::tcsetattr(held_end_, TCSANOW, &held_settings_);
+    }
 }
 
 Suite client_line_suite() {
@@ -144,14 +154,15 @@ Suite client_line_suite() {
 RunResult run_client_line_exam(ExamLine& line, const ClientExamOptions& options,
                                RunListener* listener) {
     const auto& declared = options.declared;
-    ExamCarrier carrier{client_line_suite(),
-                        &client_line_cases(),
-                        {"", "", line.client_url(), std::to_string(declared.unit),
-                         std::to_string(declared.address), std::to_string(declared.count)},
-                        line.framing(),
-                        [&](ClientExaminer& exam) -> std::unique_ptr<ExamWire> {
-                            return std::make_unique<LineWire>(exam, line);
-                        }};
+    ExamCarrier carrier{
+        client_line_suite(),
+        &client_line_cases(),
+        {"", "", line.client_url(), std::to_string(declared.unit), std::to_string(declared.address),
+         std::to_string(declared.count), line.client_device(), std::to_string(line.baud())},
+        line.framing(),
+        [&](ClientExaminer& exam) -> std::unique_ptr<ExamWire> {
+            return std::make_unique<LineWire>(exam, line);
+        }};
     return run_client_cases(carrier, options, listener);
 }
 

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <termios.h>
+
 #include <asio/io_context.hpp>
 #include <asio/serial_port.hpp>
 #include <memory>
@@ -31,6 +33,9 @@ class ExamLine {
     // The client's end with the line's settings, for {url}; the examiner's own URL when the
     // client's end is not known (a device given by path).
     const std::string& client_url() const { return client_url_; }
+    // The same as a path and a speed, for {device} and {baud}.
+    const std::string& client_device() const { return client_device_; }
+    unsigned baud() const { return baud_; }
     const std::string& url() const { return url_; }
     // Drops what either end left unread: a scenario starts on a quiet line.
     void flush() const;
@@ -43,9 +48,12 @@ class ExamLine {
     std::optional<asio::serial_port> port_;
     int fd_ = -1;        // the examiner's end
     int held_end_ = -1;  // a pty pair's client end, held open so the master never hangs up
+    termios held_settings_{};
     protocol::Framing framing_ = protocol::Framing::Rtu;
     std::string url_;
     std::string client_url_;
+    std::string client_device_;
+    unsigned baud_ = 0;
     std::chrono::milliseconds quiet_{10};
 };
 

@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <memory>
@@ -91,15 +92,24 @@ void ClientProcess::kill() {
 
 std::string fill_placeholders(std::string text, const ClientPlaceholders& values) {
     const std::pair<std::string_view, const std::string*> names[] = {
-        {"{host}", &values.host}, {"{port}", &values.port},       {"{url}", &values.url},
-        {"{unit}", &values.unit}, {"{address}", &values.address}, {"{count}", &values.count},
+        {"{host}", &values.host},     {"{port}", &values.port},       {"{url}", &values.url},
+        {"{unit}", &values.unit},     {"{address}", &values.address}, {"{count}", &values.count},
+        {"{device}", &values.device}, {"{baud}", &values.baud},
     };
-    for (const auto& [name, value] : names) {
-        for (auto at = text.find(name); at != std::string::npos;
-             at = text.find(name, at + value->size()))
-            text.replace(at, name.size(), *value);
+    // One pass from the left, so a value is never read for names again.
+    std::string filled;
+    for (std::size_t at = 0; at < text.size();) {
+        const auto* match = std::find_if(std::begin(names), std::end(names), [&](const auto& n) {
+            return std::string_view(text).substr(at).starts_with(n.first);
+        });
+        if (match == std::end(names)) {
+            filled += text[at++];
+            continue;
+        }
+        filled += *match->second;
+        at += match->first.size();
     }
-    return text;
+    return filled;
 }
 
 }  // namespace mblab::conformance

@@ -44,7 +44,8 @@ class ClientProcess {
     std::string text_;
 };
 
-// `text` with {host}, {port}, {url}, {unit}, {address} and {count} filled in.
+// `text` with {host}, {port}, {url}, {unit}, {address} and {count} filled in, and on a line
+// {device} and {baud} (the client's end and its speed, for clients that take them apart).
 struct ClientPlaceholders {
     std::string host;
     std::string port;
@@ -52,6 +53,8 @@ struct ClientPlaceholders {
     std::string unit;
     std::string address;
     std::string count;
+    std::string device = {};
+    std::string baud = {};
 };
 std::string fill_placeholders(std::string text, const ClientPlaceholders& values);
 

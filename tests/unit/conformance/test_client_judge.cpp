@@ -75,6 +75,25 @@ TEST(ClientJudge, AnExceptionReportedAsSuccessFails) {
     EXPECT_EQ(error.reason, "an error naming the code");
 }
 
+// libmodbus and mbpoll print the exception's name, not its number: that names the code too.
+TEST(ClientJudge, AnExceptionNamedInWordsIsNamed) {
+    const auto d = declared();
+    const auto reason = [&](std::uint8_t code, const char* output) {
+        return judge_client(examined(ClientScenario::Exception, d, {0}, code), d, ran(1, output))
+            .reason;
+    };
+    EXPECT_EQ(reason(0x02, "error: Illegal data address\n"), "an error naming the code");
+    EXPECT_EQ(reason(0x04, "Slave device or server failure"), "an error naming the code");
+    EXPECT_EQ(reason(0x0B, "error: Target device failed to respond"), "an error naming the code");
+    EXPECT_EQ(reason(0x06, "SLAVE DEVICE OR SERVER IS BUSY"), "an error naming the code");
+    // Another code's name is not this one's.
+    EXPECT_EQ(reason(0x05, "error: Negative acknowledge"),
+              "an error (its output does not name the code)");
+    EXPECT_EQ(reason(0x03, "error: Illegal data address"),
+              "an error (its output does not name the code)");
+    EXPECT_EQ(reason(0x06, "error: no answer"), "an error (its output does not name the code)");
+}
+
 TEST(ClientJudge, AnErrorPatternStandsForTheExitStatus) {
     auto d = declared();
     d.error_pattern = "^ERR";
