@@ -191,9 +191,30 @@ Outcome judge_rejected(const ClientExaminer& exam, const ClientRun& run, const F
     return fail("ended successfully without the values it was sent", run);
 }
 
-// Whether a client's output names exception `code`: by its number (hex, or "exception N"), or by
-// its name in [APP] 7 or the "slave device" wording libraries keep (libmodbus prints "Slave
-// device or server failure" for 04, "Illegal data address" for 02).
+// Words that name each code in a client's output, lower case: its name in [APP] 7 or the "slave
+// device" wording libraries keep (libmodbus prints "Slave device or server failure" for 04);
+// `unless` rules out the name of another code that holds them.
+struct ExceptionWords {
+    std::uint8_t code;
+    std::string_view words;
+    std::string_view also = {};
+    std::string_view unless = {};
+};
+constexpr ExceptionWords kExceptionWords[] = {
+    {0x01, "illegal function"},
+    {0x02, "illegal data address"},
+    {0x03, "illegal data value"},
+    {0x04, "device failure", "server failure"},
+    {0x05, "acknowledge", {}, "negative acknowledge"},
+    {0x06, "busy"},
+    {0x07, "negative acknowledge"},
+    {0x08, "parity"},
+    {0x0A, "path unavailable"},
+    {0x0B, "failed to respond"},
+};
+
+// Whether a client's output names exception `code`: by its number (hex, or "exception N"), or in
+// words.
 bool names_exception(const std::string& output, std::uint8_t code) {
     if (output.find(fmt::format("{:02X}", code)) != std::string::npos ||
         output.find("exception " + std::to_string(code)) != std::string::npos)
@@ -201,31 +222,13 @@ bool names_exception(const std::string& output, std::uint8_t code) {
     std::string text(output.size(), ' ');
     std::transform(output.begin(), output.end(), text.begin(),
                    [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    const auto has = [&](std::string_view words) { return text.find(words) != std::string::npos; };
-    switch (code) {
-        case 0x01:
-            return has("illegal function");
-        case 0x02:
-            return has("illegal data address");
-        case 0x03:
-            return has("illegal data value");
-        case 0x04:
-            return has("device failure") || has("server failure");
-        case 0x05:
-            return has("acknowledge") && !has("negative acknowledge");
-        case 0x06:
-            return has("busy");
-        case 0x07:
-            return has("negative acknowledge");
-        case 0x08:
-            return has("parity");
-        case 0x0A:
-            return has("path unavailable");
-        case 0x0B:
-            return has("failed to respond");
-        default:
-            return false;
-    }
+    const auto has = [&](std::string_view words) {
+        return !words.empty() && text.find(words) != std::string::npos;
+    };
+    const auto* row = std::find_if(std::begin(kExceptionWords), std::end(kExceptionWords),
+                                   [&](const ExceptionWords& w) { return w.code == code; });
+    return row != std::end(kExceptionWords) && (has(row->words) || has(row->also)) &&
+           !has(row->unless);
 }
 
 Outcome judge_exception(const ClientExaminer& exam, const ClientDeclarations& declared,
