@@ -153,16 +153,14 @@ Suite client_line_suite() {
 
 RunResult run_client_line_exam(ExamLine& line, const ClientExamOptions& options,
                                RunListener* listener) {
-    const auto& declared = options.declared;
-    ExamCarrier carrier{
-        client_line_suite(),
-        &client_line_cases(),
-        {"", "", line.client_url(), std::to_string(declared.unit), std::to_string(declared.address),
-         std::to_string(declared.count), line.client_device(), std::to_string(line.baud())},
-        line.framing(),
-        [&](ClientExaminer& exam) -> std::unique_ptr<ExamWire> {
-            return std::make_unique<LineWire>(exam, line);
-        }};
+    ClientPlaceholders where;
+    where.url = line.client_url();
+    where.device = line.client_device();
+    where.baud = std::to_string(line.baud());
+    ExamCarrier carrier{client_line_suite(), &client_line_cases(), where, line.framing(),
+                        [&](ClientExaminer& exam) -> std::unique_ptr<ExamWire> {
+                            return std::make_unique<LineWire>(exam, line);
+                        }};
     return run_client_cases(carrier, options, listener);
 }
 

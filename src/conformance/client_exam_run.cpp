@@ -299,17 +299,15 @@ Suite client_tcp_suite() {
 
 RunResult run_client_exam(ExamListener& listen, const ClientExamOptions& options,
                           RunListener* listener) {
-    const auto& declared = options.declared;
-    ExamCarrier carrier{
-        client_tcp_suite(),
-        &client_tcp_cases(),
-        {listen.host(), std::to_string(listen.port()), listen.url(), std::to_string(declared.unit),
-         std::to_string(declared.address), std::to_string(declared.count)},
-        protocol::Framing::Mbap,
-        [&](ClientExaminer& exam) -> std::unique_ptr<ExamWire> {
-            drain_backlog(listen.fd());
-            return std::make_unique<Wire>(exam, listen.fd(), options.capture);
-        }};
+    ClientPlaceholders where;
+    where.host = listen.host();
+    where.port = std::to_string(listen.port());
+    where.url = listen.url();
+    ExamCarrier carrier{client_tcp_suite(), &client_tcp_cases(), where, protocol::Framing::Mbap,
+                        [&](ClientExaminer& exam) -> std::unique_ptr<ExamWire> {
+                            drain_backlog(listen.fd());
+                            return std::make_unique<Wire>(exam, listen.fd(), options.capture);
+                        }};
     return run_client_cases(carrier, options, listener);
 }
 
@@ -330,6 +328,8 @@ RunResult run_client_cases(const ExamCarrier& carrier, const ClientExamOptions& 
         // SER 2.2: a broadcast goes to address 0.
         if (c.scenario == ClientScenario::Broadcast) declared.unit = 0;
         values.unit = std::to_string(declared.unit);
+        values.address = std::to_string(declared.address);
+        values.count = std::to_string(declared.count);
         if (auto na = undeclared(c, declared)) {
             case_result.outcome = *na;
         } else {

@@ -26,8 +26,9 @@ class ExamWire {
     virtual std::chrono::milliseconds wait() const = 0;
 };
 
-// How the scenarios are carried: the suite, its cases, the placeholders' values, the framing and
-// a wire for each scenario's examiner.
+// How the scenarios are carried: the suite, its cases, where the client finds the examiner (the
+// placeholders but the unit, address and count each case fills in), the framing and a wire for
+// each scenario's examiner.
 struct ExamCarrier {
     Suite suite;
     const std::vector<ClientCase>* cases = nullptr;

@@ -47,12 +47,12 @@ class ClientProcess {
 // `text` with {host}, {port}, {url}, {unit}, {address} and {count} filled in, and on a line
 // {device} and {baud} (the client's end and its speed, for clients that take them apart).
 struct ClientPlaceholders {
-    std::string host;
-    std::string port;
-    std::string url;
-    std::string unit;
-    std::string address;
-    std::string count;
+    std::string host = {};
+    std::string port = {};
+    std::string url = {};
+    std::string unit = {};
+    std::string address = {};
+    std::string count = {};
     std::string device = {};
     std::string baud = {};
 };
