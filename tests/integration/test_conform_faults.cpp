@@ -196,6 +196,13 @@ bool has(const std::string& text, const std::string& words) {
     return text.find(words) != std::string::npos;
 }
 
+// Case `id` of `run` FAILed, for a reason that holds `words`.
+void expect_failed(const RunResult& run, const std::string& id, const std::string& words) {
+    const auto& c = find(run, id);
+    EXPECT_EQ(verdict_label(c.outcome.verdict), "FAIL") << id << ": " << c.outcome.reason;
+    EXPECT_TRUE(has(c.outcome.reason, words)) << id << ": " << c.outcome.reason;
+}
+
 EngineOptions pipelined(std::size_t depth) {
     EngineOptions options = FaultyDeviceRun::quick();
     options.pipeline_depth = depth;
@@ -269,13 +276,9 @@ TEST(ConformFaults, OutOfRangeWithoutADeclaredCountDecidesPastTheEnd) {
 TEST(ConformFaults, OutOfRangeDataPastTheEndFailsNamingTheDecidingRead) {
     FaultyDeviceRun device({Fault::DataPastTheEnd, 0x03});
     device.dut().registers.reset();
-    auto run = device.run_policy();
-    const auto& c = find(run, "9.1.2");
-    EXPECT_EQ(verdict_label(c.outcome.verdict), "FAIL");
-    EXPECT_TRUE(has(c.outcome.reason,
-                    "so the read past the end decides: read of 2 registers at FFFF: answered "
-                    "with data where exception 02 (illegal data address) was expected"))
-        << c.outcome.reason;
+    expect_failed(device.run_policy(), "9.1.2",
+                  "so the read past the end decides: read of 2 registers at FFFF: answered "
+                  "with data where exception 02 (illegal data address) was expected");
 }
 
 TEST(ConformFaults, ADuplicateAnswerFailsTheCaseThatProvokedIt) {
@@ -317,38 +320,25 @@ TEST(ConformFaults, WritesAcknowledgedButNotMadeFailWithTheFlagsAlone) {
 
 TEST(ConformFaults, PadBitsSetInAReadCoilsAnswerAreCaught) {
     FaultyDeviceRun device({Fault::PadBitsSet, 0x01});
-    auto run = device.run_policy();
-    const auto& c = find(run, "7.3.1");
-    EXPECT_EQ(verdict_label(c.outcome.verdict), "FAIL");
-    EXPECT_TRUE(has(c.outcome.reason,
-                    "unused bits of the last data byte: 80 holds bits set past "
-                    "the 1 requested (mask 80); they must be zero"))
-        << c.outcome.reason;
+    expect_failed(device.run_policy(), "7.3.1",
+                  "unused bits of the last data byte: 80 holds bits set past the 1 requested "
+                  "(mask 80); they must be zero");
 }
 
 TEST(ConformFaults, DeviceIdObjectsPastThePduAreCaught) {
     FaultyDeviceRun device({Fault::DeviceIdPastPdu, 0x2B});
-    auto run = device.run_suite("device-id");
-    const auto& c = find(run, "devid.1");
-    EXPECT_EQ(verdict_label(c.outcome.verdict), "FAIL");
-    EXPECT_TRUE(has(c.outcome.reason, "object length")) << c.outcome.reason;
+    expect_failed(device.run_suite("device-id"), "devid.1", "object length");
 }
 
 TEST(ConformFaults, AMoreFollowsThatNeverEndsIsCaught) {
     FaultyDeviceRun device({Fault::DeviceIdEndless, 0x2B});
-    auto run = device.run_suite("device-id");
-    const auto& c = find(run, "devid.1");
-    EXPECT_EQ(verdict_label(c.outcome.verdict), "FAIL");
-    EXPECT_TRUE(has(c.outcome.reason, "more follows never ends")) << c.outcome.reason;
+    expect_failed(device.run_suite("device-id"), "devid.1", "more follows never ends");
 }
 
 TEST(ConformFaults, DeviceIdObjectsBeyondTheConformityLevelAreCaught) {
     FaultyDeviceRun device({Fault::DeviceIdBasicLevel, 0x2B});
     auto run = device.run_suite("device-id");
-    const auto& c = find(run, "devid.9");
-    EXPECT_EQ(verdict_label(c.outcome.verdict), "FAIL");
-    EXPECT_TRUE(has(c.outcome.reason, "object 03 is beyond conformity level 81"))
-        << c.outcome.reason;
+    expect_failed(run, "devid.9", "object 03 is beyond conformity level 81");
     EXPECT_EQ(verdict_label(find(run, "devid.1").outcome.verdict), "PASS");
 }
 
@@ -368,11 +358,8 @@ TEST(ConformFaults, ADeviceThatStopsAfterNRequestsShowsInTheReport) {
 TEST(ConformFaults, NoAnswerSuggestsTheUnitTheDeviceAnswers) {
     FaultyDeviceRun device({Fault::OnlyUnit255, 0});
     auto run = device.run_policy();
-    const auto& c = find(run, "7.3.1");
-    EXPECT_EQ(verdict_label(c.outcome.verdict), "FAIL");
-    EXPECT_TRUE(has(c.outcome.reason, "no answer from unit 1: timeout after 400 ms"));
-    EXPECT_TRUE(has(c.outcome.reason, "; the device answers unit 255: try --unit 255"))
-        << c.outcome.reason;
+    expect_failed(run, "7.3.1", "no answer from unit 1: timeout after 400 ms");
+    expect_failed(run, "7.3.1", "; the device answers unit 255: try --unit 255");
 }
 
 TEST(ConformFaults, CasesAfterTheDeviceWentAwayAreNotRun) {
