@@ -54,6 +54,7 @@ LadderRung storm(const StormTarget& target, StormKind kind, double rate,
     struct Unread {
         std::unique_ptr<client::Link> link;
         std::size_t at = 0;  // into `large`
+        std::size_t written = 0;
     };
     std::vector<Unread> unread;  // the slow readers, held until the rung ends
     std::size_t unread_bytes = 0;
@@ -99,10 +100,13 @@ LadderRung storm(const StormTarget& target, StormKind kind, double rate,
         // Each slow reader writes what the device takes without waiting, and reads nothing.
         const std::size_t frames_before = unread_bytes / large_frame;
         for (auto& reader : unread) {
-            if (!reader.link->is_open()) continue;
+            // Over TLS the channel takes what it is given and holds what the device has not
+            // taken: the bound keeps the tester's memory bounded.
+            if (!reader.link->is_open() || reader.written >= kSlowReaderMost) continue;
             const auto n = reader.link->send_for(std::span(large).subspan(reader.at),
                                                  std::chrono::milliseconds(0), error);
             reader.at = (reader.at + n) % large.size();
+            reader.written += n;
             unread_bytes += n;
         }
         core.sent(unread_bytes / large_frame - frames_before);

@@ -26,6 +26,8 @@ struct StormTarget {
 
 // The slow readers' requests go out in blocks of this many, one after another.
 inline constexpr std::size_t kSlowReaderBlock = 100;
+// The most a slow reader writes in a rung.
+inline constexpr std::size_t kSlowReaderMost = std::size_t{8} << 20;
 
 // One rung: `kind` at `rate` for `duration`. The connections it holds (slow readers) are closed
 // at its end, and the half-open ones are the device's to time out.
