@@ -4,7 +4,9 @@
 
 #include <thread>
 
+#include "client/raw_link.hpp"
 #include "robustness/iec62443_report.hpp"
+#include "robustness/ladder_report.hpp"
 #include "robustness/monitor_html.hpp"
 
 namespace mblab::cli {
@@ -18,6 +20,16 @@ std::chrono::milliseconds of_seconds(double seconds) {
 }
 
 }  // namespace
+
+std::string FuzzMonitor::check(const MonitorChoice& choice) {
+    if (const auto spec = rb::parse_monitor_spec(choice.spec, {}); !spec) return spec.error();
+    if (!choice.ladder.empty() && choice.spec.empty())
+        return "--ladder needs --monitor: the ladder reports the rate it held at";
+    for (const auto& text : choice.ladder) {
+        if (const auto ladder = rb::parse_ladder(text); !ladder) return ladder.error();
+    }
+    return {};
+}
 
 protocol::Result<std::unique_ptr<FuzzMonitor>, std::string> FuzzMonitor::make(
     const MonitorChoice& choice, const client::Target& target, const rb::Recon& recon,
@@ -44,31 +56,44 @@ protocol::Result<std::unique_ptr<FuzzMonitor>, std::string> FuzzMonitor::make(
             "read-only",
             spec->address);
     }
-    std::vector<double> rates;
-    if (!choice.ladder.empty()) {
-        auto parsed = rb::parse_rates(choice.ladder);
+    std::vector<rb::Ladder> ladders;
+    for (const auto& text : choice.ladder) {
+        auto parsed = rb::parse_ladder(text);
         if (!parsed) return parsed.error();
-        rates = std::move(*parsed);
+        if (parsed->kind == rb::StormKind::HalfOpen && !client::RawLink::can_vanish())
+            return fmt::format(
+                "--ladder '{}': leaving a connection half-open needs CAP_NET_ADMIN (TCP repair "
+                "mode), which this process lacks",
+                text);
+        ladders.push_back(std::move(*parsed));
     }
-    client::Dial dial = [target, timeout] { return client::open_link(target, timeout, nullptr); };
-    return std::make_unique<FuzzMonitor>(*spec, std::move(dial), choice, std::move(rates));
+    rb::StormTarget storms;
+    storms.dial = [target, timeout] { return client::open_link(target, timeout, nullptr); };
+    storms.unit = spec->unit;
+    storms.address = spec->address;
+    storms.large_address = recon.check_address;
+    storms.large_quantity = recon.max_read;
+    return std::make_unique<FuzzMonitor>(*spec, std::move(storms), choice, std::move(ladders));
 }
 
-FuzzMonitor::FuzzMonitor(rb::MonitorSpec spec, client::Dial dial, const MonitorChoice& choice,
-                         std::vector<double> rates)
+FuzzMonitor::FuzzMonitor(rb::MonitorSpec spec, rb::StormTarget storms, const MonitorChoice& choice,
+                         std::vector<rb::Ladder> ladders)
     : spec_(spec),
-      dial_(dial),
-      run_(spec, std::move(dial)),
-      rates_(std::move(rates)),
+      storms_(std::move(storms)),
+      run_(spec, storms_.dial),
+      ladders_(std::move(ladders)),
       ladder_step_(of_seconds(choice.ladder_step_s)),
       baseline_(of_seconds(choice.baseline_s)),
       degraded_limit_(of_seconds(choice.degraded_limit_s)) {}
 
 void FuzzMonitor::ladder() {
-    for (double rate : rates_) {
-        rungs_.push_back(rb::storm(dial_, spec_.unit, spec_.address, rate, ladder_step_));
-        phases_.push_back({fmt::format("storm {:g}/s", rate), "CR 7.1 denial-of-service protection",
-                           rungs_.back().begin, rungs_.back().end});
+    for (const auto& ladder : ladders_) {
+        for (double rate : ladder.rates) {
+            rungs_.push_back(rb::storm(storms_, ladder.kind, rate, ladder_step_));
+            phases_.push_back({rb::storm_phase_name(ladder.kind, rate),
+                               rb::storm_requirement(ladder.kind), rungs_.back().begin,
+                               rungs_.back().end});
+        }
     }
 }
 
@@ -81,7 +106,7 @@ void FuzzMonitor::baseline() {
 }
 
 void FuzzMonitor::malformed_begin() {
-    phases_.push_back({"malformed input",
+    phases_.push_back({std::string(rb::kCasesPhase),
                        "CR 3.5 input validation; CR 7.1 denial-of-service protection; CR 7.2 "
                        "resource management",
                        rb::Clock::now(), rb::Clock::time_point::max()});
@@ -103,6 +128,7 @@ void FuzzMonitor::recover() {
 
 rb::MonitorJudgement FuzzMonitor::judge(const rb::FuzzResult& result) const {
     auto judged = rb::judge_monitor(cycles_, spec_, phases_, degraded_limit_);
+    judged.missed_during = rb::missed_during(cycles_, result.timeline, spec_.budget);
     if (!result.findings.empty()) {
         // A device that stopped serving the check failed, whatever the monitor saw around it.
         judged.verdict = rb::MonitorVerdict::Fail;

@@ -23,12 +23,15 @@ struct MonitorChoice {
     std::string spec;  // --monitor's text; "" for none
     double baseline_s = 2;
     double degraded_limit_s = 10;
-    std::string ladder;  // --ladder's rates; "" for none
+    std::vector<std::string> ladder;  // each --ladder: a storm's rates
     double ladder_step_s = 2;
 };
 
 class FuzzMonitor {
   public:
+    // Why the monitor's spec or a ladder is wrong, checked before connecting (the spec's
+    // defaults come from reconnaissance); "" when nothing is.
+    static std::string check(const MonitorChoice& choice);
     // Nothing when no monitor was asked for; one line when the spec is wrong, the target is a
     // serial line, or the register may not be written under `policy`.
     static protocol::Result<std::unique_ptr<FuzzMonitor>, std::string> make(
@@ -37,7 +40,7 @@ class FuzzMonitor {
 
     // Starts the monitor and keeps it alone for the baseline.
     void baseline();
-    // The storm ladder's rungs, each a phase, after the baseline.
+    // The storm ladders' rungs, each a phase, after the baseline.
     void ladder();
     void malformed_begin();
     // After the last case: the monitor alone until it holds again (or the degraded limit has
@@ -49,14 +52,14 @@ class FuzzMonitor {
     std::string html(const robustness::FuzzResult& result,
                      const robustness::MonitorJudgement& judged) const;
 
-    FuzzMonitor(robustness::MonitorSpec spec, client::Dial dial, const MonitorChoice& choice,
-                std::vector<double> rates);
+    FuzzMonitor(robustness::MonitorSpec spec, robustness::StormTarget storms,
+                const MonitorChoice& choice, std::vector<robustness::Ladder> ladders);
 
   private:
     robustness::MonitorSpec spec_;
-    client::Dial dial_;
+    robustness::StormTarget storms_;
     robustness::MonitorRun run_;
-    std::vector<double> rates_;
+    std::vector<robustness::Ladder> ladders_;
     std::chrono::milliseconds ladder_step_;
     std::vector<robustness::LadderRung> rungs_;
     std::chrono::milliseconds baseline_;

@@ -159,6 +159,11 @@ FuzzResult FuzzRunner::run(CaseGenerator& generator, const FuzzProgress& progres
             ++result.classes[static_cast<std::size_t>(c.kind)].run;
             if (progress) progress(result, c);
             last = {c.kind, c.name, result.cases};
+            if (options_.timeline) {
+                const auto now = clock.now();
+                if (!result.timeline.empty()) result.timeline.back().end = now;
+                result.timeline.push_back({result.cases, c.kind, c.name, now, now});
+            }
             std::size_t connections = 0;
             for (const auto& step : c.steps) {
                 connections = std::max(connections, step.connection + 1);
@@ -228,6 +233,7 @@ FuzzResult FuzzRunner::run(CaseGenerator& generator, const FuzzProgress& progres
         if (!out_of_budget.empty()) break;
     }
     links_->close_all();
+    if (!result.timeline.empty()) result.timeline.back().end = clock.now();
     result.one_connection_at_a_time = oracle_.one_at_a_time();
     result.sends = sends_;
     result.elapsed = clock.since(start);

@@ -16,6 +16,7 @@
 #include "robustness/case_links.hpp"
 #include "robustness/fuzz_case.hpp"
 #include "robustness/liveness.hpp"
+#include "robustness/monitor_cases.hpp"
 #include "robustness/recon.hpp"
 #include "robustness/run_clock.hpp"
 
@@ -46,6 +47,9 @@ struct FuzzOptions {
     // memory link); the target still names the run and its framing.
     Dial dial;
     RunClock clock;
+    // Record each case's time in the result (an essential-function monitor lays its missed
+    // cycles against them).
+    bool timeline = false;
 };
 
 struct ClassTally {
@@ -107,6 +111,9 @@ struct FuzzResult {
     bool one_connection_at_a_time = false;  // the bystander check was dropped
     LedgerTally ledger;
     std::optional<DeviceMemory> memory;
+    // Each case's time, in order, with FuzzOptions::timeline: from its first frame to the next
+    // case's (its check included), the last to the run's end.
+    std::vector<CaseSpan> timeline;
 };
 
 // Told of each case as it starts (the console's progress line).

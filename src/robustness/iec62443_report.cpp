@@ -2,33 +2,19 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
+
 #include "support/comma_list.hpp"
 
 namespace mblab::robustness {
 
 namespace {
 
+// The console names this many of the cases that lost cycles.
+constexpr std::size_t kCasesShown = 10;
+
 double as_ms(std::chrono::microseconds span) {
     return static_cast<double>(span.count()) / 1000.0;
-}
-
-// Whether the monitor held in the rung's phase.
-bool held_at(const MonitorJudgement& judged, const LadderRung& rung) {
-    const auto name = fmt::format("storm {:g}/s", rung.rate);
-    for (const auto& p : judged.phases) {
-        if (p.phase.name == name) return p.held;
-    }
-    return false;
-}
-
-std::optional<double> highest_held(const MonitorJudgement& judged,
-                                   const std::vector<LadderRung>& rungs) {
-    std::optional<double> out;
-    for (const auto& rung : rungs) {
-        if (!held_at(judged, rung)) break;
-        out = rung.rate;
-    }
-    return out;
 }
 
 }  // namespace
@@ -97,13 +83,24 @@ std::string monitor_text(const MonitorJudgement& judged, const MonitorSpec& spec
         "tolerated\n",
         spec.read_only ? "FC 03 of" : "FC 06 then FC 03 read-back of", spec.address,
         spec.period.count(), spec.budget.count(), spec.miss_percent);
+    // The names in a column: the storms' are longer than the fixed phases'.
+    std::size_t width = 16;
+    for (const auto& p : judged.phases)
+        width = std::max(width, p.phase.name.size());
     for (const auto& p : judged.phases) {
         out += fmt::format(
-            "  {:<16} {:>5} cycles, {:>4} missed ({:.1f}%), median {:.2f} ms, worst {:.2f} ms: "
+            "  {:<{}} {:>5} cycles, {:>4} missed ({:.1f}%), median {:.2f} ms, worst {:.2f} ms: "
             "{} [{}]\n",
-            p.phase.name, p.cycles, p.missed, p.missed_percent, as_ms(p.median), as_ms(p.worst),
-            p.held ? "held" : "lost", p.phase.requirement);
+            p.phase.name, width, p.cycles, p.missed, p.missed_percent, as_ms(p.median),
+            as_ms(p.worst), p.held ? "held" : "lost", p.phase.requirement);
     }
+    if (!judged.missed_during.empty())
+        out += fmt::format("  cycles missed during {} case(s):\n", judged.missed_during.size());
+    for (std::size_t i = 0; i < judged.missed_during.size() && i < kCasesShown; ++i)
+        out += fmt::format("    {}\n", missed_during_text(judged.missed_during[i]));
+    if (judged.missed_during.size() > kCasesShown)
+        out += fmt::format("    and {} more (the JSON report and monitor.html name them all)\n",
+                           judged.missed_during.size() - kCasesShown);
     if (judged.recovery) {
         out += fmt::format("  back within budget {} ms into the recovery phase\n",
                            judged.recovery->count());
@@ -138,6 +135,14 @@ nlohmann::json monitor_json(const MonitorJudgement& judged, const MonitorSpec& s
             samples.push_back({{"at_ms", at}, {"missed", c.missed}});
         }
     }
+    nlohmann::json during = nlohmann::json::array();
+    for (const auto& d : judged.missed_during) {
+        during.push_back({{"case", d.case_number},
+                          {"class", class_name(d.kind)},
+                          {"name", d.case_name},
+                          {"missed", d.missed},
+                          {"reason", d.reason}});
+    }
     nlohmann::json out = {
         {"register", spec.address},
         {"period_ms", spec.period.count()},
@@ -150,44 +155,10 @@ nlohmann::json monitor_json(const MonitorJudgement& judged, const MonitorSpec& s
         {"why", judged.why},
         {"out_of_scope", kOutOfScope},
         {"cycles", samples},
+        {"missed_during", during},
     };
     out["recovery_ms"] = judged.recovery ? nlohmann::json(judged.recovery->count()) : nullptr;
     return out;
-}
-
-std::string ladder_text(const MonitorJudgement& judged, const std::vector<LadderRung>& rungs) {
-    if (rungs.empty()) return {};
-    std::string out = "storm ladder (FC 03 of the monitor's register, answers never waited for):\n";
-    for (const auto& rung : rungs) {
-        const auto seconds = std::chrono::duration<double>(rung.end - rung.begin).count();
-        out += fmt::format(
-            "  {:>8g}/s asked, {:>8.0f}/s sent, {:>8.0f}/s answered, {} "
-            "reconnect(s): the monitor {}\n",
-            rung.rate, static_cast<double>(rung.sent) / seconds,
-            static_cast<double>(rung.answered) / seconds, rung.reconnects,
-            held_at(judged, rung) ? "held" : "was lost");
-    }
-    const auto highest = highest_held(judged, rungs);
-    out += highest ? fmt::format("the monitor held up to {:g} requests/s [CR 7.1]\n", *highest)
-                   : std::string("the monitor was lost from the first rung [CR 7.1]\n");
-    return out;
-}
-
-nlohmann::json ladder_json(const MonitorJudgement& judged, const std::vector<LadderRung>& rungs) {
-    nlohmann::json list = nlohmann::json::array();
-    for (const auto& rung : rungs) {
-        list.push_back(
-            {{"rate", rung.rate},
-             {"duration_ms",
-              std::chrono::duration_cast<std::chrono::milliseconds>(rung.end - rung.begin).count()},
-             {"sent", rung.sent},
-             {"answered", rung.answered},
-             {"reconnects", rung.reconnects},
-             {"held", held_at(judged, rung)}});
-    }
-    const auto highest = highest_held(judged, rungs);
-    return {{"rungs", list},
-            {"highest_rate_held", highest ? nlohmann::json(*highest) : nlohmann::json(nullptr)}};
 }
 
 }  // namespace mblab::robustness

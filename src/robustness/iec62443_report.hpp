@@ -8,7 +8,6 @@
 #include "protocol/result.hpp"
 #include "robustness/fuzz_case.hpp"
 #include "robustness/monitor_verdict.hpp"
-#include "robustness/storm_ladder.hpp"
 
 // A robustness run with the essential-function monitor, in the terms of IEC 62443-4-2: each
 // phase and each finding tagged with the component requirement it speaks to (CR 3.5 input
@@ -36,10 +35,5 @@ std::string monitor_text(const MonitorJudgement& judged, const MonitorSpec& spec
 // its latency in µs or why it missed).
 nlohmann::json monitor_json(const MonitorJudgement& judged, const MonitorSpec& spec,
                             const std::vector<MonitorCycle>& cycles);
-
-// The storm ladder's table: each rung's rate, requests sent and answered, and whether the monitor
-// held in it (its phase, "storm 500/s"), then the highest rate at which it held; "" without rungs.
-std::string ladder_text(const MonitorJudgement& judged, const std::vector<LadderRung>& rungs);
-nlohmann::json ladder_json(const MonitorJudgement& judged, const std::vector<LadderRung>& rungs);
 
 }  // namespace mblab::robustness

@@ -6,6 +6,7 @@
 
 #include "conformance/reports.hpp"
 #include "robustness/iec62443_report.hpp"
+#include "robustness/ladder_report.hpp"
 #include "robustness/reproducer.hpp"
 
 namespace mblab::robustness {
@@ -110,8 +111,20 @@ std::string monitor_html(const FuzzResult& result, const MonitorJudgement& judge
             xml_escape(p.phase.requirement));
     }
     out += "</table>\n";
+    if (!judged.missed_during.empty()) {
+        out +=
+            "<h2>Cases during which the monitor missed cycles</h2>\n<table><tr><th>case</th>"
+            "<th>class</th><th>name</th><th>missed</th><th>the first's reason</th></tr>\n";
+        for (const auto& d : judged.missed_during) {
+            out += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
+                               d.case_number, class_name(d.kind), xml_escape(d.case_name), d.missed,
+                               xml_escape(d.reason));
+        }
+        out += "</table>\n";
+    }
     if (!rungs.empty())
-        out += "<h2>Storm ladder</h2>\n<pre>" + xml_escape(ladder_text(judged, rungs)) + "</pre>\n";
+        out +=
+            "<h2>Storm ladders</h2>\n<pre>" + xml_escape(ladder_text(judged, rungs)) + "</pre>\n";
     out += "<h2>Findings</h2>\n";
     if (result.findings.empty()) out += "<p>None: the device served every liveness check.</p>\n";
     for (const auto& f : result.findings) {

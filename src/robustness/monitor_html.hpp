@@ -5,7 +5,7 @@
 
 #include "robustness/fuzz_run.hpp"
 #include "robustness/monitor_verdict.hpp"
-#include "robustness/storm_ladder.hpp"
+#include "robustness/storm_core.hpp"
 
 // The monitored run as one HTML page a person reads at a glance: the monitor's latency over time
 // through the phases (an inline SVG chart, missed cycles marked), the verdict, the phases' table

@@ -6,6 +6,19 @@
 
 namespace mblab::robustness {
 
+namespace {
+
+// The cases that lost cycles, a line each after the requirement of the phase they ran in.
+std::string during_text(const MonitorJudgement& judged, const MonitorPhase& phase) {
+    std::string out;
+    if (phase.name != kCasesPhase) return out;
+    for (const auto& d : judged.missed_during)
+        out += "\n" + missed_during_text(d);
+    return out;
+}
+
+}  // namespace
+
 JunitSuite monitor_junit_suite(const MonitorJudgement& judged) {
     using conformance::xml_escape;
     JunitSuite out;
@@ -25,7 +38,7 @@ JunitSuite monitor_junit_suite(const MonitorJudgement& judged) {
                 "\n      <failure message=\"{}\" type=\"monitor lost\">{}</failure>\n    ",
                 xml_escape(fmt::format("{} of {} cycles missed ({:.1f}%)", p.missed, p.cycles,
                                        p.missed_percent)),
-                xml_escape(p.phase.requirement));
+                xml_escape(p.phase.requirement + during_text(judged, p.phase)));
         }
         cases += "</testcase>\n";
     }

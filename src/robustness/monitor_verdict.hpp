@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "robustness/monitor_cases.hpp"
 #include "robustness/monitor_core.hpp"
 
 // The essential-function monitor's cycles judged phase by phase, in IEC 62443-4-2 terms: PASS
@@ -41,6 +42,8 @@ struct MonitorJudgement {
     // when none did.
     std::optional<std::chrono::milliseconds> recovery;
     std::string why;  // one line
+    // The cases during which cycles were missed, when the run recorded its cases' times.
+    std::vector<MissedDuring> missed_during;
 };
 
 // `phases` in order, the last the recovery phase. A phase holds when its missed cycles are within

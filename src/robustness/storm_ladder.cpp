@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <memory>
 #include <thread>
 
 #include "robustness/fuzz_case.hpp"
@@ -9,54 +10,119 @@
 
 namespace mblab::robustness {
 
-LadderRung storm(const client::Dial& dial, std::uint8_t unit, std::uint16_t address, double rate,
-                 std::chrono::milliseconds duration) {
-    LadderRung rung;
-    rung.rate = rate;
-    rung.begin = Clock::now();
-    const auto until = rung.begin + duration;
-    const std::vector<std::uint8_t> pdu = {0x03, static_cast<std::uint8_t>(address >> 8),
-                                           static_cast<std::uint8_t>(address), 0x00, 0x01};
-    std::unique_ptr<client::Link> link;
-    std::uint16_t transaction = 0;
-    auto last_open = Clock::time_point{};
-    while (Clock::now() < until) {
-        const auto now = Clock::now();
-        if (!link && now - last_open >= std::chrono::milliseconds(100)) {
-            // A device that closes the storm's connection gets another, at most ten a second.
-            last_open = now;
-            if (auto opened = dial()) {
-                link = std::move(opened.value());
-                rung.reconnects += rung.sent > 0 ? 1 : 0;
-            }
-        }
-        // Every request due by now, in one go: the pace holds at rates above a thousand a second.
-        const auto elapsed = std::chrono::duration<double>(now - rung.begin).count();
-        const auto due = static_cast<std::size_t>(rate * elapsed);
-        client::LinkError error;
-        while (link && rung.sent < due) {
-            if (!link->send(mbap_frame(++transaction, unit, pdu), error)) {
-                link.reset();
-                break;
-            }
-            ++rung.sent;
-        }
-        while (link && link->is_open()) {
-            const auto answer = link->next_frame(std::chrono::milliseconds(0));
-            if (answer.status == client::ReceiveStatus::Frame) {
-                ++rung.answered;
-                continue;
-            }
-            if (answer.status == client::ReceiveStatus::Closed) link.reset();
-            break;
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    rung.end = Clock::now();
-    return rung;
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+Bytes read_pdu(std::uint16_t address, std::uint16_t quantity) {
+    return {0x03, static_cast<std::uint8_t>(address >> 8), static_cast<std::uint8_t>(address),
+            static_cast<std::uint8_t>(quantity >> 8), static_cast<std::uint8_t>(quantity)};
 }
 
-protocol::Result<std::vector<double>, std::string> parse_rates(const std::string& text) {
+// The answers waiting on the stream's connection, each counted; the link dropped when closed.
+void take_answers(std::unique_ptr<client::Link>& link, StormCore& core) {
+    while (link && link->is_open()) {
+        const auto answer = link->next_frame(std::chrono::milliseconds(0));
+        if (answer.status == client::ReceiveStatus::Frame) {
+            core.answered(1);
+            continue;
+        }
+        if (answer.status == client::ReceiveStatus::Closed) {
+            link.reset();
+            core.stream_lost();
+        }
+        break;
+    }
+}
+
+}  // namespace
+
+LadderRung storm(const StormTarget& target, StormKind kind, double rate,
+                 std::chrono::milliseconds duration) {
+    StormCore core(kind, rate, Clock::now(), duration);
+    const Bytes small = read_pdu(target.address, 1);
+    // The slow readers' requests, a block written over and over from where the last write ended.
+    Bytes large;
+    std::uint16_t transaction = 0;
+    for (std::size_t i = 0; i < kSlowReaderBlock; ++i) {
+        const auto frame = mbap_frame(++transaction, target.unit,
+                                      read_pdu(target.large_address, target.large_quantity));
+        large.insert(large.end(), frame.begin(), frame.end());
+    }
+    const std::size_t large_frame = large.size() / kSlowReaderBlock;
+    std::unique_ptr<client::Link> stream;
+    struct Unread {
+        std::unique_ptr<client::Link> link;
+        std::size_t at = 0;  // into `large`
+        std::size_t written = 0;
+    };
+    std::vector<Unread> unread;  // the slow readers, held until the rung ends
+    std::size_t unread_bytes = 0;
+    const auto open = [&]() -> std::unique_ptr<client::Link> {
+        auto opened = target.dial();
+        core.opened(static_cast<bool>(opened));
+        return opened ? std::move(opened.value()) : nullptr;
+    };
+    while (!core.over(Clock::now())) {
+        client::LinkError error;
+        for (const auto& action : core.poll(Clock::now())) {
+            for (std::size_t i = 0; i < action.count && !core.over(Clock::now()); ++i) {
+                switch (action.what) {
+                    case StormAction::Do::OpenStream:
+                        stream = open();
+                        break;
+                    case StormAction::Do::SendRequests:
+                        if (!stream) break;
+                        if (!stream->send(mbap_frame(++transaction, target.unit, small), error)) {
+                            stream.reset();
+                            core.stream_lost();
+                            break;
+                        }
+                        core.sent(1);
+                        break;
+                    case StormAction::Do::OpenAndClose:
+                        if (auto link = open()) link->close();
+                        break;
+                    case StormAction::Do::OpenSlowReader:
+                        if (auto link = open()) unread.push_back({std::move(link), 0});
+                        break;
+                    case StormAction::Do::OpenHalfOpen:
+                        if (auto link = open()) {
+                            // Three bytes of a request: the device waits for the rest.
+                            const Bytes part = mbap_frame(++transaction, target.unit, small);
+                            link->send(std::span(part).first(3), error);
+                            if (!link->vanish()) link->close();
+                        }
+                        break;
+                }
+            }
+        }
+        // Each slow reader writes what the device takes without waiting, and reads nothing.
+        const std::size_t frames_before = unread_bytes / large_frame;
+        for (auto& reader : unread) {
+            // Over TLS the channel takes what it is given and holds what the device has not
+            // taken: the bound keeps the tester's memory bounded.
+            if (!reader.link->is_open() || reader.written >= kSlowReaderMost) continue;
+            const auto n = reader.link->send_for(std::span(large).subspan(reader.at),
+                                                 std::chrono::milliseconds(0), error);
+            reader.at = (reader.at + n) % large.size();
+            reader.written += n;
+            unread_bytes += n;
+        }
+        core.sent(unread_bytes / large_frame - frames_before);
+        take_answers(stream, core);
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    for (auto& reader : unread)
+        reader.link->close();
+    return core.finish(Clock::now());
+}
+
+namespace {
+
+// `text`'s rates; the message names `whole`, the option's text.
+protocol::Result<std::vector<double>, std::string> rates_of(const std::string& text,
+                                                            const std::string& whole) {
     std::vector<double> rates;
     for (const auto& item : comma_items(text)) {
         double rate = 0;
@@ -68,14 +134,43 @@ protocol::Result<std::vector<double>, std::string> parse_rates(const std::string
             rate = 0;
         }
         if (rate <= 0 || (!rates.empty() && rate <= rates.back()))
-            return fmt::format(
-                "--ladder '{}': give rising request rates per second, e.g. "
-                "100,500,1000",
-                text);
+            return fmt::format("--ladder '{}': give rising rates per second, e.g. 100,500,1000",
+                               whole);
         rates.push_back(rate);
     }
-    if (rates.empty()) return fmt::format("--ladder '{}': no rate", text);
+    if (rates.empty()) return fmt::format("--ladder '{}': no rate", whole);
     return rates;
+}
+
+}  // namespace
+
+protocol::Result<std::vector<double>, std::string> parse_rates(const std::string& text) {
+    return rates_of(text, text);
+}
+
+protocol::Result<Ladder, std::string> parse_ladder(const std::string& text) {
+    Ladder ladder;
+    std::string rates = text;
+    if (const auto colon = text.find(':'); colon != std::string::npos) {
+        const auto key = text.substr(0, colon);
+        bool known = false;
+        for (auto kind :
+             {StormKind::Fc03, StormKind::Opens, StormKind::SlowReaders, StormKind::HalfOpen}) {
+            if (key == storm_key(kind)) {
+                ladder.kind = kind;
+                known = true;
+            }
+        }
+        if (!known)
+            return fmt::format(
+                "--ladder '{}': '{}' is no storm (fc03, opens, slow-readers, half-open)", text,
+                key);
+        rates = text.substr(colon + 1);
+    }
+    auto parsed = rates_of(rates, text);
+    if (!parsed) return parsed.error();
+    ladder.rates = std::move(*parsed);
+    return ladder;
 }
 
 }  // namespace mblab::robustness

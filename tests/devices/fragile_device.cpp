@@ -19,6 +19,11 @@
 //                   exception 04 until restarted (reads still served)
 //   stale-register  as storm-degrades, but after such a storm acknowledges FC 06 without keeping
 //                   the value: the register silently stops updating
+//   slow-accept     serves FC 06 on registers 0..99, but each connection it accepts costs it 10 ms
+//                   of work: a storm of connection opens starves everyone else
+//   polls-each      serves FC 06 on registers 0..99, but each turn of its loop waits 1 ms on every
+//                   connection it holds (a stack polling its sockets in turn) and never times one
+//                   out: connections left half-open pile up and slow it for good
 //   closes-garbage  robust: closes the connection on anything but a valid FC 03
 //   late            robust: answers 150 ms late
 //   floods-answers  robust: answers a function code no standard request uses with its exception
@@ -72,9 +77,12 @@ bool serve(Client& client) {
     auto& b = client.buffer;
     std::vector<std::uint8_t> out;
     const bool forgetful = g_mode == "loses-writes" && whole_requests(b) > 8;
-    const bool monitored =
+    const bool monitored = g_mode == "storm-degrades" || g_mode == "storm-breaks-writes" ||
+                           g_mode == "stale-register" || g_mode == "slow-accept" ||
+                           g_mode == "polls-each";
+    const bool stormed =
         g_mode == "storm-degrades" || g_mode == "storm-breaks-writes" || g_mode == "stale-register";
-    if (monitored && whole_requests(b) > 8) {
+    if (stormed && whole_requests(b) > 8) {
         if (g_mode == "storm-degrades" && !g_stalled) {
             g_stalled = true;
             std::this_thread::sleep_for(std::chrono::milliseconds(400));
@@ -193,11 +201,15 @@ int main(int argc, char** argv) {
         if (::poll(fds.data(), fds.size(), -1) < 0) continue;
         // Late once per turn of the loop, whatever it serves: slow, never stuck.
         if (g_mode == "late") std::this_thread::sleep_for(std::chrono::milliseconds(150));
+        if (g_mode == "polls-each")
+            std::this_thread::sleep_for(std::chrono::milliseconds(clients.size()));
         if (fds[0].revents & POLLIN) {
             for (int fd; (fd = ::accept4(listener, nullptr, nullptr, 0)) >= 0;) {
                 const auto live = std::count_if(clients.begin(), clients.end(),
                                                 [](const Client& c) { return c.fd >= 0; });
                 bool admit = true;
+                if (g_mode == "slow-accept")
+                    std::this_thread::sleep_for(std::chrono::milliseconds(10));
                 if (g_mode == "few-slots" && live >= 64) {
                     // Marked, not erased: the poll set below still maps onto `clients`.
                     auto stuck = std::find_if(clients.begin(), clients.end(), [](const Client& c) {

@@ -47,6 +47,13 @@ TEST_F(FuzzFragile, AStallUnderAStormThatPassesIsDegraded) {
     EXPECT_EQ(report["monitor"]["phases"][0]["phase"], "baseline");
     EXPECT_TRUE(report["monitor"]["phases"][0]["held"]);
     EXPECT_TRUE(report["monitor"]["phases"][2]["held"]);
+    // The stall is laid against the pipelined case that caused it, in every report.
+    EXPECT_THAT(ran.out, ::testing::ContainsRegex("cycles missed during [0-9]+ case\\(s\\):\n "
+                                                  "   case [0-9]+ \\(pipelined: "));
+    ASSERT_FALSE(report["monitor"]["missed_during"].empty());
+    EXPECT_EQ(report["monitor"]["missed_during"][0]["class"], "pipelined");
+    EXPECT_THAT(file_text(dir_ / "fuzz.json.d" / "monitor.html"),
+                HasSubstr("<h2>Cases during which the monitor missed cycles</h2>"));
     // CI reads the monitor as it reads findings: the phase that lost it and the verdict fail.
     const auto junit = file_text(dir_ / "fuzz.xml");
     EXPECT_THAT(junit, HasSubstr("<testsuite name=\"essential-function monitor\" tests=\"4\" "
@@ -55,6 +62,7 @@ TEST_F(FuzzFragile, AStallUnderAStormThatPassesIsDegraded) {
                                                 "     <failure message=\"[0-9]+ of [0-9]+ cycles "
                                                 "missed"));
     EXPECT_THAT(junit, HasSubstr("<failure message=\"DEGRADED: the monitor was lost for "));
+    EXPECT_THAT(junit, ::testing::ContainsRegex("resource management\ncase [0-9]+ \\(pipelined: "));
 }
 
 TEST_F(FuzzFragile, WritesRefusedAfterAStormUntilARestartFail) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "robustness/iec62443_report.hpp"
+#include "robustness/ladder_report.hpp"
 #include "robustness/monitor_core.hpp"
 #include "robustness/monitor_html.hpp"
 #include "robustness/monitor_junit.hpp"
@@ -220,31 +221,50 @@ TEST(MonitorReport, PhasesAndFindingsNameTheirRequirement) {
     EXPECT_EQ(json["cycles"][0]["latency_us"], 2000);
 }
 
-TEST(StormLadder, RisingRatesAndTheHighestHeld) {
-    EXPECT_EQ(*parse_rates("100,500,1000"), (std::vector<double>{100, 500, 1000}));
-    EXPECT_FALSE(parse_rates("500,100"));
-    EXPECT_FALSE(parse_rates("100,x"));
-    EXPECT_FALSE(parse_rates(""));
-    // Two rungs: the monitor held at 100/s (cycles 0-4) and was lost at 1000/s (cycles 5-9).
+// Two storms: FC 03 held at 100/s and was lost at 1000/s (cycles 5-9); opens held at both rungs.
+TEST(StormLadder, EachStormsHighestRateHeldAndWhereItWasLost) {
     const auto start = test::ManualClock().now();
     const std::vector<MonitorPhase> phases = {
         {"storm 100/s", "CR 7.1", start, start + 500ms},
         {"storm 1000/s", "CR 7.1", start + 500ms, start + 1000ms},
-        {"recovery", "CR 7.1", start + 1000ms, start + 1500ms}};
-    const auto judged =
-        judge_monitor(cycles_from(start, ".....xxxx......"), every_100ms(), phases, 1000ms);
-    const std::vector<LadderRung> rungs = {{100, start, start + 500ms, 50, 50, 0},
-                                           {1000, start + 500ms, start + 1000ms, 500, 20, 1}};
+        {"storm opens 10/s", "CR 7.1", start + 1000ms, start + 1500ms},
+        {"storm opens 50/s", "CR 7.1", start + 1500ms, start + 2000ms},
+        {"recovery", "CR 7.1", start + 2000ms, start + 2500ms}};
+    const auto judged = judge_monitor(cycles_from(start, ".....xxxx................"),
+                                      every_100ms(), phases, 1000ms);
+    std::vector<LadderRung> rungs = {{100, start, start + 500ms, 50, 50, 0},
+                                     {1000, start + 500ms, start + 1000ms, 500, 20, 1},
+                                     {10, start + 1000ms, start + 1500ms, 0, 0, 0},
+                                     {50, start + 1500ms, start + 2000ms, 0, 0, 0}};
+    for (auto& rung : {&rungs[2], &rungs[3]}) {
+        rung->kind = StormKind::Opens;
+        rung->opened = static_cast<std::size_t>(rung->rate / 2) - 1;
+        rung->refused = 1;
+    }
     const auto text = ladder_text(judged, rungs);
-    EXPECT_NE(text.find("       100/s asked,      100/s sent,      100/s answered, 0 "
+    EXPECT_NE(text.find("storm ladder (FC 03 of the monitor's register, answers never waited "
+                        "for):\n       100/s asked,      100/s sent,      100/s answered, 0 "
                         "reconnect(s): the monitor held\n"),
               std::string::npos)
         << text;
     EXPECT_NE(text.find("1000/s sent,       40/s answered, 1 reconnect(s): the monitor was lost"),
               std::string::npos)
         << text;
-    EXPECT_NE(text.find("the monitor held up to 100 requests/s [CR 7.1]"), std::string::npos);
-    EXPECT_EQ(ladder_json(judged, rungs)["highest_rate_held"], 100.0);
+    EXPECT_NE(text.find("the monitor held up to 100 requests/s, lost at 1000/s [CR 7.1]\n"
+                        "storm ladder (connections opened and closed at once):\n"
+                        "        10/s asked,        8/s opened, 1 refused: the monitor held\n"),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find("the monitor held up to 50 connection opens/s [CR 7.1]\n"),
+              std::string::npos)
+        << text;
+    const auto json = ladder_json(judged, rungs);
+    EXPECT_EQ(json["storms"][0]["storm"], "fc03");
+    EXPECT_EQ(json["storms"][0]["highest_rate_held"], 100.0);
+    EXPECT_EQ(json["storms"][0]["lost_at"], 1000.0);
+    EXPECT_EQ(json["storms"][1]["highest_rate_held"], 50.0);
+    EXPECT_TRUE(json["storms"][1]["lost_at"].is_null());
+    EXPECT_EQ(json["rungs"][3]["opened"], 24);
 }
 
 // The page: the chart with a point per cycle that held and a red mark per cycle missed, the
@@ -298,6 +318,57 @@ TEST(MonitorJunit, APhaseThatLostTheMonitorAndTheVerdictFail) {
                              "CR 3.5</failure>"),
               std::string::npos);
     EXPECT_NE(suite.xml.find("<failure message=\"DEGRADED: "), std::string::npos);
+}
+
+// Cycles every 100 ms, budget 50 ms; cases 1 (0-250 ms), 2 (250-260 ms), 3 (260-700 ms). The
+// cycle missed at 200 ms (to 250) falls in case 1 alone; the one at 300 ms in case 3; the one at
+// 900 ms after the last case (the recovery's) in none.
+TEST(MonitorCases, EachMissedCycleLaidAgainstTheCasesThatRanMeanwhile) {
+    const auto start = test::ManualClock().now();
+    auto cycles = cycles_from(start, "..xx.....x");
+    cycles[3].missed = "read 7 after writing 8";
+    const std::vector<CaseSpan> cases = {
+        {1, BadInput::Pipelined, "200 at once", start, start + 250ms},
+        {2, BadInput::Quantity, "FC 0x03 quantity 0", start + 250ms, start + 260ms},
+        {3, BadInput::SlowReader, "40000 reads", start + 260ms, start + 700ms}};
+    const auto during = missed_during(cycles, cases, 50ms);
+    ASSERT_EQ(during.size(), 2U);
+    EXPECT_EQ(during[0].case_number, 1U);
+    EXPECT_EQ(during[0].missed, 1U);
+    EXPECT_EQ(missed_during_text(during[1]),
+              "case 3 (slow-reader: 40000 reads): 1 cycle(s) missed, the first: read 7 after "
+              "writing 8");
+    // A cycle that spans several cases counts for each.
+    const auto spanning = missed_during(cycles_from(start + 240ms, "x"), cases, 50ms);
+    ASSERT_EQ(spanning.size(), 3U);
+    EXPECT_EQ(missed_during(cycles, {}, 50ms).size(), 0U);
+}
+
+// The console, the JSON report, the page and the JUnit suite name the cases.
+TEST(MonitorCases, EveryReportNamesThem) {
+    const auto start = test::ManualClock().now();
+    const auto cycles = cycles_from(start, ".......xxx...........");
+    auto judged = judge_monitor(cycles, every_100ms(), three_phases(start), 500ms);
+    judged.missed_during = missed_during(
+        cycles, {{7, BadInput::Pipelined, "200 <at> once", start + 500ms, start + 1500ms}}, 50ms);
+    const auto text = monitor_text(judged, every_100ms());
+    EXPECT_NE(text.find("  cycles missed during 1 case(s):\n    case 7 (pipelined: 200 <at> "
+                        "once): 3 cycle(s) missed, the first: no answer within 50 ms\n"),
+              std::string::npos)
+        << text;
+    const auto json = monitor_json(judged, every_100ms(), cycles);
+    EXPECT_EQ(json["missed_during"][0]["case"], 7);
+    EXPECT_EQ(json["missed_during"][0]["class"], "pipelined");
+    EXPECT_EQ(json["missed_during"][0]["missed"], 3);
+    const auto page = monitor_html(FuzzResult{}, judged, every_100ms(), cycles, {});
+    EXPECT_NE(page.find("<tr><td>7</td><td>pipelined</td><td>200 &lt;at&gt; once</td><td>3</td>"),
+              std::string::npos)
+        << page;
+    const auto suite = monitor_junit_suite(judged);
+    EXPECT_NE(suite.xml.find("CR 3.5\ncase 7 (pipelined: 200 &lt;at&gt; once): 3 cycle(s) "
+                             "missed"),
+              std::string::npos)
+        << suite.xml;
 }
 
 }  // namespace

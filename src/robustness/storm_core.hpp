@@ -1,0 +1,84 @@
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "robustness/run_clock.hpp"
+
+// One rung of a storm ladder without I/O: what is due at a given time. A storm is one of four
+// kinds: the known-good read streamed on a connection of its own (FC 03), connections opened and
+// closed again (opens), connections that keep writing large reads and never read their answers
+// (slow readers), connections that send part of a request and are let go without a FIN (half-open).
+// The rate is requests per second for FC 03, connections per second for the others. The owner
+// does what poll() returns and tells the core how it went; tests drive it on a manual clock.
+namespace mblab::robustness {
+
+enum class StormKind : std::uint8_t { Fc03, Opens, SlowReaders, HalfOpen };
+
+// "fc03", "opens", "slow-readers", "half-open": the names --ladder takes.
+const char* storm_key(StormKind kind);
+// The rung's phase: "storm 100/s" for FC 03 (the ladder's first storm), "storm opens 10/s", ...
+std::string storm_phase_name(StormKind kind, double rate);
+
+struct LadderRung {
+    double rate = 0;  // asked for: requests (FC 03) or connections (the others) per second
+    Clock::time_point begin{};
+    Clock::time_point end{};
+    std::size_t sent = 0;        // requests written (FC 03, slow readers)
+    std::size_t answered = 0;    // answers read (FC 03)
+    std::size_t reconnects = 0;  // FC 03: the device closed the storm's connection
+    StormKind kind = StormKind::Fc03;
+    std::size_t opened = 0;   // connections the storm opened (the connection storms)
+    std::size_t refused = 0;  // opens that failed
+};
+
+struct StormAction {
+    enum class Do : std::uint8_t {
+        OpenStream,      // FC 03: open the stream's connection
+        SendRequests,    // FC 03: write `count` requests on it, as many as it takes
+        OpenAndClose,    // opens: a connection opened and closed at once
+        OpenSlowReader,  // slow readers: a connection writing large reads as the device takes
+                         // them, never reading an answer, held to the rung's end
+        OpenHalfOpen,    // half-open: a connection, part of a request, then gone without a FIN
+    };
+    Do what = Do::OpenStream;
+    std::size_t count = 1;
+};
+
+class StormCore {
+  public:
+    StormCore(StormKind kind, double rate, Clock::time_point begin,
+              std::chrono::milliseconds duration);
+
+    // The actions due at `now`, in order; none once the rung is over. FC 03: the stream's
+    // connection opened when it has none (at most ten opens a second, so a device that closes it
+    // gets another), then every request due by now in one go (so the pace holds above a thousand
+    // a second). The others: one connection for each due and not yet asked for.
+    std::vector<StormAction> poll(Clock::time_point now);
+    // How an open the core asked for went.
+    void opened(bool ok);
+    // Requests written; answers read.
+    void sent(std::size_t requests);
+    void answered(std::size_t answers);
+    // FC 03: the stream's connection closed or broke.
+    void stream_lost();
+    bool over(Clock::time_point now) const { return now >= until_; }
+    // The rung's figures, ended at `now`.
+    LadderRung finish(Clock::time_point now);
+    const LadderRung& rung() const { return rung_; }
+
+  private:
+    std::size_t due(Clock::time_point now) const;
+
+    LadderRung rung_;
+    Clock::time_point until_;
+    bool stream_open_ = false;
+    bool opened_once_ = false;
+    Clock::time_point last_open_{};
+    std::size_t asked_ = 0;  // connections asked for (the connection storms)
+};
+
+}  // namespace mblab::robustness

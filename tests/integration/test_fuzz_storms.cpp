@@ -1,0 +1,131 @@
+// The storm ladders beyond FC 03 (connection opens, slow readers, half-open connections), each at
+// rising rates with the essential-function monitor judging every rung: our own server holds at
+// each; devices built to fail one storm each are found out at the rung where they give way.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "client/raw_link.hpp"
+#include "fuzz_fragile.hpp"
+
+namespace mblab::test {
+namespace {
+
+using ::testing::HasSubstr;
+
+// A few cheap cases after the ladders (the storms are what is judged), a monitor every 50 ms
+// within 40 ms on register 50, one-second rungs, lost for 3 s at most; the JSON report to `json`.
+std::vector<std::string> laddered(const std::string& json, std::vector<std::string> ladders,
+                                  const std::string& monitor = "register=50,period=50,budget=40") {
+    std::vector<std::string> args = {"--class",          "quantity", "--cases",       "5",
+                                     "--monitor",        monitor,    "--baseline",    "500ms",
+                                     "--json",           json,       "--report-dir",  json + ".d",
+                                     "--degraded-limit", "3s",       "--ladder-step", "1s"};
+    for (auto& ladder : ladders) {
+        args.push_back("--ladder");
+        args.push_back(std::move(ladder));
+    }
+    return args;
+}
+
+nlohmann::json storm_summary(const std::string& json_file, const std::string& storm) {
+    const auto report = nlohmann::json::parse(file_text(json_file));
+    for (const auto& s : report["monitor"]["ladder"]["storms"]) {
+        if (s["storm"] == storm) return s;
+    }
+    return nullptr;
+}
+
+TEST_F(ReferenceCliTest, OurServerHoldsTheMonitorThroughEveryStormLadder) {
+    TempDir dir;
+    const auto json = (dir.path() / "fuzz.json").string();
+    std::vector<std::string> ladders = {"opens:20,100", "slow-readers:2,8"};
+    if (client::RawLink::can_vanish()) ladders.push_back("half-open:10,50");
+    auto args = laddered(json, ladders);
+    args.insert(args.begin(), {"fuzz", target(), "--rate", "0"});
+    auto ran = run_mblab(args);
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("storm ladder (connections opened and closed at once):\n"));
+    EXPECT_THAT(ran.out, HasSubstr("the monitor held up to 100 connection opens/s [CR 7.1]"));
+    EXPECT_THAT(ran.out, HasSubstr("the monitor held up to 8 slow readers/s [CR 7.1, CR 7.2]"));
+    EXPECT_THAT(ran.out, HasSubstr("MONITOR VERDICT: PASS"));
+    const auto report = nlohmann::json::parse(file_text(json));
+    const auto& rungs = report["monitor"]["ladder"]["rungs"];
+    ASSERT_EQ(rungs.size(), ladders.size() * 2);
+    EXPECT_EQ(rungs[1]["storm"], "opens");
+    EXPECT_GE(rungs[1]["opened"].get<int>(), 80);
+    EXPECT_EQ(rungs[3]["storm"], "slow-readers");
+    EXPECT_GE(rungs[3]["opened"].get<int>(), 7);
+    EXPECT_GT(rungs[3]["sent"].get<int>(), 0);
+    EXPECT_EQ(report["monitor"]["phases"][3]["phase"], "storm slow-readers 2/s");
+    EXPECT_EQ(report["monitor"]["phases"][3]["requirement"],
+              "CR 7.1 denial-of-service protection; CR 7.2 resource management");
+    if (ladders.size() == 3) {
+        EXPECT_THAT(ran.out, HasSubstr("the monitor held up to 50 half-open connections/s"));
+        EXPECT_GE(rungs[5]["opened"].get<int>(), 40);
+    }
+}
+
+// Each connection costs the device 10 ms: 5 opens a second leave it time for the monitor, 200 do
+// not. The backlog worked through, it serves again unaided.
+TEST_F(FuzzFragile, AStormOfOpensDegradesADeviceThatAcceptsSlowly) {
+    start("slow-accept");
+    const auto json = (dir_ / "fuzz.json").string();
+    auto ran = fuzz(laddered(json, {"opens:5,200"}));
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("no finding"));
+    EXPECT_THAT(ran.out, HasSubstr("the monitor held up to 5 connection opens/s, lost at 200/s"));
+    EXPECT_THAT(ran.out, HasSubstr("MONITOR VERDICT: DEGRADED"));
+    const auto summary = storm_summary(json, "opens");
+    EXPECT_EQ(summary["highest_rate_held"], 5.0);
+    EXPECT_EQ(summary["lost_at"], 200.0);
+}
+
+// One connection that never reads its answers stalls a device that sends them blocking, until
+// the storm's end closes it: lost from the first rung, back unaided.
+TEST_F(FuzzFragile, ASlowReaderStallsADeviceThatSendsBlocking) {
+    start("blocking-send");
+    const auto json = (dir_ / "fuzz.json").string();
+    // The device serves reads only: the monitor reads.
+    auto ran = fuzz(laddered(json, {"slow-readers:2,8"}, "read-only,period=50,budget=40"));
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("the monitor was lost from the first rung (2 slow readers/s) "
+                                   "[CR 7.1, CR 7.2]"));
+    EXPECT_THAT(ran.out, HasSubstr("MONITOR VERDICT: DEGRADED"));
+    const auto summary = storm_summary(json, "slow-readers");
+    EXPECT_TRUE(summary["highest_rate_held"].is_null());
+    EXPECT_EQ(summary["lost_at"], 2.0);
+}
+
+// A device that waits on every connection it holds in turn and never times one out: two half-open
+// connections a second leave it time for the monitor, forty pile up and slow it for good.
+TEST_F(FuzzFragile, HalfOpenConnectionsThatPileUpFailADeviceThatPollsEachInTurn) {
+    if (!client::RawLink::can_vanish()) GTEST_SKIP() << "needs CAP_NET_ADMIN (TCP_REPAIR)";
+    start("polls-each");
+    const auto json = (dir_ / "fuzz.json").string();
+    auto ran = fuzz(laddered(json, {"half-open:2,40"}));
+    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("the monitor held up to 2 half-open connections/s, lost at "
+                                   "40/s [CR 7.1, CR 7.2]"));
+    EXPECT_THAT(
+        ran.out,
+        HasSubstr("MONITOR VERDICT: FAIL: the monitor did not come back without a restart"));
+    const auto summary = storm_summary(json, "half-open");
+    EXPECT_EQ(summary["highest_rate_held"], 2.0);
+    EXPECT_EQ(summary["lost_at"], 40.0);
+}
+
+TEST(FuzzStormUsage, AnUnknownStormIsOneLineBeforeConnecting) {
+    auto ran = run_mblab(
+        {"fuzz", "tcp://127.0.0.1:1", "--monitor", "period=100", "--ladder", "floods:10"});
+    EXPECT_EQ(ran.status, 2);
+    EXPECT_EQ(ran.err,
+              "mblab fuzz: --ladder 'floods:10': 'floods' is no storm (fc03, opens, "
+              "slow-readers, half-open)\n");
+}
+
+}  // namespace
+}  // namespace mblab::test
