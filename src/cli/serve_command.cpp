@@ -354,8 +354,8 @@ void add_serve_command(CLI::App& app, CommandRunner& runner) {
                     "forward TCP requests to devices on a serial line instead of serving the "
                     "profile: rtu:///dev/ttyUSB0?baud=19200&units=1-247&timeout=1000 (ms)");
     cmd->add_option("--max-connections", options->max_connections,
-                    "connections at once; when full the oldest stalled (trickling, not reading) "
-                    "or idle one is closed (0: no limit)")
+                    "connections at once; when full the oldest stalled (trickling, not reading), "
+                    "else never used, else idle one is closed (0: no limit)")
         ->check(CLI::Range(0LL, 1'000'000LL))
         ->capture_default_str();
     add_duration_option(*cmd, "--idle-timeout", options->idle_timeout,

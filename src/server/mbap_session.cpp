@@ -127,6 +127,7 @@ bool MbapSession::must_pause(Clock::time_point now) const {
 
 void MbapSession::on_frame(const protocol::FrameEvent& frame, Clock::time_point now) {
     last_activity_ = now;
+    carried_request_ = true;
     const auto request = protocol::to_mbap_header(frame.header);
     ServerStats::bump(stats_.requests);
     if (replies_.size() >= outstanding_limit(limits_)) {
@@ -356,7 +357,8 @@ void MbapSession::on_time(Clock::time_point now) {
 
 transport::Standing MbapSession::standing(Clock::time_point now) const {
     using transport::Standing;
-    if (replies_.empty() && !has_partial()) return Standing::Idle;
+    if (replies_.empty() && !has_partial())
+        return carried_request_ ? Standing::Idle : Standing::Unused;
     // An answer the device holds back (a delay fault, a gateway's line) is not the client's
     // doing.
     if (!replies_.empty() && (replies_.front().deferred || replies_.front().ready_at > now)) {

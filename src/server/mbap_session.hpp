@@ -161,7 +161,8 @@ class MbapSession {
     std::size_t input_begin_ = 0;
     std::size_t input_end_ = 0;
 
-    bool eof_ = false;        // the client finished sending
+    bool eof_ = false;              // the client finished sending
+    bool carried_request_ = false;  // a whole request came: the connection is in use
     bool stopped_ = false;    // no more input is framed (after eof, a "close" fault, a bad frame)
     bool close_now_ = false;  // the idle timeout ran out (or no room was left for a close)
 };

@@ -1,5 +1,8 @@
 #include "transport/connection_table.hpp"
 
+#include <algorithm>
+#include <iterator>
+
 namespace mblab::transport {
 
 void ConnectionTable::add(TrackedConnection& connection) {
@@ -25,30 +28,21 @@ void ConnectionTable::remove(TrackedConnection& connection) {
 
 Standing ConnectionTable::close_one_for_newcomer(Clock::time_point now) {
     // A linear scan: it runs only when the table is full, and a full table is rare.
-    TrackedConnection* oldest_handshaking = nullptr;
-    TrackedConnection* oldest_stalled = nullptr;
-    TrackedConnection* oldest_idle = nullptr;
-    auto older = [](TrackedConnection* best, TrackedConnection* c) {
-        return !best || c->last_activity() < best->last_activity() ? c : best;
-    };
+    // The kinds a newcomer may displace, the first to go first; the oldest of a kind goes.
+    constexpr Standing kOrder[] = {Standing::Handshaking, Standing::Stalled, Standing::Unused,
+                                   Standing::Idle};
+    TrackedConnection* oldest[std::size(kOrder)] = {};
     for (auto* c = head_; c; c = c->next_) {
         if (c->closing_) continue;
-        const auto standing = c->standing(now);
-        if (standing == Standing::Handshaking) oldest_handshaking = older(oldest_handshaking, c);
-        if (standing == Standing::Stalled) oldest_stalled = older(oldest_stalled, c);
-        if (standing == Standing::Idle) oldest_idle = older(oldest_idle, c);
+        const auto* kind = std::find(std::begin(kOrder), std::end(kOrder), c->standing(now));
+        if (kind == std::end(kOrder)) continue;
+        auto*& best = oldest[kind - std::begin(kOrder)];
+        if (!best || c->last_activity() < best->last_activity()) best = c;
     }
-    if (oldest_handshaking) {
-        close(*oldest_handshaking);
-        return Standing::Handshaking;
-    }
-    if (oldest_stalled) {
-        close(*oldest_stalled);
-        return Standing::Stalled;
-    }
-    if (oldest_idle) {
-        close(*oldest_idle);
-        return Standing::Idle;
+    for (std::size_t i = 0; i < std::size(kOrder); ++i) {
+        if (!oldest[i]) continue;
+        close(*oldest[i]);
+        return kOrder[i];
     }
     return Standing::Busy;
 }

@@ -14,6 +14,10 @@ using Clock = std::chrono::steady_clock;
 enum class Standing : unsigned char {
     Busy,  // receiving a request at a normal pace or owed an answer by the device: kept
     Idle,  // no request being received, none being answered
+    // Idle and has never carried a whole request: it has shown no use of its place, so it goes
+    // before an idle one that has ([TCPG] 4.2.1.1 speaks of the oldest unused connection). By
+    // age alone, connections opened faster than a client polls evict that client between polls.
+    Unused,
     // Has completed no request and sent no answer for a while, yet is not idle: it trickles an
     // unfinished frame or leaves its answers unread. Such a client holds a place without using
     // it, so it goes before any idle one; otherwise a few hundred of them lock everyone out.
@@ -62,8 +66,8 @@ class ConnectionTable {
     std::size_t size() const { return size_; }
 
     // Closes the oldest connection still in its TLS handshake, or else the stalled one with the
-    // oldest activity, or else the oldest idle one, to admit a newcomer; returns which kind it
-    // closed, Busy when every connection is busy.
+    // oldest activity, or else the oldest unused one, or else the oldest idle one, to admit a
+    // newcomer; returns which kind it closed, Busy when every connection is busy.
     Standing close_one_for_newcomer(Clock::time_point now);
     void close_all();
 

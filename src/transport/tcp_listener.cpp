@@ -118,6 +118,7 @@ bool TcpListener::admit(asio::ip::tcp::socket& socket) {
                 reset_connection(socket);
                 return false;
             case Standing::Idle:
+            case Standing::Unused:
                 counters_.evicted_idle.fetch_add(1, std::memory_order_relaxed);
                 break;
             case Standing::Stalled:

@@ -1,5 +1,6 @@
 // Which connection a full table gives up for a newcomer: one still in its TLS handshake first (the
-// oldest of them), then the oldest stalled, then the oldest idle; a busy one never.
+// oldest of them), then the oldest stalled, then the oldest that never carried a request, then the
+// oldest idle; a busy one never.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -56,6 +57,29 @@ TEST(ConnectionTable, AHandshakeInProgressGoesBeforeAnEstablishedSession) {
     EXPECT_EQ(table.close_one_for_newcomer(t0 + 4s), Standing::Busy);
     EXPECT_FALSE(busy.closed);
     EXPECT_EQ(table.size(), 1U);
+}
+
+// Connections opened faster than a client polls: each is newer than the client's last request
+// when the next one comes, so by age alone the client went; one that never carried a request
+// goes first whatever its age.
+TEST(ConnectionTable, AConnectionThatNeverCarriedARequestGoesBeforeOneInUse) {
+    const auto t0 = Clock::time_point{} + 1h;
+    transport::ConnectionTable table;
+    FakeConnection polled(table, Standing::Idle, t0);
+    FakeConnection newer_unused(table, Standing::Unused, t0 + 2s);
+    FakeConnection older_unused(table, Standing::Unused, t0 + 1s);
+    EXPECT_EQ(table.close_one_for_newcomer(t0 + 3s), Standing::Unused);
+    EXPECT_TRUE(older_unused.closed);
+    EXPECT_EQ(table.close_one_for_newcomer(t0 + 3s), Standing::Unused);
+    EXPECT_TRUE(newer_unused.closed);
+    EXPECT_FALSE(polled.closed);
+    EXPECT_EQ(table.close_one_for_newcomer(t0 + 3s), Standing::Idle);
+    EXPECT_TRUE(polled.closed);
+    // A stalled one still goes before an unused one.
+    FakeConnection unused(table, Standing::Unused, t0);
+    FakeConnection stalled(table, Standing::Stalled, t0 + 2s);
+    EXPECT_EQ(table.close_one_for_newcomer(t0 + 3s), Standing::Stalled);
+    EXPECT_FALSE(unused.closed);
 }
 
 }  // namespace

@@ -105,7 +105,11 @@ TEST(MbapSessionTrace, FrameStillArrivingAtTheFrameLimitIsAnswered03AndClosed) {
 
 TEST(MbapSessionTrace, IdleConnectionIsClosedAtTheIdleTimeout) {
     SessionTrace t(idle_after(1000ms));
-    t.client_sends("00 01 00 00 00 06 01 03 00 07 00 01");
+    // Until a whole request comes the connection has not been used.
+    EXPECT_EQ(t.session().standing(t.clock().now()), Standing::Unused);
+    t.client_sends("00 01 00 00 00 06 01");
+    EXPECT_EQ(t.session().standing(t.clock().now()), Standing::Busy);
+    t.client_sends("03 00 07 00 01");
     t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
     EXPECT_EQ(t.session().standing(t.clock().now()), Standing::Idle);
     t.after(999ms);
