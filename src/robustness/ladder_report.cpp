@@ -40,35 +40,6 @@ std::vector<StormSummary> summaries(const MonitorJudgement& judged,
     return out;
 }
 
-const char* heading(StormKind kind) {
-    switch (kind) {
-        case StormKind::Opens:
-            return "connections opened and closed at once";
-        case StormKind::SlowReaders:
-            return "connections writing the largest read as fast as the device takes it, never "
-                   "reading an answer, held to the rung's end";
-        case StormKind::HalfOpen:
-            return "connections sending 3 bytes of a request, then gone without a FIN";
-        case StormKind::Fc03:
-            break;
-    }
-    return "FC 03 of the monitor's register, answers never waited for";
-}
-
-const char* unit_of(StormKind kind) {
-    switch (kind) {
-        case StormKind::Opens:
-            return "connection opens/s";
-        case StormKind::SlowReaders:
-            return "slow readers/s";
-        case StormKind::HalfOpen:
-            return "half-open connections/s";
-        case StormKind::Fc03:
-            break;
-    }
-    return "requests/s";
-}
-
 std::string rung_line(const LadderRung& rung) {
     const auto seconds =
         std::max(1e-3, std::chrono::duration<double>(rung.end - rung.begin).count());
@@ -104,7 +75,7 @@ std::string ladder_text(const MonitorJudgement& judged, const std::vector<Ladder
     for (std::size_t i = 0; i < rungs.size(); ++i) {
         const auto& rung = rungs[i];
         if (i == 0 || rungs[i - 1].kind != rung.kind)
-            out += fmt::format("storm ladder ({}):\n", heading(rung.kind));
+            out += fmt::format("storm ladder ({}):\n", storm_words(rung.kind).heading);
         out += fmt::format("  {:>8g}/s asked, {}: the monitor {}\n", rung.rate, rung_line(rung),
                            held_at(judged, rung) ? "held" : "was lost");
         if (i + 1 < rungs.size() && rungs[i + 1].kind == rung.kind) continue;
@@ -115,9 +86,9 @@ std::string ladder_text(const MonitorJudgement& judged, const std::vector<Ladder
             summary->lost_at ? fmt::format(", lost at {:g}/s", *summary->lost_at) : std::string();
         out += summary->highest_held
                    ? fmt::format("the monitor held up to {:g} {}{} [{}]\n", *summary->highest_held,
-                                 unit_of(rung.kind), lost, tag)
+                                 storm_words(rung.kind).unit, lost, tag)
                    : fmt::format("the monitor was lost from the first rung ({:g} {}) [{}]\n",
-                                 *summary->lost_at, unit_of(rung.kind), tag);
+                                 *summary->lost_at, storm_words(rung.kind).unit, tag);
         ++summary;
     }
     return out;

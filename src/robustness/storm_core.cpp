@@ -8,20 +8,33 @@ namespace {
 
 constexpr std::chrono::milliseconds kReopenEvery{100};
 
+constexpr StormWords kStorms[] = {
+    {StormKind::Fc03, "fc03", "FC 03 of the monitor's register, answers never waited for",
+     "requests/s"},
+    {StormKind::Opens, "opens", "connections opened and closed at once", "connection opens/s"},
+    {StormKind::SlowReaders, "slow-readers",
+     "connections writing the largest read as fast as the device takes it, never reading an "
+     "answer, held to the rung's end",
+     "slow readers/s"},
+    {StormKind::HalfOpen, "half-open",
+     "connections sending 3 bytes of a request, then gone without a FIN",
+     "half-open connections/s"},
+};
+static_assert(kStorms[static_cast<std::size_t>(StormKind::HalfOpen)].kind == StormKind::HalfOpen,
+              "one row per StormKind, in its order");
+
 }  // namespace
 
+std::span<const StormWords> all_storms() {
+    return kStorms;
+}
+
+const StormWords& storm_words(StormKind kind) {
+    return kStorms[static_cast<std::size_t>(kind)];
+}
+
 const char* storm_key(StormKind kind) {
-    switch (kind) {
-        case StormKind::Fc03:
-            return "fc03";
-        case StormKind::Opens:
-            return "opens";
-        case StormKind::SlowReaders:
-            return "slow-readers";
-        case StormKind::HalfOpen:
-            return "half-open";
-    }
-    return "fc03";
+    return storm_words(kind).key;
 }
 
 std::string storm_phase_name(StormKind kind, double rate) {

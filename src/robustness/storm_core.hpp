@@ -3,6 +3,7 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -18,7 +19,18 @@ namespace mblab::robustness {
 
 enum class StormKind : std::uint8_t { Fc03, Opens, SlowReaders, HalfOpen };
 
-// "fc03", "opens", "slow-readers", "half-open": the names --ladder takes.
+// What is said of each storm, in one row: the name --ladder takes ("fc03", "opens",
+// "slow-readers", "half-open"), what its connections do (the report's heading) and the unit of
+// its rate.
+struct StormWords {
+    StormKind kind;
+    const char* key;
+    const char* heading;
+    const char* unit;
+};
+const StormWords& storm_words(StormKind kind);
+// Every storm's row, in the order of StormKind.
+std::span<const StormWords> all_storms();
 const char* storm_key(StormKind kind);
 // The rung's phase: "storm 100/s" for FC 03 (the ladder's first storm), "storm opens 10/s", ...
 std::string storm_phase_name(StormKind kind, double rate);

@@ -154,10 +154,9 @@ protocol::Result<Ladder, std::string> parse_ladder(const std::string& text) {
     if (const auto colon = text.find(':'); colon != std::string::npos) {
         const auto key = text.substr(0, colon);
         bool known = false;
-        for (auto kind :
-             {StormKind::Fc03, StormKind::Opens, StormKind::SlowReaders, StormKind::HalfOpen}) {
-            if (key == storm_key(kind)) {
-                ladder.kind = kind;
+        for (const auto& storm : all_storms()) {
+            if (key == storm.key) {
+                ladder.kind = storm.kind;
                 known = true;
             }
         }
