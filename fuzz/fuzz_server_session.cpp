@@ -124,7 +124,12 @@ class Run final : private MbapSession::Host {
             if (!ended_) session_.answer_deferred(ticket, request, reply, pdu, now_);
         };
     }
-    void on_busy_reply(std::uint8_t /*unit*/) override {}
+    void on_own_answer(const mblab::device::RequestContext& /*context*/,
+                       std::span<const std::uint8_t> request,
+                       mblab::protocol::ExceptionCode /*code*/) override {
+        // The log it feeds shows the function code: an answer always has one to show.
+        require(!request.empty(), "the session answered a request without a function code");
+    }
 
     void queue_bytes(std::span<const std::uint8_t> bytes);
     void queue_request(std::uint8_t unit, std::span<const std::uint8_t> pdu);

@@ -4,7 +4,9 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <atomic>
+#include <cmath>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <memory>
@@ -59,7 +61,7 @@ struct LoadOptions {
     std::vector<std::string> cases;
     std::string catalogue;
     bool no_tests = false;
-    std::string duration = "1h";
+    double duration_s = 3600;
     std::size_t connections = 8;
     double rate = 0;
     std::string mix = "fc3:125=70,fc16:10=20,fc1:100=10";
@@ -169,9 +171,7 @@ std::optional<std::string> check_line_unit(const LoadOptions& options, const loa
 protocol::Result<load::LoadPlan, std::string> make_plan(const LoadOptions& options) {
     load::LoadPlan plan;
     auto& s = plan.settings;
-    auto duration = load::parse_duration(options.duration);
-    if (!duration) return duration.error();
-    s.duration = *duration;
+    s.duration = std::chrono::milliseconds(std::llround(options.duration_s * 1000));
     s.connections = options.connections;
     s.rate = options.rate;
     s.pipeline = options.pipeline;
@@ -334,9 +334,19 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
            "each node: tcp://HOST[:PORT], rtu+tcp://HOST:PORT, rtu:///dev/ttyX?baud=19200&parity=E "
            "or ascii:///dev/ttyX?...")
         ->required();
-    cmd->add_option("--duration", options->duration,
-                    "how long to run: 1h (the policy's), 10m, 30s, 1500ms, 1h30m")
-        ->capture_default_str();
+    // Down to a millisecond, the run's own resolution; up to a year. The text is seconds by now.
+    const CLI::Validator run_length(
+        [](const std::string& seconds) -> std::string {
+            const double length = std::strtod(seconds.c_str(), nullptr);
+            return length >= 0.001 && length <= 31'536'000.0 ? ""
+                                                             : "a run lasts from 1ms to a year";
+        },
+        "");
+    add_duration_option(*cmd, "--duration", options->duration_s,
+                        "how long to run: seconds, or 10m, 30s, 0.5s, 1500ms, 1h30m (the "
+                        "policy's 1h)",
+                        DurationUnit::seconds, run_length)
+        ->default_str("1h");
     cmd->add_option("--connections", options->connections,
                     "traffic generator connections, spread over the nodes (0: none)")
         ->check(CLI::Range(0, 100000))

@@ -2,6 +2,7 @@
 
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cstdlib>
 #include <string>
@@ -56,23 +57,22 @@ std::optional<std::chrono::duration<double>> parse_duration(
                                       {"s", duration<double>(1)},
                                       {"m", duration<double, std::ratio<60>>(1)},
                                       {"h", duration<double, std::ratio<3600>>(1)}};
-    duration<double> unit = bare_unit;
-    for (const auto& candidate : kUnits) {
-        if (text.ends_with(candidate.suffix)) {
-            text.remove_suffix(candidate.suffix.size());
-            unit = candidate.length;
-            break;
-        }
+    if (text.empty()) return std::nullopt;
+    duration<double> total{0};
+    // A sum of parts, 1h30m or 1m30.5s; a number without a unit only stands alone.
+    for (bool alone = true; !text.empty(); alone = false) {
+        // Digits and at most one point only: strtod would also take signs, exponents, hex and inf.
+        const auto number = text.substr(0, text.find_first_not_of("0123456789."));
+        text.remove_prefix(number.size());
+        if (number.empty() || number == "." || number.find('.') != number.rfind('.'))
+            return std::nullopt;
+        const auto unit = std::find_if(std::begin(kUnits), std::end(kUnits),
+                                       [&](const Unit& u) { return text.starts_with(u.suffix); });
+        if (unit == std::end(kUnits) && !(alone && text.empty())) return std::nullopt;
+        if (unit != std::end(kUnits)) text.remove_prefix(unit->suffix.size());
+        total += *parse_real(number) * (unit == std::end(kUnits) ? bare_unit : unit->length);
     }
-    // Digits and at most one point only: strtod would also take signs, exponents, hex and inf.
-    const auto point = text.find('.');
-    if (text.empty() || text == "." || text.find_first_not_of("0123456789.") != text.npos ||
-        (point != text.npos && text.find('.', point + 1) != text.npos)) {
-        return std::nullopt;
-    }
-    auto number = parse_real(text);
-    if (!number) return std::nullopt;
-    return *number * unit;
+    return total;
 }
 
 std::string address_text(unsigned address) {

@@ -237,6 +237,13 @@ int run_serve(const ServeOptions& options) {
                 fmt::print(stderr, "mblab serve: refused a TLS client: {}\n", reason);
             };
         }
+        if (traffic) {
+            // What the session answers itself never reaches the handler that logs.
+            config.on_own_answer = [log = traffic.get()](const auto& context, auto request,
+                                                         auto code) {
+                log->record_own_answer(context, request, code);
+            };
+        }
         device::RequestHandler& handler = device_handler(i);
         servers.push_back(
             rtu_over_tcp

@@ -3,7 +3,6 @@
 #include <fmt/core.h>
 
 #include <algorithm>
-#include <charconv>
 #include <optional>
 #include <set>
 
@@ -203,39 +202,6 @@ void add_mix(LoadPlan& plan, const std::vector<MixEntry>& mix, const conformance
     }
     plan.mix = mix;
     unpin_read_backs(plan);
-}
-
-protocol::Result<std::chrono::milliseconds, std::string> parse_duration(std::string_view text) {
-    auto bad = [&] {
-        return fmt::format("bad duration '{}' (expected e.g. 1h, 10m, 30s, 1500ms or 1h30m)", text);
-    };
-    if (text.empty()) return bad();
-    std::chrono::milliseconds total{0};
-    std::string_view rest = text;
-    while (!rest.empty()) {
-        std::uint64_t value = 0;
-        auto [end, ec] = std::from_chars(rest.data(), rest.data() + rest.size(), value);
-        if (ec != std::errc() || value > 1'000'000'000) return bad();
-        rest.remove_prefix(static_cast<std::size_t>(end - rest.data()));
-        std::uint64_t unit_ms = 1000;
-        if (rest.starts_with("ms")) {
-            unit_ms = 1;
-            rest.remove_prefix(2);
-        } else if (rest.starts_with("h")) {
-            unit_ms = 3'600'000;
-            rest.remove_prefix(1);
-        } else if (rest.starts_with("m")) {
-            unit_ms = 60'000;
-            rest.remove_prefix(1);
-        } else if (rest.starts_with("s")) {
-            rest.remove_prefix(1);
-        } else if (!rest.empty() || total.count() != 0) {
-            return bad();  // a bare number only stands alone
-        }
-        total += std::chrono::milliseconds(value * unit_ms);
-    }
-    if (total.count() == 0) return std::string("the duration must be longer than 0");
-    return total;
 }
 
 std::string format_duration_words(std::chrono::milliseconds duration) {

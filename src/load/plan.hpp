@@ -111,8 +111,6 @@ protocol::Result<bool, std::string> add_protocol_tests(
 
 void add_mix(LoadPlan& plan, const std::vector<MixEntry>& mix, const conformance::Dut& dut);
 
-// "1h", "10m", "30s", "1500ms", "1h30m"; a bare number is seconds.
-protocol::Result<std::chrono::milliseconds, std::string> parse_duration(std::string_view text);
 // "1 h", "10 min", "30 s", "1 h 30 min", "1.5 s".
 std::string format_duration_words(std::chrono::milliseconds duration);
 

@@ -146,7 +146,7 @@ void LineSessionCore::handle(const LineEvent& event, LineClock::time_point now) 
     last_activity_ = now;
     ServerStats::bump(stats_.requests);
     const std::uint8_t unit = event.frame.header.unit;
-    const auto reply = handler_.handle({unit, device::Link::Serial}, event.frame.pdu,
+    const auto reply = handler_.handle({unit, device::Link::Serial, peer_}, event.frame.pdu,
                                        std::span(response_).first(protocol::limits::kMaxPdu));
     switch (reply.action) {
         case device::ReplyAction::NoAnswer:

@@ -92,6 +92,9 @@ class LineSessionCore {
     void line_faults(std::uint32_t overruns, std::uint32_t parity_errors);
     // The TCP peer finished sending: what it left unfinished can no longer complete.
     void end_of_input();
+    // The TCP client's address, handed to the handler with each request (RequestContext::peer);
+    // a serial port has none.
+    void set_peer(std::string peer) { peer_ = std::move(peer); }
 
     // The answer, once its turnaround and any delay are over; empty otherwise. Once given, it is
     // the owner's to write until sent().
@@ -126,6 +129,7 @@ class LineSessionCore {
     LineLimits limits_;
     ServerStats& stats_;
     SerialLineReceiver receiver_;
+    std::string peer_;
 
     LineClock::time_point last_activity_;
     // The unfinished frame a TCP client is sending, since when (LineLimits::frame_limit).

@@ -132,14 +132,13 @@ void MbapSession::on_frame(const protocol::FrameEvent& frame, Clock::time_point 
     ServerStats::bump(stats_.requests);
     if (replies_.size() >= outstanding_limit(limits_)) {
         ServerStats::bump(stats_.busy);
-        host_.on_busy_reply(frame.header.unit);
-        queue_exception(request, frame.pdu.front(), protocol::ExceptionCode::ServerDeviceBusy, now);
+        queue_exception(request, frame.pdu, protocol::ExceptionCode::ServerDeviceBusy, now);
         return;
     }
     if (rules_ && !rules_->permits(role_, frame.header.unit, frame.pdu)) {
         // [SEC]: a request the role does not allow is refused as an illegal function.
         ServerStats::bump(stats_.denied);
-        queue_exception(request, frame.pdu.front(), protocol::ExceptionCode::IllegalFunction, now);
+        queue_exception(request, frame.pdu, protocol::ExceptionCode::IllegalFunction, now);
         return;
     }
     auto* slot = replies_.push_back();
@@ -219,8 +218,8 @@ void MbapSession::on_frame_error(const protocol::FrameEvent& frame, Clock::time_
 
 void MbapSession::drop_partial(Clock::time_point now) {
     if (const auto answer = unfinished_.answerable()) {
-        queue_exception(answer->header, answer->function, protocol::ExceptionCode::IllegalDataValue,
-                        now);
+        const std::uint8_t function[] = {answer->function};
+        queue_exception(answer->header, function, protocol::ExceptionCode::IllegalDataValue, now);
     }
     framer_.reset();
     unfinished_.clear();
@@ -247,12 +246,15 @@ void MbapSession::on_slow_frame(Clock::time_point now) {
     close_after_answers(now);
 }
 
-void MbapSession::queue_exception(const protocol::MbapHeader& header, std::uint8_t function,
+void MbapSession::queue_exception(const protocol::MbapHeader& header,
+                                  std::span<const std::uint8_t> request,
                                   protocol::ExceptionCode code, Clock::time_point now) {
     auto* slot = replies_.push_back();
     if (!slot) return;
-    const std::uint8_t pdu[] = {static_cast<std::uint8_t>(function | protocol::kExceptionBit),
-                                static_cast<std::uint8_t>(code)};
+    host_.on_own_answer({header.unit_id, device::Link::Tcp, peer_}, request, code);
+    const std::uint8_t pdu[] = {
+        static_cast<std::uint8_t>(request.front() | protocol::kExceptionBit),
+        static_cast<std::uint8_t>(code)};
     slot->size =
         static_cast<std::uint16_t>(protocol::write_mbap_adu(answer_header(header), pdu, slot->adu));
     slot->ready_at = now;

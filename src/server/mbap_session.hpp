@@ -43,8 +43,12 @@ class MbapSession {
         // answer back to the session's thread, as answer_deferred().
         virtual device::DeferredDone route_deferred(std::uint32_t ticket,
                                                     const protocol::MbapHeader& request) = 0;
-        // The session answered 06 itself (ServerOptions::on_busy_reply).
-        virtual void on_busy_reply(std::uint8_t unit) = 0;
+        // The session answered a request itself, not the handler: 06 past the outstanding
+        // limit, 01 for a request the client's role may not make, 03 for a frame that stopped
+        // coming (`request` then holds only its function code, all that came of the PDU).
+        virtual void on_own_answer(const device::RequestContext& context,
+                                   std::span<const std::uint8_t> request,
+                                   protocol::ExceptionCode code) = 0;
 
       protected:
         ~Host() = default;
@@ -123,7 +127,8 @@ class MbapSession {
     // Writes the handler's reply into its slot.
     void fill(PendingReply& slot, const protocol::MbapHeader& request, const device::Reply& reply,
               std::span<const std::uint8_t> response, Clock::time_point now);
-    void queue_exception(const protocol::MbapHeader& header, std::uint8_t function,
+    // Answers `request` (its PDU, or as much as came) with `code`, and tells the host.
+    void queue_exception(const protocol::MbapHeader& header, std::span<const std::uint8_t> request,
                          protocol::ExceptionCode code, Clock::time_point now);
     // The unfinished frame's bytes stopped coming: answered 03, and the stream carries on.
     void on_partial_timeout(Clock::time_point now);

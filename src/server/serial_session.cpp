@@ -4,6 +4,8 @@
 #include <asio/write.hpp>
 #include <type_traits>
 
+#include "transport/tcp_url.hpp"
+
 namespace mblab::server {
 
 namespace {
@@ -32,7 +34,13 @@ LineSession<Stream>::LineSession(Stream stream, std::shared_ptr<ServerCore> core
       timer_(stream_.get_executor()),
       pace_(setup.pace),
       pace_timer_(stream_.get_executor()) {
-    if constexpr (kIsSerialPort<Stream>) faults_.emplace(stream_.native_handle());
+    if constexpr (kIsSerialPort<Stream>) {
+        faults_.emplace(stream_.native_handle());
+    } else {
+        asio::error_code ec;
+        const auto peer = stream_.remote_endpoint(ec);
+        if (!ec) line_.set_peer(transport::endpoint_text(peer));
+    }
 }
 
 template <class Stream>

@@ -5,8 +5,11 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <span>
 
+#include "device/request_handler.hpp"
 #include "device/role_rules.hpp"
+#include "protocol/exception_code.hpp"
 #include "security/tls_context.hpp"
 #include "transport/allow_list.hpp"
 
@@ -36,6 +39,12 @@ struct ServerOptions {
     // Told the unit of each busy answer the server gives itself, so a device can count it
     // (FC 08 sub 11). Called on the server's thread.
     std::function<void(std::uint8_t unit)> on_busy_reply;
+    // Told each answer a Modbus/TCP session gives itself, without the handler (06 busy, 01 refused
+    // by role, 03 for an unfinished frame; MbapSession::Host::on_own_answer), for the traffic
+    // log. Called on the server's thread.
+    std::function<void(const device::RequestContext& context, std::span<const std::uint8_t> request,
+                       protocol::ExceptionCode code)>
+        on_own_answer;
     // Modbus/TCP Security: set, every connection is a TLS session with this context (mbaps://)
     // and each request is authorized by the client's role under `roles` (deny by default).
     security::SharedContext tls;

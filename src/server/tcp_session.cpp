@@ -160,8 +160,13 @@ device::DeferredDone TcpSession::route_deferred(std::uint32_t ticket,
     };
 }
 
-void TcpSession::on_busy_reply(std::uint8_t unit) {
-    if (core_->options.on_busy_reply) core_->options.on_busy_reply(unit);
+void TcpSession::on_own_answer(const device::RequestContext& context,
+                               std::span<const std::uint8_t> request,
+                               protocol::ExceptionCode code) {
+    const auto& options = core_->options;
+    if (code == protocol::ExceptionCode::ServerDeviceBusy && options.on_busy_reply)
+        options.on_busy_reply(context.unit);
+    if (options.on_own_answer) options.on_own_answer(context, request, code);
 }
 
 }  // namespace mblab::server

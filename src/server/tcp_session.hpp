@@ -40,7 +40,8 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
   private:
     device::DeferredDone route_deferred(std::uint32_t ticket,
                                         const protocol::MbapHeader& request) override;
-    void on_busy_reply(std::uint8_t unit) override;
+    void on_own_answer(const device::RequestContext& context, std::span<const std::uint8_t> request,
+                       protocol::ExceptionCode code) override;
 
     // After an event: the connection closed if the driver is done, else the watched events and
     // the timer brought up to date.

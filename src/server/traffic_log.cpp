@@ -1,10 +1,25 @@
 #include "server/traffic_log.hpp"
 
+#include <string_view>
+
+#include "protocol/function_code.hpp"
+
 namespace mblab::server {
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// A request as it came, before its answer; `no_peer` stands for a link without an address.
+TrafficEntry request_entry(const device::RequestContext& context,
+                           std::span<const std::uint8_t> request, std::string_view no_peer) {
+    TrafficEntry entry;
+    entry.time = std::chrono::system_clock::now();
+    entry.peer = std::string(context.peer.empty() ? no_peer : context.peer);
+    entry.unit = context.unit;
+    entry.request.assign(request.begin(), request.end());
+    return entry;
+}
 
 // What is known of a request before its answer: the answer completes it.
 struct Pending {
@@ -61,6 +76,15 @@ void TrafficLog::record(TrafficEntry entry) {
     ring_.push_back(std::move(entry));
 }
 
+void TrafficLog::record_own_answer(const device::RequestContext& context,
+                                   std::span<const std::uint8_t> request,
+                                   protocol::ExceptionCode code) {
+    auto entry = request_entry(context, request, "-");
+    entry.response = {static_cast<std::uint8_t>(request.front() | protocol::kExceptionBit),
+                      static_cast<std::uint8_t>(code)};
+    record(std::move(entry));
+}
+
 std::vector<TrafficEntry> TrafficLog::recent(std::uint64_t after, std::uint64_t& last) const {
     const std::lock_guard lock(mutex_);
     last = recorded_;
@@ -76,12 +100,7 @@ std::optional<device::Reply> LoggedHandler::handle_or_defer(const device::Reques
                                                             std::span<const std::uint8_t> request,
                                                             std::span<std::uint8_t> response,
                                                             device::Deferral& deferral) {
-    Pending pending;
-    pending.entry.time = std::chrono::system_clock::now();
-    pending.entry.peer = context.peer.empty() ? line_name_ : std::string(context.peer);
-    pending.entry.unit = context.unit;
-    pending.entry.request.assign(request.begin(), request.end());
-    pending.start = Clock::now();
+    Pending pending{request_entry(context, request, line_name_), Clock::now()};
     LoggedDeferral logged(deferral, log_, pending);
     auto reply = inner().handle_or_defer(context, request, response, logged);
     if (reply) pending.answer(log_, *reply, response);

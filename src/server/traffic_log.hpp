@@ -6,10 +6,12 @@
 #include <deque>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
 #include "device/request_handler.hpp"
+#include "protocol/exception_code.hpp"
 #include "server/rotating_file.hpp"
 #include "server/traffic_entry.hpp"
 
@@ -29,6 +31,10 @@ class TrafficLog {
     TrafficLog(std::optional<RotatingFile> out, TrafficFormat format, std::size_t ring);
 
     void record(TrafficEntry entry);
+    // An answer a session gave itself, not the handler (ServerOptions::on_own_answer): 06 busy,
+    // 01 refused by role, 03 for an unfinished frame. Logged as the handler's are, taking no time.
+    void record_own_answer(const device::RequestContext& context,
+                           std::span<const std::uint8_t> request, protocol::ExceptionCode code);
     // The kept entries after number `after` (0: all kept), oldest first, and the number of the
     // last one recorded, so that a reader asks only for what is new.
     std::vector<TrafficEntry> recent(std::uint64_t after, std::uint64_t& last) const;

@@ -41,6 +41,7 @@ const device::RangeSpec* range_at(const device::UnitSpec& unit, BankKind kind,
 struct Point {
     std::uint32_t address = 0;
     device::NumberLayout layout = {};
+    bool moving = false;  // a behaviour drives it: the dashboard draws its trend
 };
 
 std::vector<Point> points_of(const device::UnitSpec& unit, BankKind kind) {
@@ -50,7 +51,7 @@ std::vector<Point> points_of(const device::UnitSpec& unit, BankKind kind) {
         if (b.bank != kind || b.layout.type == device::NumberType::Bit) continue;
         const auto width = device::number_width(b.layout.type);
         for (std::uint32_t i = 0; i < b.points; ++i) {
-            points.push_back({b.address + i * width, b.layout});
+            points.push_back({b.address + i * width, b.layout, true});
             for (std::uint32_t w = 0; w < width && b.address + i * width + w < 65536; ++w)
                 moving[b.address + i * width + w] = true;
         }
@@ -60,7 +61,7 @@ std::vector<Point> points_of(const device::UnitSpec& unit, BankKind kind) {
         if (!type) continue;
         const auto width = device::number_width(*type);
         for (std::uint32_t a = range.start; a + width <= range.start + range.count; a += width) {
-            if (!moving[a]) points.push_back({a, {*type, {}, 1.0, 0.0}});
+            if (!moving[a]) points.push_back({a, {*type, {}, 1.0, 0.0}, false});
         }
     }
     return points;
@@ -92,6 +93,7 @@ json page_points(const device::ReferenceDevice& device, std::uint8_t unit, BankK
                  {"name", range ? range->name : std::string()},
                  {"type", std::string(device::register_type_name(point.layout.type))},
                  {"order", device::order_letters(point.layout.order)},
+                 {"moving", point.moving},
                  {"value", device::decode_number(std::span(words).first(width), point.layout)}});
         }
     }

@@ -13,7 +13,7 @@
 namespace mblab::web {
 
 // The typed points of `unit` whose registers all lie in [start, start + count) of `kind`,
-// by address: {address, name, type, order, value}.
+// by address: {address, name, type, order, moving, value}.
 nlohmann::json page_points(const device::ReferenceDevice& device, std::uint8_t unit,
                            device::BankKind kind, std::uint32_t start, std::uint32_t count);
 

@@ -1,6 +1,7 @@
-// Small edges of the command line, with the real binary: durations as plain numbers, --help in
-// mblab's words, reports on standard output, reports never left empty. (A restart that a device
-// in listen only mode rightly leaves unanswered: test_client_commands.cpp.)
+// Small edges of the command line, with the real binary: durations as plain numbers and as
+// load's run length, --help in mblab's words, reports on standard output, reports never left
+// empty. (A restart that a device in listen only mode rightly leaves unanswered:
+// test_client_commands.cpp.)
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -33,6 +34,27 @@ TEST(CliEdges, APlainFractionalDurationIsInTheOptionsUnit) {
     // Seconds: a fraction is a duration like any other.
     ChildProcess serve(serve_argv({"--idle-timeout", "0.5", "--save-interval", "0.25"}));
     EXPECT_FALSE(modbus_target(serve).empty());
+}
+
+TEST(CliEdges, LoadTakesDurationsAsEveryOtherOptionDoes) {
+    ChildProcess serve(serve_argv({}));
+    const auto target = modbus_target(serve);
+    ASSERT_FALSE(target.empty());
+    // With a unit, bare (seconds, as ever), in milliseconds, and as a sum of parts.
+    for (const char* given : {"0.5s", "0.5", "500ms", "0m0.5s"}) {
+        auto load =
+            run_mblab({"load", target, "--duration", given, "--connections", "1", "--json", "-"});
+        EXPECT_EQ(load.status, 0) << given << ": " << load.err;
+        const auto report = nlohmann::json::parse(load.out, nullptr, false);
+        EXPECT_EQ(report.value("duration_s", 0.0), 0.5) << given;
+    }
+    auto refused = run_mblab({"load", target, "--duration", "1m30"});
+    EXPECT_EQ(refused.status, 2);
+    EXPECT_THAT(refused.err, HasSubstr("--duration: '1m30' is not a duration: give e.g. 250ms"));
+    refused = run_mblab({"load", target, "--duration", "0"});
+    EXPECT_EQ(refused.status, 2);
+    EXPECT_THAT(refused.err, HasSubstr("--duration: a run lasts from 1ms to a year"));
+    EXPECT_THAT(run_mblab({"load", "--help"}).out, HasSubstr("--duration DURATION=1h "));
 }
 
 TEST(CliEdges, HelpNamesValuesInMblabsWords) {

@@ -343,7 +343,8 @@ TEST(LoadCli, BadArgumentsAreUsageErrors) {
         "fc3:125=70)\n");
     auto duration = mblab_load("usage", {device.url(), "--duration", "5x"});
     expect_failed(duration, 2,
-                  "mblab load: bad duration '5x' (expected e.g. 1h, 10m, 30s, 1500ms or 1h30m)\n");
+                  "mblab load: --duration: '5x' is not a duration: give e.g. 250ms, 1s, 1.5s or "
+                  "2m (a number alone is seconds) (run 'mblab load --help' for usage)\n");
     auto unknown_case = mblab_load("usage", {device.url(), "--case", "7.99"});
     expect_failed(unknown_case, 2, "mblab load: no case 7.99 in the chosen suites\n");
     auto twice = mblab_load("usage", {device.url(), device.url()});

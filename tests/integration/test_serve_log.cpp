@@ -1,5 +1,6 @@
 // `mblab serve --log`: the real binary serves, the mblab client asks, and the log it writes (a
-// file, standard error, the dashboard's /api/traffic) is read back.
+// file, standard error, the dashboard's /api/traffic) is read back: the device's answers and
+// those the session gives itself, with the client's address over Modbus/TCP and RTU over TCP.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <signal.h>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "blocking_client.hpp"
 #include "http_serve.hpp"
 #include "support/temp_dir.hpp"
 
@@ -68,6 +70,64 @@ TEST(ServeLog, EachRequestIsOneNdjsonLineWithItsFieldsAndAnswer) {
     EXPECT_EQ(write["answer"], "exception");
     EXPECT_EQ(write["exception"]["code"], 4);
     EXPECT_EQ(write["exception"]["name"], "server device failure");
+}
+
+TEST(ServeLog, AnswersTheSessionGivesItselfAreLoggedToo) {
+    if (!have("/usr/bin/curl")) GTEST_SKIP() << "no curl";
+    TempDir dir;
+    const auto path = dir / "traffic.ndjson";
+    std::vector<nlohmann::json> lines;
+    {
+        HttpServe serve({"--log=" + path.string(), "--log-format", "ndjson", "--max-outstanding",
+                         "1", "--frame-timeout", "50ms"});
+        ASSERT_FALSE(serve.modbus().empty());
+        // An answer held back fills the connection's one place: the request behind it is
+        // answered 06 by the session, which the device never sees.
+        change(serve, "POST", "/api/units/1/faults",
+               R"({"action":"delay","delay_ms":300,"functions":[3]})");
+        const auto& url = serve.modbus();
+        BlockingClient client(
+            static_cast<std::uint16_t>(std::stoi(url.substr(url.rfind(':') + 1))));
+        ASSERT_TRUE(client.connected());
+        client.send_hex("00 01 00 00 00 06 01 03 00 00 00 01 00 02 00 00 00 06 01 04 00 07 00 02");
+        EXPECT_THAT(client.read_adu(), HasSubstr("00 01 00 00 00 05 01 03 02"));
+        EXPECT_EQ(client.read_adu(), "00 02 00 00 00 03 01 84 06");
+        // A frame whose bytes stop coming: answered 03 by the session once they stop.
+        client.send_hex("00 03 00 00 00 06 01 03 00");
+        EXPECT_EQ(client.read_adu(), "00 03 00 00 00 03 01 83 03");
+        lines = ndjson_lines(file_text(path));
+    }
+    ASSERT_EQ(lines.size(), 3U);
+    const auto answered = [&](int function) {
+        for (const auto& line : lines)
+            if (line["function"] == function && line["answer"] == "exception") return line;
+        return nlohmann::json();
+    };
+    const auto busy = answered(4);
+    EXPECT_EQ(busy["exception"]["code"], 6) << busy.dump();
+    EXPECT_EQ(busy["address"], 7);
+    EXPECT_EQ(busy["quantity"], 2);
+    EXPECT_THAT(busy["peer"].get<std::string>(), MatchesRegex("127\\.0\\.0\\.1:[0-9]+"));
+    const auto unfinished = answered(3);
+    EXPECT_EQ(unfinished["exception"]["code"], 3) << unfinished.dump();
+    EXPECT_TRUE(unfinished.contains("undecoded")) << unfinished.dump();
+}
+
+TEST(ServeLog, AnRtuOverTcpClientIsLoggedByItsOwnAddress) {
+    ChildProcess serve(
+        {MBLAB_BINARY, "serve", "reference", "--listen", "rtu+tcp://127.0.0.1:0", "--log"});
+    const auto target = modbus_target(serve);
+    ASSERT_FALSE(target.empty());
+    EXPECT_EQ(run_mblab({"read", "rtu+" + target, "holding", "0"}).status, 0);
+    serve.signal(SIGTERM);
+    EXPECT_EQ(serve.wait_exit(10s), 0);
+    // The client's address and port, not the address listened on.
+    const auto listened = target.substr(std::string("tcp://").size());
+    const auto log = serve.drain_stderr();
+    EXPECT_THAT(log,
+                MatchesRegex("[0-9TZ:.-]+ 127\\.0\\.0\\.1:[0-9]+ unit 1 0x03 read holding "
+                             "registers address 0 quantity 1 -> values [0-9]+ \\([0-9]+ us\\)\n"));
+    EXPECT_THAT(log, ::testing::Not(HasSubstr(" " + listened + " ")));
 }
 
 TEST(ServeLog, ABareLogWritesTextLinesToStandardError) {

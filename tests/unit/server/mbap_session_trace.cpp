@@ -120,6 +120,7 @@ SessionTrace::SessionTrace(const TraceTls& tls, server::MbapSessionLimits limits
                              : nullptr),
       session_(device_, limits, stats_, *this, clock_.now()),
       driver_(server_channel(stream_, server_tls_), session_, options_, stats_, clock_.now()) {
+    session_.set_peer("192.0.2.9:50312");
     if (client_tls_) {
         client_tls_->start();
         if (tls.handshake) {
@@ -154,8 +155,13 @@ device::DeferredDone SessionTrace::route_deferred(std::uint32_t ticket,
     };
 }
 
-void SessionTrace::on_busy_reply(std::uint8_t /*unit*/) {
-    ++busy_replies_;
+void SessionTrace::on_own_answer(const device::RequestContext& context,
+                                 std::span<const std::uint8_t> request,
+                                 protocol::ExceptionCode code) {
+    if (code == protocol::ExceptionCode::ServerDeviceBusy) ++busy_replies_;
+    own_answers_.push_back("unit " + std::to_string(context.unit) + " from " +
+                           std::string(context.peer) + ": " + to_hex(request) + " -> " +
+                           to_hex(std::array{static_cast<std::uint8_t>(code)}));
 }
 
 void SessionTrace::run() {

@@ -115,13 +115,16 @@ class SessionTrace final : private server::MbapSession::Host {
     const server::ServerStats& stats() const { return stats_; }
     ManualClock& clock() { return clock_; }
     int busy_replies() const { return busy_replies_; }
+    // The answers the session gave itself, as "unit 1 from PEER: 03 00 08 00 01 -> 06".
+    const std::vector<std::string>& own_answers() const { return own_answers_; }
     // Why the server refused a TLS client, in order.
     const std::vector<std::string>& refusals() const { return refusals_; }
 
   private:
     device::DeferredDone route_deferred(std::uint32_t ticket,
                                         const protocol::MbapHeader& request) override;
-    void on_busy_reply(std::uint8_t unit) override;
+    void on_own_answer(const device::RequestContext& context, std::span<const std::uint8_t> request,
+                       protocol::ExceptionCode code) override;
 
     TraceDevice device_;
     server::ServerStats stats_;
@@ -134,6 +137,7 @@ class SessionTrace final : private server::MbapSession::Host {
     server::MbapSession session_;
     server::MbapDriver driver_;
     int busy_replies_ = 0;
+    std::vector<std::string> own_answers_;
 };
 
 }  // namespace mblab::test

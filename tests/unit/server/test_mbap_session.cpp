@@ -70,6 +70,8 @@ TEST(MbapSessionTrace, UnfinishedFrameIsAnswered03WhenItsBytesStopComing) {
     t.client_sends("00 02 00 00 00 06 01 03 00 07 00 01");
     t.device_answers("00 02 00 00 00 05 01 03 02 00 07");
     EXPECT_EQ(count(t.stats().frames_dropped), 1U);
+    // Told to the owner (for the traffic log) with as much of the request as came.
+    EXPECT_EQ(t.own_answers(), std::vector<std::string>{"unit 1 from 192.0.2.9:50312: 03 -> 03"});
 }
 
 TEST(MbapSessionTrace, UnfinishedHeaderIsDroppedWithoutAnswer) {
@@ -173,6 +175,8 @@ TEST(MbapSessionTrace, RequestsPastMaxOutstandingBehindADelayedAnswerAreBusy) {
         "00 03 00 00 00 03 01 83 06");
     EXPECT_EQ(t.busy_replies(), 1);
     EXPECT_EQ(count(t.stats().busy), 1U);
+    EXPECT_EQ(t.own_answers(),
+              std::vector<std::string>{"unit 1 from 192.0.2.9:50312: 03 00 08 00 01 -> 06"});
 }
 
 std::string read_requests(int first, int last) {
@@ -384,6 +388,8 @@ TEST(MbapSessionTrace, RequestTheRoleMayNotMakeIsAnswered01) {
         "00 01 00 00 00 05 01 03 02 00 07"
         "00 02 00 00 00 03 01 86 01");
     EXPECT_EQ(ServerStats::read(t.stats().denied), 1U);
+    EXPECT_EQ(t.own_answers(),
+              std::vector<std::string>{"unit 1 from 192.0.2.9:50312: 06 00 08 12 34 -> 01"});
 }
 
 TEST(MbapSessionTrace, ClientWithoutRoleIsRefusedEverything) {

@@ -240,11 +240,13 @@ value = 21.53
     EXPECT_EQ(page["points"][0]["type"], "f32");
     EXPECT_EQ(page["points"][0]["order"], "CDAB");
     EXPECT_NEAR(page["points"][0]["value"].get<double>(), 21.53, 1e-5);
+    EXPECT_EQ(page["points"][0]["moving"], true);  // a behaviour's: the page draws its trend
     page = api.live_event(
         {{"unit", "1"}, {"bank", "holding_registers"}, {"start", "15"}, {"count", "10"}})["page"];
     ASSERT_EQ(page["points"].size(), 1U) << page.dump();
     EXPECT_EQ(page["points"][0]["name"], "energy");
     EXPECT_EQ(page["points"][0]["value"], 65538);
+    EXPECT_EQ(page["points"][0]["moving"], false);
     // A page that cuts a point in two shows none of it.
     page = api.live_event(
         {{"unit", "1"}, {"bank", "holding_registers"}, {"start", "21"}, {"count", "5"}})["page"];
