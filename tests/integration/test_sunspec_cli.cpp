@@ -20,7 +20,7 @@ class SunspecCli : public ClientCliTest {
 TEST_F(SunspecCli, PrintsEachModelAndPointScaled) {
     auto ran = mblab("sunspec", {});
     ASSERT_EQ(ran.status, 0) << ran.err;
-    EXPECT_EQ(ran.out.rfind("SunSpec marker at 40000, 2 models, end model at 40122\n\n"
+    EXPECT_EQ(ran.out.rfind("SunSpec marker at 40000, 7 models, end model at 40361\n\n"
                             "model 1 common (Common) at 40002, length 66\n"
                             "  40002  ID                       1\n"
                             "  40003  L                        66\n"
@@ -34,7 +34,11 @@ TEST_F(SunspecCli, PrintsEachModelAndPointScaled) {
                              "  40080  PhVphA                   230.1 V\n",
                              "  40094  WH                       1000000 Wh\n",
                              "  40108  St                       4 (MPPT)\n",
-                             "  40090  VAr                      (not implemented)\n"}) {
+                             "  40090  VAr                      (not implemented)\n",
+                             "model 123 controls (Immediate Controls) at 40228, length 24\n",
+                             "  40232  Conn                     1 (CONNECT)\n",
+                             "model 203 ac_meter_abcn (Meter (Three Phase Wye)) at 40254, "
+                             "length 105\n"}) {
         EXPECT_NE(ran.out.find(line), std::string::npos) << line << ran.out;
     }
 }
@@ -45,7 +49,7 @@ TEST_F(SunspecCli, JsonHasEveryPoint) {
     const auto document = nlohmann::json::parse(ran.out);
     const auto& sunspec = document["sunspec"];
     EXPECT_EQ(sunspec["base"], 40000);
-    ASSERT_EQ(sunspec["models"].size(), 2U);
+    ASSERT_EQ(sunspec["models"].size(), 7U);
     const auto& inverter = sunspec["models"][1];
     EXPECT_EQ(inverter["id"], 103);
     EXPECT_EQ(inverter["points"].size(), 45U);
