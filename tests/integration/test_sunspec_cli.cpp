@@ -1,6 +1,9 @@
+#include <unistd.h>
+
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "child_process.hpp"
 #include "test_client_support.hpp"
 
 // `mblab sunspec` against the shipped sunspec-inverter profile served in-process.
@@ -73,6 +76,33 @@ TEST_F(SunspecCli, ReadsWithTheOfficialModels) {
     EXPECT_NE(ran.out.find("  40072  A                        12.34 A\n"), std::string::npos)
         << ran.out;
     EXPECT_NE(ran.out.find("  40108  St                       4 (MPPT)\n"), std::string::npos);
+}
+
+// `conform --suite sunspec` scans the built-in device as `mblab sunspec` does; every case passes
+// (the line case is N/A over TCP), and its capture reads back in tshark as Modbus/TCP: the first
+// FC 03 request reads the 2 registers of the marker at 40000.
+TEST_F(SunspecCli, TheSuitePassesAndItsCaptureReadsInTshark) {
+    const std::string pcap = (std::filesystem::temp_directory_path() /
+                              ("mblab-sunspec-" + std::to_string(::getpid()) + ".pcap"))
+                                 .string();
+    auto ran = mblab("conform", {"--suite", "sunspec", "--pcap", pcap});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("15 passed"), std::string::npos) << ran.out;
+    if (!std::filesystem::exists("/usr/bin/tshark")) {
+        std::filesystem::remove(pcap);
+        GTEST_SKIP() << "tshark is not installed (scripts/install-deps.sh installs it)";
+    }
+    ChildProcess tshark({"/usr/bin/tshark", "-r", pcap, "-Y",
+                         "modbus.func_code == 3 && mbtcp.len == 6", "-T", "fields", "-e",
+                         "modbus.reference_num", "-e", "modbus.word_cnt"});
+    std::vector<std::string> reads;
+    while (auto line = tshark.read_stdout_line(std::chrono::seconds(60)))
+        reads.push_back(*line);
+    EXPECT_EQ(tshark.wait_exit(std::chrono::seconds(60)), 0);
+    ASSERT_FALSE(reads.empty());
+    EXPECT_EQ(reads.front(), "40000\t2");
+    EXPECT_GT(reads.size(), 100U);
+    std::filesystem::remove(pcap);
 }
 
 TEST_F(SunspecCli, NoMarkerIsAFailure) {
