@@ -69,20 +69,18 @@ client::CallResult<std::vector<std::uint8_t>> SunSpecProbe::ask(
     exchange.status = received.status;
     exchange.received = received.bytes;
     exchange.detail = received.detail;
+    last_ = exchange;
     if (received.status != client::ReceiveStatus::Frame || received.bytes.size() < 8) {
-        last_ = exchange;
         return error(client::ErrorKind::Timeout,
                      received.detail.empty() ? "no answer" : received.detail);
     }
     std::vector<std::uint8_t> answer(received.bytes.begin() + 7, received.bytes.end());
     if ((answer[0] & 0x7F) != pdu[0]) {
-        last_ = exchange;
         return error(
             client::ErrorKind::BadAnswer,
             fmt::format("answer of function {:02X} to function {:02X}", answer[0], pdu[0]));
     }
     if (answer[0] & 0x80) {
-        last_ = exchange;
         const auto code = static_cast<protocol::ExceptionCode>(answer.size() > 1 ? answer[1] : 0);
         return client::ClientError{client::ErrorKind::Exception,
                                    fmt::format("exception {:02X}", static_cast<int>(code)), code};

@@ -53,7 +53,7 @@ class SunSpecProbe {
     SunSpecScan scan_;
     std::optional<Outcome> unusable_;
     std::uint16_t transaction_ = 0;
-    std::optional<Exchange> last_;  // the exchange that last went wrong
+    std::optional<Exchange> last_;  // the last exchange, the evidence of a failure
 };
 
 // "103.W", "160.module[2].DCA": a point as the cases name it.
