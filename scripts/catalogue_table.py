@@ -137,8 +137,11 @@ PROCEDURES = {
     "sunspec_bad_enum": ("a value outside its symbols written to each RW enum point is refused, "
                          "value unchanged",
                          "the write taken (the value is put back), or the value changed"),
-    "sunspec_line": ("on a serial line, DA takes a write of its own value",
-                     "the write refused, or DA not implemented"),
+    "sunspec_line": ("on a serial line, DA takes a write of its own value, and an RW point "
+                     "takes another value written to address 0, unanswered, within "
+                     "`turnaround_ms` (200)",
+                     "the write refused, DA not implemented, the broadcast answered or not "
+                     "applied"),
 }
 
 # What else a security case needs declared (docs/security.md).
@@ -231,8 +234,6 @@ def case_row(case: dict) -> tuple[str, str, str, str]:
             na.append("7.5.1 did not pass (NOT RUN)")
         if case["procedure"].startswith("sunspec_"):
             na.append("no `SunS` at 40000, 0 or 50000 (no SunSpec device)")
-        if case["procedure"] == "sunspec_line":
-            na.append("over Modbus/TCP")
         return case["id"], passes, fails, "; ".join(na) or "-"
     steps = case.get("step") or [case]
     if len(steps) == 1:

@@ -134,8 +134,10 @@ std::vector<ProcedureInfo> sunspec_procedures() {
                   "a value outside its symbols written to each RW enum point is refused and "
                   "leaves it unchanged",
                   &run_sunspec_bad_enum),
-        procedure("sunspec_line", "on a serial line, 1.DA takes a write of its own value",
-                  &run_sunspec_line),
+        procedure("sunspec_line",
+                  "on a serial line, 1.DA takes a write of its own value, and an RW point takes a "
+                  "broadcast write (FC 16 to address 0), unanswered",
+                  &run_sunspec_line, {{"turnaround_ms", 200}}),
     };
 }
 

@@ -11,6 +11,7 @@ namespace {
 
 constexpr std::uint8_t kReadHolding = 0x03;
 constexpr std::uint8_t kWriteMultiple = 0x10;
+constexpr std::uint8_t kBroadcast = 0;
 
 void put16(std::vector<std::uint8_t>& out, std::uint32_t value) {
     out.push_back(static_cast<std::uint8_t>(value >> 8));
@@ -49,12 +50,12 @@ SunSpecProbe::SunSpecProbe(Session& session) : session_(session) {
 }
 
 client::CallResult<std::vector<std::uint8_t>> SunSpecProbe::ask(
-    const std::vector<std::uint8_t>& pdu) {
+    const std::vector<std::uint8_t>& pdu, std::optional<std::chrono::milliseconds> quiet) {
     std::vector<std::uint8_t> frame;
     put16(frame, ++transaction_);
     put16(frame, 0);
     put16(frame, pdu.size() + 1);
-    frame.push_back(session_.dut().unit);
+    frame.push_back(quiet ? kBroadcast : session_.dut().unit);
     frame.insert(frame.end(), pdu.begin(), pdu.end());
     Exchange exchange;
     exchange.sent = frame;
@@ -65,11 +66,16 @@ client::CallResult<std::vector<std::uint8_t>> SunSpecProbe::ask(
         last_ = exchange;
         return error(client::ErrorKind::Closed, "sending: " + link_error.message);
     }
-    const auto received = session_.receive_frame(session_.options().timeout);
+    const auto received = session_.receive_frame(quiet.value_or(session_.options().timeout));
     exchange.status = received.status;
     exchange.received = received.bytes;
     exchange.detail = received.detail;
+    exchange.silence_expected = quiet.has_value();
     last_ = exchange;
+    if (quiet) {
+        if (received.status == client::ReceiveStatus::Timeout) return std::vector<std::uint8_t>{};
+        return error(client::ErrorKind::BadAnswer, "a broadcast was answered");
+    }
     if (received.status != client::ReceiveStatus::Frame || received.bytes.size() < 8) {
         return error(client::ErrorKind::Timeout,
                      received.detail.empty() ? "no answer" : received.detail);
@@ -108,14 +114,15 @@ client::CallResult<std::vector<std::uint16_t>> SunSpecProbe::read(std::uint32_t 
 }
 
 client::CallResult<bool> SunSpecProbe::write(std::uint32_t address,
-                                             std::span<const std::uint16_t> values) {
+                                             std::span<const std::uint16_t> values,
+                                             std::optional<std::chrono::milliseconds> quiet) {
     std::vector<std::uint8_t> pdu{kWriteMultiple};
     put16(pdu, address);
     put16(pdu, values.size());
     pdu.push_back(static_cast<std::uint8_t>(2 * values.size()));
     for (std::uint16_t value : values)
         put16(pdu, value);
-    auto answer = ask(pdu);
+    auto answer = ask(pdu, quiet);
     if (!answer) return answer.error();
     return true;
 }

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -32,8 +33,10 @@ class SunSpecProbe {
 
     // FC 03.
     client::CallResult<std::vector<std::uint16_t>> read(std::uint32_t address, std::uint16_t count);
-    // FC 16 to the device's unit.
-    client::CallResult<bool> write(std::uint32_t address, std::span<const std::uint16_t> values);
+    // FC 16 to the device's unit; with `quiet`, to the broadcast address 0 of a serial line,
+    // which no answer may follow for that long.
+    client::CallResult<bool> write(std::uint32_t address, std::span<const std::uint16_t> values,
+                                   std::optional<std::chrono::milliseconds> quiet = {});
     // The point's registers now.
     client::CallResult<std::vector<std::uint16_t>> read(const SunSpecPointReading& point) {
         return read(point.address, point.point->size);
@@ -46,7 +49,8 @@ class SunSpecProbe {
     Outcome fail(const client::ClientError& error, const std::string& what) const;
 
   private:
-    client::CallResult<std::vector<std::uint8_t>> ask(const std::vector<std::uint8_t>& pdu);
+    client::CallResult<std::vector<std::uint8_t>> ask(
+        const std::vector<std::uint8_t>& pdu, std::optional<std::chrono::milliseconds> quiet = {});
 
     Session& session_;
     std::map<std::uint16_t, device::SunSpecModel> models_;

@@ -198,24 +198,47 @@ Outcome run_sunspec_bad_enum(Session& session, const Case&) {
                            ", which is none of its symbols");
 }
 
-Outcome run_sunspec_line(Session& session, const Case&) {
+Outcome run_sunspec_line(Session& session, const Case& c) {
     if (session.dut().serial_framing.empty()) {
         return Outcome{Verdict::NotApplicable, "DA and broadcast writes are for serial lines", {}};
     }
     SunSpecProbe probe(session);
     if (probe.unusable()) return *probe.unusable();
+    const auto turnaround = std::chrono::milliseconds(session.dut().turnaround_ms.value_or(
+        static_cast<std::uint32_t>(param(c, "turnaround_ms"))));
+    std::string da;
     for (const SunSpecModelReading& model : probe.scan().models) {
-        if (model.id != 1) continue;
         for (const SunSpecPointReading& point : model.points) {
-            if (point.point->name != "DA") continue;
-            if (!point.implemented) return probe.fail("1.DA is not implemented on a serial line");
-            // The address it has: writing it again must be taken, and moves nothing.
-            const auto answer = probe.write(point.address, point.words);
-            if (!answer) return probe.fail(answer.error(), "writing 1.DA its own value");
-            return pass(fmt::format("1.DA = {} written", point.words[0]));
+            const device::SunSpecPoint& def = *point.point;
+            if (model.id == 1 && def.name == "DA") {
+                // The address it has: writing it again must be taken, and moves nothing.
+                if (!point.implemented) return probe.fail("1.DA is not implemented on a line");
+                const auto answer = probe.write(point.address, point.words);
+                if (!answer) return probe.fail(answer.error(), "writing 1.DA its own value");
+                da = fmt::format("1.DA = {} written", point.words[0]);
+                continue;
+            }
+            if (da.empty() || !def.writable || !point.implemented || !is_numeric(def.type)) {
+                continue;
+            }
+            // A broadcast write of another value must be applied, unanswered.
+            const std::string name = point_name(model.id, point);
+            for (const auto& value : other_values(point)) {
+                const auto sent = probe.write(point.address, value, turnaround);
+                if (!sent) return probe.fail(sent.error(), "FC 16 to address 0 for " + name);
+                const auto now = probe.read(point);
+                if (!now) return probe.fail(now.error(), "reading " + name + " after a broadcast");
+                if (*now != value) continue;  // a value the point does not take: another one
+                const auto restored = probe.write(point.address, point.words);
+                if (!restored) return probe.fail(restored.error(), "writing back " + name);
+                return pass(
+                    fmt::format("{}; a broadcast write of {} applied, unanswered", da, name));
+            }
+            return probe.fail(fmt::format("{}; no broadcast write of {} was applied", da, name));
         }
     }
-    return probe.fail("no model 1 with DA");
+    if (da.empty()) return probe.fail("no model 1 with DA");
+    return Outcome{Verdict::NotApplicable, da + "; no implemented RW point to broadcast to", {}};
 }
 
 }  // namespace mblab::conformance

@@ -38,17 +38,24 @@ std::string changed(const std::string& from, const std::string& to) {
 }
 
 // Every case's outcome, by id.
-std::map<std::string, Outcome> run_sunspec(const std::string& profile_text) {
+std::map<std::string, Outcome> run_sunspec(const std::string& profile_text,
+                                           protocol::Framing framing = protocol::Framing::Mbap) {
     auto profile = device::parse_profile(profile_text, "sunspec-test.toml");
     EXPECT_TRUE(profile) << profile.error();
     if (!profile) return {};
-    const Dut dut = dut_from_profile(*profile, "profile sunspec-test.toml");
+    Dut dut = dut_from_profile(*profile, "profile sunspec-test.toml");
     device::ReferenceDevice device(std::move(profile).value());
     test::ManualClock clock;
-    test::MemoryDevice memory(device, protocol::Framing::Mbap, clock);
+    test::MemoryDevice memory(device, framing, clock);
     client::Target target;
     target.name = "memory";
-    target.tcp = client::Endpoint{"127.0.0.1", 502, nullptr};
+    if (framing == protocol::Framing::Mbap) {
+        target.tcp = client::Endpoint{"127.0.0.1", 502, nullptr};
+    } else {
+        target.serial = transport::SerialUrl{};
+        target.serial->kind = transport::SerialUrl::Kind::Rtu;
+        dut.serial_framing = "RTU";
+    }
     EngineOptions options;
     options.timeout = std::chrono::milliseconds(200);
     Session session(target, dut, options);
@@ -78,6 +85,16 @@ TEST(SunSpecSuite, TheBuiltInInverterPassesEveryCase) {
         EXPECT_EQ(outcome.verdict, id == kLine ? Verdict::NotApplicable : Verdict::Pass)
             << id << ": " << outcome.reason;
     }
+}
+
+// On a line the line case runs too: DA written, a broadcast write applied.
+TEST(SunSpecSuite, TheBuiltInInverterPassesEveryCaseOverRtu) {
+    const auto outcomes = run_sunspec(shipped_profile(), protocol::Framing::Rtu);
+    ASSERT_EQ(outcomes.size(), 16U);
+    for (const auto& [id, outcome] : outcomes)
+        EXPECT_EQ(outcome.verdict, Verdict::Pass) << id << ": " << outcome.reason;
+    EXPECT_EQ(outcomes.at(kLine).reason,
+              "1.DA = 1 written; a broadcast write of 121.WMax applied, unanswered");
 }
 
 struct WrongDevice {
