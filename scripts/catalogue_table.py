@@ -102,6 +102,46 @@ PROCEDURES = {
     "tls_close_notify": ("answers a read, takes the client's close_notify, and serves a new "
                          "session",
                          "the read is not answered, or the device stops serving"),
+    # The sunspec suite (docs/sunspec.md): each scans the chain of models first.
+    "sunspec_marker": ("`SunS` (5375 6E53) at 40000, 0 or 50000",
+                       "`SunS` one register off a base (39999, 40001, 1, 49999, 50001)"),
+    "sunspec_common": ("the first model is 1, of length 66", "another model first, or another L"),
+    "sunspec_chain_end": ("the chain ends with model FFFF of length 0 inside the address space",
+                          "a header that cannot be read, a model past 65535, an end L not 0"),
+    "sunspec_lengths": ("each model's L is what its definition makes it",
+                        "an L that differs, or a model ending inside a point"),
+    "sunspec_unknown": ("always; models without a definition are listed", "-"),
+    "sunspec_mandatory": ("no mandatory point holds its \"not implemented\" value",
+                          "a mandatory point not implemented"),
+    "sunspec_sentinels": ("float NaNs are 7FC00000 (7FF8000000000000); an EUI-48 not implemented "
+                          "is 0000 FFFF FFFF FFFF",
+                          "another NaN, or all ones over the EUI-48's reserved register"),
+    "sunspec_scale_factors": ("scale factors within -10..10, implemented where a point they scale "
+                              "is, the same read again",
+                              "a scale factor outside -10..10, not implemented under an "
+                              "implemented point, or changed"),
+    "sunspec_enums": ("enum values among their symbols", "a value none of its symbols"),
+    "sunspec_strings": ("strings printable ASCII, only NULs after the first",
+                        "another byte, or text after the NUL"),
+    "sunspec_accumulators": ("accumulators read again after `interval_ms` (500) do not decrease",
+                             "an accumulator went down"),
+    "sunspec_chunks": ("every model reads in reads of at most 125 registers ending on point "
+                       "boundaries",
+                       "a read refused or answered wrong"),
+    "sunspec_rw_points": ("every implemented RW point takes a different valid value, reads it "
+                          "back within `read_back_ms` (1000), and takes its first value back",
+                          "every value refused, the value not read back in time, or the first "
+                          "value refused"),
+    "sunspec_read_only": ("a write to an R point of each model is refused, value unchanged",
+                          "the write taken (the value is put back), or the value changed"),
+    "sunspec_bad_enum": ("a value outside its symbols written to each RW enum point is refused, "
+                         "value unchanged",
+                         "the write taken (the value is put back), or the value changed"),
+    "sunspec_line": ("on a serial line, DA takes a write of its own value, and an RW point "
+                     "takes another value written to address 0, unanswered, within "
+                     "`turnaround_ms` (200)",
+                     "the write refused, DA not implemented, the broadcast answered or not "
+                     "applied"),
 }
 
 # What else a security case needs declared (docs/security.md).
@@ -192,6 +232,8 @@ def case_row(case: dict) -> tuple[str, str, str, str]:
             na.append("the register does not take FC 06 at the device's address")
         if case["procedure"] == "semi_signature_scan":
             na.append("7.5.1 did not pass (NOT RUN)")
+        if case["procedure"].startswith("sunspec_"):
+            na.append("no `SunS` at 40000, 0 or 50000 (no SunSpec device)")
         return case["id"], passes, fails, "; ".join(na) or "-"
     steps = case.get("step") or [case]
     if len(steps) == 1:

@@ -136,6 +136,9 @@ int run_sunspec(const SunspecOptions& options) {
         };
         const auto scan = conformance::scan_sunspec(read, *models);
         if (!scan) return out.fail({client::ErrorKind::BadAnswer, scan.error(), std::nullopt});
+        if (!scan->chain_problem.empty()) {
+            return out.fail({client::ErrorKind::BadAnswer, scan->chain_problem, std::nullopt});
+        }
         out.document()["sunspec"] = scan_json(*scan);
         if (!out.json()) print_scan(*scan);
         return out.done();
@@ -148,7 +151,7 @@ constexpr std::string_view kSummary =
 constexpr std::string_view kHelp = R"(
 The marker is looked for at 40000, then 0, then 50000 (holding registers, FC 03); each
 model is read in reads of at most 125 registers and decoded by its definition. The
-definitions are mblab's own (models 1 and 103) unless --sunspec-models or
+definitions are mblab's own (models 1, 103, 120-123, 203) unless --sunspec-models or
 MBLAB_SUNSPEC_MODELS names a folder of the official JSON models (docs/sunspec.md).
 Exit status: 0 read, 1 no marker or a chain that does not end, 2 usage error or
 unreachable target.

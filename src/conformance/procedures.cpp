@@ -3,12 +3,23 @@
 #include "conformance/catalogue.hpp"
 #include "conformance/security_cases.hpp"
 #include "conformance/serial_line_cases.hpp"
+#include "conformance/sunspec_cases.hpp"
 #include "conformance/verdict.hpp"
 
 namespace mblab::conformance {
 
+namespace {
+
+std::vector<ProcedureInfo> with_sunspec(std::vector<ProcedureInfo> list) {
+    auto sunspec = sunspec_procedures();
+    list.insert(list.end(), sunspec.begin(), sunspec.end());
+    return list;
+}
+
+}  // namespace
+
 const std::vector<ProcedureInfo>& procedures() {
-    static const std::vector<ProcedureInfo> list = {
+    static const std::vector<ProcedureInfo> list = with_sunspec({
         {"ping",
          "ICMP echo requests to the device's host; all must be answered (CTP 7.2)",
          {{"count", 10}, {"payload", 32}, {"timeout_ms", 1000}},
@@ -215,7 +226,7 @@ const std::vector<ProcedureInfo>& procedures() {
          &run_tls_close_notify,
          nullptr,
          true},
-    };
+    });
     return list;
 }
 

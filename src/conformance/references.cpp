@@ -26,6 +26,10 @@ constexpr std::array kReferences{
               "https://www.se.com/ww/en/download/document/DOCA0172EN/"},
     Reference{"MVI56E", "ProSoft Technology MVI56E-MCM/MCMXT User Manual (June 18, 2014)",
               "https://www.prosoft-technology.com"},
+    Reference{"SSIM", "SunSpec Device Information Model Specification, version 1.1",
+              "https://sunspec.org/specifications/"},
+    Reference{"SSMB", "SunSpec Modbus Specification, version 1.0",
+              "https://sunspec.org/specifications/"},
     Reference{"RFC", "IETF Request for Comments", "https://www.rfc-editor.org"},
     Reference{"CVE", "Common Vulnerabilities and Exposures record", "https://www.cve.org"},
 };

@@ -154,11 +154,15 @@ protocol::Result<SunSpecScan, std::string> scan_sunspec(
     std::uint32_t address = *base + 2U;
     while (true) {
         if (address + 2 > 0x10000) {
-            return std::string(
-                "the chain runs past the last register (65535) without the end model 0xFFFF");
+            scan.chain_problem =
+                "the chain runs past the last register (65535) without the end model 0xFFFF";
+            return scan;
         }
         const auto header = read_block(read, address, 2);
-        if (!header) return header.error();
+        if (!header) {
+            scan.chain_problem = header.error();
+            return scan;
+        }
         if ((*header)[0] == kEndModel) {
             scan.end_address = address;
             return scan;
@@ -168,15 +172,20 @@ protocol::Result<SunSpecScan, std::string> scan_sunspec(
         reading.length = (*header)[1];
         reading.address = address;
         if (address + 2U + reading.length > 0x10000) {
-            return "model " + std::to_string(reading.id) + " at " + std::to_string(address) +
-                   " has length " + std::to_string(reading.length) +
-                   ", past the last register (65535)";
+            scan.chain_problem = "model " + std::to_string(reading.id) + " at " +
+                                 std::to_string(address) + " has length " +
+                                 std::to_string(reading.length) +
+                                 ", past the last register (65535)";
+            return scan;
         }
         const auto found = models.find(reading.id);
         if (found != models.end()) {
             reading.definition = &found->second;
             const auto words = read_block(read, address, reading.length + 2U);
-            if (!words) return words.error();
+            if (!words) {
+                scan.chain_problem = words.error();
+                return scan;
+            }
             ModelDecoder(*words, address, reading).decode(found->second);
         } else {
             reading.problem = "no definition of model " + std::to_string(reading.id);

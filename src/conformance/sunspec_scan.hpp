@@ -50,11 +50,14 @@ struct SunSpecScan {
     std::uint16_t base = 0;
     std::vector<SunSpecModelReading> models = {};
     std::uint32_t end_address = 0;  // of the end model
+    // Why the chain stops short of the end model (a header that cannot be read, a model past the
+    // last register); empty when it ends as it should. The models before it are kept.
+    std::string chain_problem = {};
 };
 
-// Finds the marker and reads the whole chain. Fails (one line) when no base holds the marker,
-// when the chain leaves the address space, or when a read fails other than by an exception at a
-// base being looked at.
+// Finds the marker and reads the whole chain. Fails (one line) when no base holds the marker, or
+// when reading it fails other than by an exception; a chain that breaks off is a scan with its
+// chain_problem.
 protocol::Result<SunSpecScan, std::string> scan_sunspec(
     const RegisterReader& read, const std::map<std::uint16_t, device::SunSpecModel>& models);
 

@@ -46,6 +46,21 @@ struct AccessPolicy {
         protocol::ExceptionCode::IllegalDataAddress;
 };
 
+// A holding-register point whose value is checked on write (the SunSpec chain lays them,
+// sunspec_chain.hpp): a write that leaves it outside its values is refused with 03.
+struct PointRule {
+    std::uint32_t start = 0;
+    std::uint16_t count = 1;  // registers, high word first
+    bool is_signed = false;
+    std::vector<std::int64_t> allowed = {};  // an enum's symbols; empty: any value in min..max
+    std::optional<std::int64_t> min = {};
+    std::optional<std::int64_t> max = {};
+    // A read or write that takes only some of its registers is refused with 02.
+    bool whole = false;
+    // Writes are answered but not kept (a device built wrong on purpose, to test the tester).
+    bool applied = true;
+};
+
 struct IdentityObject {
     std::uint8_t id = 0;
     std::string value;
@@ -121,6 +136,7 @@ struct UnitSpec {
     std::vector<SemiObject> objects;
     std::vector<FaultSpec> faults;
     std::vector<BehaviourSpec> behaviours;
+    std::vector<PointRule> point_rules;  // sorted by start, not overlapping
 };
 
 // Which unit answers a TCP unit id no unit of the profile has (0 and 0xFF always go to the

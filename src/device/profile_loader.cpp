@@ -194,6 +194,7 @@ bool load_unit(const toml::table& table, const std::string& path, const Profile&
     for (std::size_t kind = 0; kind < kBankKinds; ++kind) {
         if (!load_bank(unit, static_cast<BankKind>(kind), spec.banks[kind])) return false;
     }
+    if (!load_sunspec(unit, spec)) return false;
     if (!load_functions(unit, spec) || !load_access_policy(unit, spec.access_policy)) return false;
     unit.integer_as("max_read_registers", spec.max_read_registers, 1, 125);
     unit.integer_as("max_read_bits", spec.max_read_bits, 1, 2000);

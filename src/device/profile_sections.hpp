@@ -14,6 +14,8 @@ namespace mblab::device {
 bool load_range(const toml::table& table, const std::string& path, BankKind kind,
                 ProfileErrors& errors, RangeSpec& out);
 
+// [unit.sunspec]: the SunSpec chain laid into the holding registers (sunspec_chain.hpp).
+bool load_sunspec(Fields& unit, UnitSpec& spec);
 bool load_identification(Fields& unit, IdentitySpec& out);
 bool load_diagnostics(Fields& unit, DiagnosticsSpec& out);
 bool load_server_id(Fields& unit, ServerIdSpec& out);

@@ -30,13 +30,6 @@ constexpr std::array<TypeInfo, 23> kTypes{{
     {SunSpecType::Count, "count", 1},
 }};
 
-std::uint64_t joined(std::span<const std::uint16_t> words) {
-    std::uint64_t raw = 0;
-    for (std::uint16_t word : words)
-        raw = (raw << 16) | word;
-    return raw;
-}
-
 // The "not implemented" value of a numeric type, in its width (Information Model Specification,
 // "Point types"); accumulators use 0, strings and addresses all zero bits.
 std::uint64_t not_implemented_raw(SunSpecType type) {
@@ -118,13 +111,26 @@ std::uint32_t SunSpecModel::length_with(const std::map<std::string, std::uint32_
     return group_length(group, counts) - 2;
 }
 
-std::vector<std::uint16_t> not_implemented_words(const SunSpecPoint& point) {
-    std::vector<std::uint16_t> words(point.size, 0);
-    const std::uint64_t raw = not_implemented_raw(point.type);
-    for (std::size_t i = 0; i < words.size() && i < 4; ++i) {
+bool is_sunspec_enum(SunSpecType type) {
+    return type == SunSpecType::Enum16 || type == SunSpecType::Enum32;
+}
+
+std::uint64_t sunspec_bits(std::span<const std::uint16_t> words) {
+    std::uint64_t raw = 0;
+    for (std::uint16_t word : words)
+        raw = (raw << 16) | word;
+    return raw;
+}
+
+std::vector<std::uint16_t> sunspec_words(std::uint64_t raw, std::size_t size) {
+    std::vector<std::uint16_t> words(size, 0);
+    for (std::size_t i = 0; i < words.size() && i < 4; ++i)
         words[words.size() - 1 - i] = static_cast<std::uint16_t>(raw >> (16 * i));
-    }
     return words;
+}
+
+std::vector<std::uint16_t> not_implemented_words(const SunSpecPoint& point) {
+    return sunspec_words(not_implemented_raw(point.type), point.size);
 }
 
 bool is_not_implemented(const SunSpecPoint& point, std::span<const std::uint16_t> words) {
@@ -134,7 +140,7 @@ bool is_not_implemented(const SunSpecPoint& point, std::span<const std::uint16_t
 }
 
 std::optional<double> sunspec_raw_value(SunSpecType type, std::span<const std::uint16_t> words) {
-    const std::uint64_t raw = joined(words);
+    const std::uint64_t raw = sunspec_bits(words);
     switch (type) {
         case SunSpecType::Int16:
         case SunSpecType::Sunssf:

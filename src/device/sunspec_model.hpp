@@ -97,6 +97,13 @@ struct SunSpecModel {
     std::uint32_t length_with(const std::map<std::string, std::uint32_t>& counts) const;
 };
 
+bool is_sunspec_enum(SunSpecType type);
+
+// A point's registers (high word first) as one number, and back: the low `size` registers of
+// `raw` (registers beyond the fourth are 0).
+std::uint64_t sunspec_bits(std::span<const std::uint16_t> words);
+std::vector<std::uint16_t> sunspec_words(std::uint64_t raw, std::size_t size);
+
 // The value a point holds when the device does not implement it, as its registers.
 std::vector<std::uint16_t> not_implemented_words(const SunSpecPoint& point);
 bool is_not_implemented(const SunSpecPoint& point, std::span<const std::uint16_t> words);

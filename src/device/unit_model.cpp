@@ -24,7 +24,8 @@ MaybeResponse refused(FunctionCode fc, ExceptionCode why) {
 
 }  // namespace
 
-UnitModel::UnitModel(const UnitSpec& spec) : spec_(spec), files_(spec.files), faults_(spec.faults) {
+UnitModel::UnitModel(const UnitSpec& spec)
+    : spec_(spec), files_(spec.files), faults_(spec.faults), points_(spec.point_rules) {
     for (std::size_t kind = 0; kind < kBankKinds; ++kind) {
         banks_[kind] = DataBank(spec.banks[kind]);
         // The bank holds the values now; the spec keeps the map for queries.
@@ -59,7 +60,20 @@ std::optional<ExceptionCode> UnitModel::store(BankKind kind, std::uint32_t addre
                                               std::span<const std::uint16_t> values) {
     const Permit permit = may_write(kind, address, static_cast<std::uint32_t>(values.size()));
     if (permit.refusal) return permit.refusal;
-    bank(kind).write(address, values, permit.skip);
+    return write_permitted(kind, address, values, permit.skip);
+}
+
+std::optional<ExceptionCode> UnitModel::write_permitted(BankKind kind, std::uint32_t address,
+                                                        std::span<const std::uint16_t> values,
+                                                        std::optional<Access> skip) {
+    if (kind != BankKind::HoldingRegisters || points_.empty()) {
+        bank(kind).write(address, values, skip);
+        return std::nullopt;
+    }
+    if (auto why = points_.check_write(address, values, bank(kind))) return why;
+    std::vector<std::uint16_t> kept(values.begin(), values.end());
+    points_.keep_unapplied(address, kept, bank(kind));
+    bank(kind).write(address, kept, skip);
     return std::nullopt;
 }
 
@@ -68,6 +82,9 @@ std::optional<ExceptionCode> UnitModel::load_registers(BankKind kind, std::uint3
                                                        std::span<std::uint8_t> out) const {
     const Permit permit = may_read(kind, address, count);
     if (permit.refusal) return permit.refusal;
+    if (kind == BankKind::HoldingRegisters) {
+        if (auto why = points_.check_read(address, count)) return why;
+    }
     bank(kind).read_be(address, out.first(2 * count), permit.skip);
     return std::nullopt;
 }
@@ -150,11 +167,13 @@ MaybeResponse UnitModel::write_registers(const protocol::WriteMultipleRegistersR
 MaybeResponse UnitModel::mask_write(const protocol::MaskWriteRegisterRequest& request) {
     const Permit permit = may_write(BankKind::HoldingRegisters, request.address, 1);
     if (permit.refusal) return refused(FunctionCode::MaskWriteRegister, *permit.refusal);
-    if (!permit.skip) {
-        DataBank& holding = bank(BankKind::HoldingRegisters);
-        std::uint16_t& value = holding.at(holding.find(request.address, 1).index);
-        value = static_cast<std::uint16_t>((value & request.and_mask) |
-                                           (request.or_mask & ~request.and_mask));
+    const DataBank& holding = bank(BankKind::HoldingRegisters);
+    const std::uint16_t now = holding.at(holding.find(request.address, 1).index);
+    const auto value = static_cast<std::uint16_t>((now & request.and_mask) |
+                                                  (request.or_mask & ~request.and_mask));
+    if (auto why = write_permitted(BankKind::HoldingRegisters, request.address,
+                                   std::span(&value, 1), permit.skip)) {
+        return refused(FunctionCode::MaskWriteRegister, *why);
     }
     return protocol::Response{
         protocol::MaskWriteRegisterResponse{request.address, request.and_mask, request.or_mask}};
@@ -172,11 +191,16 @@ MaybeResponse UnitModel::read_write(const protocol::ReadWriteMultipleRegistersRe
     if (write.refusal) return refused(fc, *write.refusal);
     const Permit read = may_read(kind, request.read_address, request.read_quantity);
     if (read.refusal) return refused(fc, *read.refusal);
+    if (auto why = points_.check_read(request.read_address, request.read_quantity)) {
+        return refused(fc, *why);
+    }
     std::array<std::uint16_t, protocol::limits::kMaxReadWriteWrite> values{};
     for (std::size_t i = 0; i < request.write_quantity; ++i)
         values[i] = request.values[i];
-    bank(kind).write(request.write_address, std::span(values).first(request.write_quantity),
-                     write.skip);
+    if (auto why = write_permitted(kind, request.write_address,
+                                   std::span(values).first(request.write_quantity), write.skip)) {
+        return refused(fc, *why);
+    }
     load_registers(kind, request.read_address, request.read_quantity, scratch);
     return protocol::Response{protocol::ReadWriteMultipleRegistersResponse{
         protocol::RegisterView(scratch.first(2u * request.read_quantity))}};

@@ -10,6 +10,7 @@
 #include "device/fault_rules.hpp"
 #include "device/file_store.hpp"
 #include "device/maybe_response.hpp"
+#include "device/point_rules.hpp"
 #include "device/profile.hpp"
 #include "protocol/request.hpp"
 
@@ -65,6 +66,11 @@ class UnitModel {
     // Writes `values` after may_write() allowed it; returns the refusal otherwise.
     std::optional<protocol::ExceptionCode> store(BankKind kind, std::uint32_t address,
                                                  std::span<const std::uint16_t> values);
+    // The write itself, once permitted: holding-register points checked and kept as their rules
+    // say (point_rules.hpp).
+    std::optional<protocol::ExceptionCode> write_permitted(BankKind kind, std::uint32_t address,
+                                                           std::span<const std::uint16_t> values,
+                                                           std::optional<Access> skip);
     // Reads registers as big-endian bytes into `out` after may_read() allowed it.
     std::optional<protocol::ExceptionCode> load_registers(BankKind kind, std::uint32_t address,
                                                           std::uint32_t count,
@@ -75,6 +81,7 @@ class UnitModel {
     FileStore files_;
     CommState comm_;
     FaultRules faults_;
+    PointRules points_;
 };
 
 }  // namespace mblab::device

@@ -1,6 +1,9 @@
+#include <unistd.h>
+
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "child_process.hpp"
 #include "test_client_support.hpp"
 
 // `mblab sunspec` against the shipped sunspec-inverter profile served in-process.
@@ -20,7 +23,7 @@ class SunspecCli : public ClientCliTest {
 TEST_F(SunspecCli, PrintsEachModelAndPointScaled) {
     auto ran = mblab("sunspec", {});
     ASSERT_EQ(ran.status, 0) << ran.err;
-    EXPECT_EQ(ran.out.rfind("SunSpec marker at 40000, 2 models, end model at 40122\n\n"
+    EXPECT_EQ(ran.out.rfind("SunSpec marker at 40000, 7 models, end model at 40361\n\n"
                             "model 1 common (Common) at 40002, length 66\n"
                             "  40002  ID                       1\n"
                             "  40003  L                        66\n"
@@ -34,7 +37,11 @@ TEST_F(SunspecCli, PrintsEachModelAndPointScaled) {
                              "  40080  PhVphA                   230.1 V\n",
                              "  40094  WH                       1000000 Wh\n",
                              "  40108  St                       4 (MPPT)\n",
-                             "  40090  VAr                      (not implemented)\n"}) {
+                             "  40090  VAr                      (not implemented)\n",
+                             "model 123 controls (Immediate Controls) at 40228, length 24\n",
+                             "  40232  Conn                     1 (CONNECT)\n",
+                             "model 203 ac_meter_abcn (Meter (Three Phase Wye)) at 40254, "
+                             "length 105\n"}) {
         EXPECT_NE(ran.out.find(line), std::string::npos) << line << ran.out;
     }
 }
@@ -45,7 +52,7 @@ TEST_F(SunspecCli, JsonHasEveryPoint) {
     const auto document = nlohmann::json::parse(ran.out);
     const auto& sunspec = document["sunspec"];
     EXPECT_EQ(sunspec["base"], 40000);
-    ASSERT_EQ(sunspec["models"].size(), 2U);
+    ASSERT_EQ(sunspec["models"].size(), 7U);
     const auto& inverter = sunspec["models"][1];
     EXPECT_EQ(inverter["id"], 103);
     EXPECT_EQ(inverter["points"].size(), 45U);
@@ -69,6 +76,33 @@ TEST_F(SunspecCli, ReadsWithTheOfficialModels) {
     EXPECT_NE(ran.out.find("  40072  A                        12.34 A\n"), std::string::npos)
         << ran.out;
     EXPECT_NE(ran.out.find("  40108  St                       4 (MPPT)\n"), std::string::npos);
+}
+
+// `conform --suite sunspec` scans the built-in device as `mblab sunspec` does; every case passes
+// (the line case is N/A over TCP), and its capture reads back in tshark as Modbus/TCP: the first
+// FC 03 request reads the 2 registers of the marker at 40000.
+TEST_F(SunspecCli, TheSuitePassesAndItsCaptureReadsInTshark) {
+    const std::string pcap = (std::filesystem::temp_directory_path() /
+                              ("mblab-sunspec-" + std::to_string(::getpid()) + ".pcap"))
+                                 .string();
+    auto ran = mblab("conform", {"--suite", "sunspec", "--pcap", pcap});
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_NE(ran.out.find("15 passed"), std::string::npos) << ran.out;
+    if (!std::filesystem::exists("/usr/bin/tshark")) {
+        std::filesystem::remove(pcap);
+        GTEST_SKIP() << "tshark is not installed (scripts/install-deps.sh installs it)";
+    }
+    ChildProcess tshark({"/usr/bin/tshark", "-r", pcap, "-Y",
+                         "modbus.func_code == 3 && mbtcp.len == 6", "-T", "fields", "-e",
+                         "modbus.reference_num", "-e", "modbus.word_cnt"});
+    std::vector<std::string> reads;
+    while (auto line = tshark.read_stdout_line(std::chrono::seconds(60)))
+        reads.push_back(*line);
+    EXPECT_EQ(tshark.wait_exit(std::chrono::seconds(60)), 0);
+    ASSERT_FALSE(reads.empty());
+    EXPECT_EQ(reads.front(), "40000\t2");
+    EXPECT_GT(reads.size(), 100U);
+    std::filesystem::remove(pcap);
 }
 
 TEST_F(SunspecCli, NoMarkerIsAFailure) {

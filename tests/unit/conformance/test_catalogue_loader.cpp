@@ -108,7 +108,10 @@ TEST(CatalogueLoader, RefusesMalformedSuitesWithFileLineAndReason) {
          "tls11_refused, "
          "no_certificate_refused, expired_certificate_refused, foreign_ca_certificate_refused, "
          "self_signed_certificate_refused, null_role_denied, read_only_role, write_role, "
-         "tls_renegotiation, tls_close_notify)"},
+         "tls_renegotiation, tls_close_notify, sunspec_marker, sunspec_common, sunspec_chain_end, "
+         "sunspec_lengths, sunspec_unknown, sunspec_mandatory, sunspec_sentinels, "
+         "sunspec_scale_factors, sunspec_enums, sunspec_strings, sunspec_accumulators, "
+         "sunspec_chunks, sunspec_rw_points, sunspec_read_only, sunspec_bad_enum, sunspec_line)"},
         {case_head + "procedure = \"ping\"\nparams = { cnt = 1 }\n",
          "bad.toml:8: unknown key 'cnt' (known keys: count, payload, timeout_ms)"},
         {case_head + "procedure = \"ping\"\nrequest = \"00\"\n",

@@ -115,6 +115,11 @@ TEST(SunSpecModels, NotImplementedValuesFollowTheType) {
     EXPECT_EQ(words(SunSpecType::Float32, 2), W({0x7FC0, 0}));
     EXPECT_EQ(words(SunSpecType::Sunssf, 1), W({0x8000}));
     EXPECT_EQ(words(SunSpecType::Int64, 4), W({0x8000, 0, 0, 0}));
+    // As SunSpec's own pysunspec2 (mb.py) writes them: an EUI-48 of all ones in the low 48 bits
+    // under a zero register, IPv4 and IPv6 addresses all zero.
+    EXPECT_EQ(words(SunSpecType::Eui48, 4), W({0, 0xFFFF, 0xFFFF, 0xFFFF}));
+    EXPECT_EQ(words(SunSpecType::Ipaddr, 2), W({0, 0}));
+    EXPECT_EQ(words(SunSpecType::Ipv6addr, 8), W(8, 0));
     EXPECT_EQ(words(SunSpecType::String, 3), W({0, 0, 0}));
     EXPECT_TRUE(is_not_implemented(point, W({0, 0, 0})));
     EXPECT_FALSE(is_not_implemented(point, W({0x4100, 0, 0})));
@@ -160,6 +165,16 @@ void expect_same_layout(const SunSpecGroup& ours, const SunSpecGroup& official,
         EXPECT_EQ(mine.size, theirs.size) << at;
         EXPECT_EQ(mine.sf, theirs.sf) << at;
         EXPECT_EQ(mine.writable, theirs.writable) << at;
+        EXPECT_EQ(mine.mandatory, theirs.mandatory) << at;
+        EXPECT_EQ(mine.is_static, theirs.is_static) << at;
+        EXPECT_EQ(mine.units, theirs.units) << at;
+        if (mine.type == SunSpecType::Enum16 || mine.type == SunSpecType::Enum32) {
+            ASSERT_EQ(mine.symbols.size(), theirs.symbols.size()) << at;
+            for (std::size_t s = 0; s < mine.symbols.size(); ++s) {
+                EXPECT_EQ(mine.symbols[s].name, theirs.symbols[s].name) << at;
+                EXPECT_EQ(mine.symbols[s].value, theirs.symbols[s].value) << at;
+            }
+        }
     }
     ASSERT_EQ(ours.groups.size(), official.groups.size()) << where;
     for (std::size_t i = 0; i < ours.groups.size(); ++i) {
@@ -174,7 +189,8 @@ TEST(SunSpecModels, OwnDefinitionsAgreeWithTheOfficialOnes) {
     REQUIRE_OFFICIAL_MODELS();
     const auto ours = read_sunspec_models(std::filesystem::path(MBLAB_SOURCE_DIR) / "sunspec");
     ASSERT_TRUE(ours) << ours.error();
-    EXPECT_TRUE(ours->count(1) == 1 && ours->count(103) == 1);
+    for (std::uint16_t id : {1, 103, 120, 121, 122, 123, 203})
+        EXPECT_EQ(ours->count(id), 1U) << "model " << id;
     for (const auto& [id, model] : *ours) {
         const auto official =
             read_sunspec_model(official_models() / ("model_" + std::to_string(id) + ".json"));

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <map>
 
 #include "server/traffic_log.hpp"
 #include "web_harness.hpp"
@@ -44,6 +45,32 @@ TEST(DeviceApi, HolesReadAsNullAndAWriteOverOneChangesNothing) {
     EXPECT_EQ(reply.body,
               R"({"error":"unit 1 holding_registers 99..100: not every address is mapped"})");
     EXPECT_EQ(h.ask("03 00 63 00 01"), "03 02 00 00");
+}
+
+// A SunSpec chain's registers are named by model and point, so the API lists them by name.
+TEST(DeviceApi, SunSpecPointsAreListedByName) {
+    WebHarness h(R"(
+[[unit]]
+id = 1
+[unit.sunspec]
+[[unit.sunspec.model]]
+id = 1
+points = { Mn = "m", Md = "d", SN = "1" }
+[[unit.sunspec.model]]
+id = 103
+points = { W_SF = 1, W = 8500 }
+)");
+    const auto units = h.json(h.call("GET", "/api/units"));
+    std::map<std::string, std::uint32_t> starts;
+    for (const auto& range : units[0]["banks"]["holding_registers"])
+        starts[range["name"].get<std::string>()] = range["start"].get<std::uint32_t>();
+    EXPECT_EQ(starts["SunS"], 40000U);
+    EXPECT_EQ(starts["1.Mn"], 40004U);
+    EXPECT_EQ(starts["103.W"], 40084U);
+    EXPECT_EQ(starts["end"], 40122U);
+    const auto reply =
+        h.call("GET", "/api/units/1/holding_registers", "", {{"start", "40084"}, {"count", "2"}});
+    EXPECT_EQ(h.json(reply)["values"], nlohmann::json::parse("[850,1]"));
 }
 
 TEST(DeviceApi, BadRequestsGetOneLineReasons) {

@@ -31,8 +31,8 @@ holding_registers = [{start = 0, count = 10}]
 
 class WebHarness {
   public:
-    WebHarness()
-        : device_(device_from(kWebProfile)),
+    explicit WebHarness(std::string_view profile = kWebProfile)
+        : device_(device_from(profile)),
           metered_(*device_, meter_),
           api_(web::ServeView{*device_, meter_, [] { return std::uint64_t{3}; }, {}}) {}
 

@@ -1,0 +1,154 @@
+#include "conformance/sunspec_probe.hpp"
+
+#include <fmt/core.h>
+
+#include "device/profile_paths.hpp"
+#include "device/sunspec_loader.hpp"
+
+namespace mblab::conformance {
+
+namespace {
+
+constexpr std::uint8_t kReadHolding = 0x03;
+constexpr std::uint8_t kWriteMultiple = 0x10;
+constexpr std::uint8_t kBroadcast = 0;
+
+void put16(std::vector<std::uint8_t>& out, std::uint32_t value) {
+    out.push_back(static_cast<std::uint8_t>(value >> 8));
+    out.push_back(static_cast<std::uint8_t>(value & 0xFF));
+}
+
+client::ClientError error(client::ErrorKind kind, std::string message) {
+    return {kind, std::move(message), std::nullopt};
+}
+
+}  // namespace
+
+SunSpecProbe::SunSpecProbe(Session& session) : session_(session) {
+    auto models = device::read_sunspec_models(device::sunspec_models_dir());
+    if (!models) {
+        unusable_ = Outcome{Verdict::NotApplicable, models.error(), {}};
+        return;
+    }
+    models_ = std::move(models).value();
+    client::LinkError link_error;
+    if (!session_.connect(link_error)) {
+        unusable_ = Outcome{Verdict::Fail, "cannot reach the device: " + link_error.message, {}};
+        return;
+    }
+    auto scan = scan_sunspec(
+        [this](std::uint16_t address, std::uint16_t count) { return read(address, count); },
+        models_);
+    if (!scan) {
+        // No marker at any base: no SunSpec device, which the suite does not apply to.
+        const bool no_marker = scan.error().starts_with("no SunSpec marker");
+        unusable_ =
+            no_marker ? Outcome{Verdict::NotApplicable, scan.error(), {}} : fail(scan.error());
+        return;
+    }
+    scan_ = std::move(scan).value();
+}
+
+client::CallResult<std::vector<std::uint8_t>> SunSpecProbe::ask(
+    const std::vector<std::uint8_t>& pdu, std::optional<std::chrono::milliseconds> quiet) {
+    std::vector<std::uint8_t> frame;
+    put16(frame, ++transaction_);
+    put16(frame, 0);
+    put16(frame, pdu.size() + 1);
+    frame.push_back(quiet ? kBroadcast : session_.dut().unit);
+    frame.insert(frame.end(), pdu.begin(), pdu.end());
+    Exchange exchange;
+    exchange.sent = frame;
+    client::LinkError link_error;
+    if (!session_.send(frame, 1, link_error)) {
+        exchange.status = client::ReceiveStatus::Closed;
+        exchange.detail = link_error.message;
+        last_ = exchange;
+        return error(client::ErrorKind::Closed, "sending: " + link_error.message);
+    }
+    const auto received = session_.receive_frame(quiet.value_or(session_.options().timeout));
+    exchange.status = received.status;
+    exchange.received = received.bytes;
+    exchange.detail = received.detail;
+    exchange.silence_expected = quiet.has_value();
+    last_ = exchange;
+    if (quiet) {
+        if (received.status == client::ReceiveStatus::Timeout) return std::vector<std::uint8_t>{};
+        return error(client::ErrorKind::BadAnswer, "a broadcast was answered");
+    }
+    if (received.status != client::ReceiveStatus::Frame || received.bytes.size() < 8) {
+        return error(client::ErrorKind::Timeout,
+                     received.detail.empty() ? "no answer" : received.detail);
+    }
+    std::vector<std::uint8_t> answer(received.bytes.begin() + 7, received.bytes.end());
+    if ((answer[0] & 0x7F) != pdu[0]) {
+        return error(
+            client::ErrorKind::BadAnswer,
+            fmt::format("answer of function {:02X} to function {:02X}", answer[0], pdu[0]));
+    }
+    if (answer[0] & 0x80) {
+        const auto code = static_cast<protocol::ExceptionCode>(answer.size() > 1 ? answer[1] : 0);
+        return client::ClientError{client::ErrorKind::Exception,
+                                   fmt::format("exception {:02X}", static_cast<int>(code)), code};
+    }
+    return answer;
+}
+
+client::CallResult<std::vector<std::uint16_t>> SunSpecProbe::read(std::uint32_t address,
+                                                                  std::uint16_t count) {
+    std::vector<std::uint8_t> pdu{kReadHolding};
+    put16(pdu, address);
+    put16(pdu, count);
+    auto answer = ask(pdu);
+    if (!answer) return answer.error();
+    if (answer->size() != 2u + 2u * count || (*answer)[1] != 2u * count) {
+        return error(client::ErrorKind::BadAnswer,
+                     fmt::format("{} registers asked, {} bytes answered", count,
+                                 answer->size() > 1 ? (*answer)[1] : 0));
+    }
+    std::vector<std::uint16_t> words(count);
+    for (std::size_t i = 0; i < count; ++i) {
+        words[i] = static_cast<std::uint16_t>((*answer)[2 + 2 * i] << 8 | (*answer)[3 + 2 * i]);
+    }
+    return words;
+}
+
+client::CallResult<bool> SunSpecProbe::write(std::uint32_t address,
+                                             std::span<const std::uint16_t> values,
+                                             std::optional<std::chrono::milliseconds> quiet) {
+    std::vector<std::uint8_t> pdu{kWriteMultiple};
+    put16(pdu, address);
+    put16(pdu, values.size());
+    pdu.push_back(static_cast<std::uint8_t>(2 * values.size()));
+    for (std::uint16_t value : values)
+        put16(pdu, value);
+    auto answer = ask(pdu, quiet);
+    if (!answer) return answer.error();
+    return true;
+}
+
+std::vector<const SunSpecPointReading*> SunSpecProbe::points() const {
+    std::vector<const SunSpecPointReading*> all;
+    for (const SunSpecModelReading& model : scan_.models) {
+        for (const SunSpecPointReading& point : model.points)
+            all.push_back(&point);
+    }
+    return all;
+}
+
+Outcome SunSpecProbe::fail(std::string reason) const {
+    Outcome outcome{Verdict::Fail, std::move(reason), {}};
+    if (last_) outcome.evidence.push_back(*last_);
+    return outcome;
+}
+
+Outcome SunSpecProbe::fail(const client::ClientError& why, const std::string& what) const {
+    return fail(what + ": " + why.message);
+}
+
+std::string point_name(std::uint16_t model, const SunSpecPointReading& point) {
+    return fmt::format("{}.{}{}", model, point.group.empty() ? "" : point.group + ".",
+                       point.point->name);
+}
+
+}  // namespace mblab::conformance
