@@ -1,5 +1,6 @@
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -7,18 +8,20 @@
 
 #include "conformance/capture.hpp"
 #include "conformance/client_exam_scenarios.hpp"
+#include "conformance/client_exam_tls.hpp"
 #include "conformance/engine.hpp"
 #include "conformance/verdict.hpp"
 #include "protocol/result.hpp"
 
-// `mblab conform-client` over Modbus/TCP: the examiner on a real listening socket, the client's
-// command run once per scenario, and a verdict per scenario in conform's RunResult.
+// `mblab conform-client` over Modbus/TCP (or Modbus/TCP Security): the examiner on a real listening
+// socket, the client's command run once per scenario, and a verdict per scenario in conform's
+// RunResult.
 namespace mblab::conformance {
 
 // A listening TCP socket on loopback (or the address asked), closed with the object.
 class ExamListener {
   public:
-    // "tcp://HOST:PORT"; port 0 takes a free one.
+    // "tcp://HOST:PORT" or "mbaps://HOST:PORT"; port 0 takes a free one.
     static protocol::Result<std::unique_ptr<ExamListener>, std::string> open(
         const std::string& url);
     ExamListener(const ExamListener&) = delete;
@@ -35,6 +38,7 @@ class ExamListener {
     int fd_ = -1;
     std::string host_;
     std::uint16_t port_ = 0;
+    bool secure_ = false;  // mbaps://
 };
 
 struct ClientExamOptions {
@@ -44,10 +48,16 @@ struct ClientExamOptions {
     // Set: every connection's bytes, the client as the tester's side and the examiner as the
     // device's, each packet labelled with its scenario's id.
     Capture* capture = nullptr;
+    // Set: the scenarios run behind TLS (mbaps://), with the certificate scenarios after them.
+    const ExamTls* tls = nullptr;
+    // --attach: no command; the client polls by itself and each scenario waits this long for it.
+    bool attach = false;
+    std::chrono::milliseconds attach_wait{60000};
 };
 
 // The name and title of the suite the scenarios make, for the reports.
 Suite client_tcp_suite();
+Suite client_mbaps_suite();
 
 // Runs every scenario against the command. `listener` hears of each verdict as it comes.
 RunResult run_client_exam(ExamListener& listen, const ClientExamOptions& options,

@@ -93,6 +93,7 @@ std::string fill_placeholders(std::string text, const ClientPlaceholders& values
     const std::pair<std::string_view, const std::string*> names[] = {
         {"{host}", &values.host}, {"{port}", &values.port},       {"{url}", &values.url},
         {"{unit}", &values.unit}, {"{address}", &values.address}, {"{count}", &values.count},
+        {"{ca}", &values.ca},     {"{cert}", &values.cert},       {"{key}", &values.key},
     };
     for (const auto& [name, value] : names) {
         for (auto at = text.find(name); at != std::string::npos;

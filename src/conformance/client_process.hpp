@@ -44,7 +44,8 @@ class ClientProcess {
     std::string text_;
 };
 
-// `text` with {host}, {port}, {url}, {unit}, {address} and {count} filled in.
+// `text` with {host}, {port}, {url}, {unit}, {address} and {count} filled in, and over mbaps
+// {ca}, {cert} and {key}: the lab PKI's CA and a client certificate and key.
 struct ClientPlaceholders {
     std::string host;
     std::string port;
@@ -52,6 +53,9 @@ struct ClientPlaceholders {
     std::string unit;
     std::string address;
     std::string count;
+    std::string ca = {};
+    std::string cert = {};
+    std::string key = {};
 };
 std::string fill_placeholders(std::string text, const ClientPlaceholders& values);
 
