@@ -22,6 +22,7 @@
 #include "conformance/reports.hpp"
 #include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
+#include "web/client_html_report.hpp"
 
 // `mblab conform-client [--listen URL] -- CMD ARGS...`: grades a Modbus client (master) the way
 // conform grades a device, with an examiner device that plays it one scenario per run.
@@ -48,6 +49,7 @@ struct ConformClientOptions {
     std::string json;
     std::string junit;
     std::string pcap;
+    std::string html;
     std::string pki;
     bool attach = false;
     int attach_wait_ms = 60000;
@@ -191,7 +193,7 @@ int run_conform_client(const ConformClientOptions& options) {
     if (options.pcap == "-") return usage_error("--pcap -: a capture is binary; give it a file");
     for (const auto& [option, path] :
          {std::pair{"--json", options.json}, std::pair{"--junit", options.junit},
-          std::pair{"--pcap", options.pcap}}) {
+          std::pair{"--pcap", options.pcap}, std::pair{"--html", options.html}}) {
         if (!path.empty() && path != "-" && !files.check(option, path, error))
             return usage_error(error);
     }
@@ -201,7 +203,9 @@ int run_conform_client(const ConformClientOptions& options) {
     if (auto bad = open_place(options, place)) return usage_error(*bad);
     exam.tls = place.tls.get();
 
-    const bool report_out = options.json == "-" || options.junit == "-";
+    conf::ClientTranscripts transcripts;
+    if (!options.html.empty()) exam.transcripts = &transcripts;
+    const bool report_out = options.json == "-" || options.junit == "-" || options.html == "-";
     const int console_fd = report_out ? STDERR_FILENO : STDOUT_FILENO;
     std::FILE* console_file = report_out ? stderr : stdout;
     conf::ConsoleReport console(console_file, stderr, false, styles_wanted(console_fd),
@@ -231,28 +235,32 @@ int run_conform_client(const ConformClientOptions& options) {
                             : conf::run_client_line_exam(*place.line, exam, &console);
     result.target = place.url();
     console.summary(result);
+    conf::Provenance provenance;
+    if (options.invocation) {
+        provenance.version = options.invocation->version;
+        provenance.commit = options.invocation->commit;
+        provenance.command_line = options.invocation->argv;
+    }
+    provenance.started = conf::iso8601_utc(started);
+    provenance.finished = conf::iso8601_utc(std::chrono::system_clock::now());
+    provenance.declared_by = options.declare.empty() ? "flags" : options.declare;
+    provenance.device.reason = "a client is examined, not a device";
+    const web::ClientUnderTest client{place.url(), options.command, declared,
+                                      place.tls ? place.tls->dir() : ""};
     const std::pair<const std::string*, std::string> reports[] = {
         {&options.json, options.json.empty() ? "" : client_json(result, declared)},
         {&options.junit, options.junit.empty() ? "" : client_junit(result)},
+        {&options.html, options.html.empty() ? ""
+                                             : web::conform_client_html_report(
+                                                   result, provenance, client, transcripts)},
     };
     for (const auto& [path, text] : reports) {
         if (path->empty()) continue;
         if (!ReportFiles::write(*path, text, error)) return usage_error(error);
     }
-    if (!options.pcap.empty()) {
-        conf::Provenance provenance;
-        if (options.invocation) {
-            provenance.version = options.invocation->version;
-            provenance.commit = options.invocation->commit;
-            provenance.command_line = options.invocation->argv;
-        }
-        provenance.started = conf::iso8601_utc(started);
-        provenance.finished = conf::iso8601_utc(std::chrono::system_clock::now());
-        provenance.declared_by = options.declare.empty() ? "flags" : options.declare;
-        provenance.device.reason = "a client is examined, not a device";
-        if (!conf::write_pcap(options.pcap, capture.events(), provenance, error))
-            return usage_error(error);
-    }
+    if (!options.pcap.empty() &&
+        !conf::write_pcap(options.pcap, capture.events(), provenance, error))
+        return usage_error(error);
     return result.all_passed() ? kExitOk : kExitFailed;
 }
 
@@ -285,8 +293,7 @@ unknown CA and one for another name, which the client must refuse.
 and only its requests are judged (no reply, exceptions, closed connections, certificates); the
 scenarios that need its output are N/A.
 
-Not done yet: rtu+tcp://, a capture of a line and the HTML report. See
-docs/client-conformance.md.)";
+Not done yet: rtu+tcp:// and a capture of a line. See docs/client-conformance.md.)";
 
 }  // namespace
 
@@ -335,6 +342,9 @@ void add_conform_client_command(CLI::App& app, CommandRunner& runner,
                     "run only this scenario (tcp.3) or group (tcp.6); repeatable");
     cmd->add_option("--json", options->json, "write the JSON report to FILE ('-': stdout)");
     cmd->add_option("--junit", options->junit, "write the JUnit XML report to FILE ('-': stdout)");
+    cmd->add_option("--html", options->html,
+                    "write the HTML report to FILE ('-': stdout): each scenario's verdict, "
+                    "citation and what the wire carried");
     cmd->add_option("--pcap", options->pcap,
                     "write what every connection carried to FILE (pcapng, the examiner on port "
                     "502, each packet's comment its scenario's id)");

@@ -183,6 +183,7 @@ RunResult run_client_cases(const ExamCarrier& carrier, const ClientExamOptions& 
                                  ? watch_attached(*wire, exam, declared, options.attach_wait)
                                  : run_one(*wire, argv, declared);
             case_result.outcome = judge_client(exam, declared, run);
+            if (options.transcripts) (*options.transcripts)[c.id] = transcript_of(exam, case_start);
             case_result.requests = exam.requests().size();
         }
         case_result.elapsed =

@@ -9,6 +9,7 @@
 #include "conformance/capture.hpp"
 #include "conformance/client_exam_scenarios.hpp"
 #include "conformance/client_exam_tls.hpp"
+#include "conformance/client_transcript.hpp"
 #include "conformance/engine.hpp"
 #include "conformance/verdict.hpp"
 #include "protocol/result.hpp"
@@ -53,6 +54,8 @@ struct ClientExamOptions {
     // --attach: no command; the client polls by itself and each scenario waits this long for it.
     bool attach = false;
     std::chrono::milliseconds attach_wait{60000};
+    // Set: what the wire carried in each scenario that ran, for the HTML report.
+    ClientTranscripts* transcripts = nullptr;
 };
 
 // The name and title of the suite the scenarios make, for the reports.

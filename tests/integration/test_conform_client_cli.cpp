@@ -40,22 +40,6 @@ Verdicts examine(unsigned retries, std::vector<std::string> client) {
     return client_verdicts(argv);
 }
 
-std::vector<std::string> python_client(unsigned retries, const std::string& defect) {
-    std::vector<std::string> argv = {"python3",
-                                     kClient,
-                                     "{host}",
-                                     "{port}",
-                                     "{unit}",
-                                     "{address}",
-                                     "{count}",
-                                     "--timeout",
-                                     "0.3",
-                                     "--retries",
-                                     std::to_string(retries)};
-    if (!defect.empty()) argv.insert(argv.end(), {"--defect", defect});
-    return argv;
-}
-
 // Every case is PASS but those in `failing` (FAIL) and `na` (N/A).
 void expect_only(const Verdicts& verdicts, const std::vector<std::string>& failing,
                  const std::vector<std::string>& na = {"tcp.11"}) {
