@@ -169,7 +169,6 @@ std::optional<std::string> open_place(const ConformClientOptions& options, ExamP
 }
 
 int run_conform_client(const ConformClientOptions& options) {
-    const auto& listen_url = options.listen;
     if (options.attach && !options.command.empty())
         return usage_error("--attach watches a client that runs by itself: give no command");
     if (!options.attach && options.command.empty())
@@ -186,8 +185,6 @@ int run_conform_client(const ConformClientOptions& options) {
             "--attach needs --client-timeout: each scenario watches the client for its tries' "
             "time");
     }
-    if (!options.pcap.empty() && transport::is_serial_url(listen_url))
-        return usage_error("--pcap: a serial line is not captured yet");
     ReportFiles files;
     std::string error;
     if (options.pcap == "-") return usage_error("--pcap -: a capture is binary; give it a file");
@@ -258,8 +255,10 @@ int run_conform_client(const ConformClientOptions& options) {
         if (path->empty()) continue;
         if (!ReportFiles::write(*path, text, error)) return usage_error(error);
     }
+    // A line's frames on pcapng's user link types (RTU, or ASCII as text); TCP as packets.
+    const auto framing = place.line ? place.line->framing() : protocol::Framing::Mbap;
     if (!options.pcap.empty() &&
-        !conf::write_pcap(options.pcap, capture.events(), provenance, error))
+        !conf::write_capture(options.pcap, capture.events(), framing, provenance, error))
         return usage_error(error);
     return result.all_passed() ? kExitOk : kExitFailed;
 }
@@ -293,7 +292,7 @@ unknown CA and one for another name, which the client must refuse.
 and only its requests are judged (no reply, exceptions, closed connections, certificates); the
 scenarios that need its output are N/A.
 
-Not done yet: rtu+tcp:// and a capture of a line. See docs/client-conformance.md.)";
+Not done yet: rtu+tcp://. See docs/client-conformance.md.)";
 
 }  // namespace
 
@@ -347,7 +346,8 @@ void add_conform_client_command(CLI::App& app, CommandRunner& runner,
                     "citation and what the wire carried");
     cmd->add_option("--pcap", options->pcap,
                     "write what every connection carried to FILE (pcapng, the examiner on port "
-                    "502, each packet's comment its scenario's id)");
+                    "502; a line's frames on link type USER0 (RTU) or USER1 (ASCII); each "
+                    "packet's comment its scenario's id)");
     cmd->add_flag("--attach", options->attach,
                   "run no command: wait for a client that polls by itself (a PLC) and play it "
                   "each scenario in turn, judging only its requests (needs --client-timeout)");

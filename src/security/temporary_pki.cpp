@@ -1,6 +1,5 @@
 #include "security/temporary_pki.hpp"
 
-#include <fmt/core.h>
 #include <stdlib.h>
 
 #include <cerrno>
@@ -20,7 +19,7 @@ std::string TemporaryPki::make(const std::string& stem) {
     std::string pattern =
         (std::filesystem::temp_directory_path() / ("mblab-" + stem + "-XXXXXX")).string();
     if (::mkdtemp(pattern.data()) == nullptr) {
-        return fmt::format("cannot make a directory for the lab PKI: {}", std::strerror(errno));
+        return std::string("cannot make a directory for the lab PKI: ") + std::strerror(errno);
     }
     dir_ = pattern;
     PkiRequest request;
