@@ -156,7 +156,7 @@ std::optional<std::string> open_place(const ConformClientOptions& options, ExamP
         if (!tls) return tls.error();
         place.tls = std::move(*tls);
     }
-    if (transport::is_serial_url(url)) {
+    if (transport::is_serial_url(url) && !url.starts_with("rtu+tcp:")) {
         auto line = conf::ExamLine::open(url);
         if (!line) return line.error();
         place.line = std::move(*line);
@@ -256,7 +256,7 @@ int run_conform_client(const ConformClientOptions& options) {
         if (!ReportFiles::write(*path, text, error)) return usage_error(error);
     }
     // A line's frames on pcapng's user link types (RTU, or ASCII as text); TCP as packets.
-    const auto framing = place.line ? place.line->framing() : protocol::Framing::Mbap;
+    const auto framing = place.line ? place.line->framing() : place.tcp->framing();
     if (!options.pcap.empty() &&
         !conf::write_capture(options.pcap, capture.events(), framing, provenance, error))
         return usage_error(error);
@@ -292,7 +292,8 @@ unknown CA and one for another name, which the client must refuse.
 and only its requests are judged (no reply, exceptions, closed connections, certificates); the
 scenarios that need its output are N/A.
 
-Not done yet: rtu+tcp://. See docs/client-conformance.md.)";
+--listen rtu+tcp://127.0.0.1:0 plays the line scenarios to a client that sends RTU frames over
+TCP, as to a serial gateway. See docs/client-conformance.md.)";
 
 }  // namespace
 
@@ -305,8 +306,9 @@ void add_conform_client_command(CLI::App& app, CommandRunner& runner,
     options->invocation = &invocation;
     cmd->add_option("--listen", options->listen,
                     "where the examiner listens: tcp://HOST:PORT (port 0: a free one), "
-                    "mbaps://HOST:PORT (TLS), or the serial line it serves: rtu:///DEV?baud=.. or "
-                    "ascii:///DEV (/dev/ptmx: a new pty pair, the client's end in {url})")
+                    "mbaps://HOST:PORT (TLS), rtu+tcp://HOST:PORT (RTU frames over TCP), or the "
+                    "serial line it serves: rtu:///DEV?baud=.. or ascii:///DEV (/dev/ptmx: a new "
+                    "pty pair, the client's end in {url})")
         ->capture_default_str();
     cmd->add_option("--client-unit", options->unit, "the unit id the client is told to ask")
         ->check(CLI::Range(0, 255))

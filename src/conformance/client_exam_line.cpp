@@ -112,7 +112,7 @@ protocol::Result<std::unique_ptr<ExamLine>, std::string> ExamLine::open(const st
     auto parsed = transport::parse_serial_url(url);
     if (!parsed) return parsed.error();
     if (parsed->kind == transport::SerialUrl::Kind::RtuOverTcp)
-        return "--listen " + url + ": rtu+tcp:// is not examined yet; use rtu:// or ascii://";
+        return "--listen " + url + ": rtu+tcp:// is a TCP listener (ExamListener), not a line";
     std::unique_ptr<ExamLine> line(new ExamLine());
     line->framing_ = parsed->kind == transport::SerialUrl::Kind::Ascii ? protocol::Framing::Ascii
                                                                        : protocol::Framing::Rtu;

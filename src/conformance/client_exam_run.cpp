@@ -14,6 +14,7 @@
 #include "conformance/client_exam_tcp_wire.hpp"
 #include "conformance/client_exam_wire.hpp"
 #include "conformance/client_judge.hpp"
+#include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
 
 namespace mblab::conformance {
@@ -73,11 +74,23 @@ bool chosen(const ClientCase& c, const std::vector<std::string>& only) {
 
 protocol::Result<std::unique_ptr<ExamListener>, std::string> ExamListener::open(
     const std::string& url) {
-    const bool secure = transport::is_mbaps_url(url);
-    auto endpoint = secure ? transport::parse_mbaps_url(url) : transport::parse_tcp_url(url);
-    if (!endpoint) return endpoint.error();
     std::unique_ptr<ExamListener> listener(new ExamListener());
-    listener->secure_ = secure;
+    protocol::Result<asio::ip::tcp::endpoint, std::string> endpoint = std::string();
+    if (url.starts_with("rtu+tcp:")) {
+        // RTU frames over TCP, as a serial gateway carries them.
+        listener->scheme_ = "rtu+tcp://";
+        auto parsed = transport::parse_serial_url(url);
+        if (parsed)
+            endpoint = parsed->endpoint;
+        else
+            endpoint = parsed.error();
+    } else if (transport::is_mbaps_url(url)) {
+        listener->scheme_ = "mbaps://";
+        endpoint = transport::parse_mbaps_url(url);
+    } else {
+        endpoint = transport::parse_tcp_url(url);
+    }
+    if (!endpoint) return endpoint.error();
     const int family = endpoint->address().is_v6() ? AF_INET6 : AF_INET;
     listener->fd_ = ::socket(family, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
     const int on = 1;
@@ -105,8 +118,7 @@ ExamListener::~ExamListener() {
 
 std::string ExamListener::url() const {
     const bool v6 = host_.find(':') != std::string::npos;
-    return (secure_ ? "mbaps://" : "tcp://") + (v6 ? "[" + host_ + "]" : host_) + ":" +
-           std::to_string(port_);
+    return scheme_ + (v6 ? "[" + host_ + "]" : host_) + ":" + std::to_string(port_);
 }
 
 Suite client_suite(std::string name, std::string title, std::string source,
@@ -133,17 +145,28 @@ Suite client_mbaps_suite() {
                         client_mbaps_cases());
 }
 
+Suite client_rtu_tcp_suite() {
+    return client_suite("client-rtu-tcp",
+                        "a Modbus RTU client (master) over TCP, as through a serial gateway",
+                        "SER 2.4.1", client_line_cases());
+}
+
 RunResult run_client_exam(ExamListener& listen, const ClientExamOptions& options,
                           RunListener* listener) {
     const auto& declared = options.declared;
     const auto* tls = options.tls;
+    const bool rtu = listen.framing() == protocol::Framing::Rtu;
     ExamCarrier carrier{
-        tls ? client_mbaps_suite() : client_tcp_suite(),
-        tls ? &client_mbaps_cases() : &client_tcp_cases(),
+        rtu   ? client_rtu_tcp_suite()
+        : tls ? client_mbaps_suite()
+              : client_tcp_suite(),
+        rtu   ? &client_line_cases()
+        : tls ? &client_mbaps_cases()
+              : &client_tcp_cases(),
         {listen.host(), std::to_string(listen.port()), listen.url(), std::to_string(declared.unit),
          std::to_string(declared.address), std::to_string(declared.count), tls ? tls->ca() : "",
          tls ? tls->cert() : "", tls ? tls->key() : ""},
-        protocol::Framing::Mbap,
+        listen.framing(),
         [&](ClientExaminer& exam) -> std::unique_ptr<ExamWire> {
             drain_backlog(listen.fd());
             return make_tcp_wire(exam, listen.fd(), options.capture,

@@ -12,6 +12,7 @@
 #include "conformance/client_transcript.hpp"
 #include "conformance/engine.hpp"
 #include "conformance/verdict.hpp"
+#include "protocol/framer.hpp"
 #include "protocol/result.hpp"
 
 // `mblab conform-client` over Modbus/TCP (or Modbus/TCP Security): the examiner on a real listening
@@ -22,7 +23,7 @@ namespace mblab::conformance {
 // A listening TCP socket on loopback (or the address asked), closed with the object.
 class ExamListener {
   public:
-    // "tcp://HOST:PORT" or "mbaps://HOST:PORT"; port 0 takes a free one.
+    // "tcp://HOST:PORT", "mbaps://HOST:PORT" or "rtu+tcp://HOST:PORT"; port 0 takes a free one.
     static protocol::Result<std::unique_ptr<ExamListener>, std::string> open(
         const std::string& url);
     ExamListener(const ExamListener&) = delete;
@@ -33,13 +34,17 @@ class ExamListener {
     const std::string& host() const { return host_; }  // as clients should write it
     std::uint16_t port() const { return port_; }
     std::string url() const;
+    // What the connections carry: MBAP, or RTU frames for rtu+tcp://.
+    protocol::Framing framing() const {
+        return scheme_ == "rtu+tcp://" ? protocol::Framing::Rtu : protocol::Framing::Mbap;
+    }
 
   private:
     ExamListener() = default;
     int fd_ = -1;
     std::string host_;
     std::uint16_t port_ = 0;
-    bool secure_ = false;  // mbaps://
+    std::string scheme_ = "tcp://";  // or mbaps://, rtu+tcp://
 };
 
 struct ClientExamOptions {
@@ -61,6 +66,7 @@ struct ClientExamOptions {
 // The name and title of the suite the scenarios make, for the reports.
 Suite client_tcp_suite();
 Suite client_mbaps_suite();
+Suite client_rtu_tcp_suite();
 
 // Runs every scenario against the command. `listener` hears of each verdict as it comes.
 RunResult run_client_exam(ExamListener& listen, const ClientExamOptions& options,

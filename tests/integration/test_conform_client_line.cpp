@@ -116,11 +116,20 @@ TEST(ConformClientLine, BadDeclarationFilesAreOneLineErrors) {
     }
 }
 
-TEST(ConformClientLine, UsageErrors) {
-    const auto gateway = run_program(
-        {MBLAB_BINARY, "conform-client", "--listen", "rtu+tcp://127.0.0.1:5020", "--", "true"});
-    EXPECT_EQ(gateway.status, 2);
-    EXPECT_THAT(gateway.err, HasSubstr("rtu+tcp:// is not examined yet"));
+// RTU frames over TCP (a client of a serial gateway): the line's scenarios on TCP connections,
+// the capture's frames RTU on USER0.
+TEST(ConformClientLine, OverRtuTcpMblabReadPassesTheLineScenarios) {
+    const auto pcap = temp_path("rtu-tcp.pcapng");
+    const auto verdicts =
+        examine("rtu+tcp://127.0.0.1:0",
+                {"--client-timeout", "300", "--client-retries", "1", "--pcap", pcap}, mblab_read());
+    expect_only(verdicts, {}, {"ser.9"});
+    EXPECT_THAT(verdicts.console, HasSubstr("client-rtu-tcp: a Modbus RTU client (master) over "
+                                            "TCP, as through a serial gateway"));
+    const auto frames = file_text(pcap);
+    EXPECT_THAT(frames, HasSubstr(std::string("\x93\x00\x00\x00", 4)));  // USER0
+    EXPECT_THAT(frames, HasSubstr(std::string("\x01\x03\x00\x64\x00\x02\x85\xD4", 8)));
+    EXPECT_THAT(frames, HasSubstr("ser.6.0B"));
 }
 
 // The line's frames in pcapng: RTU on link type USER0 (147), ASCII as its text on USER1 (148),
