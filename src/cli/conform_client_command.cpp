@@ -13,6 +13,7 @@
 #include "cli/report_files.hpp"
 #include "cli/terminal_style.hpp"
 #include "conformance/capture.hpp"
+#include "conformance/client_attach.hpp"
 #include "conformance/client_declarations_file.hpp"
 #include "conformance/client_exam_line.hpp"
 #include "conformance/client_exam_run.hpp"
@@ -20,6 +21,8 @@
 #include "conformance/provenance.hpp"
 #include "conformance/reports.hpp"
 #include "transport/serial_url.hpp"
+#include "transport/tcp_url.hpp"
+#include "web/client_html_report.hpp"
 
 // `mblab conform-client [--listen URL] -- CMD ARGS...`: grades a Modbus client (master) the way
 // conform grades a device, with an examiner device that plays it one scenario per run.
@@ -46,6 +49,10 @@ struct ConformClientOptions {
     std::string json;
     std::string junit;
     std::string pcap;
+    std::string html;
+    std::string pki;
+    bool attach = false;
+    int attach_wait_ms = 60000;
     CLI::App* app = nullptr;
     const Invocation* invocation = nullptr;
 };
@@ -132,18 +139,24 @@ std::optional<std::string> declare(const ConformClientOptions& options,
     return std::nullopt;
 }
 
-// The examiner where --listen says: a TCP listener or a serial line.
+// The examiner where --listen says: a TCP listener (and its TLS for mbaps) or a serial line.
 struct ExamPlace {
     std::unique_ptr<conf::ExamListener> tcp;
+    std::unique_ptr<conf::ExamTls> tls;
     std::unique_ptr<conf::ExamLine> line;
     std::string url() const { return tcp ? tcp->url() : line->url(); }
 };
 
-std::optional<std::string> open_place(const std::string& url, ExamPlace& place) {
-    if (url.starts_with("mbaps")) {
-        return "--listen " + url + ": mbaps:// is not examined yet; use tcp://, rtu:// or ascii://";
+std::optional<std::string> open_place(const ConformClientOptions& options, ExamPlace& place) {
+    const auto& url = options.listen;
+    const bool secure = transport::is_mbaps_url(url);
+    if (!options.pki.empty() && !secure) return "--pki is for an mbaps:// --listen";
+    if (secure) {
+        auto tls = conf::ExamTls::open(options.pki);
+        if (!tls) return tls.error();
+        place.tls = std::move(*tls);
     }
-    if (transport::is_serial_url(url)) {
+    if (transport::is_serial_url(url) && !url.starts_with("rtu+tcp:")) {
         auto line = conf::ExamLine::open(url);
         if (!line) return line.error();
         place.line = std::move(*line);
@@ -156,30 +169,40 @@ std::optional<std::string> open_place(const std::string& url, ExamPlace& place) 
 }
 
 int run_conform_client(const ConformClientOptions& options) {
-    const auto& listen_url = options.listen;
-    if (options.command.empty()) return usage_error("give the client's command after --");
+    if (options.attach && !options.command.empty())
+        return usage_error("--attach watches a client that runs by itself: give no command");
+    if (!options.attach && options.command.empty())
+        return usage_error("give the client's command after --, or --attach");
     conf::ClientExamOptions exam;
     exam.command = options.command;
+    exam.attach = options.attach;
+    exam.attach_wait = std::chrono::milliseconds(options.attach_wait_ms);
     exam.only = options.cases;
     auto& declared = exam.declared;
     if (auto bad = declare(options, declared)) return usage_error(*bad);
-    if (!options.pcap.empty() && transport::is_serial_url(listen_url))
-        return usage_error("--pcap: a serial line is not captured yet");
+    if (options.attach && !declared.timeout) {
+        return usage_error(
+            "--attach needs --client-timeout: each scenario watches the client for its tries' "
+            "time");
+    }
     ReportFiles files;
     std::string error;
     if (options.pcap == "-") return usage_error("--pcap -: a capture is binary; give it a file");
     for (const auto& [option, path] :
          {std::pair{"--json", options.json}, std::pair{"--junit", options.junit},
-          std::pair{"--pcap", options.pcap}}) {
+          std::pair{"--pcap", options.pcap}, std::pair{"--html", options.html}}) {
         if (!path.empty() && path != "-" && !files.check(option, path, error))
             return usage_error(error);
     }
     conf::Capture capture;
     if (!options.pcap.empty()) exam.capture = &capture;
     ExamPlace place;
-    if (auto bad = open_place(listen_url, place)) return usage_error(*bad);
+    if (auto bad = open_place(options, place)) return usage_error(*bad);
+    exam.tls = place.tls.get();
 
-    const bool report_out = options.json == "-" || options.junit == "-";
+    conf::ClientTranscripts transcripts;
+    if (!options.html.empty()) exam.transcripts = &transcripts;
+    const bool report_out = options.json == "-" || options.junit == "-" || options.html == "-";
     const int console_fd = report_out ? STDERR_FILENO : STDOUT_FILENO;
     std::FILE* console_file = report_out ? stderr : stdout;
     conf::ConsoleReport console(console_file, stderr, false, styles_wanted(console_fd),
@@ -187,9 +210,21 @@ int run_conform_client(const ConformClientOptions& options) {
     std::string shown;
     for (const auto& arg : options.command)
         shown += " " + arg;
-    fmt::print(console_file, "mblab conform-client {} --{}\n", place.url(), shown);
+    if (options.attach) {
+        fmt::print(console_file, "mblab conform-client {} --attach\n", place.url());
+        fmt::print(console_file,
+                   "Attached: each scenario waits up to {} s for the client to poll, then watches "
+                   "it until it is quiet for {} ms\n",
+                   options.attach_wait_ms / 1000, conf::attach_quiet(declared).count());
+    } else {
+        fmt::print(console_file, "mblab conform-client {} --{}\n", place.url(), shown);
+    }
     if (place.line && place.line->client_url() != place.line->url())
         fmt::print(console_file, "Client's end: {}\n", place.line->client_url());
+    if (place.tls) {
+        fmt::print(console_file, "PKI: {} ({{ca}} ca.pem, {{cert}} client-norole.pem)\n",
+                   place.tls->dir());
+    }
     fmt::print(console_file, "Client: {}\n", declared_text(declared));
     std::fflush(console_file);
     const auto started = std::chrono::system_clock::now();
@@ -197,36 +232,43 @@ int run_conform_client(const ConformClientOptions& options) {
                             : conf::run_client_line_exam(*place.line, exam, &console);
     result.target = place.url();
     console.summary(result);
+    conf::Provenance provenance;
+    if (options.invocation) {
+        provenance.version = options.invocation->version;
+        provenance.commit = options.invocation->commit;
+        provenance.command_line = options.invocation->argv;
+    }
+    provenance.started = conf::iso8601_utc(started);
+    provenance.finished = conf::iso8601_utc(std::chrono::system_clock::now());
+    provenance.declared_by = options.declare.empty() ? "flags" : options.declare;
+    provenance.device.reason = "a client is examined, not a device";
+    const web::ClientUnderTest client{place.url(), options.command, declared,
+                                      place.tls ? place.tls->dir() : ""};
     const std::pair<const std::string*, std::string> reports[] = {
         {&options.json, options.json.empty() ? "" : client_json(result, declared)},
         {&options.junit, options.junit.empty() ? "" : client_junit(result)},
+        {&options.html, options.html.empty() ? ""
+                                             : web::conform_client_html_report(
+                                                   result, provenance, client, transcripts)},
     };
     for (const auto& [path, text] : reports) {
         if (path->empty()) continue;
         if (!ReportFiles::write(*path, text, error)) return usage_error(error);
     }
-    if (!options.pcap.empty()) {
-        conf::Provenance provenance;
-        if (options.invocation) {
-            provenance.version = options.invocation->version;
-            provenance.commit = options.invocation->commit;
-            provenance.command_line = options.invocation->argv;
-        }
-        provenance.started = conf::iso8601_utc(started);
-        provenance.finished = conf::iso8601_utc(std::chrono::system_clock::now());
-        provenance.declared_by = options.declare.empty() ? "flags" : options.declare;
-        provenance.device.reason = "a client is examined, not a device";
-        if (!conf::write_pcap(options.pcap, capture.events(), provenance, error))
-            return usage_error(error);
-    }
+    // A line's frames on pcapng's user link types (RTU, or ASCII as text); TCP as packets.
+    const auto framing = place.line ? place.line->framing() : place.tcp->framing();
+    if (!options.pcap.empty() &&
+        !conf::write_capture(options.pcap, capture.events(), framing, provenance, error))
+        return usage_error(error);
     return result.all_passed() ? kExitOk : kExitFailed;
 }
 
 constexpr std::string_view kSummary =
-    "Grade a Modbus/TCP or serial line client (master): an examiner device plays it one scenario "
-    "per run of CMD (no reply, a late answer, wrong transaction id, unit or slave address, "
-    "malformed answers, bad CRC or LRC, exceptions, split answers, closed connections, "
-    "pipelining, broadcast) and judges its requests and its output. "
+    "Grade a Modbus/TCP, Modbus/TCP Security or serial line client (master): an examiner device "
+    "plays it one scenario per run of CMD (no reply, a late answer, wrong transaction id, unit or "
+    "slave address, malformed answers, bad CRC or LRC, exceptions, split answers, closed "
+    "connections, pipelining, broadcast, certificates to refuse) and judges its requests and its "
+    "output. "
     "Exit status: 0 no scenario failed, 1 a scenario failed, 2 usage error";
 
 constexpr std::string_view kFooter = R"(
@@ -243,8 +285,16 @@ On a line: --listen rtu:///dev/ptmx?baud=19200 makes a pty pair and gives the cl
 in {url}, and as a path and a speed in {device} and {baud} (mbpoll -m rtu -b {baud} {device});
 --listen rtu:///dev/ttyUSB0 serves that device (write the client's end in CMD).
 
-Not done yet: rtu+tcp://, mbaps://, --attach (a client that polls by itself), certificates
-(scenario 12), a capture of a line and the HTML report. See docs/client-conformance.md.)";
+Over TLS: --listen mbaps://127.0.0.1:0 makes a lab PKI for the run (or takes --pki DIR) and
+fills {ca}, {cert} and {key}; tls.12.1-3 present an expired server certificate, one from an
+unknown CA and one for another name, which the client must refuse.
+
+--attach runs no command: a client that polls by itself (a PLC) meets each scenario in turn,
+and only its requests are judged (no reply, exceptions, closed connections, certificates); the
+scenarios that need its output are N/A.
+
+--listen rtu+tcp://127.0.0.1:0 plays the line scenarios to a client that sends RTU frames over
+TCP, as to a serial gateway. See docs/client-conformance.md.)";
 
 }  // namespace
 
@@ -256,7 +306,8 @@ void add_conform_client_command(CLI::App& app, CommandRunner& runner,
     options->app = cmd;
     options->invocation = &invocation;
     cmd->add_option("--listen", options->listen,
-                    "where the examiner listens: tcp://HOST:PORT (port 0: a free one), or the "
+                    "where the examiner listens: tcp://HOST:PORT (port 0: a free one), "
+                    "mbaps://HOST:PORT (TLS), rtu+tcp://HOST:PORT (RTU frames over TCP), or the "
                     "serial line it serves: rtu:///DEV?baud=.. or ascii:///DEV (/dev/ptmx: a new "
                     "pty pair, the client's end in {url})")
         ->capture_default_str();
@@ -293,9 +344,23 @@ void add_conform_client_command(CLI::App& app, CommandRunner& runner,
                     "run only this scenario (tcp.3) or group (tcp.6); repeatable");
     cmd->add_option("--json", options->json, "write the JSON report to FILE ('-': stdout)");
     cmd->add_option("--junit", options->junit, "write the JUnit XML report to FILE ('-': stdout)");
+    cmd->add_option("--html", options->html,
+                    "write the HTML report to FILE ('-': stdout): each scenario's verdict, "
+                    "citation and what the wire carried");
     cmd->add_option("--pcap", options->pcap,
                     "write what every connection carried to FILE (pcapng, the examiner on port "
-                    "502, each packet's comment its scenario's id)");
+                    "502; a line's frames on link type USER0 (RTU) or USER1 (ASCII); each "
+                    "packet's comment its scenario's id)");
+    cmd->add_flag("--attach", options->attach,
+                  "run no command: wait for a client that polls by itself (a PLC) and play it "
+                  "each scenario in turn, judging only its requests (needs --client-timeout)");
+    add_duration_option(*cmd, "--attach-wait", options->attach_wait_ms,
+                        "--attach: how long each scenario waits for the client's first request",
+                        DurationUnit::milliseconds, CLI::Range(100, 3600000));
+    cmd->add_option("--pki", options->pki,
+                    "mbaps: the lab PKI (a directory mblab pki wrote) whose certificates the "
+                    "examiner presents; default: one made for the run")
+        ->check(CLI::ExistingDirectory);
     cmd->add_option("command", options->command, "the client's command and arguments, after --");
 }
 

@@ -95,7 +95,9 @@ constexpr std::string_view kHelp = R"(
 Writes NAME.pem and NAME.key (mode 0600) into DIR (made mode 0700 when missing):
 ca, server, client-ROLE for each role, client-norole (no role: the NULL role),
 client-expired, client-foreign-ca (signed by foreign-ca), client-self-signed,
-client-two-roles and client-ia5-role (the role not a UTF8String). The role is in
+client-two-roles and client-ia5-role (the role not a UTF8String), and the server
+certificates a client must refuse: server-expired, server-foreign-ca and
+server-wrong-name (named wrong-name.invalid only). The role is in
 extension 1.3.6.1.4.1.50316.802.1. Keys are unencrypted: test material only.
 Exit status: 0 written, 2 usage error, a file exists (without --force) or cannot be
 written; nothing is written then.

@@ -1,14 +1,9 @@
 #include "conformance/builtin_mbaps.hpp"
 
 #include <fmt/format.h>
-#include <stdlib.h>
-
-#include <cerrno>
-#include <cstring>
 
 #include "conformance/procedures.hpp"
 #include "device/profile_loader.hpp"
-#include "security/pki.hpp"
 #include "security/tls_context.hpp"
 
 namespace mblab::conformance {
@@ -24,24 +19,12 @@ bool uses_mbaps(const std::vector<Suite>& suites) {
 
 BuiltinMbaps::~BuiltinMbaps() {
     server_.reset();
-    if (!dir_.empty()) {
-        std::error_code ignored;
-        std::filesystem::remove_all(dir_, ignored);
-    }
 }
 
 std::string BuiltinMbaps::start(const std::filesystem::path& profile, Dut& dut,
                                 client::Target& secure) {
-    std::string pattern =
-        (std::filesystem::temp_directory_path() / "mblab-conform-pki-XXXXXX").string();
-    if (::mkdtemp(pattern.data()) == nullptr) {
-        return fmt::format("cannot make a directory for the lab PKI: {}", std::strerror(errno));
-    }
-    dir_ = pattern;
-    security::PkiRequest request;
-    request.overwrite = true;  // the directory is new, and mkdtemp made it
-    if (auto made = security::make_lab_pki(dir_, request); !made) return made.error();
-    const auto file = [&](const char* name) { return (dir_ / name).string(); };
+    if (auto error = pki_.make("conform-pki"); !error.empty()) return error;
+    const auto file = [&](const char* name) { return pki_.file(name); };
     auto context =
         security::make_server_context({file("server.pem"), file("server.key"), file("ca.pem")});
     if (!context) return context.error();
@@ -54,7 +37,7 @@ std::string BuiltinMbaps::start(const std::filesystem::path& profile, Dut& dut,
     server_ = std::make_unique<server::BackgroundServer>(*device_, options);
     auto port = server_->start();
     if (!port) return "cannot start the reference device over mbaps: " + port.error();
-    dut.security.pki = dir_.string();
+    dut.security.pki = pki_.dir().string();
     dut.security.client = {file("client-Administrator.pem"), file("client-Administrator.key"),
                            file("ca.pem")};
     auto parsed = client::parse_target(fmt::format("mbaps://127.0.0.1:{}", *port));

@@ -9,6 +9,7 @@
 #include "conformance/catalogue.hpp"
 #include "conformance/dut.hpp"
 #include "device/reference_device.hpp"
+#include "security/temporary_pki.hpp"
 #include "server/background_server.hpp"
 
 // What `mblab conform` without a target tests over Modbus/TCP Security when a suite asks for it.
@@ -32,7 +33,7 @@ class BuiltinMbaps {
     std::string start(const std::filesystem::path& profile, Dut& dut, client::Target& secure);
 
   private:
-    std::filesystem::path dir_;
+    security::TemporaryPki pki_;  // destroyed last: the server is stopped before it goes
     std::unique_ptr<device::ReferenceDevice> device_;
     std::unique_ptr<server::BackgroundServer> server_;
 };

@@ -32,10 +32,15 @@ bool make_raw(int fd) {
 // writes its answers, and tells the examiner when it went quiet.
 class LineWire final : public ExamWire {
   public:
-    LineWire(ClientExaminer& exam, const ExamLine& line) : exam_(exam), line_(line) {
+    LineWire(ClientExaminer& exam, const ExamLine& line, Capture* capture)
+        : exam_(exam), line_(line), capture_(capture) {
         line.flush();
         exam_.opened(Clock::now());
+        if (capture_) capture_->on_label(exam.scenario().id);
     }
+    LineWire(const LineWire&) = delete;
+    LineWire& operator=(const LineWire&) = delete;
+    ~LineWire() override { captured(); }
 
     void add_polls(std::vector<pollfd>& polls) const override {
         polls.push_back({line_.fd(), POLLIN, 0});
@@ -49,18 +54,22 @@ class LineWire final : public ExamWire {
             ssize_t got = 0;
             while ((got = ::read(line_.fd(), buffer, sizeof buffer)) > 0) {
                 exam_.received(0, {buffer, static_cast<std::size_t>(got)}, now);
+                if (capture_) heard_.insert(heard_.end(), buffer, buffer + got);
                 last_byte_ = now;
             }
         }
         if (last_byte_ && now - *last_byte_ >= line_.quiet()) {
             exam_.quiet(0, now);
             last_byte_.reset();
+            captured();
         }
     }
 
     void perform() override {
         for (const auto& action : exam_.due(Clock::now())) {
             if (action.kind != ClientExaminer::Action::Kind::Send) continue;
+            captured();
+            if (capture_) capture_->on_received(action.bytes);
             std::size_t written = 0;
             while (written < action.bytes.size()) {
                 const auto put = ::write(line_.fd(), action.bytes.data() + written,
@@ -82,8 +91,18 @@ class LineWire final : public ExamWire {
     }
 
   private:
+    // The client's bytes since the line was last quiet, as one frame in the capture: a read
+    // returns what the line had, a frame's worth or less.
+    void captured() {
+        if (!capture_ || heard_.empty()) return;
+        capture_->on_sent(heard_);
+        heard_.clear();
+    }
+
     ClientExaminer& exam_;
     const ExamLine& line_;
+    Capture* capture_;
+    std::vector<std::uint8_t> heard_;
     std::optional<Clock::time_point> last_byte_;
 };
 
@@ -93,7 +112,7 @@ protocol::Result<std::unique_ptr<ExamLine>, std::string> ExamLine::open(const st
     auto parsed = transport::parse_serial_url(url);
     if (!parsed) return parsed.error();
     if (parsed->kind == transport::SerialUrl::Kind::RtuOverTcp)
-        return "--listen " + url + ": rtu+tcp:// is not examined yet; use rtu:// or ascii://";
+        return "--listen " + url + ": rtu+tcp:// is a TCP listener (ExamListener), not a line";
     std::unique_ptr<ExamLine> line(new ExamLine());
     line->framing_ = parsed->kind == transport::SerialUrl::Kind::Ascii ? protocol::Framing::Ascii
                                                                        : protocol::Framing::Rtu;
@@ -159,7 +178,7 @@ RunResult run_client_line_exam(ExamLine& line, const ClientExamOptions& options,
     where.baud = std::to_string(line.baud());
     ExamCarrier carrier{client_line_suite(), &client_line_cases(), where, line.framing(),
                         [&](ClientExaminer& exam) -> std::unique_ptr<ExamWire> {
-                            return std::make_unique<LineWire>(exam, line);
+                            return std::make_unique<LineWire>(exam, line, options.capture);
                         }};
     return run_client_cases(carrier, options, listener);
 }

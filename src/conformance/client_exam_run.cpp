@@ -2,7 +2,6 @@
 
 #include <arpa/inet.h>
 #include <netinet/in.h>
-#include <netinet/tcp.h>
 #include <poll.h>
 #include <sys/socket.h>
 #include <unistd.h>
@@ -10,11 +9,12 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <map>
-#include <optional>
 
+#include "conformance/client_attach.hpp"
+#include "conformance/client_exam_tcp_wire.hpp"
 #include "conformance/client_exam_wire.hpp"
 #include "conformance/client_judge.hpp"
+#include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
 
 namespace mblab::conformance {
@@ -24,180 +24,8 @@ namespace {
 using namespace std::chrono_literals;
 using Clock = ClientExaminer::Clock;
 
-constexpr auto kPollSlice = 20ms;  // how often a running client's exit is looked for
-
 std::chrono::milliseconds since(Clock::time_point start) {
     return std::chrono::duration_cast<std::chrono::milliseconds>(Clock::now() - start);
-}
-
-// The client's end as the capture's local side, the examiner's as its peer (the device's).
-client::LinkAddresses addresses_of(int fd) {
-    client::LinkAddresses addresses;
-    sockaddr_storage ends[2]{};
-    socklen_t sizes[2] = {sizeof ends[0], sizeof ends[1]};
-    ::getpeername(fd, reinterpret_cast<sockaddr*>(&ends[0]), &sizes[0]);
-    ::getsockname(fd, reinterpret_cast<sockaddr*>(&ends[1]), &sizes[1]);
-    addresses.ipv6 = ends[0].ss_family == AF_INET6;
-    const auto take = [&](const sockaddr_storage& end, std::array<std::uint8_t, 16>& ip,
-                          std::uint16_t& port) {
-        if (addresses.ipv6) {
-            const auto& in6 = reinterpret_cast<const sockaddr_in6&>(end);
-            std::memcpy(ip.data(), &in6.sin6_addr, 16);
-            port = ntohs(in6.sin6_port);
-        } else {
-            const auto& in4 = reinterpret_cast<const sockaddr_in&>(end);
-            std::memcpy(ip.data(), &in4.sin_addr, 4);
-            port = ntohs(in4.sin_port);
-        }
-    };
-    take(ends[0], addresses.local_ip, addresses.local_port);
-    take(ends[1], addresses.peer_ip, addresses.peer_port);
-    return addresses;
-}
-
-void reset_and_close(int fd) {
-    const linger abort{1, 0};  // close() then sends an RST
-    ::setsockopt(fd, SOL_SOCKET, SO_LINGER, &abort, sizeof abort);
-    ::close(fd);
-}
-
-// The examiner's connections on sockets: it accepts, reads and performs the examiner's actions.
-class Wire final : public ExamWire {
-  public:
-    Wire(ClientExaminer& exam, int listen_fd, Capture* capture)
-        : exam_(exam), listen_fd_(listen_fd), capture_(capture) {
-        if (capture_) capture_->on_label(exam.scenario().id);
-    }
-    Wire(const Wire&) = delete;
-    Wire& operator=(const Wire&) = delete;
-    ~Wire() override {
-        if (captured_) end_capture(*captured_, true);
-        for (const auto& [id, fd] : sockets_)
-            ::close(fd);
-    }
-
-    void add_polls(std::vector<pollfd>& polls) const override {
-        polls.push_back({listen_fd_, POLLIN, 0});
-        for (const auto& [id, fd] : sockets_)
-            polls.push_back({fd, POLLIN, 0});
-    }
-
-    void on_polled(const std::vector<pollfd>& polls) override {
-        for (const auto& polled : polls) {
-            if (polled.revents == 0) continue;
-            if (polled.fd == listen_fd_) {
-                accept_all();
-                continue;
-            }
-            for (const auto& [id, fd] : sockets_)
-                if (fd == polled.fd) read_from(id);
-        }
-        forget_closed();
-    }
-
-    void perform() override {
-        for (auto& action : exam_.due(Clock::now())) {
-            const auto found = sockets_.find(action.connection);
-            if (found == sockets_.end()) continue;
-            const int fd = found->second;
-            switch (action.kind) {
-                case ClientExaminer::Action::Kind::Send:
-                    ::send(fd, action.bytes.data(), action.bytes.size(), MSG_NOSIGNAL);
-                    if (captured(action.connection)) capture_->on_received(action.bytes);
-                    break;
-                case ClientExaminer::Action::Kind::Close:
-                    // A FIN; what the client sends after it is read and dropped until it closes.
-                    ::shutdown(fd, SHUT_WR);
-                    end_capture(action.connection, true);
-                    break;
-                case ClientExaminer::Action::Kind::Reset:
-                    end_capture(action.connection, true);
-                    reset_and_close(fd);
-                    sockets_.erase(found);
-                    break;
-            }
-        }
-    }
-
-    std::chrono::milliseconds wait() const override {
-        const auto deadline = exam_.deadline();
-        if (deadline == Clock::time_point::max()) return kPollSlice;
-        const auto left =
-            std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
-        return std::clamp(left, 0ms, std::chrono::milliseconds(kPollSlice));
-    }
-
-  private:
-    // A capture holds one connection at a time: it follows the newest, and the bytes of an older
-    // one still open (a client's second connection overlapping its first) are left out.
-    bool captured(std::size_t id) const { return capture_ && captured_ == id; }
-    void end_capture(std::size_t id, bool by_examiner) {
-        if (!captured(id)) return;
-        capture_->on_close(by_examiner);
-        captured_.reset();
-    }
-
-    void accept_all() {
-        while (true) {
-            const int fd = ::accept4(listen_fd_, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
-            if (fd < 0) return;
-            const int on = 1;
-            // Each action is one segment: split answers must not be joined again.
-            ::setsockopt(fd, IPPROTO_TCP, TCP_NODELAY, &on, sizeof on);
-            const auto id = exam_.opened(Clock::now());
-            sockets_[id] = fd;
-            if (capture_) {
-                capture_->on_open(addresses_of(fd));
-                captured_ = id;
-            }
-        }
-    }
-
-    void read_from(std::size_t id) {
-        std::uint8_t buffer[1024];
-        const int fd = sockets_.at(id);
-        while (true) {
-            const auto got = ::recv(fd, buffer, sizeof buffer, 0);
-            if (got > 0) {
-                if (captured(id)) capture_->on_sent({buffer, static_cast<std::size_t>(got)});
-                exam_.received(id,
-                               std::span<const std::uint8_t>(buffer, static_cast<std::size_t>(got)),
-                               Clock::now());
-                continue;
-            }
-            if (got < 0 && (errno == EAGAIN || errno == EINTR)) return;
-            end_capture(id, false);
-            exam_.closed(id, Clock::now());
-            closed_.push_back(id);
-            return;
-        }
-    }
-
-    void forget_closed() {
-        for (const auto id : closed_) {
-            if (auto found = sockets_.find(id); found != sockets_.end()) {
-                ::close(found->second);
-                sockets_.erase(found);
-            }
-        }
-        closed_.clear();
-    }
-
-    ClientExaminer& exam_;
-    int listen_fd_;
-    Capture* capture_;
-    std::optional<std::size_t> captured_;
-    std::map<std::size_t, int> sockets_;
-    std::vector<std::size_t> closed_;
-};
-
-// A connection left over from the scenario before (a client's late reconnect) is not this one's.
-void drain_backlog(int listen_fd) {
-    while (true) {
-        const int fd = ::accept4(listen_fd, nullptr, nullptr, SOCK_NONBLOCK | SOCK_CLOEXEC);
-        if (fd < 0) return;
-        ::close(fd);
-    }
 }
 
 ClientRun run_one(ExamWire& wire, const std::vector<std::string>& argv,
@@ -246,9 +74,23 @@ bool chosen(const ClientCase& c, const std::vector<std::string>& only) {
 
 protocol::Result<std::unique_ptr<ExamListener>, std::string> ExamListener::open(
     const std::string& url) {
-    auto endpoint = transport::parse_tcp_url(url);
-    if (!endpoint) return endpoint.error();
     std::unique_ptr<ExamListener> listener(new ExamListener());
+    protocol::Result<asio::ip::tcp::endpoint, std::string> endpoint = std::string();
+    if (url.starts_with("rtu+tcp:")) {
+        // RTU frames over TCP, as a serial gateway carries them.
+        listener->scheme_ = "rtu+tcp://";
+        auto parsed = transport::parse_serial_url(url);
+        if (parsed)
+            endpoint = parsed->endpoint;
+        else
+            endpoint = parsed.error();
+    } else if (transport::is_mbaps_url(url)) {
+        listener->scheme_ = "mbaps://";
+        endpoint = transport::parse_mbaps_url(url);
+    } else {
+        endpoint = transport::parse_tcp_url(url);
+    }
+    if (!endpoint) return endpoint.error();
     const int family = endpoint->address().is_v6() ? AF_INET6 : AF_INET;
     listener->fd_ = ::socket(family, SOCK_STREAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
     const int on = 1;
@@ -276,7 +118,7 @@ ExamListener::~ExamListener() {
 
 std::string ExamListener::url() const {
     const bool v6 = host_.find(':') != std::string::npos;
-    return "tcp://" + (v6 ? "[" + host_ + "]" : host_) + ":" + std::to_string(port_);
+    return scheme_ + (v6 ? "[" + host_ + "]" : host_) + ":" + std::to_string(port_);
 }
 
 Suite client_suite(std::string name, std::string title, std::string source,
@@ -297,16 +139,42 @@ Suite client_tcp_suite() {
                         client_tcp_cases());
 }
 
+Suite client_mbaps_suite() {
+    return client_suite("client-mbaps",
+                        "a Modbus/TCP Security client against the examiner, behind TLS", "SEC R-06",
+                        client_mbaps_cases());
+}
+
+Suite client_rtu_tcp_suite() {
+    return client_suite("client-rtu-tcp",
+                        "a Modbus RTU client (master) over TCP, as through a serial gateway",
+                        "SER 2.4.1", client_line_cases());
+}
+
 RunResult run_client_exam(ExamListener& listen, const ClientExamOptions& options,
                           RunListener* listener) {
+    const auto* tls = options.tls;
+    const bool rtu = listen.framing() == protocol::Framing::Rtu;
     ClientPlaceholders where;
     where.host = listen.host();
     where.port = std::to_string(listen.port());
     where.url = listen.url();
-    ExamCarrier carrier{client_tcp_suite(), &client_tcp_cases(), where, protocol::Framing::Mbap,
+    if (tls) {
+        where.ca = tls->ca();
+        where.cert = tls->cert();
+        where.key = tls->key();
+    }
+    ExamCarrier carrier{rtu   ? client_rtu_tcp_suite()
+                        : tls ? client_mbaps_suite()
+                              : client_tcp_suite(),
+                        rtu   ? &client_line_cases()
+                        : tls ? &client_mbaps_cases()
+                              : &client_tcp_cases(),
+                        where, listen.framing(),
                         [&](ClientExaminer& exam) -> std::unique_ptr<ExamWire> {
                             drain_backlog(listen.fd());
-                            return std::make_unique<Wire>(exam, listen.fd(), options.capture);
+                            return make_tcp_wire(exam, listen.fd(), options.capture,
+                                                 tls ? tls->context(exam.scenario()) : nullptr);
                         }};
     return run_client_cases(carrier, options, listener);
 }
@@ -330,7 +198,9 @@ RunResult run_client_cases(const ExamCarrier& carrier, const ClientExamOptions& 
         values.unit = std::to_string(declared.unit);
         values.address = std::to_string(declared.address);
         values.count = std::to_string(declared.count);
-        if (auto na = undeclared(c, declared)) {
+        auto na = undeclared(c, declared);
+        if (!na && options.attach) na = needs_output(c);
+        if (na) {
             case_result.outcome = *na;
         } else {
             std::vector<std::string> argv;
@@ -338,8 +208,11 @@ RunResult run_client_cases(const ExamCarrier& carrier, const ClientExamOptions& 
                 argv.push_back(fill_placeholders(arg, values));
             ClientExaminer exam(c, declared, Clock::now(), carrier.framing);
             const auto wire = carrier.wire(exam);
-            const auto run = run_one(*wire, argv, declared);
+            const auto run = options.attach
+                                 ? watch_attached(*wire, exam, declared, options.attach_wait)
+                                 : run_one(*wire, argv, declared);
             case_result.outcome = judge_client(exam, declared, run);
+            if (options.transcripts) (*options.transcripts)[c.id] = transcript_of(exam, case_start);
             case_result.requests = exam.requests().size();
         }
         case_result.elapsed =

@@ -71,7 +71,30 @@ std::vector<ClientCase> make_line_cases() {
     return cases;
 }
 
+std::vector<ClientCase> make_mbaps_cases() {
+    auto cases = make_cases();
+    // SEC R-06: the peer's certificate is verified (RFC 5280 path and validity); [SEC] leaves the
+    // name to the client, RFC 6125 says how a TLS client checks it.
+    const auto untrusted = ClientScenario::Untrusted;
+    cases.insert(
+        cases.end(),
+        {
+            {"tls.12.1", "an expired server certificate is refused", "SEC R-06; RFC 5280 4.1.2.5",
+             untrusted, 0, "server-expired", "that has expired"},
+            {"tls.12.2", "a server certificate from an unknown CA is refused",
+             "SEC R-06; RFC 5280 6.1", untrusted, 0, "server-foreign-ca", "from an unknown CA"},
+            {"tls.12.3", "a server certificate naming another host is refused", "RFC 6125 6",
+             untrusted, 0, "server-wrong-name", "naming wrong-name.invalid only"},
+        });
+    return cases;
+}
+
 }  // namespace
+
+const std::vector<ClientCase>& client_mbaps_cases() {
+    static const std::vector<ClientCase> cases = make_mbaps_cases();
+    return cases;
+}
 
 const std::vector<ClientCase>& client_line_cases() {
     static const std::vector<ClientCase> cases = make_line_cases();

@@ -28,6 +28,7 @@ enum class ClientScenario : std::uint8_t {
     Pipelined,         // several requests outstanding, answered in reverse order
     BadCheck,          // a line: the first answer's CRC or LRC is wrong (decoys)
     Broadcast,         // a line: the client asks address 0, which no device answers
+    Untrusted,         // mbaps: the examiner presents a certificate the client must refuse
 };
 
 struct ClientCase {
@@ -36,10 +37,16 @@ struct ClientCase {
     std::string source;  // docs/references.md tags
     ClientScenario scenario = ClientScenario::NoReply;
     std::uint8_t exception = 0;  // ClientScenario::Exception
+    // The lab PKI's server certificate the examiner presents over mbaps ("server" when empty),
+    // and what is wrong with it (Untrusted).
+    std::string certificate = {};
+    std::string flaw = {};
 };
 
 // The Modbus/TCP scenarios, in the order they run.
 const std::vector<ClientCase>& client_tcp_cases();
+// Over Modbus/TCP Security: the Modbus/TCP scenarios, then the certificates a client must refuse.
+const std::vector<ClientCase>& client_mbaps_cases();
 // The serial line scenarios (RTU or ASCII alike), in the order they run.
 const std::vector<ClientCase>& client_line_cases();
 

@@ -153,6 +153,11 @@ std::vector<ClientExaminer::Action> ClientExaminer::due(Clock::time_point now) {
     return ready;
 }
 
+void ClientExaminer::refused(std::size_t connection, std::string reason) {
+    if (connection < connections_.size()) connections_[connection]->open = false;
+    refusals_.push_back(std::move(reason));
+}
+
 std::vector<std::uint8_t> ClientExaminer::register_answer(const Request& request,
                                                           std::uint16_t transaction_id,
                                                           std::uint8_t unit, bool decoy) const {
@@ -196,6 +201,11 @@ void ClientExaminer::on_request(const Request& request, Clock::time_point now) {
     switch (scenario_.scenario) {
         case ClientScenario::NoReply:
         case ClientScenario::Broadcast:
+            return;
+        case ClientScenario::Untrusted:
+            // A client that took the certificate shows what it was told by whom it must not trust.
+            answer(request, register_answer(request, request.transaction_id, request.unit, true),
+                   true, now);
             return;
         case ClientScenario::LateReply:
             if (first) {

@@ -67,6 +67,8 @@ class ClientExaminer {
     void quiet(std::size_t connection, Clock::time_point now);
     // The client closed the connection (or it broke): nothing more is sent on it.
     void closed(std::size_t connection, Clock::time_point now);
+    // The TLS handshake on the connection failed, for `reason` (the client's alert): it is over.
+    void refused(std::size_t connection, std::string reason);
 
     // When the next action falls due; time_point::max() when none waits.
     Clock::time_point deadline() const;
@@ -81,6 +83,8 @@ class ClientExaminer {
     // answer to a later request.
     bool stale_met_a_wait() const { return stale_met_wait_; }
     const ClientCase& scenario() const { return scenario_; }
+    // Why TLS handshakes failed, in order (Untrusted: the client's refusals).
+    const std::vector<std::string>& refusals() const { return refusals_; }
 
     // The answer to `request` the examiner would give a well-behaved device's way, with the
     // seeded values (or decoys), under `transaction_id` and `unit`.
@@ -114,6 +118,7 @@ class ClientExaminer {
     std::vector<std::unique_ptr<Connection>> connections_;
     std::vector<Request> requests_;
     std::vector<Answer> answers_;
+    std::vector<std::string> refusals_;
     std::vector<Action> pending_;  // sorted by `at`, then by order of scheduling
     std::size_t asked_ = 0;        // requests to the declared unit
     Action stale_;                 // LateReply: the answer held past the timeout

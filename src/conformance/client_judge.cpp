@@ -164,6 +164,10 @@ Outcome judge_no_reply(const ClientExaminer&, const ClientDeclarations& declared
                         tries, timeout.count(), (timeout * tries).count()),
             run);
     }
+    if (run.attached) {
+        return pass(fmt::format("{} request{}, each after its timeout", facts.asked.size(),
+                                facts.asked.size() == 1 ? "" : "s"));
+    }
     if (!facts.error) return fail("reported success without an answer", run);
     return pass(fmt::format("{} request{}, then an error", facts.asked.size(),
                             facts.asked.size() == 1 ? "" : "s"));
@@ -235,7 +239,7 @@ Outcome judge_exception(const ClientExaminer& exam, const ClientDeclarations& de
                         const ClientRun& run, const Facts& facts) {
     const auto code = exam.scenario().exception;
     if (run.stopped) return fail("never ended", run);
-    if (!facts.error) {
+    if (!facts.error && !run.attached) {
         return fail(fmt::format("exception {:02X} reported as success, not as an error", code),
                     run);
     }
@@ -251,6 +255,7 @@ Outcome judge_exception(const ClientExaminer& exam, const ClientDeclarations& de
     if (static_cast<std::size_t>(repeats) > allowed) {
         return fail(fmt::format("asked {} times after exception {:02X}", repeats, code), run);
     }
+    if (run.attached) return pass(fmt::format("asked {} time{}", repeats, repeats == 1 ? "" : "s"));
     return pass(names_exception(run.output, code) ? "an error naming the code"
                                                   : "an error (its output does not name the code)");
 }
@@ -269,6 +274,11 @@ Outcome judge_close(const ClientExaminer& exam, const ClientDeclarations& declar
         return fail(fmt::format("{} connections and {} requests for {} tries: a burst",
                                 carried.size(), facts.asked.size(), tries),
                     run);
+    }
+    if (run.attached) {
+        return pass(fmt::format("no burst: {} connection{} and {} request{}", carried.size(),
+                                carried.size() == 1 ? "" : "s", facts.asked.size(),
+                                facts.asked.size() == 1 ? "" : "s"));
     }
     if (facts.right && !facts.error) return pass("reconnected and asked again");
     if (facts.error) return pass("an error, no burst");
@@ -321,6 +331,32 @@ Outcome judge_broadcast(const ClientDeclarations& declared, const ClientRun& run
     return pass(fmt::format("ended {} ms after its broadcast", after.count()));
 }
 
+// SEC R-06: a client that goes on past a certificate it cannot verify has been told its values by
+// whoever holds the key. The examiner answers such a request with decoys.
+Outcome judge_untrusted(const ClientExaminer& exam, const ClientDeclarations& declared,
+                        const ClientRun& run) {
+    const auto& flaw = exam.scenario().flaw;
+    if (!exam.requests().empty()) {
+        const auto& request = exam.requests().front();
+        const auto facts = facts_of(exam, declared, run);
+        return fail(
+            fmt::format("took a server certificate {}: sent {} inside the session{}", flaw,
+                        hex_bytes(request.adu),
+                        facts.decoy ? fmt::format(" and showed the decoy {}", *facts.decoy) : ""),
+            run);
+    }
+    if (run.attached) {
+        if (exam.refusals().empty()) return pass("no request inside the session");
+        return pass("refused the handshake: " + exam.refusals().front());
+    }
+    if (run.stopped) return fail("never ended", run);
+    if (!signalled_error(run, declared)) {
+        return fail("sent no request yet reported success, not the refusal", run);
+    }
+    if (exam.refusals().empty()) return pass("no request, then an error");
+    return pass("refused the handshake: " + exam.refusals().front());
+}
+
 }  // namespace
 
 std::chrono::milliseconds client_run_limit(const ClientDeclarations& declared) {
@@ -328,48 +364,18 @@ std::chrono::milliseconds client_run_limit(const ClientDeclarations& declared) {
     return 2 * timeout * tries_of(declared) + 3000ms;
 }
 
-std::optional<Outcome> undeclared(const ClientCase& scenario, const ClientDeclarations& declared) {
-    // The key stays empty: conform's summary would send the user to a DUT file; the reason
-    // names the flag instead.
-    auto na = [](std::string reason, std::string_view) {
-        return Outcome{Verdict::NotApplicable, std::move(reason), {}, {}};
-    };
-    switch (scenario.scenario) {
-        case ClientScenario::NoReply:
-            if (!declared.timeout)
-                return na("the client's timeout is not declared (--client-timeout)", "timeout");
-            if (!declared.retries)
-                return na("the client's retries are not declared (--client-retries)", "retries");
-            return std::nullopt;
-        case ClientScenario::LateReply:
-            if (!declared.timeout)
-                return na("the client's timeout is not declared (--client-timeout)", "timeout");
-            if (declared.retries.value_or(0) == 0) {
-                return na(
-                    "needs --client-retries 1 or more: the stale answer must meet a later request",
-                    "retries");
-            }
-            return std::nullopt;
-        case ClientScenario::Pipelined:
-            if (!declared.pipelining)
-                return na("the client does not declare pipelining (--client-pipelining)",
-                          "pipelining");
-            return std::nullopt;
-        case ClientScenario::Broadcast:
-            if (!declared.broadcast)
-                return na("the client does not declare broadcasts (--client-broadcast)",
-                          "broadcast");
-            if (!declared.timeout)
-                return na("the client's timeout is not declared (--client-timeout)", "timeout");
-            return std::nullopt;
-        default:
-            return std::nullopt;
-    }
-}
-
 Outcome judge_client(const ClientExaminer& exam, const ClientDeclarations& declared,
                      const ClientRun& run) {
     if (auto na = undeclared(exam.scenario(), declared)) return *na;
+    if (run.attached && run.stopped && exam.requests().empty() && exam.refusals().empty()) {
+        return {Verdict::NotRun,
+                fmt::format("the client sent nothing within {} ms of waiting (--attach-wait)",
+                            run.elapsed.count()),
+                {},
+                {}};
+    }
+    if (exam.scenario().scenario == ClientScenario::Untrusted)
+        return judge_untrusted(exam, declared, run);
     const auto facts = facts_of(exam, declared, run);
     if (facts.asked.empty()) {
         return fail(fmt::format("sent no request to unit {} (exit status {})", declared.unit,
@@ -411,6 +417,8 @@ Outcome judge_client(const ClientExaminer& exam, const ClientDeclarations& decla
             return judge_pipelined(exam, run, facts);
         case ClientScenario::Broadcast:
             return judge_broadcast(declared, run, facts);
+        case ClientScenario::Untrusted:
+            break;
     }
     return pass();
 }

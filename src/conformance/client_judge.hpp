@@ -3,6 +3,7 @@
 #include <chrono>
 #include <string>
 
+#include "conformance/client_applicable.hpp"
 #include "conformance/client_examiner.hpp"
 #include "conformance/verdict.hpp"
 
@@ -18,10 +19,9 @@ struct ClientRun {
     std::chrono::milliseconds elapsed{0};
     std::chrono::milliseconds limit{0};                // how long it was given
     std::chrono::steady_clock::time_point ended = {};  // when it was seen to end
+    // --attach: no command ran; only the wire is judged (no exit status, no output).
+    bool attached = false;
 };
-
-// The declarations a scenario needs and does not have: N/A, with the reason and the key.
-std::optional<Outcome> undeclared(const ClientCase& scenario, const ClientDeclarations& declared);
 
 Outcome judge_client(const ClientExaminer& exam, const ClientDeclarations& declared,
                      const ClientRun& run);

@@ -94,7 +94,8 @@ std::string fill_placeholders(std::string text, const ClientPlaceholders& values
     const std::pair<std::string_view, const std::string*> names[] = {
         {"{host}", &values.host},     {"{port}", &values.port},       {"{url}", &values.url},
         {"{unit}", &values.unit},     {"{address}", &values.address}, {"{count}", &values.count},
-        {"{device}", &values.device}, {"{baud}", &values.baud},
+        {"{device}", &values.device}, {"{baud}", &values.baud},       {"{ca}", &values.ca},
+        {"{cert}", &values.cert},     {"{key}", &values.key},
     };
     // One pass from the left, so a value is never read for names again.
     std::string filled;

@@ -44,8 +44,9 @@ class ClientProcess {
     std::string text_;
 };
 
-// `text` with {host}, {port}, {url}, {unit}, {address} and {count} filled in, and on a line
-// {device} and {baud} (the client's end and its speed, for clients that take them apart).
+// `text` with {host}, {port}, {url}, {unit}, {address} and {count} filled in; on a line {device}
+// and {baud} (the client's end and its speed, for clients that take them apart); over mbaps {ca},
+// {cert} and {key}: the lab PKI's CA and a client certificate and key.
 struct ClientPlaceholders {
     std::string host = {};
     std::string port = {};
@@ -55,6 +56,9 @@ struct ClientPlaceholders {
     std::string count = {};
     std::string device = {};
     std::string baud = {};
+    std::string ca = {};
+    std::string cert = {};
+    std::string key = {};
 };
 std::string fill_placeholders(std::string text, const ClientPlaceholders& values);
 

@@ -49,6 +49,8 @@ constexpr std::string_view kSubjectPrefix = "mblab lab ";
 // ub-common-name (RFC 5280): a longer CN does not encode.
 constexpr std::size_t kMaxCommonName = 64;
 constexpr long kSecondsPerDay = 24L * 60 * 60;
+// RFC 2606 reserves .invalid: no client is ever given this name to connect to.
+constexpr const char* kWrongName = "wrong-name.invalid";
 
 enum class Purpose { Ca, Server, Client };
 
@@ -63,7 +65,8 @@ struct CertificateSpec {
     Purpose purpose = Purpose::Client;
     std::vector<RoleValue> roles;  // one extension each
     bool expired = false;
-    std::string issuer;  // the name of the signing CA's spec; empty: self-signed
+    std::string issuer;       // the name of the signing CA's spec; empty: self-signed
+    bool wrong_name = false;  // a server certificate naming a host no client connects to
 };
 
 struct Issued {
@@ -211,7 +214,10 @@ Issued make_certificate(const CertificateSpec& spec, const Issued* issuer,
     if (issuer != nullptr) {
         add_conf_extension(certificate, &context, NID_authority_key_identifier, "keyid:always");
     }
-    if (spec.purpose == Purpose::Server) add_subject_alt_names(certificate, request.server_names);
+    if (spec.purpose == Purpose::Server) {
+        add_subject_alt_names(certificate, spec.wrong_name ? std::vector<std::string>{kWrongName}
+                                                           : request.server_names);
+    }
     for (const auto& role : spec.roles)
         add_role_extension(certificate, role);
     check(X509_sign(certificate, signer_key, EVP_sha256()) > 0, "cannot sign " + spec.name);
@@ -223,6 +229,10 @@ std::vector<CertificateSpec> specs_for(const PkiRequest& request) {
     specs.push_back({"ca", Purpose::Ca, {}, false, ""});
     specs.push_back({"foreign-ca", Purpose::Ca, {}, false, ""});
     specs.push_back({"server", Purpose::Server, {}, false, "ca"});
+    // The server certificates a client must refuse (mblab conform-client's scenario 12).
+    specs.push_back({"server-expired", Purpose::Server, {}, true, "ca"});
+    specs.push_back({"server-foreign-ca", Purpose::Server, {}, false, "foreign-ca"});
+    specs.push_back({"server-wrong-name", Purpose::Server, {}, false, "ca", true});
     for (const auto& role : request.roles) {
         specs.push_back(
             {"client-" + role, Purpose::Client, {{V_ASN1_UTF8STRING, role}}, false, "ca"});

@@ -8,8 +8,9 @@
 #include "protocol/result.hpp"
 
 // A lab PKI for Modbus/TCP Security: a CA, a server certificate, a client certificate per role,
-// and the client certificates a conformant server must refuse or treat as the NULL role (no role,
-// expired, from another CA, self-signed, two roles, a role that is not a UTF8String). Test
+// the client certificates a conformant server must refuse or treat as the NULL role (no role,
+// expired, from another CA, self-signed, two roles, a role that is not a UTF8String), and the
+// server certificates a client must refuse (expired, from another CA, another name). Test
 // material only: the keys are written unencrypted, and the CA key sits beside the certificates.
 namespace mblab::security {
 

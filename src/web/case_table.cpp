@@ -92,7 +92,8 @@ std::string inapplicable_row(const conf::SuiteResult& suite, const conf::Inappli
 
 }  // namespace
 
-std::string case_table(const conf::SuiteResult& suite) {
+std::string case_table(const conf::SuiteResult& suite,
+                       const std::function<std::string(const conf::CaseResult&)>& more) {
     std::string out =
         "<table class=\"cases\">\n<thead><tr><th>case</th><th>verdict</th><th>title</th>"
         "<th>reason</th><th>source</th></tr></thead>\n";
@@ -106,12 +107,11 @@ std::string case_table(const conf::SuiteResult& suite) {
             html_escape(conf::verdict_label(outcome.verdict)), html_escape(c.id), html_escape(c.id),
             verdict_class(outcome.verdict), html_escape(conf::verdict_label(outcome.verdict)),
             html_escape(c.title), html_escape(outcome.reason), source_html(c.source));
-        if (!outcome.evidence.empty()) {
-            out += "<tr><td></td><td colspan=\"4\">";
-            for (const auto& exchange : outcome.evidence)
-                out += evidence_html(exchange);
-            out += "</td></tr>\n";
-        }
+        std::string evidence;
+        for (const auto& exchange : outcome.evidence)
+            evidence += evidence_html(exchange);
+        if (more) evidence += more(c);
+        if (!evidence.empty()) out += "<tr><td></td><td colspan=\"4\">" + evidence + "</td></tr>\n";
         out += "</tbody>\n";
     }
     return out + "</table>\n";

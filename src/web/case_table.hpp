@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <string>
 #include <string_view>
 
@@ -18,8 +19,10 @@ std::string_view verdict_class(conformance::Verdict verdict);
 std::string evidence_html(const conformance::Exchange& exchange);
 
 // A table with a <tbody class="case"> per case (id, verdict, title, reason, source and the
-// evidence of a failure), carrying data-verdict and data-id for the page's filters.
-std::string case_table(const conformance::SuiteResult& suite);
+// evidence of a failure), carrying data-verdict and data-id for the page's filters. `more`, when
+// given, adds a case's own evidence (HTML) under it: conform-client's wire transcript.
+std::string case_table(const conformance::SuiteResult& suite,
+                       const std::function<std::string(const conformance::CaseResult&)>& more = {});
 
 // The checkboxes per verdict, the search box by case id and the count of cases shown.
 std::string case_filters();

@@ -8,8 +8,6 @@
 
 namespace mblab::web {
 
-namespace {
-
 namespace conf = mblab::conformance;
 
 std::string outcome_banner(const conf::RunResult& result) {
@@ -44,6 +42,8 @@ std::string summary_table(const conf::RunResult& result) {
         html_escape(conf::format_duration(result.elapsed)), result.requests);
 }
 
+namespace {
+
 std::string declarations_table(const conf::Provenance& provenance) {
     std::string out =
         "<table id=\"declarations\">\n<tr><th>key</th><th>value</th><th>declared by</th></tr>\n";
@@ -67,14 +67,14 @@ std::string identity_table(const conf::DeviceIdentity& device) {
     return out + "</table>\n";
 }
 
+}  // namespace
+
 std::string provenance_table(const conf::Provenance& provenance) {
     return "<table id=\"provenance\">\n" + field_row("mblab version", provenance.version) +
            field_row("git commit", provenance.commit) + field_row("started", provenance.started) +
            field_row("finished", provenance.finished) +
            field_row("command line", conf::shell_words(provenance.command_line)) + "</table>\n";
 }
-
-}  // namespace
 
 std::string conform_html_report(const conf::RunResult& result, const conf::Provenance& provenance) {
     std::string body = fmt::format("<h1>mblab conform {}</h1>\n", html_escape(result.target));

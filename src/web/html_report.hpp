@@ -13,4 +13,10 @@ namespace mblab::web {
 std::string conform_html_report(const conformance::RunResult& result,
                                 const conformance::Provenance& provenance);
 
+// The parts every report of a run shares (conform's and conform-client's): the outcome banner
+// (#outcome), the counts (#summary) and the provenance table (#provenance).
+std::string outcome_banner(const conformance::RunResult& result);
+std::string summary_table(const conformance::RunResult& result);
+std::string provenance_table(const conformance::Provenance& provenance);
+
 }  // namespace mblab::web

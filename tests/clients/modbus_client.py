@@ -15,8 +15,11 @@ serial device instead (Modbus over Serial Line V1.02): a frame with a bad CRC or
 slave address is discarded and the response timer keeps running (2.4.1), and a request to
 address 0 is a broadcast, answered by none, after which it waits the turnaround delay.
 
+With --poll S it polls as a PLC does, for `mblab conform-client --attach`: one transaction
+(a new connection each), then S seconds of rest, over and over until it is stopped.
+
 usage: modbus_client.py HOST PORT UNIT ADDRESS COUNT [--timeout S] [--retries N] [--defect D]
-                        [--pipeline]
+                        [--pipeline] [--poll S]
 """
 import argparse
 import os
@@ -157,6 +160,19 @@ def pipelined(args, unit, address, count):
 
 
 def main():
+    args = parse()
+    if args.poll is None:
+        return transaction(args)
+    while True:
+        try:
+            transaction(args)
+        except OSError as error:  # refused or reset between the examiner's scenarios
+            print("error: %s" % error)
+        sys.stdout.flush()
+        time.sleep(args.poll)
+
+
+def parse():
     parser = argparse.ArgumentParser()
     for name in ["host", "port", "unit", "address", "count"]:
         parser.add_argument(name)
@@ -164,7 +180,11 @@ def main():
     parser.add_argument("--retries", type=int, default=0)
     parser.add_argument("--defect", choices=DEFECTS)
     parser.add_argument("--pipeline", action="store_true")
-    args = parser.parse_args()
+    parser.add_argument("--poll", type=float)
+    return parser.parse_args()
+
+
+def transaction(args):
     unit, address, count = int(args.unit), int(args.address), int(args.count)
     if args.host.startswith("rtu://"):
         return line_client(args, unit, address, count)
@@ -208,6 +228,8 @@ def main():
                 continue
             print("error: the connection closed")
             return 1
+        if sock is not None:
+            sock.close()
         return show(pdu, defect, count)
 
 

@@ -18,6 +18,23 @@ namespace mblab::test {
 inline const std::string kModbusClient =
     std::string(MBLAB_SOURCE_DIR) + "/tests/clients/modbus_client.py";
 
+// tests/clients/modbus_client.py's command line, timeout 0.3 s, with `defect` unless empty.
+inline std::vector<std::string> python_client(unsigned retries, const std::string& defect) {
+    std::vector<std::string> argv = {"python3",
+                                     kModbusClient,
+                                     "{host}",
+                                     "{port}",
+                                     "{unit}",
+                                     "{address}",
+                                     "{count}",
+                                     "--timeout",
+                                     "0.3",
+                                     "--retries",
+                                     std::to_string(retries)};
+    if (!defect.empty()) argv.insert(argv.end(), {"--defect", defect});
+    return argv;
+}
+
 struct ClientVerdicts {
     int status = -1;
     std::map<std::string, std::string> by_case;  // id -> PASS, FAIL, N/A

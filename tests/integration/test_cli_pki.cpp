@@ -25,8 +25,10 @@ TEST(CliPki, WritesTheFilesListsThemAndSaysWhatToRunNext) {
               std::string::npos)
         << ran.out;
     EXPECT_NE(ran.out.find("--cert " + pki + "/client-Operator.pem"), std::string::npos);
-    // 2 files for each of 10 certificates, one line each, then 3 lines of next:.
-    EXPECT_EQ(std::count(ran.out.begin(), ran.out.end(), '\n'), 23);
+    // 2 files for each of 13 certificates (3 of them the server certificates a client must
+    // refuse), one line each, then 3 lines of next:.
+    EXPECT_EQ(std::count(ran.out.begin(), ran.out.end(), '\n'), 29);
+    EXPECT_NE(ran.out.find(pki + "/server-wrong-name.pem\n"), std::string::npos) << ran.out;
     struct stat status {};
     ASSERT_EQ(::stat((dir / "lab/client-Operator.key").c_str(), &status), 0);
     EXPECT_EQ(status.st_mode & 0777U, 0600U);

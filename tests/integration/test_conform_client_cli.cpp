@@ -40,22 +40,6 @@ Verdicts examine(unsigned retries, std::vector<std::string> client) {
     return client_verdicts(argv);
 }
 
-std::vector<std::string> python_client(unsigned retries, const std::string& defect) {
-    std::vector<std::string> argv = {"python3",
-                                     kClient,
-                                     "{host}",
-                                     "{port}",
-                                     "{unit}",
-                                     "{address}",
-                                     "{count}",
-                                     "--timeout",
-                                     "0.3",
-                                     "--retries",
-                                     std::to_string(retries)};
-    if (!defect.empty()) argv.insert(argv.end(), {"--defect", defect});
-    return argv;
-}
-
 // Every case is PASS but those in `failing` (FAIL) and `na` (N/A).
 void expect_only(const Verdicts& verdicts, const std::vector<std::string>& failing,
                  const std::vector<std::string>& na = {"tcp.11"}) {
@@ -138,10 +122,6 @@ TEST(ConformClientCli, UsageErrors) {
     const auto no_command = run_program({MBLAB_BINARY, "conform-client"});
     EXPECT_EQ(no_command.status, 2);
     EXPECT_THAT(no_command.err, HasSubstr("give the client's command after --"));
-    const auto tls = run_program(
-        {MBLAB_BINARY, "conform-client", "--listen", "mbaps://127.0.0.1:0", "--", "true"});
-    EXPECT_EQ(tls.status, 2);
-    EXPECT_THAT(tls.err, HasSubstr("mbaps:// is not examined yet"));
     const auto regex =
         run_program({MBLAB_BINARY, "conform-client", "--error-pattern", "(", "--", "true"});
     EXPECT_EQ(regex.status, 2);

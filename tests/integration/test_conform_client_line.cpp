@@ -11,6 +11,7 @@
 
 #include "child_process.hpp"
 #include "conform_client_support.hpp"
+#include "support/temp_dir.hpp"
 #include "support/temp_path.hpp"
 
 // `mblab conform-client` on a serial line: the examiner makes a pty pair (rtu:///dev/ptmx) and
@@ -115,15 +116,48 @@ TEST(ConformClientLine, BadDeclarationFilesAreOneLineErrors) {
     }
 }
 
-TEST(ConformClientLine, UsageErrors) {
-    const auto gateway = run_program(
-        {MBLAB_BINARY, "conform-client", "--listen", "rtu+tcp://127.0.0.1:5020", "--", "true"});
-    EXPECT_EQ(gateway.status, 2);
-    EXPECT_THAT(gateway.err, HasSubstr("rtu+tcp:// is not examined yet"));
-    const auto pcap = run_program({MBLAB_BINARY, "conform-client", "--listen", "rtu:///dev/ptmx",
-                                   "--pcap", temp_path("line.pcapng"), "--", "true"});
-    EXPECT_EQ(pcap.status, 2);
-    EXPECT_THAT(pcap.err, HasSubstr("a serial line is not captured yet"));
+// RTU frames over TCP (a client of a serial gateway): the line's scenarios on TCP connections,
+// the capture's frames RTU on USER0.
+TEST(ConformClientLine, OverRtuTcpMblabReadPassesTheLineScenarios) {
+    const auto pcap = temp_path("rtu-tcp.pcapng");
+    const auto verdicts =
+        examine("rtu+tcp://127.0.0.1:0",
+                {"--client-timeout", "300", "--client-retries", "1", "--pcap", pcap}, mblab_read());
+    expect_only(verdicts, {}, {"ser.9"});
+    EXPECT_THAT(verdicts.console, HasSubstr("client-rtu-tcp: a Modbus RTU client (master) over "
+                                            "TCP, as through a serial gateway"));
+    const auto frames = file_text(pcap);
+    EXPECT_THAT(frames, HasSubstr(std::string("\x93\x00\x00\x00", 4)));  // USER0
+    EXPECT_THAT(frames, HasSubstr(std::string("\x01\x03\x00\x64\x00\x02\x85\xD4", 8)));
+    EXPECT_THAT(frames, HasSubstr("ser.6.0B"));
+}
+
+// The line's frames in pcapng: RTU on link type USER0 (147), ASCII as its text on USER1 (148),
+// each labelled with its scenario.
+TEST(ConformClientLine, TheCaptureHoldsTheLinesFramesUnderTheScenariosId) {
+    const auto rtu = temp_path("line.pcapng");
+    auto argv = rtu_master("wrong-slave");
+    argv.insert(argv.begin(), {MBLAB_BINARY, "conform-client", "--listen",
+                               "rtu:///dev/ptmx?baud=19200", "--client-timeout", "300",
+                               "--client-retries", "1", "--case", "ser.4", "--pcap", rtu, "--"});
+    EXPECT_EQ(run_program(argv, std::chrono::seconds(60)).status, 1);
+    const auto frames = file_text(rtu);
+    EXPECT_EQ(frames.substr(0, 4), std::string("\x0A\x0D\x0D\x0A", 4));
+    EXPECT_THAT(frames, HasSubstr(std::string("\x93\x00\x00\x00", 4)));  // USER0
+    EXPECT_THAT(frames, HasSubstr("ser.4"));
+    EXPECT_THAT(frames, HasSubstr(std::string("\x01\x03\x00\x64\x00\x02\x85\xD4", 8)));
+    EXPECT_THAT(frames, HasSubstr(std::string("\x02\x03\x04\x9C\xA4\x9C\xA5\x0F\xFB", 9)));
+
+    const auto ascii = temp_path("line-ascii.pcapng");
+    auto read = mblab_read();
+    read.insert(read.begin(),
+                {MBLAB_BINARY, "conform-client", "--listen", "ascii:///dev/ptmx?data=8", "--case",
+                 "ser.6.02", "--pcap", ascii, "--"});
+    EXPECT_EQ(run_program(read, std::chrono::seconds(60)).status, 0);
+    const auto text = file_text(ascii);
+    EXPECT_THAT(text, HasSubstr(std::string("\x94\x00\x00\x00", 4)));  // USER1
+    EXPECT_THAT(text, HasSubstr(":010300640002"));
+    EXPECT_THAT(text, HasSubstr(":018302"));
 }
 
 }  // namespace

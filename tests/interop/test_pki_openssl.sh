@@ -26,7 +26,7 @@ for file in "$PKI"/*; do
     mode=$(stat -c %a "$file")
     [ "$mode" = 600 ] || fail "$file is mode $mode, not 600"
 done
-[ "$files" = 24 ] || fail "$files files written, expected 24"
+[ "$files" = 30 ] || fail "$files files written, expected 30"
 
 status=0
 "$MBLAB" pki "$PKI" >"$WORK/again.out" 2>"$WORK/again.err" || status=$?
@@ -59,6 +59,18 @@ verify_fails client-foreign-ca "unable to get local issuer certificate"
 verify_fails client-self-signed "self-signed certificate"
 openssl verify -CAfile ca.pem -purpose sslserver server.pem >"$WORK/verify.out" 2>&1 ||
     fail "openssl verify server: $(cat "$WORK/verify.out")"
+# The server certificates a client must refuse (conform-client's scenario 12), each for its reason.
+server_fails() {
+    ! openssl verify -CAfile ca.pem -purpose sslserver "$@" >"$WORK/verify.out" 2>&1 ||
+        fail "openssl verify accepted $*"
+}
+server_fails server-expired.pem
+grep -q "certificate has expired" "$WORK/verify.out" || fail "server-expired: $(cat "$WORK/verify.out")"
+server_fails server-foreign-ca.pem
+grep -q "unable to get local issuer certificate" "$WORK/verify.out" ||
+    fail "server-foreign-ca: $(cat "$WORK/verify.out")"
+server_fails -verify_ip 127.0.0.1 server-wrong-name.pem
+grep -q "IP address mismatch" "$WORK/verify.out" || fail "server-wrong-name: $(cat "$WORK/verify.out")"
 
 # --- the role extension as openssl prints and parses it ---
 openssl x509 -in client-Operator.pem -noout -text >"$WORK/text" || fail "openssl x509 -text"

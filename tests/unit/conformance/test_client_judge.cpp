@@ -148,5 +148,39 @@ TEST(ClientJudge, NoRequestAtAllFails) {
     EXPECT_THAT(outcome.reason, HasSubstr("sent no request to unit 1 (exit status 127)"));
 }
 
+ClientCase untrusted() {
+    for (const auto& c : client_mbaps_cases())
+        if (c.scenario == ClientScenario::Untrusted) return c;
+    return {};
+}
+
+// SEC R-06: the client must not go on past a certificate it cannot verify. One that does is
+// answered with decoys, and the request it sent is the evidence.
+TEST(ClientJudge, ARequestBehindAnUntrustedCertificateFailsARefusalPasses) {
+    const auto d = declared();
+    const auto zero = ClientExaminer::Clock::time_point{};
+    ClientExaminer took(untrusted(), d, zero);
+    const auto c = took.opened(zero);
+    took.received(c, hex(kRequest), zero);
+    const auto answered = took.due(zero);
+    ASSERT_EQ(answered.size(), 1U);
+    EXPECT_EQ(answered[0].bytes, hex("00 01 00 00 00 07 01 03 04 9C A4 9C A5"));
+    const auto failed = judge_client(took, d, ran(0, "40100 40101\n"));
+    EXPECT_EQ(failed.verdict, Verdict::Fail);
+    EXPECT_THAT(failed.reason, HasSubstr("took a server certificate that has expired: sent 00 01 "
+                                         "00 00 00 06 01 03 00 64 00 02 inside the session and "
+                                         "showed the decoy 40100"));
+
+    ClientExaminer refused(untrusted(), d, zero);
+    refused.refused(refused.opened(zero), "sslv3 alert certificate expired");
+    const auto passed = judge_client(refused, d, ran(1, "certificate verify failed\n"));
+    EXPECT_EQ(passed.verdict, Verdict::Pass);
+    EXPECT_EQ(passed.reason, "refused the handshake: sslv3 alert certificate expired");
+    EXPECT_EQ(judge_client(refused, d, ran(0, "")).verdict, Verdict::Fail);
+    ClientRun hung = ran(137, "");
+    hung.stopped = true;
+    EXPECT_EQ(judge_client(refused, d, hung).verdict, Verdict::Fail);
+}
+
 }  // namespace
 }  // namespace mblab::conformance

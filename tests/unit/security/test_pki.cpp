@@ -40,8 +40,10 @@ unsigned mode_of(const fs::path& path) {
     return status.st_mode & 07777U;
 }
 
-// X509_V_OK or why `name`.pem does not verify against ca.pem as a TLS client certificate.
-int verify_client(const fs::path& dir, const std::string& name) {
+// X509_V_OK or why `name`.pem does not verify against ca.pem as a TLS client (or `purpose`)
+// certificate.
+int verify_client(const fs::path& dir, const std::string& name,
+                  int purpose = X509_PURPOSE_SSL_CLIENT) {
     X509StorePtr store(X509_STORE_new());
     const auto ca = load_certificate(dir / "ca.pem");
     const auto leaf = load_certificate(dir / (name + ".pem"));
@@ -50,7 +52,7 @@ int verify_client(const fs::path& dir, const std::string& name) {
     X509_STORE_add_cert(store.get(), ca.get());
     X509StoreCtxPtr context(X509_STORE_CTX_new());
     X509_STORE_CTX_init(context.get(), store.get(), leaf.get(), nullptr);
-    X509_STORE_CTX_set_purpose(context.get(), X509_PURPOSE_SSL_CLIENT);
+    X509_STORE_CTX_set_purpose(context.get(), purpose);
     if (X509_verify_cert(context.get()) == 1) return X509_V_OK;
     return X509_STORE_CTX_get_error(context.get());
 }
@@ -83,6 +85,9 @@ const std::vector<std::string> kNames = {
     "ca",
     "foreign-ca",
     "server",
+    "server-expired",
+    "server-foreign-ca",
+    "server-wrong-name",
     "client-ReadOnly",
     "client-Operator",
     "client-Administrator",
@@ -222,6 +227,29 @@ TEST_F(LabPki, ServerCertificateNamesEveryServerName) {
     EXPECT_EQ(X509_check_ip_asc(server.get(), "::1", 0), 1);
     EXPECT_NE(X509_check_host(server.get(), "example.com", 0, 0, nullptr), 1);
     EXPECT_NE(X509_check_ip_asc(server.get(), "127.0.0.2", 0), 1);
+}
+
+// What a client must refuse in conform-client's scenario 12: each fails for one reason only.
+TEST_F(LabPki, ServerCertificatesAClientMustRefuseFailForTheirReason) {
+    const std::map<std::string, int> expected = {
+        {"server", X509_V_OK},
+        {"server-wrong-name", X509_V_OK},
+        {"server-expired", X509_V_ERR_CERT_HAS_EXPIRED},
+        {"server-foreign-ca", X509_V_ERR_UNABLE_TO_GET_ISSUER_CERT_LOCALLY},
+    };
+    for (const auto& [name, error] : expected) {
+        const int got = verify_client(pki(), name, X509_PURPOSE_SSL_SERVER);
+        EXPECT_EQ(got, error) << name << ": " << X509_verify_cert_error_string(got);
+    }
+    for (const char* name : {"server-expired", "server-foreign-ca"}) {
+        const auto certificate = load_certificate(pki() / (std::string(name) + ".pem"));
+        ASSERT_TRUE(certificate) << name;
+        EXPECT_EQ(X509_check_ip_asc(certificate.get(), "127.0.0.1", 0), 1) << name;
+    }
+    const auto wrong = load_certificate(pki() / "server-wrong-name.pem");
+    ASSERT_TRUE(wrong);
+    EXPECT_NE(X509_check_ip_asc(wrong.get(), "127.0.0.1", 0), 1);
+    EXPECT_NE(X509_check_host(wrong.get(), "localhost", 0, 0, nullptr), 1);
 }
 
 TEST_F(LabPki, RefusesToOverwriteWithoutOverwrite) {
