@@ -49,6 +49,23 @@ void each_point(const SunSpecProbe& probe, Visit visit) {
     }
 }
 
+// What a case that looks at every point found: the points it judged and what was wrong.
+struct PointTally {
+    std::size_t count = 0;
+    std::vector<std::string> problems;
+};
+
+// Runs check(model, point, tally) on every point; the remark counts the points judged ("12
+// strings ASCII and NUL-padded").
+template <class Check>
+Outcome judge_points(const SunSpecProbe& probe, std::string_view counted, Check check) {
+    PointTally tally;
+    each_point(probe, [&](const SunSpecModelReading& model, const SunSpecPointReading& point) {
+        check(model, point, tally);
+    });
+    return judged(probe, tally.problems, fmt::format("{} {}", tally.count, counted));
+}
+
 bool is_accumulator(SunSpecType type) {
     return type == SunSpecType::Acc16 || type == SunSpecType::Acc32 || type == SunSpecType::Acc64;
 }
@@ -225,125 +242,120 @@ Outcome run_sunspec_unknown(Session& session, const Case&) {
 Outcome run_sunspec_mandatory(Session& session, const Case&) {
     SunSpecProbe probe(session);
     if (probe.unusable()) return *probe.unusable();
-    std::vector<std::string> problems;
-    std::size_t count = 0;
-    each_point(probe, [&](const SunSpecModelReading& model, const SunSpecPointReading& point) {
-        if (!point.point->mandatory || point.point->type == SunSpecType::Pad) return;
-        ++count;
-        if (!point.implemented) {
-            problems.push_back(point_name(model.id, point) + " is mandatory, not implemented");
-        }
-    });
-    return judged(probe, problems, fmt::format("{} mandatory points implemented", count));
+    return judge_points(
+        probe, "mandatory points implemented",
+        [&](const SunSpecModelReading& model, const SunSpecPointReading& point, PointTally& tally) {
+            if (!point.point->mandatory || point.point->type == SunSpecType::Pad) return;
+            ++tally.count;
+            if (!point.implemented) {
+                tally.problems.push_back(point_name(model.id, point) +
+                                         " is mandatory, not implemented");
+            }
+        });
 }
 
 Outcome run_sunspec_sentinels(Session& session, const Case&) {
     SunSpecProbe probe(session);
     if (probe.unusable()) return *probe.unusable();
-    std::vector<std::string> problems;
-    std::size_t count = 0;
-    each_point(probe, [&](const SunSpecModelReading& model, const SunSpecPointReading& point) {
-        ++count;
-        if (auto wrong = wrong_sentinel(point)) {
-            problems.push_back(point_name(model.id, point) + " holds " + *wrong);
-        }
-    });
-    return judged(probe, problems,
-                  fmt::format("{} points: no float NaN or EUI-48 other than the sentinel", count));
+    return judge_points(
+        probe, "points: no float NaN or EUI-48 other than the sentinel",
+        [&](const SunSpecModelReading& model, const SunSpecPointReading& point, PointTally& tally) {
+            ++tally.count;
+            if (auto wrong = wrong_sentinel(point)) {
+                tally.problems.push_back(point_name(model.id, point) + " holds " + *wrong);
+            }
+        });
 }
 
 Outcome run_sunspec_scale_factors(Session& session, const Case&) {
     SunSpecProbe probe(session);
     if (probe.unusable()) return *probe.unusable();
-    std::vector<std::string> problems;
-    std::size_t count = 0;
-    each_point(probe, [&](const SunSpecModelReading& model, const SunSpecPointReading& point) {
-        const std::string name = point_name(model.id, point);
-        if (point.point->type == SunSpecType::Sunssf) {
-            ++count;
-            const auto value = static_cast<std::int16_t>(point.words[0]);
-            if (point.implemented && (value < kLowestScale || value > kHighestScale)) {
-                problems.push_back(fmt::format("{} = {}, outside -10..10", name, value));
+    return judge_points(
+        probe, "scale factors within -10..10 and constant",
+        [&](const SunSpecModelReading& model, const SunSpecPointReading& point, PointTally& tally) {
+            const std::string name = point_name(model.id, point);
+            if (point.point->type == SunSpecType::Sunssf) {
+                ++tally.count;
+                const auto value = static_cast<std::int16_t>(point.words[0]);
+                if (point.implemented && (value < kLowestScale || value > kHighestScale)) {
+                    tally.problems.push_back(fmt::format("{} = {}, outside -10..10", name, value));
+                }
+                const auto again = probe.read(point);
+                if (!again) {
+                    tally.problems.push_back(name + " read again: " + again.error().message);
+                } else if (point.point->is_static && *again != point.words) {
+                    tally.problems.push_back(fmt::format("{} is static, but read {} then {}", name,
+                                                         value,
+                                                         static_cast<std::int16_t>((*again)[0])));
+                }
+            } else if (point.implemented && !point.point->sf.empty() && !point.scale) {
+                tally.problems.push_back(name + " is implemented, its scale factor " +
+                                         point.point->sf + " is not");
             }
-            const auto again = probe.read(point);
-            if (!again) {
-                problems.push_back(name + " read again: " + again.error().message);
-            } else if (point.point->is_static && *again != point.words) {
-                problems.push_back(fmt::format("{} is static, but read {} then {}", name, value,
-                                               static_cast<std::int16_t>((*again)[0])));
-            }
-        } else if (point.implemented && !point.point->sf.empty() && !point.scale) {
-            problems.push_back(name + " is implemented, its scale factor " + point.point->sf +
-                               " is not");
-        }
-    });
-    return judged(probe, problems,
-                  fmt::format("{} scale factors within -10..10 and constant", count));
+        });
 }
 
 Outcome run_sunspec_enums(Session& session, const Case&) {
     SunSpecProbe probe(session);
     if (probe.unusable()) return *probe.unusable();
-    std::vector<std::string> problems;
-    std::size_t count = 0;
-    each_point(probe, [&](const SunSpecModelReading& model, const SunSpecPointReading& point) {
-        if (!device::is_sunspec_enum(point.point->type) || point.point->symbols.empty() ||
-            !point.implemented) {
-            return;
-        }
-        ++count;
-        const auto value = device::sunspec_bits(point.words);
-        if (!symbol_name(*point.point, static_cast<double>(value))) {
-            problems.push_back(
-                fmt::format("{} = {}, none of its symbols", point_name(model.id, point), value));
-        }
-    });
-    return judged(probe, problems, fmt::format("{} enum values among their symbols", count));
+    return judge_points(
+        probe, "enum values among their symbols",
+        [&](const SunSpecModelReading& model, const SunSpecPointReading& point, PointTally& tally) {
+            if (!device::is_sunspec_enum(point.point->type) || point.point->symbols.empty() ||
+                !point.implemented) {
+                return;
+            }
+            ++tally.count;
+            const auto value = device::sunspec_bits(point.words);
+            if (!symbol_name(*point.point, static_cast<double>(value))) {
+                tally.problems.push_back(fmt::format("{} = {}, none of its symbols",
+                                                     point_name(model.id, point), value));
+            }
+        });
 }
 
 Outcome run_sunspec_strings(Session& session, const Case&) {
     SunSpecProbe probe(session);
     if (probe.unusable()) return *probe.unusable();
-    std::vector<std::string> problems;
-    std::size_t count = 0;
-    each_point(probe, [&](const SunSpecModelReading& model, const SunSpecPointReading& point) {
-        if (point.point->type != SunSpecType::String) return;
-        ++count;
-        bool ended = false;
-        for (std::size_t i = 0; i < 2 * point.words.size(); ++i) {
-            const auto byte = static_cast<std::uint8_t>(point.words[i / 2] >> (i % 2 ? 0 : 8));
-            const bool wrong = ended ? byte != 0 : byte != 0 && (byte < 0x20 || byte > 0x7E);
-            if (wrong) {
-                problems.push_back(fmt::format("{} byte {} is {:02X}{}",
-                                               point_name(model.id, point), i, byte,
-                                               ended ? " after its NUL" : ", not printable ASCII"));
-                return;
+    return judge_points(
+        probe, "strings ASCII and NUL-padded",
+        [&](const SunSpecModelReading& model, const SunSpecPointReading& point, PointTally& tally) {
+            if (point.point->type != SunSpecType::String) return;
+            ++tally.count;
+            bool ended = false;
+            for (std::size_t i = 0; i < 2 * point.words.size(); ++i) {
+                const auto byte = static_cast<std::uint8_t>(point.words[i / 2] >> (i % 2 ? 0 : 8));
+                const bool wrong = ended ? byte != 0 : byte != 0 && (byte < 0x20 || byte > 0x7E);
+                if (wrong) {
+                    tally.problems.push_back(
+                        fmt::format("{} byte {} is {:02X}{}", point_name(model.id, point), i, byte,
+                                    ended ? " after its NUL" : ", not printable ASCII"));
+                    return;
+                }
+                ended = ended || byte == 0;
             }
-            ended = ended || byte == 0;
-        }
-    });
-    return judged(probe, problems, fmt::format("{} strings ASCII and NUL-padded", count));
+        });
 }
 
 Outcome run_sunspec_accumulators(Session& session, const Case& c) {
     SunSpecProbe probe(session);
     if (probe.unusable()) return *probe.unusable();
     std::this_thread::sleep_for(std::chrono::milliseconds(param(c, "interval_ms")));
-    std::vector<std::string> problems;
-    std::size_t count = 0;
-    each_point(probe, [&](const SunSpecModelReading& model, const SunSpecPointReading& point) {
-        if (!is_accumulator(point.point->type) || !point.implemented) return;
-        ++count;
-        const auto later = probe.read(point);
-        if (!later) {
-            problems.push_back(point_name(model.id, point) + ": " + later.error().message);
-        } else if (device::sunspec_bits(*later) < device::sunspec_bits(point.words)) {
-            problems.push_back(
-                fmt::format("{} went from {} down to {}", point_name(model.id, point),
-                            device::sunspec_bits(point.words), device::sunspec_bits(*later)));
-        }
-    });
-    return judged(probe, problems, fmt::format("{} accumulators did not decrease", count));
+    return judge_points(
+        probe, "accumulators did not decrease",
+        [&](const SunSpecModelReading& model, const SunSpecPointReading& point, PointTally& tally) {
+            if (!is_accumulator(point.point->type) || !point.implemented) return;
+            ++tally.count;
+            const auto later = probe.read(point);
+            if (!later) {
+                tally.problems.push_back(point_name(model.id, point) + ": " +
+                                         later.error().message);
+            } else if (device::sunspec_bits(*later) < device::sunspec_bits(point.words)) {
+                tally.problems.push_back(
+                    fmt::format("{} went from {} down to {}", point_name(model.id, point),
+                                device::sunspec_bits(point.words), device::sunspec_bits(*later)));
+            }
+        });
 }
 
 Outcome run_sunspec_chunks(Session& session, const Case&) {
