@@ -3,7 +3,8 @@
  * and ends with status 1 on any error libmodbus reports (an exception, no answer, a bad frame).
  * One try, a 300 ms response timeout (libmodbus itself never retries a read).
  * Usage: libmodbus_read_client tcp HOST PORT UNIT ADDRESS COUNT
- *        libmodbus_read_client rtu DEVICE BAUD UNIT ADDRESS COUNT   (even parity, 8 data, 1 stop) */
+ *        libmodbus_read_client rtu DEVICE BAUD UNIT ADDRESS COUNT   (even parity, 8 data, 1 stop)
+ */
 #include <errno.h>
 #include <modbus.h>
 #include <stdio.h>
@@ -15,9 +16,8 @@ int main(int argc, char** argv) {
         fprintf(stderr, "usage: %s tcp|rtu HOST|DEVICE PORT|BAUD UNIT ADDRESS COUNT\n", argv[0]);
         return 2;
     }
-    modbus_t* ctx = strcmp(argv[1], "rtu") == 0
-                        ? modbus_new_rtu(argv[2], atoi(argv[3]), 'E', 8, 1)
-                        : modbus_new_tcp(argv[2], atoi(argv[3]));
+    modbus_t* ctx = strcmp(argv[1], "rtu") == 0 ? modbus_new_rtu(argv[2], atoi(argv[3]), 'E', 8, 1)
+                                                : modbus_new_tcp(argv[2], atoi(argv[3]));
     if (!ctx) {
         fprintf(stderr, "error: %s\n", modbus_strerror(errno));
         return 1;
@@ -31,9 +31,8 @@ int main(int argc, char** argv) {
     }
     const int count = atoi(argv[6]);
     uint16_t values[125];
-    const int read = count >= 1 && count <= 125
-                         ? modbus_read_registers(ctx, atoi(argv[5]), count, values)
-                         : -1;
+    const int read =
+        count >= 1 && count <= 125 ? modbus_read_registers(ctx, atoi(argv[5]), count, values) : -1;
     int status = 0;
     if (read != count) {
         printf("error: %s\n", modbus_strerror(errno));
