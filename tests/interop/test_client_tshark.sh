@@ -10,56 +10,7 @@ HERE=$(dirname "$0")
 . "$HERE/client_interop.sh"
 
 start_mblab_serve "$MBLAB"
-
-TSHARK_PID=""
-stop_all() {
-    if [ -n "$TSHARK_PID" ]; then kill "$TSHARK_PID" 2>/dev/null || true; fi
-    cleanup
-}
-trap stop_all EXIT
-
-tshark -i lo -f "tcp port $PORT" -w "$WORK/capture.pcapng" > /dev/null 2> "$WORK/tshark.err" &
-TSHARK_PID=$!
-for _ in $(seq 1 100); do
-    if grep -q "Capturing on" "$WORK/tshark.err"; then break; fi
-    if ! kill -0 "$TSHARK_PID" 2>/dev/null; then
-        echo "tshark cannot capture here:" >&2
-        cat "$WORK/tshark.err" >&2
-        exit 1
-    fi
-    sleep 0.1
-done
-
-# Modbus frames in the capture so far (dumpcap writes each packet as it comes).
-frames_captured() {
-    tshark -r "$WORK/capture.pcapng" -o "mbtcp.tcp.port:$PORT" -Y mbtcp 2>/dev/null | wc -l
-}
-# wait_for_frames N: until the capture holds N Modbus frames (at most 20 s; a busy machine may
-# start capturing, or write packets, a little late).
-wait_for_frames() {
-    for _ in $(seq 1 200); do
-        if [ "$(frames_captured)" -ge "$1" ]; then return 0; fi
-        sleep 0.1
-    done
-    echo "the capture holds $(frames_captured) Modbus frames, expected $1" >&2
-    exit 1
-}
-
-# A first exchange, not compared, shows the capture is running before the logged ones start.
-for _ in $(seq 1 20); do
-    "$MBLAB" read "$TARGET" holding 0 > /dev/null
-    if [ "$(frames_captured)" -ge 2 ]; then break; fi
-    sleep 0.5
-done
-# Every warm-up frame must be in the file before they are counted out: wait for the count to
-# settle on whole exchanges.
-WARMUP=0
-for _ in $(seq 1 50); do
-    sleep 0.3
-    now=$(frames_captured)
-    if [ "$now" -eq "$WARMUP" ] && [ $((now % 2)) -eq 0 ] && [ "$now" -ge 2 ]; then break; fi
-    WARMUP=$now
-done
+start_capture "$MBLAB"
 
 n=0
 decode() {  # decode ARGS...: runs mblab with --decode bytes, keeps its log
@@ -81,9 +32,7 @@ while [ "$i" -le "$n" ]; do LOGS="$LOGS $WORK/decode.$i"; i=$((i + 1)); done
 # shellcheck disable=SC2086
 LOGGED=$(cat $LOGS | grep -c '^[<>] [0-9A-F][0-9A-F] ')
 wait_for_frames $((WARMUP + LOGGED))
-kill -INT "$TSHARK_PID"
-wait "$TSHARK_PID" || true
-TSHARK_PID=""
+stop_capture
 
 tshark -r "$WORK/capture.pcapng" -o "mbtcp.tcp.port:$PORT" -Y mbtcp -T fields \
     -e tcp.payload -e mbtcp.trans_id -e mbtcp.prot_id -e mbtcp.len -e mbtcp.unit_id \
