@@ -3,13 +3,13 @@
 #  1. g++-12, -Werror: build, then every test (unit, integration, interop with third-party peers,
 #     install layout and .deb contents), then the .deb installed with dpkg, used and removed.
 #  2. clang++-14, -Werror, AddressSanitizer + UndefinedBehaviorSanitizer: build, unit tests again.
-#  3. clang++-14 libFuzzer targets, each run for MBLAB_FUZZ_SECONDS (default 15) on its corpus.
+#  3. clang++-14 libFuzzer targets, each run for MBLAB_FUZZ_SECONDS (default 10) on its corpus.
 #  4. clang-format check of every source file.
 # Build trees go to build/ (the normal one, which leaves build/mblab), build-asan/ and build-fuzz/.
 set -eu
 cd "$(dirname "$0")/.."
 jobs="${MBLAB_JOBS:-$(nproc)}"
-fuzz_seconds="${MBLAB_FUZZ_SECONDS:-15}"
+fuzz_seconds="${MBLAB_FUZZ_SECONDS:-10}"
 step() { printf '\n=== %s\n' "$*"; }
 
 step "g++-12 build (-Werror)"
