@@ -30,8 +30,7 @@ Outcome pass(std::string remark) {
 }
 
 // PASS, or FAIL with the first few problems.
-Outcome judged(const SunSpecProbe& probe, const std::vector<std::string>& problems,
-               std::string passed) {
+Outcome judged(SunSpecProbe& probe, const std::vector<std::string>& problems, std::string passed) {
     if (problems.empty()) return pass(std::move(passed));
     std::string text;
     for (std::size_t i = 0; i < problems.size() && i < 5; ++i)
@@ -42,7 +41,7 @@ Outcome judged(const SunSpecProbe& probe, const std::vector<std::string>& proble
 
 // Calls visit(model, point) for every point of every model with a definition.
 template <class Visit>
-void each_point(const SunSpecProbe& probe, Visit visit) {
+void each_point(SunSpecProbe& probe, Visit visit) {
     for (const SunSpecModelReading& model : probe.scan().models) {
         for (const SunSpecPointReading& point : model.points)
             visit(model, point);
@@ -55,13 +54,17 @@ struct PointTally {
     std::vector<std::string> problems;
 };
 
-// Runs check(model, point, tally) on every point; the remark counts the points judged ("12
-// strings ASCII and NUL-padded").
+// Scans the device and runs check(probe, model, point, tally) on every point, `settle` after the
+// scan; the remark counts the points judged ("12 strings ASCII and NUL-padded").
 template <class Check>
-Outcome judge_points(const SunSpecProbe& probe, std::string_view counted, Check check) {
+Outcome judge_points(Session& session, std::string_view counted, Check check,
+                     std::chrono::milliseconds settle = {}) {
+    SunSpecProbe probe(session);
+    if (probe.unusable()) return *probe.unusable();
+    if (settle.count() > 0) std::this_thread::sleep_for(settle);
     PointTally tally;
     each_point(probe, [&](const SunSpecModelReading& model, const SunSpecPointReading& point) {
-        check(model, point, tally);
+        check(probe, model, point, tally);
     });
     return judged(probe, tally.problems, fmt::format("{} {}", tally.count, counted));
 }
@@ -240,26 +243,24 @@ Outcome run_sunspec_unknown(Session& session, const Case&) {
 }
 
 Outcome run_sunspec_mandatory(Session& session, const Case&) {
-    SunSpecProbe probe(session);
-    if (probe.unusable()) return *probe.unusable();
-    return judge_points(
-        probe, "mandatory points implemented",
-        [&](const SunSpecModelReading& model, const SunSpecPointReading& point, PointTally& tally) {
-            if (!point.point->mandatory || point.point->type == SunSpecType::Pad) return;
-            ++tally.count;
-            if (!point.implemented) {
-                tally.problems.push_back(point_name(model.id, point) +
-                                         " is mandatory, not implemented");
-            }
-        });
+    return judge_points(session, "mandatory points implemented",
+                        [&](SunSpecProbe&, const SunSpecModelReading& model,
+                            const SunSpecPointReading& point, PointTally& tally) {
+                            if (!point.point->mandatory || point.point->type == SunSpecType::Pad)
+                                return;
+                            ++tally.count;
+                            if (!point.implemented) {
+                                tally.problems.push_back(point_name(model.id, point) +
+                                                         " is mandatory, not implemented");
+                            }
+                        });
 }
 
 Outcome run_sunspec_sentinels(Session& session, const Case&) {
-    SunSpecProbe probe(session);
-    if (probe.unusable()) return *probe.unusable();
     return judge_points(
-        probe, "points: no float NaN or EUI-48 other than the sentinel",
-        [&](const SunSpecModelReading& model, const SunSpecPointReading& point, PointTally& tally) {
+        session, "points: no float NaN or EUI-48 other than the sentinel",
+        [&](SunSpecProbe&, const SunSpecModelReading& model, const SunSpecPointReading& point,
+            PointTally& tally) {
             ++tally.count;
             if (auto wrong = wrong_sentinel(point)) {
                 tally.problems.push_back(point_name(model.id, point) + " holds " + *wrong);
@@ -268,11 +269,10 @@ Outcome run_sunspec_sentinels(Session& session, const Case&) {
 }
 
 Outcome run_sunspec_scale_factors(Session& session, const Case&) {
-    SunSpecProbe probe(session);
-    if (probe.unusable()) return *probe.unusable();
     return judge_points(
-        probe, "scale factors within -10..10 and constant",
-        [&](const SunSpecModelReading& model, const SunSpecPointReading& point, PointTally& tally) {
+        session, "scale factors within -10..10 and constant",
+        [&](SunSpecProbe& probe, const SunSpecModelReading& model, const SunSpecPointReading& point,
+            PointTally& tally) {
             const std::string name = point_name(model.id, point);
             if (point.point->type == SunSpecType::Sunssf) {
                 ++tally.count;
@@ -296,11 +296,10 @@ Outcome run_sunspec_scale_factors(Session& session, const Case&) {
 }
 
 Outcome run_sunspec_enums(Session& session, const Case&) {
-    SunSpecProbe probe(session);
-    if (probe.unusable()) return *probe.unusable();
     return judge_points(
-        probe, "enum values among their symbols",
-        [&](const SunSpecModelReading& model, const SunSpecPointReading& point, PointTally& tally) {
+        session, "enum values among their symbols",
+        [&](SunSpecProbe&, const SunSpecModelReading& model, const SunSpecPointReading& point,
+            PointTally& tally) {
             if (!device::is_sunspec_enum(point.point->type) || point.point->symbols.empty() ||
                 !point.implemented) {
                 return;
@@ -315,11 +314,10 @@ Outcome run_sunspec_enums(Session& session, const Case&) {
 }
 
 Outcome run_sunspec_strings(Session& session, const Case&) {
-    SunSpecProbe probe(session);
-    if (probe.unusable()) return *probe.unusable();
     return judge_points(
-        probe, "strings ASCII and NUL-padded",
-        [&](const SunSpecModelReading& model, const SunSpecPointReading& point, PointTally& tally) {
+        session, "strings ASCII and NUL-padded",
+        [&](SunSpecProbe&, const SunSpecModelReading& model, const SunSpecPointReading& point,
+            PointTally& tally) {
             if (point.point->type != SunSpecType::String) return;
             ++tally.count;
             bool ended = false;
@@ -338,12 +336,10 @@ Outcome run_sunspec_strings(Session& session, const Case&) {
 }
 
 Outcome run_sunspec_accumulators(Session& session, const Case& c) {
-    SunSpecProbe probe(session);
-    if (probe.unusable()) return *probe.unusable();
-    std::this_thread::sleep_for(std::chrono::milliseconds(param(c, "interval_ms")));
     return judge_points(
-        probe, "accumulators did not decrease",
-        [&](const SunSpecModelReading& model, const SunSpecPointReading& point, PointTally& tally) {
+        session, "accumulators did not decrease",
+        [&](SunSpecProbe& probe, const SunSpecModelReading& model, const SunSpecPointReading& point,
+            PointTally& tally) {
             if (!is_accumulator(point.point->type) || !point.implemented) return;
             ++tally.count;
             const auto later = probe.read(point);
@@ -355,7 +351,8 @@ Outcome run_sunspec_accumulators(Session& session, const Case& c) {
                     fmt::format("{} went from {} down to {}", point_name(model.id, point),
                                 device::sunspec_bits(point.words), device::sunspec_bits(*later)));
             }
-        });
+        },
+        std::chrono::milliseconds(param(c, "interval_ms")));
 }
 
 Outcome run_sunspec_chunks(Session& session, const Case&) {
