@@ -19,6 +19,10 @@ int main(int argc, char** argv) {
     modbus_t* ctx = modbus_new_tcp("127.0.0.1", 0);
     modbus_mapping_t* map = modbus_mapping_new(65536, 65536, 65536, 65536);
     if (ctx == NULL || map == NULL) return 1;
+    /* On a request it cannot take (an unknown function, a bad length) modbus_reply sleeps for the
+     * response timeout before it answers and flushes; 100 ms instead of the default 500 ms keeps
+     * that behaviour and shortens the tests that meet it many times. */
+    modbus_set_response_timeout(ctx, 0, 100000);
     int listener = modbus_tcp_listen(ctx, 1);
     if (listener < 0) return 1;
     struct sockaddr_in address;
