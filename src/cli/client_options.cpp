@@ -175,6 +175,11 @@ int CommandOutput::done() {
     return finish(kExitOk);
 }
 
+int CommandOutput::done(const std::function<void()>& print_text) {
+    if (!json_) print_text();
+    return done();
+}
+
 int with_client(const ClientOptions& options, CommandOutput& output, const ClientBody& body) {
     auto target = client::parse_target(options.target);
     if (!target) return output.usage(target.error());

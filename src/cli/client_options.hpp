@@ -91,6 +91,8 @@ class CommandOutput {
     int fail(const client::ClientError& error);
     // Prints the document (JSON mode) and returns kExitOk.
     int done();
+    // The same, with `print_text` printing the result as text when not in JSON mode.
+    int done(const std::function<void()>& print_text);
     // The line on stderr, without ending the command (watch keeps going).
     void warn(const std::string& message) const;
 

@@ -133,11 +133,10 @@ int read_counters(client::Client& client, CommandOutput& out) {
         counters[s.name] = word_of(answer->data);
         lines.push_back(answer_text(static_cast<std::uint16_t>(s.sub), *answer));
     }
-    if (!out.json()) {
+    return out.done([&] {
         for (const auto& line : lines)
             fmt::print("{}\n", line);
-    }
-    return out.done();
+    });
 }
 
 int run_diag(const DiagOptions& options) {
@@ -198,8 +197,7 @@ int run_diag(const DiagOptions& options) {
         if (const auto* named = find_sub(*sub); named != nullptr && named->counter) {
             document["value"] = word_of(answer->data);
         }
-        if (!out.json()) fmt::print("{}\n", answer_text(*sub, *answer));
-        return out.done();
+        return out.done([&] { fmt::print("{}\n", answer_text(*sub, *answer)); });
     });
 }
 

@@ -31,8 +31,7 @@ int run_read(const ReadOptions& options) {
         auto& document = out.document();
         document["read"] = describe_query(*query);
         document.update(reading->json);
-        if (!out.json()) print_reading(*reading);
-        return out.done();
+        return out.done([&] { print_reading(*reading); });
     });
 }
 

@@ -140,8 +140,7 @@ int run_sunspec(const SunspecOptions& options) {
             return out.fail({client::ErrorKind::BadAnswer, scan->chain_problem, std::nullopt});
         }
         out.document()["sunspec"] = scan_json(*scan);
-        if (!out.json()) print_scan(*scan);
-        return out.done();
+        return out.done([&] { print_scan(*scan); });
     });
 }
 

@@ -259,11 +259,10 @@ int run_write(const WriteOptions& options) {
         document["write"] = options.kind;
         document.update(plan->json);
         if (!reading->rows.empty()) document["read"] = reading->json;
-        if (!out.json()) {
+        return out.done([&] {
             fmt::print("{}\n", plan->summary);
             if (!reading->rows.empty()) print_reading(*reading);
-        }
-        return out.done();
+        });
     });
 }
 

@@ -99,8 +99,51 @@ class ForwardingHandler : public DeferringHandler {
   protected:
     RequestHandler& inner() const { return inner_; }
 
+    // Forwards the request and calls `seen(reply, pdu)` with inner's reply when it comes: at once,
+    // or when inner gives its deferred answer (a copy of `seen` then waits in the deferred
+    // function). What a decorator that watches replies (counting, logging) needs.
+    template <class Seen>
+    std::optional<Reply> forward_seen(const RequestContext& context,
+                                      std::span<const std::uint8_t> request,
+                                      std::span<std::uint8_t> response, Deferral& deferral,
+                                      Seen seen) const;
+
   private:
     RequestHandler& inner_;
 };
+
+namespace detail {
+
+// A deferral that hands the deferred reply to `seen` before passing it on.
+template <class Seen>
+class SeenDeferral final : public Deferral {
+  public:
+    SeenDeferral(Deferral& inner, const Seen& seen) : inner_(inner), seen_(seen) {}
+
+    DeferredDone take() override {
+        return [done = inner_.take(), seen = seen_](const Reply& reply,
+                                                    std::span<const std::uint8_t> pdu) mutable {
+            seen(reply, pdu);
+            done(reply, pdu);
+        };
+    }
+
+  private:
+    Deferral& inner_;
+    const Seen& seen_;
+};
+
+}  // namespace detail
+
+template <class Seen>
+std::optional<Reply> ForwardingHandler::forward_seen(const RequestContext& context,
+                                                     std::span<const std::uint8_t> request,
+                                                     std::span<std::uint8_t> response,
+                                                     Deferral& deferral, Seen seen) const {
+    detail::SeenDeferral<Seen> watched(deferral, seen);
+    auto reply = inner_.handle_or_defer(context, request, response, watched);
+    if (reply) seen(*reply, response);
+    return reply;
+}
 
 }  // namespace mblab::device

@@ -23,10 +23,11 @@ TrafficEntry request_entry(const device::RequestContext& context,
 
 // What is known of a request before its answer: the answer completes it.
 struct Pending {
+    TrafficLog* log = nullptr;
     TrafficEntry entry = {};
     Clock::time_point start = {};
 
-    void answer(TrafficLog& log, const device::Reply& reply, std::span<const std::uint8_t> pdu) {
+    void operator()(const device::Reply& reply, std::span<const std::uint8_t> pdu) {
         entry.action = reply.action;
         if (reply.action == device::ReplyAction::Answer) {
             const auto size = std::min(reply.size, pdu.size());
@@ -35,28 +36,8 @@ struct Pending {
         entry.latency =
             std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start) +
             std::chrono::duration_cast<std::chrono::microseconds>(reply.delay);
-        log.record(std::move(entry));
+        log->record(std::move(entry));
     }
-};
-
-// Hands the handler a function that logs the answer when it finally comes.
-class LoggedDeferral final : public device::Deferral {
-  public:
-    LoggedDeferral(device::Deferral& inner, TrafficLog& log, const Pending& pending)
-        : inner_(inner), log_(log), pending_(pending) {}
-
-    device::DeferredDone take() override {
-        return [done = inner_.take(), &log = log_, pending = pending_](
-                   const device::Reply& reply, std::span<const std::uint8_t> pdu) mutable {
-            pending.answer(log, reply, pdu);
-            done(reply, pdu);
-        };
-    }
-
-  private:
-    device::Deferral& inner_;
-    TrafficLog& log_;
-    const Pending& pending_;
 };
 
 }  // namespace
@@ -100,11 +81,8 @@ std::optional<device::Reply> LoggedHandler::handle_or_defer(const device::Reques
                                                             std::span<const std::uint8_t> request,
                                                             std::span<std::uint8_t> response,
                                                             device::Deferral& deferral) {
-    Pending pending{request_entry(context, request, line_name_), Clock::now()};
-    LoggedDeferral logged(deferral, log_, pending);
-    auto reply = inner().handle_or_defer(context, request, response, logged);
-    if (reply) pending.answer(log_, *reply, response);
-    return reply;
+    return forward_seen(context, request, response, deferral,
+                        Pending{&log_, request_entry(context, request, line_name_), Clock::now()});
 }
 
 }  // namespace mblab::server

@@ -16,38 +16,16 @@ bool is_exception(const device::Reply& reply, std::span<const std::uint8_t> pdu)
            (pdu[0] & 0x80) != 0;
 }
 
-void count_reply(RequestMeter& meter, const device::RequestContext& context, std::uint8_t function,
-                 const device::Reply& reply, std::span<const std::uint8_t> pdu,
-                 Clock::time_point start) {
-    meter.count(context.unit, function, is_exception(reply, pdu),
-                Clock::now() - start + reply.delay);
-}
+// A request on its way: counted when its reply comes.
+struct Timing {
+    RequestMeter* meter = nullptr;
+    std::uint8_t unit = 0;
+    std::uint8_t function = 0;
+    Clock::time_point start = {};
 
-// Hands the handler a function that counts the answer when it finally comes.
-class MeteredDeferral final : public device::Deferral {
-  public:
-    MeteredDeferral(device::Deferral& inner, RequestMeter& meter,
-                    const device::RequestContext& context, std::uint8_t function,
-                    Clock::time_point start)
-        : inner_(inner), meter_(meter), context_(context), function_(function), start_(start) {}
-
-    device::DeferredDone take() override {
-        taken_ = true;
-        return [done = inner_.take(), &meter = meter_, context = context_, function = function_,
-                start = start_](const device::Reply& reply, std::span<const std::uint8_t> pdu) {
-            count_reply(meter, context, function, reply, pdu, start);
-            done(reply, pdu);
-        };
+    void operator()(const device::Reply& reply, std::span<const std::uint8_t> pdu) const {
+        meter->count(unit, function, is_exception(reply, pdu), Clock::now() - start + reply.delay);
     }
-    bool taken() const { return taken_; }
-
-  private:
-    device::Deferral& inner_;
-    RequestMeter& meter_;
-    device::RequestContext context_;
-    std::uint8_t function_;
-    Clock::time_point start_;
-    bool taken_ = false;
 };
 
 }  // namespace
@@ -109,12 +87,9 @@ std::optional<device::Reply> MeteredHandler::handle_or_defer(const device::Reque
                                                              std::span<const std::uint8_t> request,
                                                              std::span<std::uint8_t> response,
                                                              device::Deferral& deferral) {
-    const auto start = Clock::now();
     const std::uint8_t function = request.empty() ? 0 : request[0];
-    MeteredDeferral metered(deferral, meter_, context, function, start);
-    auto reply = inner().handle_or_defer(context, request, response, metered);
-    if (reply) count_reply(meter_, context, function, *reply, response, start);
-    return reply;
+    return forward_seen(context, request, response, deferral,
+                        Timing{&meter_, context.unit, function, Clock::now()});
 }
 
 }  // namespace mblab::web

@@ -71,6 +71,14 @@ class FuzzFragile : public ::testing::Test {
                                    (dir_ / "finding.hex").string(), "--rate", "0"});
         return run_mblab(args);
     }
+    // Fuzzes the started device with `args`: the run must exit `status` and its report say
+    // `words`. Returns the run for the test's further checks.
+    Ran expect_fuzz(std::vector<std::string> args, int status, const std::string& words) const {
+        auto ran = fuzz(std::move(args));
+        EXPECT_EQ(ran.status, status) << ran.out << ran.err;
+        EXPECT_NE(ran.out.find(words), std::string::npos) << ran.out;
+        return ran;
+    }
     std::vector<std::string> reproducer() const {
         return steps_of(file_text(dir_ / "finding.hex"));
     }

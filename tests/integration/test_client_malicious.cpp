@@ -42,6 +42,12 @@ Answer answer_pdu(std::span<const std::uint8_t> request, const char* pdu) {
     return {mbap_answer(request, hex(pdu))};
 }
 
+// `mblab devid` against a device whose every answer is `pdu`.
+Ran devid_against(const char* pdu) {
+    return run_against([pdu](auto request) { return answer_pdu(request, pdu); },
+                       {"devid", "--timeout", "3000"});
+}
+
 void expect_bad(const Ran& ran, const std::string& line) {
     EXPECT_EQ(ran.out, "");
     expect_failed(ran, 1, "mblab read: " + line + "\n");
@@ -197,18 +203,14 @@ TEST(ClientMalicious, DecodeShowsTheBadFrame) {
 
 TEST(ClientMalicious, DeviceIdentificationThatNeverEnds) {
     // "More follows" with a next object id that goes back: the client stops instead of looping.
-    auto ran = run_against(
-        [](auto request) { return answer_pdu(request, "2B 0E 01 01 FF 00 01 00 01 41"); },
-        {"devid", "--timeout", "3000"});
+    auto ran = devid_against("2B 0E 01 01 FF 00 01 00 01 41");
     expect_failed(ran, 1,
                   "mblab devid: bad answer: read device identification: more follows, but "
                   "the next object id 0x00 does not come after the objects sent\n");
 }
 
 TEST(ClientMalicious, DeviceIdentificationObjectLongerThanTheFrame) {
-    auto ran = run_against(
-        [](auto request) { return answer_pdu(request, "2B 0E 01 01 00 00 01 00 F0 41"); },
-        {"devid", "--timeout", "3000"});
+    auto ran = devid_against("2B 0E 01 01 00 00 01 00 F0 41");
     EXPECT_EQ(ran.status, 1);
     EXPECT_EQ(ran.err.rfind("mblab devid: bad answer: encapsulated interface transport: ", 0), 0U)
         << ran.err;

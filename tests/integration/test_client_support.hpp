@@ -20,6 +20,13 @@ inline Ran run_mblab(const std::vector<std::string>& args) {
     return run_program(argv);
 }
 
+// A usage error: `mblab ARGS...` exits 2 before doing anything, with `message` its only output.
+inline void expect_usage(const std::vector<std::string>& args, const std::string& message) {
+    const auto ran = run_mblab(args);
+    EXPECT_EQ(ran.out, "");
+    expect_failed(ran, 2, message);
+}
+
 inline std::string tcp_target(std::uint16_t port) {
     return "tcp://127.0.0.1:" + std::to_string(port);
 }

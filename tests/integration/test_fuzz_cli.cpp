@@ -76,9 +76,8 @@ TEST_F(FuzzFragile, ACrashOnProtocolIdIsMinimisedToTheOneFrame) {
 
 TEST_F(FuzzFragile, AHangOnMbapLengthOneIsFound) {
     start("length-one");
-    auto ran = fuzz({"--cases", "100", "--timeout", "300ms", "--restart", restart_});
-    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_THAT(ran.out, HasSubstr("does not answer the known-good read"));
+    const auto ran = expect_fuzz({"--cases", "100", "--timeout", "300ms", "--restart", restart_}, 1,
+                                 "does not answer the known-good read");
     EXPECT_THAT(ran.out, HasSubstr("mbap-length: MBAP length 1 for 6 bytes"));
     const auto steps = reproducer();
     ASSERT_EQ(steps.size(), 1U) << ran.out;
@@ -97,51 +96,43 @@ TEST_F(FuzzFragile, SilenceAfterAByteCountMismatchIsFound) {
 
 TEST_F(FuzzFragile, WithoutRestartTheFindingIsNotMinimised) {
     start("protocol-id");
-    auto ran = fuzz({"--cases", "100", "--check-every", "3"});
-    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_THAT(ran.out, HasSubstr("could not minimise (no --restart)"));
+    const auto ran = expect_fuzz({"--cases", "100", "--check-every", "3"}, 1,
+                                 "could not minimise (no --restart)");
     EXPECT_EQ(reproducer().size(), 3U) << ran.out;
 }
 
 // Writes are withheld without a writable range: the byte-count device is never sent FC 10.
 TEST_F(FuzzFragile, NoWriteLeavesWithoutPermission) {
     start("byte-count");
-    auto ran = fuzz({"--cases", "150", "--timeout", "300ms", "--check-every", "10"});
-    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_THAT(ran.out, HasSubstr("withheld (writes not allowed)"));
+    expect_fuzz({"--cases", "150", "--timeout", "300ms", "--check-every", "10"}, 0,
+                "withheld (writes not allowed)");
 }
 
 // Inside a declared writable range the writes go out, and the byte-count mismatch is found.
 TEST_F(FuzzFragile, WritesGoOutInsideTheWritableRange) {
     start("byte-count");
-    auto ran = fuzz({"--cases", "150", "--timeout", "300ms", "--writable", "0:10"});
-    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_THAT(ran.out, HasSubstr("byte-count: FC 0x10 byte count 0 for 1 registers"));
+    expect_fuzz({"--cases", "150", "--timeout", "300ms", "--writable", "0:10"}, 1,
+                "byte-count: FC 0x10 byte count 0 for 1 registers");
 }
 
 TEST_F(FuzzFragile, ADeviceThatClosesOnGarbageIsRobust) {
     start("closes-garbage");
-    auto ran = fuzz({"--cases", "200"});
-    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_THAT(ran.out, HasSubstr("no finding"));
+    expect_fuzz({"--cases", "200"}, 0, "no finding");
 }
 
 TEST_F(FuzzFragile, ALateDeviceIsRobust) {
     start("late");
-    auto ran = fuzz({"--cases", "40", "--check-every", "5", "--timeout", "1s"});
-    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_THAT(ran.out, HasSubstr("no finding"));
+    expect_fuzz({"--cases", "40", "--check-every", "5", "--timeout", "1s"}, 0, "no finding");
 }
 
 // A device that writes its answers with blocking sends: one client that never reads its answers
 // fills the socket, and the device's one loop waits on it, serving nobody.
 TEST_F(FuzzFragile, ASlowReaderThatStallsEveryoneIsFound) {
     start("blocking-send");
-    auto ran = fuzz({"--cases", "100", "--timeout", "300ms", "--restart", restart_});
-    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_THAT(ran.out,
-                HasSubstr("slow-reader: 1 connection(s), 40000 FC 03 reads of 125 each, answers "
-                          "never read"));
+    const auto ran =
+        expect_fuzz({"--cases", "100", "--timeout", "300ms", "--restart", restart_}, 1,
+                    "slow-reader: 1 connection(s), 40000 FC 03 reads of 125 each, answers "
+                    "never read");
     EXPECT_THAT(ran.out, HasSubstr("does not answer the known-good read"));
     // The one step, marked as never read: the replay leaves it unread too and stalls the device.
     const auto steps = reproducer();
@@ -156,10 +147,9 @@ TEST_F(FuzzFragile, ASlowReaderThatStallsEveryoneIsFound) {
 // flood's ledger reads the register back and finds an acknowledged write gone.
 TEST_F(FuzzFragile, AnAcknowledgedWriteThatIsLostIsFound) {
     start("loses-writes");
-    auto ran = fuzz({"--cases", "120", "--timeout", "300ms", "--writable", "0:10"});
-    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_THAT(ran.out,
-                HasSubstr("FINDING: the device lost an acknowledged write: register 0 reads "));
+    const auto ran =
+        expect_fuzz({"--cases", "120", "--timeout", "300ms", "--writable", "0:10"}, 1,
+                    "FINDING: the device lost an acknowledged write: register 0 reads ");
     EXPECT_THAT(ran.out,
                 HasSubstr("flood: 20000 requests streamed, FC 06 of 1..10000 to register 0"));
     EXPECT_THAT(ran.out, HasSubstr("not minimised: a lost write is judged over the whole flood"));
@@ -168,18 +158,16 @@ TEST_F(FuzzFragile, AnAcknowledgedWriteThatIsLostIsFound) {
 // The same device without writes allowed: the flood's writes are withheld and nothing is lost.
 TEST_F(FuzzFragile, WithoutAWritableRangeTheFloodWritesNothing) {
     start("loses-writes");
-    auto ran = fuzz({"--cases", "120", "--timeout", "300ms"});
-    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
-    EXPECT_THAT(ran.out, HasSubstr("flood                 1 run, 1 withheld"));
+    expect_fuzz({"--cases", "120", "--timeout", "300ms"}, 0,
+                "flood                 1 run, 1 withheld");
 }
 
 // 64 slots, and a newcomer evicts only a connection stuck in a partial frame: idle connections
 // held open lock everyone out, where [TCPG 4.2.1.1] has the oldest idle one closed.
 TEST_F(FuzzFragile, ADeviceThatLocksNewcomersOutBehindIdleConnectionsIsFound) {
     start("few-slots");
-    auto ran = fuzz({"--cases", "200", "--timeout", "300ms"});
-    EXPECT_EQ(ran.status, 1) << ran.out << ran.err;
-    EXPECT_THAT(ran.out, HasSubstr("connections, a request on each, held open"));
+    const auto ran = expect_fuzz({"--cases", "200", "--timeout", "300ms"}, 1,
+                                 "connections, a request on each, held open");
     EXPECT_THAT(ran.out, HasSubstr("closes a fresh connection before answering"));
 }
 

@@ -120,18 +120,16 @@ TEST_F(ReferenceCliTest, TheStormLadderReportsTheHighestRateHeld) {
 }
 
 TEST(FuzzMonitorUsage, AWrongSpecIsOneLineBeforeConnecting) {
-    auto ran = run_mblab({"fuzz", "tcp://127.0.0.1:1", "--monitor", "period=abc"});
-    EXPECT_EQ(ran.status, 2);
-    EXPECT_EQ(ran.err,
-              "mblab fuzz: --monitor 'period=abc': 'period=abc' is not KEY=NUMBER (keys: register, "
-              "period, budget, miss; or read-only)\n");
-    ran = run_mblab({"fuzz", "tcp://127.0.0.1:1", "--monitor", "period=100,budget=200"});
-    EXPECT_EQ(ran.err,
-              "mblab fuzz: --monitor 'period=100,budget=200': the budget (200 ms) is longer than "
-              "the period (100 ms)\n");
-    ran = run_mblab({"fuzz", "tcp://127.0.0.1:1", "--ladder", "100"});
-    EXPECT_EQ(ran.err,
-              "mblab fuzz: --ladder needs --monitor: the ladder reports the rate it held at\n");
+    expect_usage(
+        {"fuzz", "tcp://127.0.0.1:1", "--monitor", "period=abc"},
+        "mblab fuzz: --monitor 'period=abc': 'period=abc' is not KEY=NUMBER (keys: register, "
+        "period, budget, miss; or read-only)\n");
+    expect_usage(
+        {"fuzz", "tcp://127.0.0.1:1", "--monitor", "period=100,budget=200"},
+        "mblab fuzz: --monitor 'period=100,budget=200': the budget (200 ms) is longer than "
+        "the period (100 ms)\n");
+    expect_usage({"fuzz", "tcp://127.0.0.1:1", "--ladder", "100"},
+                 "mblab fuzz: --ladder needs --monitor: the ladder reports the rate it held at\n");
 }
 
 }  // namespace

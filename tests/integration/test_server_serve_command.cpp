@@ -290,15 +290,22 @@ TEST(ServeCommand, StatsLineCountsRequestsAndExceptions) {
 
 struct Failure {
     std::optional<int> status;
-    std::string stderr_text;
+    std::string err;
 };
 
 Failure run_failing(std::vector<std::string> extra) {
     ChildProcess child(serve_args(std::move(extra)));
     Failure out;
     out.status = child.wait_exit(10s);
-    out.stderr_text = child.drain_stderr();
+    out.err = child.drain_stderr();
     return out;
+}
+
+// A refusal: exit 2 and one line on stderr that starts with `start`.
+void expect_one_line(const Failure& failure, const std::string& start) {
+    EXPECT_EQ(failure.status, 2);
+    EXPECT_EQ(std::count(failure.err.begin(), failure.err.end(), '\n'), 1);
+    EXPECT_TRUE(failure.err.starts_with(start)) << failure.err;
 }
 
 // [tls] in a profile names the files of `serve --listen mbaps://`, relative to the profile; an
@@ -332,11 +339,9 @@ TEST(ServeCommand, MbapsTakesItsFilesFromTheProfilesTlsTable) {
 }
 
 TEST(ServeCommand, BadUrlIsOneLineAndExitTwo) {
-    auto failure = run_failing({"--listen", "udp://127.0.0.1:502"});
-    EXPECT_EQ(failure.status, 2);
-    EXPECT_EQ(failure.stderr_text,
-              "mblab serve: bad address 'udp://127.0.0.1:502': only tcp:// is served over TCP "
-              "(expected tcp://HOST:PORT, e.g. tcp://127.0.0.1:502)\n");
+    expect_failed(run_failing({"--listen", "udp://127.0.0.1:502"}), 2,
+                  "mblab serve: bad address 'udp://127.0.0.1:502': only tcp:// is served over TCP "
+                  "(expected tcp://HOST:PORT, e.g. tcp://127.0.0.1:502)\n");
 }
 
 TEST(ServeCommand, PortInUseIsOneLineAndExitTwo) {
@@ -344,49 +349,37 @@ TEST(ServeCommand, PortInUseIsOneLineAndExitTwo) {
     server::BackgroundServer occupant(handler);
     auto port = occupant.start();
     ASSERT_TRUE(port) << port.error();
-    auto failure = run_failing({"--listen", "tcp://127.0.0.1:" + std::to_string(*port)});
-    EXPECT_EQ(failure.status, 2);
-    EXPECT_EQ(failure.stderr_text, "mblab serve: cannot listen on 127.0.0.1:" +
-                                       std::to_string(*port) + ": Address already in use\n");
+    expect_failed(run_failing({"--listen", "tcp://127.0.0.1:" + std::to_string(*port)}), 2,
+                  "mblab serve: cannot listen on 127.0.0.1:" + std::to_string(*port) +
+                      ": Address already in use\n");
 }
 
 TEST(ServeCommand, UnknownProfileIsOneLineAndExitTwo) {
-    auto failure = run_failing({"no-such-profile"});
-    EXPECT_EQ(failure.status, 2);
-    EXPECT_EQ(std::count(failure.stderr_text.begin(), failure.stderr_text.end(), '\n'), 1);
-    EXPECT_TRUE(failure.stderr_text.starts_with(
-        "mblab serve: no profile file or shipped profile named 'no-such-profile'"))
-        << failure.stderr_text;
+    expect_one_line(run_failing({"no-such-profile"}),
+                    "mblab serve: no profile file or shipped profile named 'no-such-profile'");
 }
 
 TEST(ServeCommand, BrokenProfileIsOneLineAndExitTwo) {
     TempDir dir;
     auto profile = dir / "broken.toml";
     std::ofstream(profile) << "name = \"broken\"\n[[unit]]\nid = 300\n";
-    auto failure = run_failing({profile.string(), "--listen", "tcp://127.0.0.1:0"});
-    EXPECT_EQ(failure.status, 2);
-    EXPECT_EQ(std::count(failure.stderr_text.begin(), failure.stderr_text.end(), '\n'), 1);
-    EXPECT_TRUE(failure.stderr_text.starts_with("mblab serve: " + profile.string()))
-        << failure.stderr_text;
+    expect_one_line(run_failing({profile.string(), "--listen", "tcp://127.0.0.1:0"}),
+                    "mblab serve: " + profile.string());
 }
 
 TEST(ServeCommand, CorruptStateFileIsOneLineAndExitTwo) {
     TempDir dir;
     auto state = dir / "device.json";
     std::ofstream(state) << "this is not a state file";
-    auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--state", state.string()});
-    EXPECT_EQ(failure.status, 2);
-    EXPECT_EQ(std::count(failure.stderr_text.begin(), failure.stderr_text.end(), '\n'), 1);
-    EXPECT_TRUE(failure.stderr_text.starts_with("mblab serve: state file " + state.string()))
-        << failure.stderr_text;
+    expect_one_line(run_failing({"--listen", "tcp://127.0.0.1:0", "--state", state.string()}),
+                    "mblab serve: state file " + state.string());
 }
 
 TEST(ServeCommand, BadAllowEntryIsOneLineAndExitTwo) {
-    auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--allow", "10.0.0.0/33"});
-    EXPECT_EQ(failure.status, 2);
-    EXPECT_EQ(failure.stderr_text,
-              "mblab serve: bad --allow entry '10.0.0.0/33' (expected an IP address or a network "
-              "such as 192.168.1.0/24)\n");
+    expect_failed(
+        run_failing({"--listen", "tcp://127.0.0.1:0", "--allow", "10.0.0.0/33"}), 2,
+        "mblab serve: bad --allow entry '10.0.0.0/33' (expected an IP address or a network "
+        "such as 192.168.1.0/24)\n");
 }
 
 }  // namespace
@@ -399,12 +392,11 @@ namespace {
 // and SIGTERM no longer stopped it.
 TEST(ServeCommand, SaveIntervalThatRoundsToZeroIsRefused) {
     TempDir dir;
-    auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--state",
-                                (dir / "s.json").string(), "--save-interval", "0.0001"});
-    EXPECT_EQ(failure.status, 2);
-    EXPECT_EQ(failure.stderr_text,
-              "mblab serve: --save-interval 0.0001: expected 0 (only on exit) or seconds from "
-              "0.001 to 31536000\n");
+    expect_failed(run_failing({"--listen", "tcp://127.0.0.1:0", "--state",
+                               (dir / "s.json").string(), "--save-interval", "0.0001"}),
+                  2,
+                  "mblab serve: --save-interval 0.0001: expected 0 (only on exit) or seconds from "
+                  "0.001 to 31536000\n");
 }
 
 TEST(ServeCommand, SigtermStopsAServerThatSavesEveryMillisecond) {
@@ -435,12 +427,11 @@ TEST(ServeCommand, BadDurationsAndCountsAreOneLineAtStart) {
         args.insert(args.begin(), {"--listen", "tcp://127.0.0.1:0"});
         auto failure = run_failing(args);
         EXPECT_EQ(failure.status, 2) << option[0] << " " << option[1];
-        EXPECT_EQ(std::count(failure.stderr_text.begin(), failure.stderr_text.end(), '\n'), 1)
-            << failure.stderr_text;
-        EXPECT_NE(failure.stderr_text.find(option[0]), std::string::npos) << failure.stderr_text;
+        EXPECT_EQ(std::count(failure.err.begin(), failure.err.end(), '\n'), 1) << failure.err;
+        EXPECT_NE(failure.err.find(option[0]), std::string::npos) << failure.err;
     }
     auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--idle-timeout", "1e10"});
-    EXPECT_EQ(failure.stderr_text,
+    EXPECT_EQ(failure.err,
               "mblab serve: --idle-timeout 1e+10: expected 0 (never) or seconds from 0.001 to "
               "31536000\n");
 }
@@ -459,24 +450,19 @@ TEST(ServeCommand, StateFileOfTheWrongShapeIsOneLineNamingTheFile) {
     };
     for (const auto& [text, why] : cases) {
         std::ofstream(state) << text;
-        auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--state", state.string()});
-        EXPECT_EQ(failure.status, 2);
-        EXPECT_EQ(failure.stderr_text,
-                  "mblab serve: state file " + state.string() + ": " + why + "\n");
+        expect_failed(run_failing({"--listen", "tcp://127.0.0.1:0", "--state", state.string()}), 2,
+                      "mblab serve: state file " + state.string() + ": " + why + "\n");
     }
 }
 
 TEST(ServeCommand, StatePathThatCannotBeWrittenIsRefusedAtStart) {
     TempDir dir;
-    auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--state", dir.path().string()});
-    EXPECT_EQ(failure.status, 2);
-    EXPECT_EQ(failure.stderr_text,
-              "mblab serve: cannot read " + dir.path().string() + ": not a regular file\n");
-    failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--state", "/nonexistent/x.json"});
-    EXPECT_EQ(failure.status, 2);
-    EXPECT_EQ(failure.stderr_text,
-              "mblab serve: --state: cannot create a temporary file for /nonexistent/x.json: No "
-              "such file or directory\n");
+    expect_failed(run_failing({"--listen", "tcp://127.0.0.1:0", "--state", dir.path().string()}), 2,
+                  "mblab serve: cannot read " + dir.path().string() + ": not a regular file\n");
+    expect_failed(
+        run_failing({"--listen", "tcp://127.0.0.1:0", "--state", "/nonexistent/x.json"}), 2,
+        "mblab serve: --state: cannot create a temporary file for /nonexistent/x.json: No "
+        "such file or directory\n");
 }
 
 }  // namespace
@@ -533,9 +519,8 @@ TEST(ServeCommand, DurableKeepsEveryAcknowledgedWriteAcrossKill9) {
 }
 
 TEST(ServeCommand, DurableWithoutStateIsOneLine) {
-    auto failure = run_failing({"--listen", "tcp://127.0.0.1:0", "--durable"});
-    EXPECT_EQ(failure.status, 2);
-    EXPECT_EQ(failure.stderr_text, "mblab serve: --durable needs --state FILE\n");
+    expect_failed(run_failing({"--listen", "tcp://127.0.0.1:0", "--durable"}), 2,
+                  "mblab serve: --durable needs --state FILE\n");
 }
 
 // `serve moving`: the sine at holding register 1 (0..1000, a 10 s period, updated every 100 ms),

@@ -102,6 +102,12 @@ class LineTrace {
     }
     // The answers written since the last call, each with when it went out.
     std::vector<Answer> answers() { return std::exchange(answers_, {}); }
+    // The answers to `text` sent now, a second later: past any turnaround and silence.
+    std::vector<Answer> answers_to(std::string_view text) {
+        master_sends(text);
+        after(1s);
+        return answers();
+    }
     bool ending() const { return core_.ending(); }
 
     LineDevice device;
@@ -166,30 +172,22 @@ TEST(LineSessionCore, AnswersARequestOnceTheTurnaroundIsOver) {
 
 TEST(LineSessionCore, RequestToAnotherAddressGoesUnanswered) {
     LineTrace t(rtu_line());
-    t.master_sends("02 03 00 07 00 01 35 F8");
-    t.after(1s);
-    EXPECT_TRUE(t.answers().empty());
+    EXPECT_TRUE(t.answers_to("02 03 00 07 00 01 35 F8").empty());
     // The device is asked, as every device on the line reads every frame, and keeps silent.
     EXPECT_EQ(t.device.requests, 1);
     // The next request to its own address is answered as usual.
-    t.master_sends("01 03 00 07 00 01 35 CB");
-    t.after(1s);
-    ASSERT_EQ(t.answers().size(), 1U);
+    ASSERT_EQ(t.answers_to("01 03 00 07 00 01 35 CB").size(), 1U);
 }
 
 TEST(LineSessionCore, BroadcastIsExecutedAndNotAnswered) {
     LineTrace t(rtu_line());
-    t.master_sends("00 06 00 01 00 2A 58 04");
-    t.after(1s);
-    EXPECT_TRUE(t.answers().empty());
+    EXPECT_TRUE(t.answers_to("00 06 00 01 00 2A 58 04").empty());
     EXPECT_EQ(t.device.broadcasts, 1);
 }
 
 TEST(LineSessionCore, BadCrcIsDroppedAndCounted) {
     LineTrace t(rtu_line());
-    t.master_sends("01 03 00 07 00 01 35 CC");
-    t.after(1s);
-    EXPECT_TRUE(t.answers().empty());
+    EXPECT_TRUE(t.answers_to("01 03 00 07 00 01 35 CC").empty());
     EXPECT_EQ(t.device.requests, 0);
     EXPECT_EQ(count(t.stats.frames_dropped), 1U);
     EXPECT_EQ(t.line_errors, std::vector<LineError>{LineError::Checksum});
@@ -237,9 +235,7 @@ TEST(LineSessionCore, FrameTrickledOverTcpPastTheFrameLimitCloses) {
 
 TEST(LineSessionCore, TwoRequestsInOneReadAreAnsweredInTurn) {
     LineTrace t(rtu_line());
-    t.master_sends("01 03 00 07 00 01 35 CB  01 03 00 08 00 02 45 C9");
-    t.after(1s);
-    const auto answers = t.answers();
+    const auto answers = t.answers_to("01 03 00 07 00 01 35 CB  01 03 00 08 00 02 45 C9");
     ASSERT_EQ(answers.size(), 2U);
     EXPECT_EQ(answers[0].bytes, "01 03 02 00 07 F9 86");
     EXPECT_EQ(answers[1].bytes, "01 03 04 00 08 00 09 BB F7");
