@@ -260,7 +260,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
             std::min(budget.cases.value_or(generator.fixed_cases()), generator.fixed_cases());
     if (*monitor) {
         (*monitor)->baseline();
-        (*monitor)->ladder();
+        (*monitor)->ladder(live);
         (*monitor)->malformed_begin();
     }
     const auto run_start = std::chrono::steady_clock::now();
@@ -292,7 +292,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
         outputs.monitor_text = (*monitor)->text(judged);
         outputs.monitor = (*monitor)->json(judged);
         outputs.monitor_html = (*monitor)->html(result, judged);
-        outputs.monitor_junit = rb::monitor_junit_suite(judged);
+        outputs.monitor_junit = (*monitor)->junit(judged);
         outputs.monitor_passed = judged.verdict == rb::MonitorVerdict::Pass;
     }
     return write_fuzz_outputs(result, *target, outputs, report_dir, capture,

@@ -5,9 +5,11 @@
 #include <thread>
 
 #include "client/raw_link.hpp"
+#include "robustness/fuzz_progress.hpp"
 #include "robustness/iec62443_report.hpp"
 #include "robustness/ladder_report.hpp"
 #include "robustness/monitor_html.hpp"
+#include "robustness/monitor_junit.hpp"
 
 namespace mblab::cli {
 
@@ -26,7 +28,7 @@ std::string FuzzMonitor::check(const MonitorChoice& choice) {
     if (!choice.ladder.empty() && choice.spec.empty())
         return "--ladder needs --monitor: the ladder reports the rate it held at";
     for (const auto& text : choice.ladder) {
-        if (const auto ladder = rb::parse_ladder(text); !ladder) return ladder.error();
+        if (const auto ladder = rb::parse_ladders(text); !ladder) return ladder.error();
     }
     return {};
 }
@@ -58,14 +60,16 @@ protocol::Result<std::unique_ptr<FuzzMonitor>, std::string> FuzzMonitor::make(
     }
     std::vector<rb::Ladder> ladders;
     for (const auto& text : choice.ladder) {
-        auto parsed = rb::parse_ladder(text);
+        auto parsed = rb::parse_ladders(text);
         if (!parsed) return parsed.error();
-        if (parsed->kind == rb::StormKind::HalfOpen && !client::RawLink::can_vanish())
-            return fmt::format(
-                "--ladder '{}': leaving a connection half-open needs CAP_NET_ADMIN (TCP repair "
-                "mode), which this process lacks",
-                text);
-        ladders.push_back(std::move(*parsed));
+        for (auto& ladder : *parsed) {
+            if (ladder.kind == rb::StormKind::HalfOpen && !client::RawLink::can_vanish())
+                return fmt::format(
+                    "--ladder '{}': leaving a connection half-open needs CAP_NET_ADMIN (TCP "
+                    "repair mode), which this process lacks",
+                    text);
+            ladders.push_back(std::move(ladder));
+        }
     }
     rb::StormTarget storms;
     storms.dial = [target, timeout] { return client::open_link(target, timeout, nullptr); };
@@ -73,11 +77,13 @@ protocol::Result<std::unique_ptr<FuzzMonitor>, std::string> FuzzMonitor::make(
     storms.address = spec->address;
     storms.large_address = recon.check_address;
     storms.large_quantity = recon.max_read;
-    return std::make_unique<FuzzMonitor>(*spec, std::move(storms), choice, std::move(ladders));
+    storms.timeout = timeout;
+    return std::make_unique<FuzzMonitor>(*spec, std::move(storms), choice,
+                                         rb::plan_ladders(ladders, recon, policy, spec->address));
 }
 
 FuzzMonitor::FuzzMonitor(rb::MonitorSpec spec, rb::StormTarget storms, const MonitorChoice& choice,
-                         std::vector<rb::Ladder> ladders)
+                         std::vector<rb::PlannedLadder> ladders)
     : spec_(spec),
       storms_(std::move(storms)),
       run_(spec, storms_.dial),
@@ -86,14 +92,18 @@ FuzzMonitor::FuzzMonitor(rb::MonitorSpec spec, rb::StormTarget storms, const Mon
       baseline_(of_seconds(choice.baseline_s)),
       degraded_limit_(of_seconds(choice.degraded_limit_s)) {}
 
-void FuzzMonitor::ladder() {
-    for (const auto& ladder : ladders_) {
-        for (double rate : ladder.rates) {
-            rungs_.push_back(rb::storm(storms_, ladder.kind, rate, ladder_step_));
-            phases_.push_back({rb::storm_phase_name(ladder.kind, rate),
-                               rb::storm_requirement(ladder.kind), rungs_.back().begin,
-                               rungs_.back().end});
-        }
+void FuzzMonitor::ladder(bool live) {
+    const auto progress = [&](std::size_t done, std::size_t total, const std::string& phase) {
+        if (!live) return;
+        fmt::print(stderr, "\r\033[K{}",
+                   rb::ladder_progress_text(done, total, ladder_step_, phase));
+        std::fflush(stderr);
+    };
+    ladder_ = rb::run_ladders(storms_, ladders_, ladder_step_, progress);
+    if (live) fmt::print(stderr, "\r\033[K");
+    for (const auto& rung : ladder_.rungs) {
+        phases_.push_back({rb::storm_phase_name(rung.kind, rung.rate),
+                           rb::storm_requirement(rung.kind), rung.begin, rung.end});
     }
 }
 
@@ -139,18 +149,24 @@ rb::MonitorJudgement FuzzMonitor::judge(const rb::FuzzResult& result) const {
 }
 
 std::string FuzzMonitor::text(const rb::MonitorJudgement& judged) const {
-    return rb::monitor_text(judged, spec_) + rb::ladder_text(judged, rungs_);
+    return rb::monitor_text(judged, spec_) +
+           rb::ladder_text(judged, ladder_.rungs, ladder_.not_run);
 }
 
 nlohmann::json FuzzMonitor::json(const rb::MonitorJudgement& judged) const {
     auto out = rb::monitor_json(judged, spec_, cycles_);
-    if (!rungs_.empty()) out["ladder"] = rb::ladder_json(judged, rungs_);
+    if (!ladder_.rungs.empty() || !ladder_.not_run.empty())
+        out["ladder"] = rb::ladder_json(judged, ladder_.rungs, ladder_.not_run);
     return out;
 }
 
 std::string FuzzMonitor::html(const rb::FuzzResult& result,
                               const rb::MonitorJudgement& judged) const {
-    return rb::monitor_html(result, judged, spec_, cycles_, rungs_);
+    return rb::monitor_html(result, judged, spec_, cycles_, ladder_.rungs, ladder_.not_run);
+}
+
+rb::JunitSuite FuzzMonitor::junit(const rb::MonitorJudgement& judged) const {
+    return rb::monitor_junit_suite(judged, ladder_.rungs, ladder_.not_run);
 }
 
 }  // namespace mblab::cli

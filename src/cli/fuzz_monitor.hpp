@@ -11,9 +11,10 @@
 #include "protocol/result.hpp"
 #include "robustness/case_generator.hpp"
 #include "robustness/fuzz_run.hpp"
+#include "robustness/ladder_run.hpp"
+#include "robustness/monitor_junit.hpp"
 #include "robustness/monitor_run.hpp"
 #include "robustness/monitor_verdict.hpp"
-#include "robustness/storm_ladder.hpp"
 
 // `mblab fuzz --monitor`: the essential-function monitor beside the run, through its phases
 // (baseline, malformed input, recovery), judged PASS, DEGRADED or FAIL (docs/robustness.md).
@@ -40,8 +41,9 @@ class FuzzMonitor {
 
     // Starts the monitor and keeps it alone for the baseline.
     void baseline();
-    // The storm ladders' rungs, each a phase, after the baseline.
-    void ladder();
+    // The storm ladders' rungs, each a phase, after the baseline; on a terminal (`live`), a
+    // progress line before each rung.
+    void ladder(bool live);
     void malformed_begin();
     // After the last case: the monitor alone until it holds again (or the degraded limit has
     // passed), and a few periods more; then it stops.
@@ -51,17 +53,18 @@ class FuzzMonitor {
     nlohmann::json json(const robustness::MonitorJudgement& judged) const;
     std::string html(const robustness::FuzzResult& result,
                      const robustness::MonitorJudgement& judged) const;
+    robustness::JunitSuite junit(const robustness::MonitorJudgement& judged) const;
 
     FuzzMonitor(robustness::MonitorSpec spec, robustness::StormTarget storms,
-                const MonitorChoice& choice, std::vector<robustness::Ladder> ladders);
+                const MonitorChoice& choice, std::vector<robustness::PlannedLadder> ladders);
 
   private:
     robustness::MonitorSpec spec_;
     robustness::StormTarget storms_;
     robustness::MonitorRun run_;
-    std::vector<robustness::Ladder> ladders_;
+    std::vector<robustness::PlannedLadder> ladders_;
     std::chrono::milliseconds ladder_step_;
-    std::vector<robustness::LadderRung> rungs_;
+    robustness::LadderRun ladder_;
     std::chrono::milliseconds baseline_;
     std::chrono::milliseconds degraded_limit_;
     std::vector<robustness::MonitorPhase> phases_;

@@ -72,7 +72,9 @@ void add_fuzz_options(CLI::App& cmd, FuzzCommandOptions& options) {
         DurationUnit::seconds, false);
     cmd.add_option("--ladder", options.monitor.ladder,
                    "with --monitor: a storm at rising rates per second, a rung each, before the "
-                   "cases: RATES (FC 03) or fc03|opens|slow-readers|half-open:RATES; repeatable")
+                   "cases: RATES (FC 03), KIND:RATES (KIND fc01, fc02, fc03, fc04, fc05, fc06, "
+                   "fc08, fc0f, fc10, fc17, fc2b, opens, slow-readers, half-open), or "
+                   "requests:RATES (a ladder per function code served); repeatable")
         ->allow_extra_args(false);
     accept_duration_units(cmd.add_option("--ladder-step", options.monitor.ladder_step_s,
                                          "how long each rung of the ladder lasts (default 2s)")

@@ -35,4 +35,11 @@ std::string progress_text(std::size_t done, const ProgressBudget& budget,
     return fmt::format("{}, about {} left: {}", count, duration_text(*left), what);
 }
 
+std::string ladder_progress_text(std::size_t done, std::size_t total,
+                                 std::chrono::milliseconds step, const std::string& phase) {
+    const auto left = step * static_cast<long>(total > done ? total - done : 0);
+    return fmt::format("rung {}/{}, about {} left in the ladder: {}", done + 1, total,
+                       duration_text(left), phase);
+}
+
 }  // namespace mblab::robustness

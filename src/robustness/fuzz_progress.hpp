@@ -6,7 +6,8 @@
 #include <string>
 
 // The console's progress line during a robustness run: cases done out of the total, and the time
-// left, from the run's pace so far or from its time budget, whichever ends it first.
+// left, from the run's pace so far or from its time budget, whichever ends it first; before that,
+// the storm ladder's rungs done out of the total and the time they have left.
 namespace mblab::robustness {
 
 struct ProgressBudget {
@@ -18,5 +19,10 @@ struct ProgressBudget {
 // about 40s left: ..." from the time budget; without a pace yet (nothing done), no time left.
 std::string progress_text(std::size_t done, const ProgressBudget& budget,
                           std::chrono::milliseconds elapsed, const std::string& what);
+
+// The ladder's line before each rung: "rung 3/12, about 20s left in the ladder: storm fc06 500/s"
+// (the rungs left, this one included, at `step` each).
+std::string ladder_progress_text(std::size_t done, std::size_t total,
+                                 std::chrono::milliseconds step, const std::string& phase);
 
 }  // namespace mblab::robustness

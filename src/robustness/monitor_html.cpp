@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "conformance/reports.hpp"
+#include "protocol/function_table.hpp"
 #include "robustness/iec62443_report.hpp"
 #include "robustness/ladder_report.hpp"
 #include "robustness/reproducer.hpp"
@@ -78,11 +79,42 @@ std::string chart(const MonitorJudgement& judged, const MonitorSpec& spec,
     return out;
 }
 
+// The request storms per function code, a row each: the highest rate held and the first lost,
+// or why the storm did not run.
+std::string per_function_table(const MonitorJudgement& judged, const std::vector<LadderRung>& rungs,
+                               const std::vector<StormNotRun>& not_run) {
+    std::string rows;
+    const auto all = storm_summaries(judged, rungs);
+    const auto rate = [](const std::optional<double>& r) {
+        return r ? fmt::format("{:g}/s", *r) : std::string("-");
+    };
+    for (const auto kind : request_storms()) {
+        const auto function = storm_words(kind).function;
+        const auto name = xml_escape(
+            fmt::format("FC {:02X} {}", function, protocol::find_function(function)->name));
+        for (const auto& s : all) {
+            if (s.kind == kind)
+                rows += fmt::format("<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", name,
+                                    rate(s.highest_held), rate(s.lost_at), storm_tag(kind));
+        }
+        for (const auto& n : not_run) {
+            if (n.kind == kind)
+                rows += fmt::format("<tr><td>{}</td><td colspan=\"3\">not run: {}</td></tr>\n",
+                                    name, xml_escape(n.reason));
+        }
+    }
+    if (rows.empty()) return rows;
+    return "<h3>Requests per second per function code</h3>\n<table><tr><th>function</th>"
+           "<th>highest rate held</th><th>lost at</th><th>IEC 62443-4-2</th></tr>\n" +
+           rows + "</table>\n";
+}
+
 }  // namespace
 
 std::string monitor_html(const FuzzResult& result, const MonitorJudgement& judged,
                          const MonitorSpec& spec, const std::vector<MonitorCycle>& cycles,
-                         const std::vector<LadderRung>& rungs) {
+                         const std::vector<LadderRung>& rungs,
+                         const std::vector<StormNotRun>& not_run) {
     std::string out = fmt::format(
         "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>mblab fuzz "
         "{0}</title>\n<style>body{{font-family:sans-serif;margin:2em}}table{{border-collapse:"
@@ -122,9 +154,9 @@ std::string monitor_html(const FuzzResult& result, const MonitorJudgement& judge
         }
         out += "</table>\n";
     }
-    if (!rungs.empty())
-        out +=
-            "<h2>Storm ladders</h2>\n<pre>" + xml_escape(ladder_text(judged, rungs)) + "</pre>\n";
+    if (!rungs.empty() || !not_run.empty())
+        out += "<h2>Storm ladders</h2>\n<pre>" + xml_escape(ladder_text(judged, rungs, not_run)) +
+               "</pre>\n" + per_function_table(judged, rungs, not_run);
     out += "<h2>Findings</h2>\n";
     if (result.findings.empty()) out += "<p>None: the device served every liveness check.</p>\n";
     for (const auto& f : result.findings) {

@@ -3,6 +3,7 @@
 #include <fmt/core.h>
 
 #include "conformance/reports.hpp"
+#include "robustness/ladder_report.hpp"
 
 namespace mblab::robustness {
 
@@ -17,9 +18,40 @@ std::string during_text(const MonitorJudgement& judged, const MonitorPhase& phas
     return out;
 }
 
+// A test case per storm: failed where a rung lost the monitor, skipped where it did not run.
+std::string storm_cases(const MonitorJudgement& judged, const std::vector<LadderRung>& rungs,
+                        const std::vector<StormNotRun>& not_run, JunitSuite& out) {
+    using conformance::xml_escape;
+    std::string cases;
+    for (const auto& s : storm_summaries(judged, rungs)) {
+        ++out.tests;
+        const auto words = fmt::format("{} [{}]", summary_words(s), storm_tag(s.kind));
+        cases += fmt::format("    <testcase classname=\"monitor.ladder\" name=\"{}\" time=\"0\">",
+                             storm_key(s.kind));
+        if (s.lost_at) {
+            ++out.failures;
+            cases += fmt::format("\n      <failure message=\"{}\" type=\"monitor lost\"/>\n    ",
+                                 xml_escape(words));
+        } else {
+            cases += fmt::format("\n      <system-out>{}</system-out>\n    ", xml_escape(words));
+        }
+        cases += "</testcase>\n";
+    }
+    for (const auto& n : not_run) {
+        ++out.tests;
+        ++out.skipped;
+        cases += fmt::format(
+            "    <testcase classname=\"monitor.ladder\" name=\"{}\" time=\"0\">\n      "
+            "<skipped message=\"{}\"/>\n    </testcase>\n",
+            storm_key(n.kind), xml_escape("not run: " + n.reason));
+    }
+    return cases;
+}
+
 }  // namespace
 
-JunitSuite monitor_junit_suite(const MonitorJudgement& judged) {
+JunitSuite monitor_junit_suite(const MonitorJudgement& judged, const std::vector<LadderRung>& rungs,
+                               const std::vector<StormNotRun>& not_run) {
     using conformance::xml_escape;
     JunitSuite out;
     std::string cases;
@@ -42,6 +74,7 @@ JunitSuite monitor_junit_suite(const MonitorJudgement& judged) {
         }
         cases += "</testcase>\n";
     }
+    cases += storm_cases(judged, rungs, not_run, out);
     ++out.tests;
     cases += "    <testcase classname=\"monitor\" name=\"verdict\" time=\"0\">";
     if (judged.verdict != MonitorVerdict::Pass) {
@@ -54,8 +87,8 @@ JunitSuite monitor_junit_suite(const MonitorJudgement& judged) {
     cases += "</testcase>\n";
     out.xml = fmt::format(
         "  <testsuite name=\"essential-function monitor\" tests=\"{}\" failures=\"{}\" "
-        "errors=\"0\" skipped=\"0\" time=\"0\">\n{}  </testsuite>\n",
-        out.tests, out.failures, cases);
+        "errors=\"0\" skipped=\"{}\" time=\"0\">\n{}  </testsuite>\n",
+        out.tests, out.failures, out.skipped, cases);
     return out;
 }
 

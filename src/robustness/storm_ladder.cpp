@@ -6,6 +6,7 @@
 #include <thread>
 
 #include "robustness/fuzz_case.hpp"
+#include "robustness/storm_requests.hpp"
 #include "support/comma_list.hpp"
 
 namespace mblab::robustness {
@@ -13,11 +14,6 @@ namespace mblab::robustness {
 namespace {
 
 using Bytes = std::vector<std::uint8_t>;
-
-Bytes read_pdu(std::uint16_t address, std::uint16_t quantity) {
-    return {0x03, static_cast<std::uint8_t>(address >> 8), static_cast<std::uint8_t>(address),
-            static_cast<std::uint8_t>(quantity >> 8), static_cast<std::uint8_t>(quantity)};
-}
 
 // The answers waiting on the stream's connection, each counted; the link dropped when closed.
 void take_answers(std::unique_ptr<client::Link>& link, StormCore& core) {
@@ -38,15 +34,18 @@ void take_answers(std::unique_ptr<client::Link>& link, StormCore& core) {
 }  // namespace
 
 LadderRung storm(const StormTarget& target, StormKind kind, double rate,
-                 std::chrono::milliseconds duration) {
+                 std::chrono::milliseconds duration, std::span<const std::uint8_t> request) {
     StormCore core(kind, rate, Clock::now(), duration);
-    const Bytes small = read_pdu(target.address, 1);
+    const Bytes small = request.empty() ? storm_request(StormKind::Fc03, target.address)
+                                        : Bytes(request.begin(), request.end());
     // The slow readers' requests, a block written over and over from where the last write ended.
     Bytes large;
     std::uint16_t transaction = 0;
     for (std::size_t i = 0; i < kSlowReaderBlock; ++i) {
-        const auto frame = mbap_frame(++transaction, target.unit,
-                                      read_pdu(target.large_address, target.large_quantity));
+        const auto frame = mbap_frame(
+            ++transaction, target.unit,
+            encoded(protocol::ReadRegistersRequest{protocol::FunctionCode::ReadHoldingRegisters,
+                                                   target.large_address, target.large_quantity}));
         large.insert(large.end(), frame.begin(), frame.end());
     }
     const std::size_t large_frame = large.size() / kSlowReaderBlock;
@@ -148,6 +147,21 @@ protocol::Result<std::vector<double>, std::string> parse_rates(const std::string
     return rates_of(text, text);
 }
 
+protocol::Result<std::vector<Ladder>, std::string> parse_ladders(const std::string& text) {
+    const std::string group = std::string(kRequestsGroup) + ":";
+    if (text.rfind(group, 0) != 0) {
+        auto one = parse_ladder(text);
+        if (!one) return one.error();
+        return std::vector<Ladder>{std::move(*one)};
+    }
+    auto rates = rates_of(text.substr(group.size()), text);
+    if (!rates) return rates.error();
+    std::vector<Ladder> out;
+    for (const auto kind : request_storms())
+        out.push_back({kind, *rates});
+    return out;
+}
+
 protocol::Result<Ladder, std::string> parse_ladder(const std::string& text) {
     Ladder ladder;
     std::string rates = text;
@@ -160,10 +174,13 @@ protocol::Result<Ladder, std::string> parse_ladder(const std::string& text) {
                 known = true;
             }
         }
-        if (!known)
-            return fmt::format(
-                "--ladder '{}': '{}' is no storm (fc03, opens, slow-readers, half-open)", text,
-                key);
+        if (!known) {
+            std::string names;
+            for (const auto& storm : all_storms())
+                names += std::string(storm.key) + ", ";
+            return fmt::format("--ladder '{}': '{}' is no storm ({}or {}: every request storm)",
+                               text, key, names, kRequestsGroup);
+        }
         rates = text.substr(colon + 1);
     }
     auto parsed = rates_of(rates, text);

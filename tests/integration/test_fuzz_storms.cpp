@@ -1,9 +1,11 @@
 // The storm ladders beyond FC 03 (connection opens, slow readers, half-open connections), each at
 // rising rates with the essential-function monitor judging every rung: our own server holds at
 // each; devices built to fail one storm each are found out at the rung where they give way.
+#include <fmt/core.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -69,6 +71,71 @@ TEST_F(ReferenceCliTest, OurServerHoldsTheMonitorThroughEveryStormLadder) {
     }
 }
 
+// `mblab fuzz` of the reference device with `ladders` in rungs of 150 ms, `writable` the range
+// the cases and the write storms may write. A rung holds three cycles: one missed on a busy
+// machine is tolerated, so what is judged is the report, not the machine's load.
+std::vector<std::string> short_rungs(const std::string& target, const std::string& json,
+                                     std::vector<std::string> ladders, const char* writable) {
+    auto args = laddered(json, std::move(ladders), "register=50,period=50,budget=40,miss=50");
+    *(std::find(args.begin(), args.end(), "--ladder-step") + 1) = "150ms";
+    args.insert(args.begin(), {"fuzz", target, "--rate", "0", "--writable", writable});
+    return args;
+}
+
+// A request storm per function code our server serves, two short rungs each: a row per code in
+// the JSON report, each held; writes go to the first register and coil of the writable range that
+// take a write of their own value (the monitor's register left out), the value read written back.
+TEST_F(ReferenceCliTest, ARequestStormPerFunctionCodeOurServerServes) {
+    TempDir dir;
+    const auto json = (dir.path() / "fuzz.json").string();
+    auto ran = run_mblab(short_rungs(target(), json, {"requests:50,200"}, "0:10"));
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("requests per second per function code [CR 7.1]:\n"
+                                   "  FC 01 read coils                       "));
+    const auto report = nlohmann::json::parse(file_text(json));
+    const auto& storms = report["monitor"]["ladder"]["storms"];
+    const std::vector<int> codes = {0x01, 0x02, 0x03, 0x04, 0x05, 0x06,
+                                    0x08, 0x0F, 0x10, 0x17, 0x2B};
+    ASSERT_EQ(storms.size(), codes.size()) << storms.dump();
+    for (std::size_t i = 0; i < codes.size(); ++i) {
+        EXPECT_EQ(storms[i]["function"], codes[i]);
+        EXPECT_EQ(storms[i]["storm"], fmt::format("fc{:02x}", codes[i]));
+        EXPECT_EQ(storms[i]["requirement"], "CR 7.1");
+        EXPECT_TRUE(storms[i]["highest_rate_held"].is_number() || storms[i]["lost_at"].is_number())
+            << storms[i].dump();
+    }
+    EXPECT_TRUE(report["monitor"]["ladder"]["not_run"].empty());
+    const auto& rungs = report["monitor"]["ladder"]["rungs"];
+    ASSERT_EQ(rungs.size(), 2 * codes.size());
+    EXPECT_EQ(rungs[11]["storm"], "fc06");
+    EXPECT_GT(rungs[11]["sent"].get<int>(), 0);
+    // Holding registers 0 to 2 of the reference profile refuse writes: passed over.
+    EXPECT_EQ(rungs[11]["address"], 3);
+    EXPECT_EQ(rungs[8]["storm"], "fc05");
+    EXPECT_EQ(rungs[8]["address"], 0);
+    EXPECT_EQ(rungs[12]["storm"], "fc08");
+    EXPECT_FALSE(rungs[12].contains("address"));
+}
+
+// Without a place to write but the monitor's register, the write storms are set aside, each with
+// why, and the reads run.
+TEST_F(ReferenceCliTest, WriteStormsWithNowhereToWriteAreListedAsNotRun) {
+    TempDir dir;
+    const auto json = (dir.path() / "fuzz.json").string();
+    auto ran = run_mblab(short_rungs(target(), json, {"fc06:50", "fc0f:50", "fc2b:50"}, "50:1"));
+    EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
+    EXPECT_THAT(ran.out, HasSubstr("  FC 06 write single register            not run: no holding "
+                                   "register it may write other than the monitor's register 50"));
+    const auto report = nlohmann::json::parse(file_text(json));
+    const auto& ladder = report["monitor"]["ladder"];
+    ASSERT_EQ(ladder["not_run"].size(), 2U) << ladder.dump();
+    EXPECT_EQ(ladder["not_run"][0]["storm"], "fc06");
+    EXPECT_EQ(ladder["not_run"][1]["storm"], "fc0f");
+    EXPECT_NE(ladder["not_run"][1]["reason"].get<std::string>().find("no coil"), std::string::npos);
+    ASSERT_EQ(ladder["storms"].size(), 1U);
+    EXPECT_EQ(ladder["storms"][0]["storm"], "fc2b");
+}
+
 // Each connection costs the device 10 ms: 5 opens a second leave it time for the monitor, 200 do
 // not. The backlog worked through, it serves again unaided.
 TEST_F(FuzzFragile, AStormOfOpensDegradesADeviceThatAcceptsSlowly) {
@@ -121,7 +188,8 @@ TEST_F(FuzzFragile, HalfOpenConnectionsThatPileUpFailADeviceThatPollsEachInTurn)
 TEST(FuzzStormUsage, AnUnknownStormIsOneLineBeforeConnecting) {
     expect_usage({"fuzz", "tcp://127.0.0.1:1", "--monitor", "period=100", "--ladder", "floods:10"},
                  "mblab fuzz: --ladder 'floods:10': 'floods' is no storm (fc03, opens, "
-                 "slow-readers, half-open)\n");
+                 "slow-readers, half-open, fc01, fc02, fc04, fc05, fc06, fc08, fc0f, fc10, fc17, "
+                 "fc2b, or requests: every request storm)\n");
 }
 
 }  // namespace

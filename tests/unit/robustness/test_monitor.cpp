@@ -241,9 +241,12 @@ TEST(StormLadder, EachStormsHighestRateHeldAndWhereItWasLost) {
         rung->opened = static_cast<std::size_t>(rung->rate / 2) - 1;
         rung->refused = 1;
     }
-    const auto text = ladder_text(judged, rungs);
-    EXPECT_NE(text.find("storm ladder (FC 03 of the monitor's register, answers never waited "
-                        "for):\n       100/s asked,      100/s sent,      100/s answered, 0 "
+    const std::vector<StormNotRun> not_run = {{StormKind::Fc06, "no holding register"},
+                                              {StormKind::HalfOpen, "no CAP_NET_ADMIN"}};
+    const auto text = ladder_text(judged, rungs, not_run);
+    EXPECT_NE(text.find("storm ladder (FC 03 (read holding registers) of the monitor's register, "
+                        "answers never waited for):\n       100/s asked,      100/s sent,      "
+                        "100/s answered, 0 "
                         "reconnect(s): the monitor held\n"),
               std::string::npos)
         << text;
@@ -255,10 +258,42 @@ TEST(StormLadder, EachStormsHighestRateHeldAndWhereItWasLost) {
                         "        10/s asked,        8/s opened, 1 refused: the monitor held\n"),
               std::string::npos)
         << text;
-    EXPECT_NE(text.find("the monitor held up to 50 connection opens/s [CR 7.1]\n"),
+    EXPECT_NE(text.find("the monitor held up to 50 connection opens/s [CR 7.1]\n"
+                        "storm ladder (connections sending 3 bytes of a request, then gone "
+                        "without a FIN): not run: no CAP_NET_ADMIN\n"
+                        "requests per second per function code [CR 7.1]:\n"
+                        "  FC 03 read holding registers           held up to 100 requests/s, "
+                        "lost at 1000/s\n"
+                        "  FC 06 write single register            not run: no holding register\n"),
               std::string::npos)
         << text;
-    const auto json = ladder_json(judged, rungs);
+    EXPECT_EQ(text.find("FC 01"), std::string::npos) << text;  // not asked for, not listed
+    const auto suite = monitor_junit_suite(judged, rungs, not_run);
+    EXPECT_EQ(suite.skipped, 2U);
+    for (const char* part :
+         {"<testcase classname=\"monitor.ladder\" name=\"fc03\" time=\"0\">\n      <failure "
+          "message=\"held up to 100 requests/s, lost at 1000/s [CR 7.1]\" type=\"monitor "
+          "lost\"/>",
+          "name=\"opens\" time=\"0\">\n      <system-out>held up to 50 connection opens/s "
+          "[CR 7.1]</system-out>",
+          "name=\"fc06\" time=\"0\">\n      <skipped message=\"not run: no holding "
+          "register\"/>"}) {
+        EXPECT_NE(suite.xml.find(part), std::string::npos) << part << "\n" << suite.xml;
+    }
+    EXPECT_NE(suite.xml.find("skipped=\"2\""), std::string::npos);
+    const auto page = monitor_html(FuzzResult{}, judged, every_100ms(), {}, rungs, not_run);
+    EXPECT_NE(page.find("<tr><td>FC 03 read holding registers</td><td>100/s</td><td>1000/s</td>"
+                        "<td>CR 7.1</td></tr>\n<tr><td>FC 06 write single register</td><td "
+                        "colspan=\"3\">not run: no holding register</td></tr>"),
+              std::string::npos)
+        << page;
+    const auto json = ladder_json(judged, rungs, not_run);
+    EXPECT_EQ(json["storms"][0]["function"], 3);
+    EXPECT_EQ(json["storms"][0]["requirement"], "CR 7.1");
+    EXPECT_FALSE(json["storms"][1].contains("function"));
+    EXPECT_EQ(json["not_run"][0]["storm"], "fc06");
+    EXPECT_EQ(json["not_run"][0]["function"], 6);
+    EXPECT_EQ(json["not_run"][0]["reason"], "no holding register");
     EXPECT_EQ(json["storms"][0]["storm"], "fc03");
     EXPECT_EQ(json["storms"][0]["highest_rate_held"], 100.0);
     EXPECT_EQ(json["storms"][0]["lost_at"], 1000.0);

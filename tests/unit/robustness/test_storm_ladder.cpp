@@ -115,7 +115,9 @@ TEST(StormLadder, RatesAloneAreFc03AndAKindNamesItsStorm) {
     EXPECT_EQ(parse_ladder("slow-readers:1,4")->kind, StormKind::SlowReaders);
     EXPECT_EQ(parse_ladder("opens:10")->kind, StormKind::Opens);
     EXPECT_EQ(parse_ladder("floods:10").error(),
-              "--ladder 'floods:10': 'floods' is no storm (fc03, opens, slow-readers, half-open)");
+              "--ladder 'floods:10': 'floods' is no storm (fc03, opens, slow-readers, half-open, "
+              "fc01, fc02, fc04, fc05, fc06, fc08, fc0f, fc10, fc17, fc2b, or requests: every "
+              "request storm)");
     EXPECT_EQ(parse_ladder("opens:10,5").error(),
               "--ladder 'opens:10,5': give rising rates per second, e.g. 100,500,1000");
 }

@@ -1,0 +1,243 @@
+#include "robustness/storm_requests.hpp"
+
+#include <fmt/core.h>
+
+#include <algorithm>
+#include <array>
+
+#include "protocol/cursor.hpp"
+#include "protocol/function_table.hpp"
+#include "protocol/request_template.hpp"
+#include "protocol/response.hpp"
+
+namespace mblab::robustness {
+
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+using protocol::FunctionCode;
+
+// FC 08 sub-function 0000 echoes its data ([APP] 6.8.1).
+constexpr std::array<std::uint8_t, 2> kEchoData{0x12, 0x34};
+
+// The table a storm's request names, as its request template says (FC 17's: the registers it
+// writes).
+std::optional<Table> table_of(std::uint8_t function) {
+    const auto* request = protocol::find_template(function);
+    const auto table = request != nullptr ? request->table : protocol::DataTable::None;
+    constexpr std::pair<protocol::DataTable, Table> kTables[] = {
+        {protocol::DataTable::Coils, Table::Coils},
+        {protocol::DataTable::DiscreteInputs, Table::DiscreteInputs},
+        {protocol::DataTable::HoldingRegisters, Table::HoldingRegisters},
+        {protocol::DataTable::InputRegisters, Table::InputRegisters},
+    };
+    for (const auto& [from, to] : kTables) {
+        if (from == table) return to;
+    }
+    return std::nullopt;
+}
+
+// The most places a write tries before it is set aside.
+constexpr std::size_t kMostPlaces = 16;
+
+// A write's places: inside the writable range, or where the reconnaissance was answered when
+// writes are allowed anywhere; never the monitor's register (nor the coil at its address, for a
+// device that maps one onto the other).
+std::vector<std::uint16_t> write_places(Table table, const Recon& recon, const WritePolicy& policy,
+                                        std::uint16_t monitor) {
+    std::vector<std::uint16_t> out;
+    const auto add_range = [&](std::uint32_t first, std::uint32_t last) {
+        for (std::uint32_t a = first; a <= last && a <= 0xFFFF && out.size() < kMostPlaces; ++a) {
+            if (a != monitor) out.push_back(static_cast<std::uint16_t>(a));
+        }
+    };
+    if (policy.writable) {
+        if (policy.writable->count > 0)
+            add_range(policy.writable->start,
+                      std::uint32_t{policy.writable->start} + policy.writable->count - 1);
+    } else if (policy.allow_writes) {
+        for (const auto& range : recon.ranges.of(table))
+            add_range(range.first, range.last);
+    }
+    return out;
+}
+
+// The read whose answer is the value a write of `table` at `address` writes back.
+std::vector<std::uint8_t> read_of(Table table, std::uint16_t address) {
+    return storm_request(table == Table::Coils ? StormKind::Fc01 : StormKind::Fc03, address);
+}
+
+std::string not_served(std::uint8_t function, const Recon& recon) {
+    const auto in = [&](const std::vector<std::uint8_t>& list) {
+        return std::find(list.begin(), list.end(), function) != list.end();
+    };
+    if (in(recon.not_served))
+        return fmt::format("not served: the device answered FC {:02X} with exception 01", function);
+    if (in(recon.silent))
+        return fmt::format(
+            "not served: the device did not answer FC {:02X} in the "
+            "reconnaissance",
+            function);
+    if (in(recon.not_asked))
+        return fmt::format("FC {:02X} writes and was not asked in the reconnaissance", function);
+    return fmt::format("not served: FC {:02X} is not among the codes the reconnaissance found",
+                       function);
+}
+
+}  // namespace
+
+Bytes encoded(const protocol::Request& request) {
+    std::array<std::uint8_t, 260> buffer{};
+    protocol::WriteCursor out(buffer);
+    if (!protocol::encode_request(request, out) || !out.ok()) return {};
+    const auto bytes = out.written();
+    return Bytes(bytes.begin(), bytes.end());
+}
+
+Bytes storm_request(StormKind kind, std::uint16_t address, std::uint16_t value) {
+    const auto code = static_cast<FunctionCode>(storm_words(kind).function);
+    // Values as the wire carries them: a register's two bytes, a coil's bit 0.
+    const std::array<std::uint8_t, 2> word{static_cast<std::uint8_t>(value >> 8),
+                                           static_cast<std::uint8_t>(value)};
+    const std::array<std::uint8_t, 1> bit{static_cast<std::uint8_t>(value != 0 ? 1 : 0)};
+    switch (kind) {
+        case StormKind::Fc01:
+        case StormKind::Fc02:
+            return encoded(protocol::ReadBitsRequest{code, address, 1});
+        case StormKind::Fc03:
+        case StormKind::Fc04:
+            return encoded(protocol::ReadRegistersRequest{code, address, 1});
+        case StormKind::Fc05:
+            return encoded(protocol::WriteSingleCoilRequest{
+                address, static_cast<std::uint16_t>(value != 0 ? 0xFF00 : 0x0000)});
+        case StormKind::Fc06:
+            return encoded(protocol::WriteSingleRegisterRequest{address, value});
+        case StormKind::Fc08:
+            return encoded(protocol::DiagnosticsRequest{0x0000, kEchoData});
+        case StormKind::Fc0F:
+            return encoded(protocol::WriteMultipleCoilsRequest{address, 1, {bit, 1}});
+        case StormKind::Fc10:
+            return encoded(
+                protocol::WriteMultipleRegistersRequest{address, 1, protocol::RegisterView(word)});
+        case StormKind::Fc17:
+            return encoded(protocol::ReadWriteMultipleRegistersRequest{
+                address, 1, address, 1, protocol::RegisterView(word)});
+        case StormKind::Fc2B:
+            return encoded(protocol::ReadDeviceIdRequest{1, 0});
+        case StormKind::Opens:
+        case StormKind::SlowReaders:
+        case StormKind::HalfOpen:
+            break;
+    }
+    return {};
+}
+
+RequestPlan plan_request_storm(StormKind kind, const Recon& recon, const WritePolicy& policy,
+                               std::uint16_t monitor) {
+    RequestPlan plan;
+    const std::uint8_t function = storm_words(kind).function;
+    if (function == 0) {
+        plan.not_run = fmt::format("{} is no request storm", storm_key(kind));
+        return plan;
+    }
+    // The monitor's register answers FC 03 (the monitor needs it): served whatever was probed.
+    if (kind == StormKind::Fc03) {
+        plan.address = monitor;
+        plan.pdu = storm_request(kind, monitor);
+        return plan;
+    }
+    if (!recon.serves(function)) {
+        plan.not_run = not_served(function, recon);
+        return plan;
+    }
+    const auto table = table_of(function);
+    if (!protocol::writes(function)) {
+        // A place the reconnaissance read with data, else 0, where the sample asks.
+        if (table && !recon.ranges.of(*table).empty())
+            plan.address = recon.ranges.of(*table).front().first;
+        plan.pdu = storm_request(kind, plan.address);
+        return plan;
+    }
+    plan.places = write_places(*table, recon, policy, monitor);
+    if (plan.places.empty()) {
+        plan.not_run = fmt::format(
+            "no {} it may write other than the monitor's register {}: --writable START:COUNT "
+            "(outside it) or --allow-writes lets it write one back{}",
+            *table == Table::Coils ? "coil" : "holding register", monitor,
+            kind == StormKind::Fc17 ? " (FC 17 has no read-only form: its write quantity is 1 to "
+                                      "121, MODBUS Application Protocol V1.1b3 6.17)"
+                                    : "");
+        return plan;
+    }
+    plan.address = plan.places.front();
+    plan.read_first = read_of(*table, plan.address);
+    // The write must pass the policy the cases pass.
+    if (!may_send(storm_request(kind, plan.address), policy)) {
+        plan.not_run =
+            fmt::format("the write policy does not let FC {:02X} write {}", function, plan.address);
+        plan.read_first.clear();
+    }
+    return plan;
+}
+
+void write_back(StormKind kind, RequestPlan& plan,
+                const std::optional<std::vector<std::uint8_t>>& answer) {
+    if (plan.read_first.empty() || !plan.not_run.empty()) return;
+    const bool coil = plan.read_first[0] == 0x01;
+    const auto what =
+        fmt::format("{} {} does not answer FC {:02X}: no value to write back",
+                    coil ? "coil" : "holding register", plan.address, plan.read_first[0]);
+    if (!answer) {
+        plan.not_run = what;
+        return;
+    }
+    const auto decoded = protocol::decode_response(*answer);
+    if (!decoded) {
+        plan.not_run = what;
+        return;
+    }
+    if (const auto* bits = std::get_if<protocol::ReadBitsResponse>(&*decoded);
+        coil && bits != nullptr && !bits->packed.empty()) {
+        plan.pdu = storm_request(kind, plan.address, bits->packed[0] & 0x01);
+        return;
+    }
+    if (const auto* registers = std::get_if<protocol::ReadRegistersResponse>(&*decoded);
+        !coil && registers != nullptr && registers->values.size() == 1) {
+        plan.pdu = storm_request(kind, plan.address, registers->values[0]);
+        return;
+    }
+    plan.not_run = what;
+}
+
+void choose_write_place(StormKind kind, RequestPlan& plan, const StormAsk& ask) {
+    if (plan.read_first.empty() || !plan.not_run.empty()) return;
+    const auto table = plan.read_first[0] == 0x01 ? Table::Coils : Table::HoldingRegisters;
+    std::string why;
+    for (const auto place : plan.places) {
+        RequestPlan tried = plan;
+        tried.address = place;
+        tried.read_first = read_of(table, place);
+        write_back(kind, tried, ask(tried.read_first));
+        if (!tried.not_run.empty()) {
+            why = tried.not_run;
+            continue;
+        }
+        const auto echo = ask(tried.pdu);
+        if (echo && !echo->empty() && (*echo)[0] == tried.pdu[0]) {
+            plan = std::move(tried);
+            return;
+        }
+        why = fmt::format("{} {} refused the write of its own value ({})",
+                          table == Table::Coils ? "coil" : "holding register", place,
+                          !echo || echo->empty() ? std::string("no answer")
+                          : echo->size() >= 2    ? fmt::format("exception {:02X}", (*echo)[1])
+                                                 : std::string("an answer of another function"));
+    }
+    plan.pdu.clear();
+    plan.not_run = plan.places.size() > 1
+                       ? fmt::format("none of the {} places tried takes a write back; the last: {}",
+                                     plan.places.size(), why)
+                       : why;
+}
+
+}  // namespace mblab::robustness
