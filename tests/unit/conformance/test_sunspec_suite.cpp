@@ -45,6 +45,8 @@ std::map<std::string, Outcome> run_sunspec(const std::string& profile_text,
     if (!profile) return {};
     Dut dut = dut_from_profile(*profile, "profile sunspec-test.toml");
     device::ReferenceDevice device(std::move(profile).value());
+    // The behaviours' first update (W, TmpSnk, WH, TotWhExp), as a server makes at start.
+    device.behaviours().advance(std::chrono::steady_clock::now(), std::chrono::system_clock::now());
     test::ManualClock clock;
     test::MemoryDevice memory(device, framing, clock);
     client::Target target;
