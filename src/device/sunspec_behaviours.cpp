@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "device/behaviour_loader.hpp"
+#include "device/number_codec.hpp"
 #include "device/profile_sections.hpp"
 
 namespace mblab::device {
@@ -153,11 +154,26 @@ class PointBehaviour {
     std::string name_;
 };
 
+// The value a behaviour starts from (a random one its range's middle until it draws).
+double first_value(const BehaviourSpec& spec) {
+    switch (spec.kind) {
+        case BehaviourKind::Constant:
+            return spec.value;
+        case BehaviourKind::Ramp:
+            return spec.min;
+        case BehaviourKind::RandomWalk:
+        case BehaviourKind::Counter:
+            return spec.start;
+        default:
+            return (spec.min + spec.max) / 2;
+    }
+}
+
 }  // namespace
 
 bool load_sunspec_behaviours(Fields& model, std::uint16_t id,
                              const std::map<std::string, SunSpecPlacedPoint>& points,
-                             std::vector<BehaviourSpec>& out) {
+                             std::vector<RangeSpec>& ranges, std::vector<BehaviourSpec>& out) {
     std::set<std::string> driven;
     return each_table(model, "behaviours", [&](const toml::table& t, const std::string& path) {
         Fields fields(t, path, model.errors());
@@ -165,6 +181,14 @@ bool load_sunspec_behaviours(Fields& model, std::uint16_t id,
         BehaviourSpec spec;
         if (!behaviour.load(points, driven, spec)) return false;
         fields.finish();
+        // Each point is a range of its own.
+        const auto range = std::find_if(ranges.begin(), ranges.end(), [&](const RangeSpec& r) {
+            return r.start == spec.address;
+        });
+        if (range != ranges.end()) {
+            const auto words = encode_number(first_value(spec), spec.layout);
+            range->values.assign(words.view().begin(), words.view().end());
+        }
         out.push_back(spec);
         return !fields.failed();
     });

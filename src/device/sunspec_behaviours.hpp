@@ -17,10 +17,12 @@
 namespace mblab::device {
 
 // Loads the behaviours of one model table (`model`, its [[unit.sunspec.model]] of id `id`)
-// against the points the chain laid for it, appending them to `out`. An error is one line
+// against the points the chain laid for it, appending them to `out`. Each driven point's range
+// in `ranges` starts at the behaviour's first value, so it is valid before the first update (a
+// device whose behaviours never run, as conform's built-in one, keeps it). An error is one line
 // naming the model and the point.
 bool load_sunspec_behaviours(Fields& model, std::uint16_t id,
                              const std::map<std::string, SunSpecPlacedPoint>& points,
-                             std::vector<BehaviourSpec>& out);
+                             std::vector<RangeSpec>& ranges, std::vector<BehaviourSpec>& out);
 
 }  // namespace mblab::device

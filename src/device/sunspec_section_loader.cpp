@@ -125,18 +125,18 @@ bool load_sunspec(Fields& unit, UnitSpec& spec) {
             return false;
         }
     }
+    for (std::size_t i = 0; i < tables.size(); ++i) {
+        Fields model(*tables[i].table, tables[i].path, section.errors());
+        if (!load_sunspec_behaviours(model, chain_spec.models[i].id, chain->points[i],
+                                     chain->ranges, spec.behaviours)) {
+            return false;
+        }
+    }
     holding.insert(holding.end(), std::make_move_iterator(chain->ranges.begin()),
                    std::make_move_iterator(chain->ranges.end()));
     std::sort(holding.begin(), holding.end(),
               [](const RangeSpec& a, const RangeSpec& b) { return a.start < b.start; });
     spec.point_rules = std::move(chain->rules);
-    for (std::size_t i = 0; i < tables.size(); ++i) {
-        Fields model(*tables[i].table, tables[i].path, section.errors());
-        if (!load_sunspec_behaviours(model, chain_spec.models[i].id, chain->points[i],
-                                     spec.behaviours)) {
-            return false;
-        }
-    }
     section.finish();
     return !section.failed();
 }

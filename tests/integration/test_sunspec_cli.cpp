@@ -16,10 +16,6 @@ class SunspecCli : public ClientCliTest {
         auto loaded = device::load_profile(device::profiles_dir() / "sunspec-inverter.toml");
         ASSERT_TRUE(loaded) << loaded.error();
         device_ = std::move(loaded.value());
-        // The behaviours' first update (W, TmpSnk, WH, TotWhExp), as `mblab serve` makes at start;
-        // the in-process server runs no timer, so they keep these values.
-        device_->behaviours().advance(std::chrono::steady_clock::now(),
-                                      std::chrono::system_clock::now());
         start_server(*device_);
     }
 };

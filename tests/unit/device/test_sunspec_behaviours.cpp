@@ -5,6 +5,9 @@
 // Tmp_SF 107; model 122 at 122: ActWh 127-130 (acc64), Tms 163-164 (uint32), neither scaled.
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <iterator>
+
 #include "device_harness.hpp"
 #include "support/manual_clock.hpp"
 
@@ -50,8 +53,8 @@ class SunSpecBehaviours : public ::testing::Test {
 TEST_F(SunSpecBehaviours, RampOnWInWattsIsStoredInTensOfWatts) {
     load(
         R"(behaviours = [{ point = "W", kind = "ramp", min = 0, max = 5000, period_ms = 10000 }])");
-    // Before the first update W holds int16's "not implemented".
-    EXPECT_EQ(ask("03 00 54 00 02"), "03 04 80 00 00 01");
+    // Before the first update W holds where the ramp starts, not "not implemented".
+    EXPECT_EQ(ask("03 00 54 00 02"), "03 04 00 00 00 01");
     expect_trace("03 00 54 00 01",
                  {{0ms, "03 02 00 00"}, {5000ms, "03 02 00 FA"}, {9000ms, "03 02 01 C2"}});
 }
@@ -104,6 +107,8 @@ TEST_F(SunSpecBehaviours, ScaleFactorIsReadAtEachUpdate) {
 
 TEST_F(SunSpecBehaviours, ShippedInverterMovesItsPowerAndEnergy) {
     device = shipped_device("sunspec-inverter");
+    // Before the first update too, as on a device whose behaviours do not run.
+    EXPECT_EQ(ask("03 9C 94 00 01"), "03 02 02 26");
     at(0ms);
     // 103 W at 40084 (0x9C94): the sine's middle 5500 W is 550; WH at 40094 1000000 Wh.
     EXPECT_EQ(ask("03 9C 94 00 02"), "03 04 02 26 00 01");
@@ -112,6 +117,23 @@ TEST_F(SunSpecBehaviours, ShippedInverterMovesItsPowerAndEnergy) {
     // A quarter period later the crest 9000 W; three counts of 10 Wh.
     EXPECT_EQ(ask("03 9C 94 00 01"), "03 02 03 84");
     EXPECT_EQ(ask("03 9C 9E 00 02"), "03 04 00 01 86 A3");
+}
+
+// The example in docs/sunspec.md "Values that move" loads as printed after a common model 1.
+TEST_F(SunSpecBehaviours, TheDocumentedExampleLoads) {
+    std::ifstream in(std::string(MBLAB_SOURCE_DIR) + "/docs/sunspec.md");
+    const std::string doc((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const auto from = doc.find("```toml\n", doc.find("### Values that move")) + 8;
+    ASSERT_LT(from, doc.size());
+    device = device_from(
+        "[[unit]]\nid = 1\n[unit.sunspec]\nbase = 0\n[[unit.sunspec.model]]\n"
+        "id = 1\npoints = { Mn = \"m\", Md = \"d\", SN = \"1\" }\n" +
+        doc.substr(from, doc.find("```", from) - from));
+    // W half way up its ramp at 30 s: 2500 W as 250; WH 1000000 Wh as 100000, 10 Wh more.
+    at(0ms);
+    at(30000ms);
+    EXPECT_EQ(ask("03 00 54 00 01"), "03 02 00 FA");
+    EXPECT_EQ(ask("03 00 5E 00 02"), "03 04 00 01 86 A6");
 }
 
 // Each table (of model 103) and the error it gets.
