@@ -116,9 +116,13 @@ class PointBehaviour {
             if (!fields_.has("min")) out.min = std::max(low, 0.0) * scale;
             if (!fields_.has("start")) out.start = out.min;
             out.wraps = !accumulator;
-            if (accumulator && !(out.step > 0)) {
-                return fail("step", name_ + " is an accumulator (" + type +
-                                        "), which only increases; give a step above 0");
+            // Below its min a counter would run on to the type's "not implemented" value.
+            if (!(out.step > 0)) {
+                return fail("step", name_ +
+                                        (accumulator ? " is an accumulator (" + type +
+                                                           "), which only increases"
+                                                     : ": a counter on a point counts up") +
+                                        "; give a step above 0");
             }
         }
         return in_range(out, type, low, high);
@@ -126,8 +130,7 @@ class PointBehaviour {
 
   private:
     bool fail(std::string_view key, const std::string& message) {
-        fields_.fail(
-            key, model_ + (key == "point" && message.starts_with("has") ? " " : ": ") + message);
+        fields_.fail(key, model_ + ": " + message);
         return false;
     }
 
