@@ -38,7 +38,8 @@ class ServedInverter : public ::testing::Test {
     nlohmann::json inverter_point(const std::string& name) {
         const auto ran = run_mblab({"sunspec", target_, "--json"});
         EXPECT_EQ(ran.status, 0) << ran.err;
-        for (const auto& model : nlohmann::json::parse(ran.out)["sunspec"]["models"]) {
+        const auto scan = nlohmann::json::parse(ran.out);
+        for (const auto& model : scan["sunspec"]["models"]) {
             if (model["id"] != 103) continue;
             for (const auto& point : model["points"]) {
                 if (point["name"] == name) return point;
@@ -69,7 +70,8 @@ TEST_F(ServedInverter, PowerMovesInWattsAndEnergyOnlyGrows) {
         EXPECT_GE(watts, 2000);
         EXPECT_LE(watts, 9000);
         EXPECT_EQ(seen["scale"], 1);
-        EXPECT_EQ(std::stoul(seen["raw"].get<std::string>(), nullptr, 16) * 10, watts);
+        EXPECT_EQ(static_cast<double>(std::stoul(seen["raw"].get<std::string>(), nullptr, 16) * 10),
+                  watts);
         EXPECT_EQ(seen["units"], "W");
     }
     const double energy = first_wh["value"];
@@ -87,7 +89,7 @@ TEST_F(ServedInverter, ConformTakesTheModelsFolder) {
         {"conform", target_, "--suite", "sunspec", "--sunspec-models", empty.path().string()});
     EXPECT_EQ(none.status, 0) << none.out << none.err;
     EXPECT_NE(none.out.find("0 passed, 0 failed, 16 N/A"), std::string::npos) << none.out;
-    EXPECT_NE(none.out.find("model_1.json"), std::string::npos) << none.out;
+    EXPECT_NE(none.out.find("no model_*.json files"), std::string::npos) << none.out;
     if (!std::filesystem::is_directory(official)) {
         GTEST_SKIP() << "the official SunSpec models are not at " << official;
     }
