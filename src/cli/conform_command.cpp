@@ -75,6 +75,7 @@ struct ConformOptions {
     std::string pki;
     std::string read_only_role;
     std::string write_role;
+    std::string sunspec_models;
     CLI::App* command = nullptr;
     const Invocation* invocation = nullptr;
 };
@@ -136,6 +137,10 @@ bool declare_dut(const ConformOptions& options, conf::Dut& dut, conf::Declaratio
 }
 
 int run_conform(const ConformOptions& options) {
+    // As MBLAB_SUNSPEC_MODELS: read where the sunspec suite and the built-in device look.
+    if (!options.sunspec_models.empty()) {
+        ::setenv("MBLAB_SUNSPEC_MODELS", options.sunspec_models.c_str(), 1);
+    }
     std::vector<conf::Suite> suites;
     std::string error;
     if (!conf::load_suites(options.catalogue, options.suites, suites, error))
@@ -310,6 +315,11 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
                     "profile of the built-in reference device (no target only): a TOML file or a "
                     "shipped profile's name (reference, rs485-instrument, ...)");
     cmd->add_option("--catalogue", options->catalogue, "directory of the shipped suites");
+    cmd->add_option("--sunspec-models", options->sunspec_models,
+                    "sunspec suite: folder of SunSpec model definitions (model_*.json), e.g. the "
+                    "json/ folder of the official set (default: MBLAB_SUNSPEC_MODELS, else "
+                    "mblab's own)")
+        ->check(CLI::ExistingDirectory);
     cmd->add_option("--timeout", options->timeout_ms, "milliseconds to wait for each answer")
         ->check(CLI::Range(1, 60000));
     cmd->add_option("--pipeline", options->pipeline,

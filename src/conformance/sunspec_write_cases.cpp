@@ -1,11 +1,14 @@
 #include <fmt/core.h>
 
+#include <algorithm>
 #include <chrono>
+#include <span>
 #include <thread>
 
 #include "conformance/catalogue.hpp"
 #include "conformance/sunspec_cases.hpp"
 #include "conformance/sunspec_probe.hpp"
+#include "protocol/exception_code.hpp"
 
 // The SunSpec suite's writing cases. A write that takes proves itself by a different valid value
 // read back; the value read first is then written back, so the device is left as it was found.
@@ -66,16 +69,27 @@ bool reads_back(SunSpecProbe& probe, const SunSpecPointReading& point,
 }
 
 // Writes `value`, which the device must refuse, and checks the point kept its value; the
-// point's value is put back when the device took it.
+// point's value is put back when the device took it. With `codes`, the refusal must be one of
+// those exceptions.
 std::optional<std::string> refused(SunSpecProbe& probe, const std::string& name,
                                    const SunSpecPointReading& point,
-                                   const std::vector<std::uint16_t>& value) {
+                                   const std::vector<std::uint16_t>& value,
+                                   std::span<const protocol::ExceptionCode> codes = {}) {
     const auto written = probe.write(point.address, value);
     const auto after = probe.read(point);
     if (written) {
-        const auto restored = probe.write(point.address, point.words);
-        return fmt::format("{} took {:X}{}", name, device::sunspec_bits(value),
+        const bool kept = after && *after == point.words;
+        const auto restored = kept ? written : probe.write(point.address, point.words);
+        return fmt::format("{} acknowledged a write of {:X}{}{}", name, device::sunspec_bits(value),
+                           kept ? " without an exception (its value kept)" : " and took it",
                            restored ? "" : " (and refused its first value back)");
+    }
+    if (written.error().kind != client::ErrorKind::Exception) {
+        return name + " written: " + written.error().message;
+    }
+    if (!codes.empty() &&
+        std::find(codes.begin(), codes.end(), written.error().exception) == codes.end()) {
+        return name + " answered " + written.error().message + ", which is not 02, 03 or 04";
     }
     if (!after) return name + " read after the refused write: " + after.error().message;
     if (*after != point.words) return name + " changed although the write was refused";
@@ -115,7 +129,8 @@ using BadValue = std::optional<std::vector<std::uint16_t>> (*)(const SunSpecPoin
 // Writes each point `bad` has a value for (the first of each model when `one_per_model`): each
 // write must be refused and leave the point as it was.
 Outcome expect_refusals(Session& session, BadValue bad, bool one_per_model, std::string_view none,
-                        std::string_view passed, std::string_view why) {
+                        std::string_view passed, std::string_view why,
+                        std::span<const protocol::ExceptionCode> codes = {}) {
     SunSpecProbe probe(session);
     if (probe.unusable()) return *probe.unusable();
     std::size_t tried = 0;
@@ -124,7 +139,7 @@ Outcome expect_refusals(Session& session, BadValue bad, bool one_per_model, std:
             const auto value = bad(point);
             if (!value) continue;
             ++tried;
-            if (auto took = refused(probe, point_name(model.id, point), point, *value)) {
+            if (auto took = refused(probe, point_name(model.id, point), point, *value, codes)) {
                 return probe.fail(*took + std::string(why));
             }
             if (one_per_model) break;
@@ -186,10 +201,19 @@ Outcome run_sunspec_rw_points(Session& session, const Case& c) {
                             skipped ? fmt::format(" ({} not implemented)", skipped) : ""));
 }
 
+// The SunSpec Device Information Model Specification 1.1 wants a write to a read-only register
+// answered with exception 02, 03 or 04 (the older SunSpec Information Model Specification 1.9
+// let a device ignore it): a write acknowledged fails even when the value is kept.
+constexpr protocol::ExceptionCode kReadOnlyRefusals[] = {
+    protocol::ExceptionCode::IllegalDataAddress, protocol::ExceptionCode::IllegalDataValue,
+    protocol::ExceptionCode::ServerDeviceFailure};
+
 Outcome run_sunspec_read_only(Session& session, const Case&) {
     return expect_refusals(session, &read_only_value, true, "no implemented R point to write",
-                           "writes to an R point of {} models refused, values unchanged",
-                           "; an R point must refuse writes");
+                           "writes to an R point of {} models answered exception 02, 03 or 04, "
+                           "values unchanged",
+                           "; a write to an R point must answer exception 02, 03 or 04",
+                           kReadOnlyRefusals);
 }
 
 Outcome run_sunspec_bad_enum(Session& session, const Case&) {

@@ -27,6 +27,19 @@ std::uint32_t register_count(const BehaviourSpec& spec) {
     return spec.points * number_width(spec.layout.type);
 }
 
+// The layout an update encodes with: the spec's, its scale 10^sf when a SunSpec scale factor
+// register scales it (SunSpec Information Model Specification, "Scale factors"); none while
+// that register holds its "not implemented" value 0x8000.
+std::optional<NumberLayout> layout_now(const BehaviourSpec& spec, const UnitModel& unit) {
+    if (!spec.scale_factor_at) return spec.layout;
+    const auto& bank = unit.bank(spec.bank);
+    const std::uint16_t word = bank.at(bank.find(*spec.scale_factor_at, 1).index);
+    if (word == 0x8000) return std::nullopt;
+    NumberLayout layout = spec.layout;
+    layout.scale = std::pow(10.0, static_cast<std::int16_t>(word));
+    return layout;
+}
+
 }  // namespace
 
 BehaviourEngine::BehaviourEngine(const std::vector<BehaviourSpec>& specs, std::uint64_t seed) {
@@ -87,6 +100,9 @@ void BehaviourEngine::advance(Clock::time_point now, WallClock::time_point wall,
 bool BehaviourEngine::update(Running& running, Clock::time_point at, double elapsed,
                              double unix_time, UnitModel& unit) {
     const auto& spec = running.spec;
+    if (spec.kind == BehaviourKind::Follow) return follow(running, at, unit);
+    const auto layout = layout_now(spec, unit);
+    if (!layout) return false;
     const double span = spec.max - spec.min;
     const double cycle = seconds(spec.period);
     for (std::uint32_t point = 0; point < spec.points; ++point) {
@@ -114,7 +130,7 @@ bool BehaviourEngine::update(Running& running, Clock::time_point at, double elap
                 break;
             case BehaviourKind::Counter:
                 if (elapsed > 0) value += spec.step;
-                if (value > spec.max) value = spec.min;
+                if (value > spec.max) value = spec.wraps ? spec.min : spec.max;
                 break;
             case BehaviourKind::Uptime:
                 value = elapsed;
@@ -123,9 +139,9 @@ bool BehaviourEngine::update(Running& running, Clock::time_point at, double elap
                 value = unix_time;
                 break;
             case BehaviourKind::Follow:
-                return follow(running, at, unit);
+                break;  // handled above
         }
-        const auto words = encode_number(value, spec.layout);
+        const auto words = encode_number(value, *layout);
         std::copy(words.view().begin(), words.view().end(),
                   running.words.begin() + point * words.count);
     }

@@ -1,3 +1,5 @@
+#include "device/behaviour_loader.hpp"
+
 #include <algorithm>
 #include <array>
 #include <optional>
@@ -66,65 +68,6 @@ bool bounds(Fields& fields, std::string_view hint, BehaviourSpec& out) {
     if (!fields.failed() && !(out.min < out.max)) {
         fields.fail("max",
                     "expected a number above min (" + describe_node(*fields.get("min")) + ")");
-    }
-    return !fields.failed();
-}
-
-bool load_motion(Fields& fields, BehaviourSpec& out) {
-    switch (out.kind) {
-        case BehaviourKind::Constant:
-            if (!fields.require("value", "the value to hold, e.g. value = 42")) return false;
-            fields.number("value", out.value, -kHuge, kHuge);
-            break;
-        case BehaviourKind::Ramp:
-        case BehaviourKind::Sine:
-            if (!bounds(fields, "the bounds of the wave, e.g. min = 0 and max = 100", out)) {
-                return false;
-            }
-            if (!fields.require("period_ms", "the time of one cycle, e.g. period_ms = 60000")) {
-                return false;
-            }
-            milliseconds(fields, "period_ms", 1, out.period);
-            break;
-        case BehaviourKind::RandomWalk:
-            if (!bounds(fields, "the bounds of the walk, e.g. min = 0 and max = 100", out)) {
-                return false;
-            }
-            if (!fields.require("step", "the largest move per update, e.g. step = 0.5")) {
-                return false;
-            }
-            fields.number("step", out.step, 0, kHuge);
-            out.start = (out.min + out.max) / 2;
-            fields.number("start", out.start, out.min, out.max);
-            break;
-        case BehaviourKind::Random:
-            return bounds(fields, "the bounds of the values, e.g. min = 0 and max = 100", out);
-        case BehaviourKind::Counter:
-            out.min = 0;
-            out.max = largest_raw(out.layout.type) * out.layout.scale + out.layout.offset;
-            fields.number("min", out.min, -kHuge, kHuge);
-            fields.number("max", out.max, out.min, kHuge);
-            out.start = out.min;
-            fields.number("start", out.start, out.min, out.max);
-            fields.number("step", out.step, -kHuge, kHuge);
-            break;
-        case BehaviourKind::Uptime:
-        case BehaviourKind::Timestamp:
-            break;
-        case BehaviourKind::Follow:
-            if (!fields.require("source", "the first address to follow, e.g. source = 10")) {
-                return false;
-            }
-            fields.integer_as("source", out.source, 0, 0xFFFF);
-            out.source_bank = out.bank;
-            choose_bank(fields, "source_bank", out.source_bank);
-            milliseconds(fields, "lag_ms", 0, out.lag);
-            if (!fields.failed() && is_bit_bank(out.source_bank) != is_bit_bank(out.bank)) {
-                fields.fail("source_bank",
-                            "a follower copies registers from registers and bits "
-                            "from bits");
-            }
-            break;
     }
     return !fields.failed();
 }
@@ -210,40 +153,107 @@ bool check_placement(Fields& fields, const Placement& placement,
 
 }  // namespace
 
+bool load_behaviour_kind(Fields& fields, BehaviourSpec& out) {
+    if (!fields.require("kind",
+                        "one of constant, ramp, sine, random-walk, random, counter, "
+                        "uptime, timestamp, follow")) {
+        return false;
+    }
+    fields.choice<BehaviourKind>("kind", out.kind,
+                                 {{"constant", BehaviourKind::Constant},
+                                  {"ramp", BehaviourKind::Ramp},
+                                  {"sine", BehaviourKind::Sine},
+                                  {"random-walk", BehaviourKind::RandomWalk},
+                                  {"random", BehaviourKind::Random},
+                                  {"counter", BehaviourKind::Counter},
+                                  {"uptime", BehaviourKind::Uptime},
+                                  {"timestamp", BehaviourKind::Timestamp},
+                                  {"follow", BehaviourKind::Follow}});
+    if (fields.failed()) return false;
+    milliseconds(fields, "interval_ms", 10, out.interval);
+    return !fields.failed();
+}
+
+bool load_behaviour_motion(Fields& fields, BehaviourSpec& out) {
+    switch (out.kind) {
+        case BehaviourKind::Constant:
+            if (!fields.require("value", "the value to hold, e.g. value = 42")) return false;
+            fields.number("value", out.value, -kHuge, kHuge);
+            break;
+        case BehaviourKind::Ramp:
+        case BehaviourKind::Sine:
+            if (!bounds(fields, "the bounds of the wave, e.g. min = 0 and max = 100", out)) {
+                return false;
+            }
+            if (!fields.require("period_ms", "the time of one cycle, e.g. period_ms = 60000")) {
+                return false;
+            }
+            milliseconds(fields, "period_ms", 1, out.period);
+            break;
+        case BehaviourKind::RandomWalk:
+            if (!bounds(fields, "the bounds of the walk, e.g. min = 0 and max = 100", out)) {
+                return false;
+            }
+            if (!fields.require("step", "the largest move per update, e.g. step = 0.5")) {
+                return false;
+            }
+            fields.number("step", out.step, 0, kHuge);
+            out.start = (out.min + out.max) / 2;
+            fields.number("start", out.start, out.min, out.max);
+            break;
+        case BehaviourKind::Random:
+            return bounds(fields, "the bounds of the values, e.g. min = 0 and max = 100", out);
+        case BehaviourKind::Counter:
+            out.min = 0;
+            out.max = largest_raw(out.layout.type) * out.layout.scale + out.layout.offset;
+            fields.number("min", out.min, -kHuge, kHuge);
+            fields.number("max", out.max, out.min, kHuge);
+            out.start = out.min;
+            fields.number("start", out.start, out.min, out.max);
+            fields.number("step", out.step, -kHuge, kHuge);
+            break;
+        case BehaviourKind::Uptime:
+        case BehaviourKind::Timestamp:
+            break;
+        case BehaviourKind::Follow:
+            if (!fields.require("source", "the first address to follow, e.g. source = 10")) {
+                return false;
+            }
+            fields.integer_as("source", out.source, 0, 0xFFFF);
+            out.source_bank = out.bank;
+            choose_bank(fields, "source_bank", out.source_bank);
+            milliseconds(fields, "lag_ms", 0, out.lag);
+            if (!fields.failed() && is_bit_bank(out.source_bank) != is_bit_bank(out.bank)) {
+                fields.fail("source_bank",
+                            "a follower copies registers from registers and bits "
+                            "from bits");
+            }
+            break;
+    }
+    return !fields.failed();
+}
+
 bool load_behaviours(Fields& unit, const UnitSpec& spec, std::vector<BehaviourSpec>& out) {
     Placement placement(spec);
+    // Behaviours already there (on SunSpec points) hold their registers too.
+    for (std::size_t i = 0; i < out.size(); ++i)
+        placement.drive(out[i].bank, out[i].address,
+                        out[i].points * number_width(out[i].layout.type), i);
     return each_table(unit, "behaviours", [&](const toml::table& t, const std::string& path) {
         Fields fields(t, path, unit.errors());
         BehaviourSpec behaviour;
         behaviour.bank = BankKind::HoldingRegisters;
-        if (!fields.require("kind",
-                            "one of constant, ramp, sine, random-walk, random, counter, "
-                            "uptime, timestamp, follow")) {
-            return false;
-        }
-        if (!fields.choice<BehaviourKind>("kind", behaviour.kind,
-                                          {{"constant", BehaviourKind::Constant},
-                                           {"ramp", BehaviourKind::Ramp},
-                                           {"sine", BehaviourKind::Sine},
-                                           {"random-walk", BehaviourKind::RandomWalk},
-                                           {"random", BehaviourKind::Random},
-                                           {"counter", BehaviourKind::Counter},
-                                           {"uptime", BehaviourKind::Uptime},
-                                           {"timestamp", BehaviourKind::Timestamp},
-                                           {"follow", BehaviourKind::Follow}})) {
-            return false;
-        }
+        if (!load_behaviour_kind(fields, behaviour)) return false;
         choose_bank(fields, "bank", behaviour.bank);
         if (!fields.require("address", "the first address it drives, e.g. address = 0")) {
             return false;
         }
         fields.integer_as("address", behaviour.address, 0, 0xFFFF);
         fields.integer_as("count", behaviour.points, 1, 0x10000);
-        milliseconds(fields, "interval_ms", 10, behaviour.interval);
         if (fields.failed()) return false;
         if (!load_layout(fields, behaviour.bank, behaviour.kind != BehaviourKind::Follow,
                          behaviour.layout) ||
-            !load_motion(fields, behaviour) ||
+            !load_behaviour_motion(fields, behaviour) ||
             !check_placement(fields, placement, out, behaviour)) {
             return false;
         }

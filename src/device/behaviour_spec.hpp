@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdint>
+#include <optional>
 
 // A [[unit.behaviours]] table after loading (docs/profiles.md "Values that move"): which points
 // it drives, how their numbers sit in registers, and how the numbers move. The loader guarantees
@@ -56,6 +57,12 @@ struct BehaviourSpec {
     BankKind source_bank{};
     std::uint32_t source = 0;
     std::chrono::milliseconds lag{0};
+    // A counter past max starts again at min; one that does not wrap stays at max (a SunSpec
+    // accumulator, which only increases).
+    bool wraps = true;
+    // A SunSpec scale factor register in the same bank: each update scales by 10^its value as
+    // it is then (a point whose scale factor is not implemented is left alone).
+    std::optional<std::uint32_t> scale_factor_at = {};
 };
 
 // Registers one value of `type` takes (a bit takes one coil).

@@ -55,7 +55,11 @@ class Builder {
     }
 
   private:
-    using Scales = std::map<std::string, std::optional<int>>;
+    struct ScaleFactor {
+        std::optional<int> value;  // none when the profile gives it none
+        std::uint32_t address = 0;
+    };
+    using Scales = std::map<std::string, ScaleFactor>;
 
     bool fail(std::string message) {
         error_ = "model " + std::to_string(model_) + ": " + std::move(message);
@@ -87,6 +91,7 @@ class Builder {
             return fail("no definition (model_" + std::to_string(model.id) +
                         ".json in the SunSpec models folder)");
         values_ = &model;
+        chain_.points.emplace_back();
         used_.clear();
         limited_.clear();
         const std::uint32_t start = at_;
@@ -109,12 +114,15 @@ class Builder {
     }
 
     bool lay_group(const SunSpecGroup& group, const std::string& prefix, Scales scales) {
+        // A point's offset counts from its group instance's start, in the top group the ID.
+        const std::uint32_t start = at_;
         for (const SunSpecPoint& point : group.points) {
             if (point.type != SunSpecType::Sunssf) continue;
             const auto found = values_->values.find(prefix + point.name);
             const double* raw =
                 found == values_->values.end() ? nullptr : std::get_if<double>(&found->second);
-            scales[point.name] = raw ? std::optional<int>(static_cast<int>(*raw)) : std::nullopt;
+            scales[point.name] = {raw ? std::optional<int>(static_cast<int>(*raw)) : std::nullopt,
+                                  start + point.offset};
         }
         for (const SunSpecPoint& point : group.points) {
             if (!lay_point(point, prefix, scales)) return false;
@@ -139,7 +147,18 @@ class Builder {
         if (point.fixed_sf) return point.fixed_sf;
         if (point.sf.empty()) return 0;
         const auto found = scales.find(point.sf);
-        return found == scales.end() ? std::nullopt : found->second;
+        return found == scales.end() ? std::nullopt : found->second.value;
+    }
+
+    void note_placed(const SunSpecPoint& point, const std::string& path, std::uint32_t start,
+                     bool given, const Scales& scales) {
+        SunSpecPlacedPoint placed{start,    point.type,   point.size, scale_of(point, scales),
+                                  point.sf, std::nullopt, given};
+        if (const auto found = scales.find(point.sf);
+            !point.fixed_sf && !point.sf.empty() && found != scales.end()) {
+            placed.sf_address = found->second.address;
+        }
+        chain_.points.back().emplace(path, std::move(placed));
     }
 
     bool lay_point(const SunSpecPoint& point, const std::string& prefix, const Scales& scales) {
@@ -158,6 +177,7 @@ class Builder {
         }
         const bool writable = point.writable || spec_.read_only_writable;
         const std::uint32_t start = at_;
+        note_placed(point, path, start, given != values_->values.end(), scales);
         if (!place(std::to_string(model_) + "." + path, std::move(words),
                    writable ? Access::ReadWrite : Access::ReadOnly, shown_as(point))) {
             return false;

@@ -47,9 +47,24 @@ struct SunSpecChainSpec {
     bool read_only_writable = false;  // true: R points take writes like RW ones
 };
 
+// A point as laid, for what drives it by name (a behaviour on it).
+struct SunSpecPlacedPoint {
+    std::uint32_t address = 0;
+    SunSpecType type = SunSpecType::Uint16;
+    std::uint16_t size = 1;
+    // Its scale factor: a fixed one, or the sunssf point `sf` at `sf_address` with the value the
+    // profile gives it (none when it gives none); 0 for a point not scaled.
+    std::optional<int> sf = 0;
+    std::string sf_name = {};
+    std::optional<std::uint32_t> sf_address = {};
+    bool given = false;  // the profile gives the point a value
+};
+
 struct SunSpecChain {
     std::vector<RangeSpec> ranges = {};  // holding registers, in address order
     std::vector<PointRule> rules = {};   // in address order
+    // Per model of the spec, in its order: its points by name ("W", "module[2].DCA").
+    std::vector<std::map<std::string, SunSpecPlacedPoint>> points = {};
 };
 
 // Lays out the chain; `definitions` holds every model the spec lists. The error is one line

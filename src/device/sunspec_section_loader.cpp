@@ -2,6 +2,7 @@
 
 #include "device/profile_paths.hpp"
 #include "device/profile_sections.hpp"
+#include "device/sunspec_behaviours.hpp"
 #include "device/sunspec_chain.hpp"
 #include "device/sunspec_loader.hpp"
 
@@ -54,7 +55,14 @@ bool load_values(Fields& model, ProfileErrors& errors, SunSpecModelValues& out) 
     return !model.failed();
 }
 
-bool load_chain_spec(Fields& section, SunSpecChainSpec& spec) {
+// A model's table, kept until the chain is laid: its behaviours name points only the laid chain
+// places.
+struct ModelTable {
+    const toml::table* table = nullptr;
+    std::string path = {};
+};
+
+bool load_chain_spec(Fields& section, SunSpecChainSpec& spec, std::vector<ModelTable>& tables) {
     section.integer_as("base", spec.base, 0, 65535);
     section.choice<bool>("split_reads", spec.split_refused,
                          {{"accept", false}, {"exception-02", true}});
@@ -71,7 +79,11 @@ bool load_chain_spec(Fields& section, SunSpecChainSpec& spec) {
         if (!model.require("id", "give the SunSpec model id, e.g. id = 103")) return false;
         model.integer_as("id", values.id, 1, 65534);
         model.integer_as("extra_registers", values.extra_registers, 0, 1000);
+        if (const toml::array* moving = nullptr; model.has("behaviours")) {
+            model.array("behaviours", moving);
+        }
         if (model.failed() || !load_values(model, section.errors(), values)) return false;
+        tables.push_back({&t, path});
         model.finish();
         spec.models.push_back(std::move(values));
         return !model.failed();
@@ -85,7 +97,8 @@ bool load_sunspec(Fields& unit, UnitSpec& spec) {
     if (!unit.has("sunspec") || !unit.table("sunspec", table)) return !unit.failed();
     Fields section(*table, unit.path("sunspec"), unit.errors());
     SunSpecChainSpec chain_spec;
-    if (!load_chain_spec(section, chain_spec)) return false;
+    std::vector<ModelTable> tables;
+    if (!load_chain_spec(section, chain_spec, tables)) return false;
     std::map<std::uint16_t, SunSpecModel> definitions;
     for (const SunSpecModelValues& model : chain_spec.models) {
         const auto file = sunspec_models_dir() / ("model_" + std::to_string(model.id) + ".json");
@@ -109,6 +122,13 @@ bool load_sunspec(Fields& unit, UnitSpec& spec) {
             section.fail("base", "the SunSpec chain (" + std::to_string(first) + ".." +
                                      std::to_string(end - 1) + ") overlaps holding register " +
                                      std::to_string(range.start) + " of the unit's own ranges");
+            return false;
+        }
+    }
+    for (std::size_t i = 0; i < tables.size(); ++i) {
+        Fields model(*tables[i].table, tables[i].path, section.errors());
+        if (!load_sunspec_behaviours(model, chain_spec.models[i].id, chain->points[i],
+                                     chain->ranges, spec.behaviours)) {
             return false;
         }
     }

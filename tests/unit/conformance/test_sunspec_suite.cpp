@@ -115,6 +115,11 @@ const WrongDevice kWrong[] = {
      "split_reads = \"accept\"\nwrites_applied = false", "sunspec.13"},
     {"R point writable", "split_reads = \"accept\"",
      "split_reads = \"accept\"\nread_only_writable = true", "sunspec.14"},
+    // A write to an R point must answer 02, 03 or 04 (SSIM 1.1), even if the value is kept.
+    {"R point write acknowledged, value kept", "max_read_registers = 125",
+     "max_read_registers = 125\nwrite_read_only = \"ignore\"", "sunspec.14"},
+    {"R point write answered 01", "max_read_registers = 125",
+     "max_read_registers = 125\nwrite_read_only = \"exception-01\"", "sunspec.14"},
 };
 
 TEST(SunSpecSuite, EachWrongDeviceFailsItsCaseAndNoOther) {

@@ -366,7 +366,7 @@ INSTANTIATE_TEST_SUITE_P(
                      "BADC, DCBA, got \"ABDC\""},
         BadBehaviour{"kind = \"uptime\"\naddress = 0\nmin = 1\n",
                      "test.toml:9: unit[0].behaviours[0].min: unknown key; expected one of kind, "
-                     "bank, address, count, interval_ms, type, order, scale, offset"},
+                     "interval_ms, bank, address, count, type, order, scale, offset"},
         BadBehaviour{"kind = \"follow\"\naddress = 0\nsource = 5\nsource_bank = \"coils\"\n",
                      "test.toml:10: unit[0].behaviours[0].source_bank: a follower copies "
                      "registers from registers and bits from bits"},

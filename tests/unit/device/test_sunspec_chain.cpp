@@ -33,9 +33,10 @@ TEST_F(SunSpecInverter, ValuesAreScaledAndUnsetPointsNotImplemented) {
     expect_dialogue(R"(
         # A 12.34 with A_SF -2, phases 4.12 4.11 4.11
         03 9C 88 00 05 -> 03 0A 04 D2 01 9C 01 9B 01 9B FF FE
-        # PPVphAB..CA not implemented (uint16), W 8500 with W_SF 1
+        # PPVphAB..CA not implemented (uint16); W with W_SF 1, before the first update of its
+        # behaviour the sine's start, its middle 5500 W
         03 9C 8D 00 03 -> 03 06 FF FF FF FF FF FF
-        03 9C 94 00 02 -> 03 04 03 52 00 01
+        03 9C 94 00 02 -> 03 04 02 26 00 01
         # VAr and its scale factor not implemented (int16, sunssf), WH 1000000 Wh as 100000
         03 9C 9A 00 06 -> 03 0C 80 00 80 00 80 00 80 00 00 01 86 A0
         # Mn "mblab", NUL-padded
@@ -45,9 +46,9 @@ TEST_F(SunSpecInverter, ValuesAreScaledAndUnsetPointsNotImplemented) {
 
 TEST_F(SunSpecInverter, WritesAreCheckedAgainstAccessSymbolsAndLimits) {
     expect_dialogue(R"(
-        # an R point (103 W) answers 02 and keeps its value
-        06 9C 94 00 01 -> 86 02
-        03 9C 94 00 01 -> 03 02 03 52
+        # an R point (103 A) answers 02 and keeps its value
+        06 9C 88 00 01 -> 86 02
+        03 9C 88 00 01 -> 03 02 04 D2
         # 123 Conn: 0 and 1 are its symbols, 7 is none of them
         06 9D 28 00 07 -> 86 03
         06 9D 28 00 00 -> 06 9D 28 00 00
