@@ -44,7 +44,7 @@ complete_words() {
     fail "completion of 'con': $(complete_words mblab con)"
 [ "$(complete_words mblab conform-client --client-t)" = --client-timeout ] ||
     fail "completion of 'conform-client --client-t'"
-[ "$(complete_words mblab conform --su)" = --suite ] || fail "completion of 'conform --su'"
+[ "$(complete_words mblab conform --sui)" = --suite ] || fail "completion of 'conform --sui'"
 [ "$(complete_words mblab serve --lis)" = --listen ] || fail "completion of 'serve --lis'"
 [ "$(complete_words mblab fu)" = fuzz ] || fail "completion of 'fu'"
 [ "$(complete_words mblab fuzz --check)" = --check-every ] || fail "completion of 'fuzz --check'"
