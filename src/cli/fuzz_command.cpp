@@ -116,9 +116,11 @@ int run_fuzz(const FuzzCommandOptions& options) {
     rb::ReconOptions recon_options;
     recon_options.unit = static_cast<std::uint8_t>(options.unit);
     recon_options.allow_writes = options.allow_writes;
+    conf::Dut declared;
     if (!options.dut_file.empty()) {
         auto dut = conf::load_dut_file(options.dut_file);
         if (!dut) return usage_error(dut.error());
+        declared = *dut;
         recon_options.unit = dut->unit;
         recon_options.max_read = dut->max_read;
     }
@@ -194,6 +196,9 @@ int run_fuzz(const FuzzCommandOptions& options) {
         if (!options.dut_file.empty()) recon.source = options.dut_file;
     }
     session.close();
+    // Where the FC 14 and FC 18 storms read first, before the places they probe.
+    recon.file_number = declared.file_number;
+    recon.fifo_address = declared.fifo_address;
     fmt::print(console, "mblab fuzz {}\n{}", target->name, rb::recon_text(recon));
     std::fflush(console);
     if (recon.killed_by && options.replay.empty()) {

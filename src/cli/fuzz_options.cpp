@@ -73,7 +73,8 @@ void add_fuzz_options(CLI::App& cmd, FuzzCommandOptions& options) {
     cmd.add_option("--ladder", options.monitor.ladder,
                    "with --monitor: a storm at rising rates per second, a rung each, before the "
                    "cases: RATES (FC 03), KIND:RATES (KIND fc01, fc02, fc03, fc04, fc05, fc06, "
-                   "fc08, fc0f, fc10, fc17, fc2b, opens, slow-readers, half-open), or "
+                   "fc07, fc08, fc0b, fc0c, fc0f, fc10, fc11, fc14, fc15, fc16, fc17, fc18, fc2b, "
+                   "opens, slow-readers, half-open), or "
                    "requests:RATES (a ladder per function code served); repeatable")
         ->allow_extra_args(false);
     accept_duration_units(cmd.add_option("--ladder-step", options.monitor.ladder_step_s,

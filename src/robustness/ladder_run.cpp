@@ -52,9 +52,9 @@ LadderRun run_ladders(const StormTarget& target, std::vector<PlannedLadder> ladd
         const auto kind = planned.ladder.kind;
         auto& request = planned.request;
         // Read just before the first rung, so that what is written back is what is there, and the
-        // place proven to take the write.
-        if (request.not_run.empty() && !request.read_first.empty()) {
-            choose_write_place(kind, request, [&](const std::vector<std::uint8_t>& pdu) {
+        // place proven to take the write (or, for a file's or a FIFO's read, to answer it).
+        if (is_request_storm(kind) && request.not_run.empty() && request.pdu.empty()) {
+            choose_place(kind, request, [&](const std::vector<std::uint8_t>& pdu) {
                 return ask_once(target, pdu);
             });
             if (!request.not_run.empty()) total -= planned.ladder.rates.size();
@@ -66,8 +66,7 @@ LadderRun run_ladders(const StormTarget& target, std::vector<PlannedLadder> ladd
         for (double rate : planned.ladder.rates) {
             if (progress) progress(out.rungs.size(), total, storm_phase_name(kind, rate));
             out.rungs.push_back(storm(target, kind, rate, step, request.pdu));
-            if (kind != StormKind::Fc08 && kind != StormKind::Fc2B)
-                out.rungs.back().address = request.address;
+            if (names_address(kind)) out.rungs.back().address = request.address;
         }
     }
     return out;

@@ -63,6 +63,9 @@ struct Recon {
     // "probed", the DUT file that declared unit and max_read, or "learned from FILE (...)".
     std::string source = "probed";
     AnsweredRanges ranges;  // where requests were answered with data or an echo
+    // Declared by a DUT file (--dut): a file FC 14 reads, a FIFO FC 18 reads.
+    std::optional<std::uint16_t> file_number;
+    std::optional<std::uint16_t> fifo_address;
     // Set when a probe killed the device: the reconnaissance stopped there, the rest is unknown.
     std::optional<ProbeDeath> killed_by;
 

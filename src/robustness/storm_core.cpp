@@ -16,6 +16,8 @@ constexpr const char* kRequests = "requests/s";
 // What the writes of one value do: the same for a single and a multiple write.
 constexpr const char* kCoilBack = "writing one coil's own value back";
 constexpr const char* kRegisterBack = "writing one register's own value back";
+// FC 07, 0B, 0C, 11 carry no field ([APP] 6.7, 6.9, 6.10, 6.13).
+constexpr const char* kBare = "alone: the request is its function code";
 
 // A request storm's heading is followed by ", answers never waited for".
 constexpr StormWords kStorms[] = {
@@ -40,6 +42,15 @@ constexpr StormWords kStorms[] = {
      kRequests},
     {StormKind::Fc2B, "fc2b", 0x2B, "MEI 0E (read device identification), basic objects",
      kRequests},
+    {StormKind::Fc07, "fc07", 0x07, kBare, kRequests},
+    {StormKind::Fc0B, "fc0b", 0x0B, kBare, kRequests},
+    {StormKind::Fc0C, "fc0c", 0x0C, kBare, kRequests},
+    {StormKind::Fc11, "fc11", 0x11, kBare, kRequests},
+    {StormKind::Fc14, "fc14", 0x14, "of one register of record 0 of a file that answered",
+     kRequests},
+    {StormKind::Fc15, "fc15", 0x15, "writing one file record register's own value back", kRequests},
+    {StormKind::Fc16, "fc16", 0x16, "AND FFFF, OR 0000 on one register: its value kept", kRequests},
+    {StormKind::Fc18, "fc18", 0x18, "of a FIFO queue that answered", kRequests},
 };
 
 constexpr bool one_row_per_kind_in_order() {

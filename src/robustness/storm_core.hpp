@@ -35,6 +35,14 @@ enum class StormKind : std::uint8_t {
     Fc10,
     Fc17,
     Fc2B,
+    Fc07,
+    Fc0B,
+    Fc0C,
+    Fc11,
+    Fc14,
+    Fc15,
+    Fc16,
+    Fc18,
 };
 
 // What is said of each storm, in one row: the name --ladder takes ("fc03", "opens", ...), the
@@ -76,7 +84,8 @@ struct LadderRung {
     StormKind kind = StormKind::Fc03;
     std::size_t opened = 0;   // connections the storm opened (the connection storms)
     std::size_t refused = 0;  // opens that failed
-    // A request storm's coil, input or register (none for FC 08 and FC 2B): the run sets it.
+    // A request storm's coil, input, register or FIFO (none for the codes that name no address,
+    // nor for the file record storms): the run sets it.
     std::optional<std::uint16_t> address = {};
 };
 

@@ -175,9 +175,13 @@ protocol::Result<Ladder, std::string> parse_ladder(const std::string& text) {
             }
         }
         if (!known) {
+            // The connection storms, then the request storms in the order of their codes.
             std::string names;
-            for (const auto& storm : all_storms())
-                names += std::string(storm.key) + ", ";
+            for (const auto& storm : all_storms()) {
+                if (!is_request_storm(storm.kind)) names += std::string(storm.key) + ", ";
+            }
+            for (const auto kind : request_storms())
+                names += std::string(storm_key(kind)) + ", ";
             return fmt::format("--ladder '{}': '{}' is no storm ({}or {}: every request storm)",
                                text, key, names, kRequestsGroup);
         }

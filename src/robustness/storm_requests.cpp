@@ -40,6 +40,40 @@ std::optional<Table> table_of(std::uint8_t function) {
 // The most places a write tries before it is set aside.
 constexpr std::size_t kMostPlaces = 16;
 
+// The files an FC 14 or FC 15 storm tries (record 0 of each), after one a DUT file declared.
+constexpr std::array<std::uint16_t, 4> kFileProbes{1, 2, 3, 4};
+
+// What a storm's place is called.
+const char* place_noun(StormKind kind) {
+    if (kind == StormKind::Fc05 || kind == StormKind::Fc0F) return "coil";
+    if (kind == StormKind::Fc14 || kind == StormKind::Fc15) return "file";
+    return kind == StormKind::Fc18 ? "FIFO" : "holding register";
+}
+
+// The places an FC 14, 15 or 18 storm tries in turn: the DUT file's first, then the usual ones.
+std::vector<std::uint16_t> probed_places(StormKind kind, const Recon& recon) {
+    const bool files = kind != StormKind::Fc18;
+    std::vector<std::uint16_t> out;
+    if (const auto declared = files ? recon.file_number : recon.fifo_address)
+        out.push_back(*declared);
+    const std::span<const std::uint16_t> usual =
+        files ? std::span<const std::uint16_t>(kFileProbes) : std::span(kProbeAddresses);
+    for (const auto place : usual) {
+        if (std::find(out.begin(), out.end(), place) == out.end()) out.push_back(place);
+    }
+    return out;
+}
+
+// "1, 2, 3 or 4".
+std::string places_text(const std::vector<std::uint16_t>& places) {
+    std::string out;
+    for (std::size_t i = 0; i < places.size(); ++i) {
+        if (i > 0) out += i + 1 == places.size() ? " or " : ", ";
+        out += std::to_string(places[i]);
+    }
+    return out;
+}
+
 // A write's places: inside the writable range, or where the reconnaissance was answered when
 // writes are allowed anywhere; never the monitor's register (nor the coil at its address, for a
 // device that maps one onto the other).
@@ -62,9 +96,21 @@ std::vector<std::uint16_t> write_places(Table table, const Recon& recon, const W
     return out;
 }
 
-// The read whose answer is the value a write of `table` at `address` writes back.
-std::vector<std::uint8_t> read_of(Table table, std::uint16_t address) {
-    return storm_request(table == Table::Coils ? StormKind::Fc01 : StormKind::Fc03, address);
+// The read whose answer is the value write storm `kind` at `address` writes back.
+std::vector<std::uint8_t> read_of(StormKind kind, std::uint16_t address) {
+    const auto reader = kind == StormKind::Fc15                              ? StormKind::Fc14
+                        : kind == StormKind::Fc05 || kind == StormKind::Fc0F ? StormKind::Fc01
+                                                                             : StormKind::Fc03;
+    return storm_request(reader, address);
+}
+
+// Record 0's first register in an FC 14 answer of one register.
+std::optional<std::uint16_t> record_value(const protocol::Response& decoded) {
+    const auto* file = std::get_if<protocol::ReadFileRecordResponse>(&decoded);
+    protocol::RegisterView data;
+    std::size_t offset = 0;
+    if (file == nullptr || !file->next(offset, data) || data.size() != 1) return std::nullopt;
+    return data[0];
 }
 
 std::string not_served(std::uint8_t function, const Recon& recon) {
@@ -100,6 +146,10 @@ Bytes storm_request(StormKind kind, std::uint16_t address, std::uint16_t value) 
     const std::array<std::uint8_t, 2> word{static_cast<std::uint8_t>(value >> 8),
                                            static_cast<std::uint8_t>(value)};
     const std::array<std::uint8_t, 1> bit{static_cast<std::uint8_t>(value != 0 ? 1 : 0)};
+    // A file storm's one sub-request: record 0 of file `address`, one register.
+    std::array<std::uint8_t, 9> sub{};
+    protocol::WriteCursor file(sub);
+    const protocol::FileRecordRef record{address, 0, 1};
     switch (kind) {
         case StormKind::Fc01:
         case StormKind::Fc02:
@@ -124,6 +174,26 @@ Bytes storm_request(StormKind kind, std::uint16_t address, std::uint16_t value) 
                 address, 1, address, 1, protocol::RegisterView(word)});
         case StormKind::Fc2B:
             return encoded(protocol::ReadDeviceIdRequest{1, 0});
+        case StormKind::Fc07:
+            return encoded(protocol::ReadExceptionStatusRequest{});
+        case StormKind::Fc0B:
+            return encoded(protocol::GetCommEventCounterRequest{});
+        case StormKind::Fc0C:
+            return encoded(protocol::GetCommEventLogRequest{});
+        case StormKind::Fc11:
+            return encoded(protocol::ReportServerIdRequest{});
+        case StormKind::Fc14:
+            protocol::encode_file_record_ref(file, record);
+            return encoded(protocol::ReadFileRecordRequest{file.written()});
+        case StormKind::Fc15:
+            protocol::encode_file_record_data(file, {record, protocol::RegisterView(word)});
+            return encoded(protocol::WriteFileRecordRequest{file.written()});
+        case StormKind::Fc16:
+            // (value AND FFFF) OR (0000 AND NOT FFFF) is the value itself ([APP] 6.16): the
+            // register is written with what it holds, with no read needed for it.
+            return encoded(protocol::MaskWriteRegisterRequest{address, 0xFFFF, 0x0000});
+        case StormKind::Fc18:
+            return encoded(protocol::ReadFifoQueueRequest{address});
         case StormKind::Opens:
         case StormKind::SlowReaders:
         case StormKind::HalfOpen:
@@ -150,6 +220,24 @@ RequestPlan plan_request_storm(StormKind kind, const Recon& recon, const WritePo
         plan.not_run = not_served(function, recon);
         return plan;
     }
+    // A file or a FIFO is not found by reading tables: the places are probed before the storm.
+    if (kind == StormKind::Fc14 || kind == StormKind::Fc18) {
+        plan.places = probed_places(kind, recon);
+        return plan;
+    }
+    if (kind == StormKind::Fc15) {
+        // may_send: file records lie in no --writable range of holding registers.
+        if (!policy.allow_writes) {
+            plan.not_run =
+                "file records lie outside --writable (holding registers): only --allow-writes "
+                "lets FC 15 write one back";
+            return plan;
+        }
+        plan.places = probed_places(kind, recon);
+        plan.address = plan.places.front();
+        plan.read_first = read_of(kind, plan.address);
+        return plan;
+    }
     const auto table = table_of(function);
     if (!protocol::writes(function)) {
         // A place the reconnaissance read with data, else 0, where the sample asks.
@@ -170,7 +258,7 @@ RequestPlan plan_request_storm(StormKind kind, const Recon& recon, const WritePo
         return plan;
     }
     plan.address = plan.places.front();
-    plan.read_first = read_of(*table, plan.address);
+    plan.read_first = read_of(kind, plan.address);
     // The write must pass the policy the cases pass.
     if (!may_send(storm_request(kind, plan.address), policy)) {
         plan.not_run =
@@ -184,9 +272,8 @@ void write_back(StormKind kind, RequestPlan& plan,
                 const std::optional<std::vector<std::uint8_t>>& answer) {
     if (plan.read_first.empty() || !plan.not_run.empty()) return;
     const bool coil = plan.read_first[0] == 0x01;
-    const auto what =
-        fmt::format("{} {} does not answer FC {:02X}: no value to write back",
-                    coil ? "coil" : "holding register", plan.address, plan.read_first[0]);
+    const auto what = fmt::format("{} {} does not answer FC {:02X}: no value to write back",
+                                  place_noun(kind), plan.address, plan.read_first[0]);
     if (!answer) {
         plan.not_run = what;
         return;
@@ -206,17 +293,20 @@ void write_back(StormKind kind, RequestPlan& plan,
         plan.pdu = storm_request(kind, plan.address, registers->values[0]);
         return;
     }
+    if (const auto value = record_value(*decoded); kind == StormKind::Fc15 && value) {
+        plan.pdu = storm_request(kind, plan.address, *value);
+        return;
+    }
     plan.not_run = what;
 }
 
 void choose_write_place(StormKind kind, RequestPlan& plan, const StormAsk& ask) {
     if (plan.read_first.empty() || !plan.not_run.empty()) return;
-    const auto table = plan.read_first[0] == 0x01 ? Table::Coils : Table::HoldingRegisters;
     std::string why;
     for (const auto place : plan.places) {
         RequestPlan tried = plan;
         tried.address = place;
-        tried.read_first = read_of(table, place);
+        tried.read_first = read_of(kind, place);
         write_back(kind, tried, ask(tried.read_first));
         if (!tried.not_run.empty()) {
             why = tried.not_run;
@@ -227,8 +317,7 @@ void choose_write_place(StormKind kind, RequestPlan& plan, const StormAsk& ask) 
             plan = std::move(tried);
             return;
         }
-        why = fmt::format("{} {} refused the write of its own value ({})",
-                          table == Table::Coils ? "coil" : "holding register", place,
+        why = fmt::format("{} {} refused the write of its own value ({})", place_noun(kind), place,
                           !echo || echo->empty() ? std::string("no answer")
                           : echo->size() >= 2    ? fmt::format("exception {:02X}", (*echo)[1])
                                                  : std::string("an answer of another function"));
@@ -238,6 +327,36 @@ void choose_write_place(StormKind kind, RequestPlan& plan, const StormAsk& ask) 
                        ? fmt::format("none of the {} places tried takes a write back; the last: {}",
                                      plan.places.size(), why)
                        : why;
+}
+
+void choose_read_place(StormKind kind, RequestPlan& plan, const StormAsk& ask) {
+    if (!plan.pdu.empty() || !plan.not_run.empty()) return;
+    const std::uint8_t function = storm_words(kind).function;
+    for (const auto place : plan.places) {
+        auto pdu = storm_request(kind, place);
+        const auto answer = ask(pdu);
+        if (answer && !answer->empty() && (*answer)[0] == function) {
+            plan.address = place;
+            plan.pdu = std::move(pdu);
+            return;
+        }
+    }
+    plan.not_run =
+        fmt::format("no {} answered FC {:02X} with data at {} (a DUT file's {} names one: --dut)",
+                    place_noun(kind), function, places_text(plan.places),
+                    kind == StormKind::Fc18 ? "fifo_address" : "file_number");
+}
+
+void choose_place(StormKind kind, RequestPlan& plan, const StormAsk& ask) {
+    if (!plan.read_first.empty()) {
+        choose_write_place(kind, plan, ask);
+    } else {
+        choose_read_place(kind, plan, ask);
+    }
+}
+
+bool names_address(StormKind kind) {
+    return table_of(storm_words(kind).function).has_value();
 }
 
 }  // namespace mblab::robustness

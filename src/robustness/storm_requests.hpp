@@ -20,10 +20,11 @@
 namespace mblab::robustness {
 
 struct RequestPlan {
-    std::uint16_t address = 0;  // the coil, input or register the request names
-    // A write's places to try in turn, `address` the first: the policy's, less the monitor's.
+    std::uint16_t address = 0;  // the coil, input, register, FIFO or file the request names
+    // Places to try in turn: a write's, `address` the first (the policy's, less the monitor's);
+    // the files of FC 14 and 15, the FIFOs of FC 18.
     std::vector<std::uint16_t> places;
-    // A write's read of `address` (FC 01 or FC 03), whose answer is the value written back.
+    // A write's read of `address` (FC 01, 03 or 14), whose answer is the value written back.
     std::vector<std::uint8_t> read_first;
     std::vector<std::uint8_t> pdu;  // the request streamed; a write's once its value is known
     std::string not_run;            // why the storm cannot run; "" when it can
@@ -57,5 +58,17 @@ using StormAsk =
 // refuses writes to some places the policy allows: a read-only register). None: `not_run` says
 // why, the last place's reason.
 void choose_write_place(StormKind kind, RequestPlan& plan, const StormAsk& ask);
+
+// A read storm's place (FC 14's file, FC 18's FIFO), chosen before the storm: the first of
+// `plan.places` whose request is answered with data rather than an exception. None: `not_run`
+// says which were tried.
+void choose_read_place(StormKind kind, RequestPlan& plan, const StormAsk& ask);
+
+// Whatever the plan still needs asked before its storm (a write's place and value, a read's
+// place); nothing when its request is known already or it is not run.
+void choose_place(StormKind kind, RequestPlan& plan, const StormAsk& ask);
+
+// Whether storm `kind`'s request names a coil, input, register or FIFO (the rung's address).
+bool names_address(StormKind kind);
 
 }  // namespace mblab::robustness

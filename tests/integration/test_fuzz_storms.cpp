@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -82,20 +83,25 @@ std::vector<std::string> short_rungs(const std::string& target, const std::strin
     return args;
 }
 
-// A request storm per function code our server serves, two short rungs each: a row per code in
-// the JSON report, each held; writes go to the first register and coil of the writable range that
-// take a write of their own value (the monitor's register left out), the value read written back.
+// A request storm per function code our server serves, a short rung each: a row per code in the
+// JSON report, each held; writes go to the first register and coil of the writable range that
+// take a write of their own value (the monitor's register left out), the value read written back;
+// FC 18 reads the FIFO the DUT file declares; FC 15, with no --allow-writes, is not run.
 TEST_F(ReferenceCliTest, ARequestStormPerFunctionCodeOurServerServes) {
     TempDir dir;
     const auto json = (dir.path() / "fuzz.json").string();
-    auto ran = run_mblab(short_rungs(target(), json, {"requests:50,200"}, "0:10"));
+    const auto dut = (dir.path() / "dut.toml").string();
+    std::ofstream(dut) << "fifo_address = 0x04DE\n";
+    auto args = short_rungs(target(), json, {"requests:100"}, "0:10");
+    args.insert(args.end(), {"--dut", dut});
+    auto ran = run_mblab(args);
     EXPECT_EQ(ran.status, 0) << ran.out << ran.err;
     EXPECT_THAT(ran.out, HasSubstr("requests per second per function code [CR 7.1]:\n"
                                    "  FC 01 read coils                       "));
     const auto report = nlohmann::json::parse(file_text(json));
     const auto& storms = report["monitor"]["ladder"]["storms"];
-    const std::vector<int> codes = {0x01, 0x02, 0x03, 0x04, 0x05, 0x06,
-                                    0x08, 0x0F, 0x10, 0x17, 0x2B};
+    const std::vector<int> codes = {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x0B,
+                                    0x0C, 0x0F, 0x10, 0x11, 0x14, 0x16, 0x17, 0x18, 0x2B};
     ASSERT_EQ(storms.size(), codes.size()) << storms.dump();
     for (std::size_t i = 0; i < codes.size(); ++i) {
         EXPECT_EQ(storms[i]["function"], codes[i]);
@@ -104,17 +110,27 @@ TEST_F(ReferenceCliTest, ARequestStormPerFunctionCodeOurServerServes) {
         EXPECT_TRUE(storms[i]["highest_rate_held"].is_number() || storms[i]["lost_at"].is_number())
             << storms[i].dump();
     }
-    EXPECT_TRUE(report["monitor"]["ladder"]["not_run"].empty());
+    const auto& not_run = report["monitor"]["ladder"]["not_run"];
+    ASSERT_EQ(not_run.size(), 1U) << not_run.dump();
+    EXPECT_EQ(not_run[0]["storm"], "fc15");
+    EXPECT_THAT(not_run[0]["reason"].get<std::string>(), HasSubstr("only --allow-writes"));
     const auto& rungs = report["monitor"]["ladder"]["rungs"];
-    ASSERT_EQ(rungs.size(), 2 * codes.size());
-    EXPECT_EQ(rungs[11]["storm"], "fc06");
-    EXPECT_GT(rungs[11]["sent"].get<int>(), 0);
+    ASSERT_EQ(rungs.size(), codes.size());
+    EXPECT_EQ(rungs[5]["storm"], "fc06");
+    EXPECT_GT(rungs[5]["sent"].get<int>(), 0);
     // Holding registers 0 to 2 of the reference profile refuse writes: passed over.
-    EXPECT_EQ(rungs[11]["address"], 3);
-    EXPECT_EQ(rungs[8]["storm"], "fc05");
-    EXPECT_EQ(rungs[8]["address"], 0);
-    EXPECT_EQ(rungs[12]["storm"], "fc08");
-    EXPECT_FALSE(rungs[12].contains("address"));
+    EXPECT_EQ(rungs[5]["address"], 3);
+    EXPECT_EQ(rungs[14]["storm"], "fc16");
+    EXPECT_EQ(rungs[14]["address"], 3);
+    EXPECT_EQ(rungs[4]["storm"], "fc05");
+    EXPECT_EQ(rungs[4]["address"], 0);
+    EXPECT_EQ(rungs[7]["storm"], "fc08");
+    EXPECT_FALSE(rungs[7].contains("address"));
+    EXPECT_EQ(rungs[13]["storm"], "fc14");
+    EXPECT_GT(rungs[13]["answered"].get<int>(), 0);
+    EXPECT_EQ(rungs[16]["storm"], "fc18");
+    EXPECT_EQ(rungs[16]["address"], 0x04DE);
+    EXPECT_GT(rungs[16]["answered"].get<int>(), 0);
 }
 
 // Without a place to write but the monitor's register, the write storms are set aside, each with
@@ -187,9 +203,10 @@ TEST_F(FuzzFragile, HalfOpenConnectionsThatPileUpFailADeviceThatPollsEachInTurn)
 
 TEST(FuzzStormUsage, AnUnknownStormIsOneLineBeforeConnecting) {
     expect_usage({"fuzz", "tcp://127.0.0.1:1", "--monitor", "period=100", "--ladder", "floods:10"},
-                 "mblab fuzz: --ladder 'floods:10': 'floods' is no storm (fc03, opens, "
-                 "slow-readers, half-open, fc01, fc02, fc04, fc05, fc06, fc08, fc0f, fc10, fc17, "
-                 "fc2b, or requests: every request storm)\n");
+                 "mblab fuzz: --ladder 'floods:10': 'floods' is no storm (opens, slow-readers, "
+                 "half-open, fc01, fc02, fc03, fc04, fc05, fc06, fc07, fc08, fc0b, fc0c, fc0f, "
+                 "fc10, fc11, fc14, fc15, fc16, fc17, fc18, fc2b, or requests: every request "
+                 "storm)\n");
 }
 
 }  // namespace

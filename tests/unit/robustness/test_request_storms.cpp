@@ -20,7 +20,8 @@ using namespace std::chrono_literals;
 using test::hex;
 using test::to_hex;
 
-// Every request storm's request at address 7, writing 0x1234 (a coil: on).
+// Every request storm's request at address 7 (file 7 for the file records), writing 0x1234 (a
+// coil: on; FC 16's masks keep whatever the register holds).
 TEST(RequestStorms, EachRequestIsItsFunctionsWellFormedRequest) {
     const std::pair<StormKind, const char*> expected[] = {
         {StormKind::Fc01, "01 00 07 00 01"},
@@ -29,10 +30,18 @@ TEST(RequestStorms, EachRequestIsItsFunctionsWellFormedRequest) {
         {StormKind::Fc04, "04 00 07 00 01"},
         {StormKind::Fc05, "05 00 07 FF 00"},
         {StormKind::Fc06, "06 00 07 12 34"},
+        {StormKind::Fc07, "07"},
         {StormKind::Fc08, "08 00 00 12 34"},
+        {StormKind::Fc0B, "0B"},
+        {StormKind::Fc0C, "0C"},
         {StormKind::Fc0F, "0F 00 07 00 01 01 01"},
         {StormKind::Fc10, "10 00 07 00 01 02 12 34"},
+        {StormKind::Fc11, "11"},
+        {StormKind::Fc14, "14 07 06 00 07 00 00 00 01"},
+        {StormKind::Fc15, "15 09 06 00 07 00 00 00 01 12 34"},
+        {StormKind::Fc16, "16 00 07 FF FF 00 00"},
         {StormKind::Fc17, "17 00 07 00 01 00 07 00 01 02 12 34"},
+        {StormKind::Fc18, "18 00 07"},
         {StormKind::Fc2B, "2B 0E 01 00"},
     };
     ASSERT_EQ(request_storms().size(), std::size(expected));
@@ -63,7 +72,8 @@ TEST(RequestStorms, EachRequestIsItsFunctionsWellFormedRequest) {
 
 Recon served_everything() {
     Recon recon;
-    recon.served = {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x08, 0x0F, 0x10, 0x17, 0x2B};
+    recon.served = {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x07, 0x08, 0x0B, 0x0C,
+                    0x0F, 0x10, 0x11, 0x14, 0x15, 0x16, 0x17, 0x18, 0x2B};
     recon.ranges.add(Table::Coils, {3, 5});
     recon.ranges.add(Table::InputRegisters, {30, 31});
     return recon;
@@ -81,6 +91,11 @@ TEST(RequestStorms, ReadsAimWhereTheDeviceAnsweredAndFc03AtTheMonitorsRegister) 
     EXPECT_EQ(to_hex(plan_request_storm(StormKind::Fc04, recon, policy, 50).pdu), "04 00 1E 00 01");
     EXPECT_EQ(to_hex(plan_request_storm(StormKind::Fc08, recon, policy, 50).pdu), "08 00 00 12 34");
     EXPECT_EQ(to_hex(plan_request_storm(StormKind::Fc2B, recon, policy, 50).pdu), "2B 0E 01 00");
+    for (auto kind : {StormKind::Fc07, StormKind::Fc0B, StormKind::Fc0C, StormKind::Fc11}) {
+        EXPECT_EQ(plan_request_storm(kind, recon, policy, 50).pdu,
+                  std::vector<std::uint8_t>{storm_words(kind).function});
+        EXPECT_FALSE(names_address(kind));
+    }
     EXPECT_EQ(to_hex(plan_request_storm(StormKind::Fc03, Recon{}, policy, 50).pdu),
               "03 00 32 00 01");
 }
@@ -196,6 +211,91 @@ TEST(RequestStorms, AWriteGoesToTheFirstPlaceThatTakesAWriteOfItsOwnValue) {
     EXPECT_EQ(plan.not_run, "coil 51 does not answer FC 01: no value to write back");
 }
 
+// A file or a FIFO is found by asking: the DUT file's first, then the usual places, the first
+// answered with data taken; none answered is not run, with the places tried.
+TEST(RequestStorms, FileAndFifoReadsGoWhereTheDeviceAnsweredData) {
+    auto recon = served_everything();
+    auto plan = plan_request_storm(StormKind::Fc14, recon, WritePolicy{}, 50);
+    EXPECT_EQ(plan.not_run, "");
+    EXPECT_TRUE(plan.pdu.empty());  // until a file answers
+    EXPECT_EQ(plan.places, (std::vector<std::uint16_t>{1, 2, 3, 4}));
+    recon.file_number = 3;
+    recon.fifo_address = 0x04DE;
+    EXPECT_EQ(plan_request_storm(StormKind::Fc14, recon, WritePolicy{}, 50).places,
+              (std::vector<std::uint16_t>{3, 1, 2, 4}));
+    plan = plan_request_storm(StormKind::Fc18, recon, WritePolicy{}, 50);
+    EXPECT_EQ(plan.places, (std::vector<std::uint16_t>{0x04DE, 0, 1, 100, 1000, 40000}));
+    std::vector<std::string> asked;
+    // Only FIFO 100 and file 2 answer with data.
+    const StormAsk device = [&](const std::vector<std::uint8_t>& pdu) {
+        asked.push_back(to_hex(pdu));
+        if (to_hex(pdu) == "18 00 64") return hex("18 00 04 00 01 00 07");
+        if (to_hex(pdu) == "14 07 06 00 02 00 00 00 01") return hex("14 04 03 06 00 09");
+        return hex(fmt::format("{:02X} 02", pdu[0] | 0x80));
+    };
+    choose_place(StormKind::Fc18, plan, device);
+    EXPECT_EQ(plan.not_run, "");
+    EXPECT_EQ(plan.address, 100);
+    EXPECT_EQ(to_hex(plan.pdu), "18 00 64");
+    EXPECT_EQ(asked, (std::vector<std::string>{"18 04 DE", "18 00 00", "18 00 01", "18 00 64"}));
+    EXPECT_TRUE(names_address(StormKind::Fc18));
+    EXPECT_FALSE(names_address(StormKind::Fc14));
+    plan = plan_request_storm(StormKind::Fc14, served_everything(), WritePolicy{}, 50);
+    choose_place(StormKind::Fc14, plan, device);
+    EXPECT_EQ(to_hex(plan.pdu), "14 07 06 00 02 00 00 00 01");
+    plan = plan_request_storm(StormKind::Fc18, served_everything(), WritePolicy{}, 50);
+    choose_place(StormKind::Fc18, plan, [](const std::vector<std::uint8_t>&) {
+        return std::optional<std::vector<std::uint8_t>>(hex("98 02"));
+    });
+    EXPECT_TRUE(plan.pdu.empty());
+    EXPECT_EQ(plan.not_run,
+              "no FIFO answered FC 18 with data at 0, 1, 100, 1000 or 40000 (a DUT file's "
+              "fifo_address names one: --dut)");
+    plan = plan_request_storm(StormKind::Fc14, served_everything(), WritePolicy{}, 50);
+    choose_place(StormKind::Fc14, plan, [](const std::vector<std::uint8_t>&) {
+        return std::optional<std::vector<std::uint8_t>>();
+    });
+    EXPECT_EQ(plan.not_run,
+              "no file answered FC 14 with data at 1, 2, 3 or 4 (a DUT file's file_number names "
+              "one: --dut)");
+}
+
+// FC 16 with AND FFFF, OR 0000 and FC 15 with the record read by FC 14 write back what is there;
+// both only where the policy lets a write go, FC 15 only with --allow-writes.
+TEST(RequestStorms, MaskAndFileRecordWritesLeaveTheValueAsItWas) {
+    const auto recon = served_everything();
+    const WritePolicy writable{false, WritableRange{50, 3}};
+    auto plan = plan_request_storm(StormKind::Fc16, recon, writable, 50);
+    EXPECT_EQ(plan.address, 51);
+    EXPECT_EQ(to_hex(plan.read_first), "03 00 33 00 01");
+    write_back(StormKind::Fc16, plan, hex("03 02 AB CD"));
+    EXPECT_EQ(to_hex(plan.pdu), "16 00 33 FF FF 00 00");
+    EXPECT_EQ(plan_request_storm(StormKind::Fc16, recon, WritePolicy{false, {{50, 1}}}, 50).not_run,
+              "no holding register it may write other than the monitor's register 50: "
+              "--writable START:COUNT (outside it) or --allow-writes lets it write one back");
+    EXPECT_EQ(plan_request_storm(StormKind::Fc15, recon, writable, 50).not_run,
+              "file records lie outside --writable (holding registers): only --allow-writes lets "
+              "FC 15 write one back");
+    plan = plan_request_storm(StormKind::Fc15, recon, WritePolicy{true, {}}, 50);
+    EXPECT_EQ(plan.not_run, "");
+    EXPECT_EQ(plan.address, 1);
+    EXPECT_EQ(to_hex(plan.read_first), "14 07 06 00 01 00 00 00 01");
+    auto failed = plan;
+    write_back(StormKind::Fc15, plan, hex("14 04 03 06 AB CD"));
+    EXPECT_EQ(to_hex(plan.pdu), "15 09 06 00 01 00 00 00 01 AB CD");
+    write_back(StormKind::Fc15, failed, hex("94 02"));
+    EXPECT_EQ(failed.not_run, "file 1 does not answer FC 14: no value to write back");
+    // File 1 refuses the write, file 2 takes it: the storm writes file 2's own value.
+    plan = plan_request_storm(StormKind::Fc15, recon, WritePolicy{true, {}}, 50);
+    choose_place(StormKind::Fc15, plan, [](const std::vector<std::uint8_t>& pdu) {
+        if (pdu[0] == 0x14) return hex(fmt::format("14 04 03 06 00 {:02X}", pdu[4]));
+        return pdu[4] == 1 ? hex("95 04") : pdu;
+    });
+    EXPECT_EQ(plan.not_run, "");
+    EXPECT_EQ(plan.address, 2);
+    EXPECT_EQ(to_hex(plan.pdu), "15 09 06 00 02 00 00 00 01 00 02");
+}
+
 TEST(RequestStorms, AWriteStormStreamsLikeFc03OnAManualClock) {
     test::ManualClock clock;
     StormCore core(StormKind::Fc06, 200, clock.now(), 1000ms);
@@ -219,16 +319,17 @@ TEST(RequestStorms, RequestsMakesALadderPerCodeAndTheUnservedAreSetAside) {
     ASSERT_TRUE(ladders);
     ASSERT_EQ(ladders->size(), request_storms().size());
     EXPECT_EQ((*ladders)[0].kind, StormKind::Fc01);
-    EXPECT_EQ((*ladders)[10].kind, StormKind::Fc2B);
-    EXPECT_EQ((*ladders)[10].rates, (std::vector<double>{100, 500}));
+    EXPECT_EQ((*ladders)[18].kind, StormKind::Fc2B);
+    EXPECT_EQ((*ladders)[18].rates, (std::vector<double>{100, 500}));
     EXPECT_EQ(parse_ladders("fc0f:10")->at(0).kind, StormKind::Fc0F);
     EXPECT_EQ(parse_ladders("100")->at(0).kind, StormKind::Fc03);
     EXPECT_EQ(parse_ladders("requests:5,1").error(),
               "--ladder 'requests:5,1': give rising rates per second, e.g. 100,500,1000");
-    EXPECT_EQ(parse_ladders("fc15:10").error(),
-              "--ladder 'fc15:10': 'fc15' is no storm (fc03, opens, slow-readers, half-open, "
-              "fc01, fc02, fc04, fc05, fc06, fc08, fc0f, fc10, fc17, fc2b, or requests: every "
-              "request storm)");
+    EXPECT_EQ(parse_ladders("fc15:10")->at(0).kind, StormKind::Fc15);
+    EXPECT_EQ(parse_ladders("fc5b:10").error(),
+              "--ladder 'fc5b:10': 'fc5b' is no storm (opens, slow-readers, half-open, fc01, "
+              "fc02, fc03, fc04, fc05, fc06, fc07, fc08, fc0b, fc0c, fc0f, fc10, fc11, fc14, "
+              "fc15, fc16, fc17, fc18, fc2b, or requests: every request storm)");
     Recon recon;
     recon.served = {0x01, 0x03, 0x06};
     const auto planned = plan_ladders({{StormKind::Fc01, {100, 500}},

@@ -115,9 +115,9 @@ TEST(StormLadder, RatesAloneAreFc03AndAKindNamesItsStorm) {
     EXPECT_EQ(parse_ladder("slow-readers:1,4")->kind, StormKind::SlowReaders);
     EXPECT_EQ(parse_ladder("opens:10")->kind, StormKind::Opens);
     EXPECT_EQ(parse_ladder("floods:10").error(),
-              "--ladder 'floods:10': 'floods' is no storm (fc03, opens, slow-readers, half-open, "
-              "fc01, fc02, fc04, fc05, fc06, fc08, fc0f, fc10, fc17, fc2b, or requests: every "
-              "request storm)");
+              "--ladder 'floods:10': 'floods' is no storm (opens, slow-readers, half-open, fc01, "
+              "fc02, fc03, fc04, fc05, fc06, fc07, fc08, fc0b, fc0c, fc0f, fc10, fc11, fc14, "
+              "fc15, fc16, fc17, fc18, fc2b, or requests: every request storm)");
     EXPECT_EQ(parse_ladder("opens:10,5").error(),
               "--ladder 'opens:10,5': give rising rates per second, e.g. 100,500,1000");
 }
