@@ -45,7 +45,10 @@ constexpr std::array<std::uint16_t, 4> kFileProbes{1, 2, 3, 4};
 
 // What a storm's place is called.
 const char* place_noun(StormKind kind) {
-    if (kind == StormKind::Fc05 || kind == StormKind::Fc0F) return "coil";
+    if (kind == StormKind::Fc01 || kind == StormKind::Fc05 || kind == StormKind::Fc0F)
+        return "coil";
+    if (kind == StormKind::Fc02) return "discrete input";
+    if (kind == StormKind::Fc04) return "input register";
     if (kind == StormKind::Fc14 || kind == StormKind::Fc15) return "file";
     return kind == StormKind::Fc18 ? "FIFO" : "holding register";
 }
@@ -240,9 +243,13 @@ RequestPlan plan_request_storm(StormKind kind, const Recon& recon, const WritePo
     }
     const auto table = table_of(function);
     if (!protocol::writes(function)) {
-        // A place the reconnaissance read with data, else 0, where the sample asks.
-        if (table && !recon.ranges.of(*table).empty())
-            plan.address = recon.ranges.of(*table).front().first;
+        // A place the reconnaissance read with data; without one, the usual places are asked
+        // before the storm, so that a storm of exception answers is never reported as held.
+        if (table && recon.ranges.of(*table).empty()) {
+            plan.places.assign(kProbeAddresses.begin(), kProbeAddresses.end());
+            return plan;
+        }
+        if (table) plan.address = recon.ranges.of(*table).front().first;
         plan.pdu = storm_request(kind, plan.address);
         return plan;
     }
@@ -341,10 +348,13 @@ void choose_read_place(StormKind kind, RequestPlan& plan, const StormAsk& ask) {
             return;
         }
     }
+    const bool declarable = kind == StormKind::Fc14 || kind == StormKind::Fc18;
     plan.not_run =
-        fmt::format("no {} answered FC {:02X} with data at {} (a DUT file's {} names one: --dut)",
-                    place_noun(kind), function, places_text(plan.places),
-                    kind == StormKind::Fc18 ? "fifo_address" : "file_number");
+        fmt::format("no {} answered FC {:02X} with data at {}{}", place_noun(kind), function,
+                    places_text(plan.places),
+                    !declarable               ? ""
+                    : kind == StormKind::Fc18 ? " (a DUT file's fifo_address names one: --dut)"
+                                              : " (a DUT file's file_number names one: --dut)");
 }
 
 void choose_place(StormKind kind, RequestPlan& plan, const StormAsk& ask) {

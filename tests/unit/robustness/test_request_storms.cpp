@@ -86,8 +86,22 @@ TEST(RequestStorms, ReadsAimWhereTheDeviceAnsweredAndFc03AtTheMonitorsRegister) 
     EXPECT_EQ(plan.not_run, "");
     EXPECT_EQ(to_hex(plan.pdu), "01 00 03 00 01");
     EXPECT_TRUE(plan.read_first.empty());
-    // Nothing answered with data: address 0, where the reconnaissance's sample asked.
-    EXPECT_EQ(to_hex(plan_request_storm(StormKind::Fc02, recon, policy, 50).pdu), "02 00 00 00 01");
+    // No discrete input answered with data in the reconnaissance: the usual places are asked
+    // first, and the storm reads the first that answers with data, not one answering 02.
+    plan = plan_request_storm(StormKind::Fc02, recon, policy, 50);
+    EXPECT_TRUE(plan.pdu.empty());
+    choose_place(StormKind::Fc02, plan, [](const std::vector<std::uint8_t>& pdu) {
+        return hex(pdu[1] == 0 && pdu[2] == 100 ? "02 01 01" : "82 02");
+    });
+    EXPECT_EQ(plan.not_run, "");
+    EXPECT_EQ(to_hex(plan.pdu), "02 00 64 00 01");
+    plan = plan_request_storm(StormKind::Fc02, recon, policy, 50);
+    choose_place(StormKind::Fc02, plan, [](const std::vector<std::uint8_t>&) {
+        return std::optional<std::vector<std::uint8_t>>(hex("82 02"));
+    });
+    EXPECT_TRUE(plan.pdu.empty());
+    EXPECT_EQ(plan.not_run,
+              "no discrete input answered FC 02 with data at 0, 1, 100, 1000 or 40000");
     EXPECT_EQ(to_hex(plan_request_storm(StormKind::Fc04, recon, policy, 50).pdu), "04 00 1E 00 01");
     EXPECT_EQ(to_hex(plan_request_storm(StormKind::Fc08, recon, policy, 50).pdu), "08 00 00 12 34");
     EXPECT_EQ(to_hex(plan_request_storm(StormKind::Fc2B, recon, policy, 50).pdu), "2B 0E 01 00");
