@@ -346,7 +346,7 @@ Outcome run_sunspec_accumulators(Session& session, const Case& c) {
             if (!later) {
                 tally.problems.push_back(point_name(model.id, point) + ": " +
                                          later.error().message);
-            } else if (device::sunspec_bits(*later) < device::sunspec_bits(point.words)) {
+            } else if (device::sunspec_accumulator_went_back(point.words, *later)) {
                 tally.problems.push_back(
                     fmt::format("{} went from {} down to {}", point_name(model.id, point),
                                 device::sunspec_bits(point.words), device::sunspec_bits(*later)));

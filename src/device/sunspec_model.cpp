@@ -122,6 +122,14 @@ std::uint64_t sunspec_bits(std::span<const std::uint16_t> words) {
     return raw;
 }
 
+bool sunspec_accumulator_went_back(std::span<const std::uint16_t> before,
+                                   std::span<const std::uint16_t> after) {
+    const std::size_t bits = 16 * std::min<std::size_t>(before.size(), 4);
+    const std::uint64_t range = bits >= 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << bits) - 1;
+    const std::uint64_t forward = (sunspec_bits(after) - sunspec_bits(before)) & range;
+    return forward > range / 2;
+}
+
 std::vector<std::uint16_t> sunspec_words(std::uint64_t raw, std::size_t size) {
     std::vector<std::uint16_t> words(size, 0);
     for (std::size_t i = 0; i < words.size() && i < 4; ++i)

@@ -103,6 +103,11 @@ bool is_sunspec_enum(SunSpecType type);
 // `raw` (registers beyond the fourth are 0).
 std::uint64_t sunspec_bits(std::span<const std::uint16_t> words);
 std::vector<std::uint16_t> sunspec_words(std::uint64_t raw, std::size_t size);
+// Whether an accumulator read as `before` and then `after` went back. Accumulators roll over at
+// their type's maximum, so a step forward across the wrap is an increase; only a step of more
+// than half the range forward, a step back, is a decrease.
+bool sunspec_accumulator_went_back(std::span<const std::uint16_t> before,
+                                   std::span<const std::uint16_t> after);
 
 // The value a point holds when the device does not implement it, as its registers.
 std::vector<std::uint16_t> not_implemented_words(const SunSpecPoint& point);

@@ -2,6 +2,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <vector>
 
 #include "device/sunspec_loader.hpp"
 
@@ -198,6 +199,22 @@ TEST(SunSpecModels, OwnDefinitionsAgreeWithTheOfficialOnes) {
         EXPECT_EQ(model.fixed_length, official->fixed_length) << "model " << id;
         expect_same_layout(model.group, official->group, "model " + std::to_string(id));
     }
+}
+
+// An accumulator that rolls over at its maximum went forward; one read lower by a small step, or
+// by more than half its range forward, went back.
+TEST(SunSpecModels, AnAccumulatorRollingOverIsNoStepBack) {
+    using Words = std::vector<std::uint16_t>;
+    EXPECT_FALSE(sunspec_accumulator_went_back(Words{10}, Words{10}));
+    EXPECT_FALSE(sunspec_accumulator_went_back(Words{10}, Words{11}));
+    EXPECT_FALSE(sunspec_accumulator_went_back(Words{0xFFFE}, Words{0x0003}));  // acc16 wraps
+    EXPECT_TRUE(sunspec_accumulator_went_back(Words{11}, Words{10}));
+    EXPECT_TRUE(sunspec_accumulator_went_back(Words{0x0003}, Words{0xFFFE}));
+    EXPECT_FALSE(sunspec_accumulator_went_back(Words{0xFFFF, 0xFFF0}, Words{0x0000, 0x0010}));
+    EXPECT_TRUE(sunspec_accumulator_went_back(Words{0x0001, 0x0000}, Words{0x0000, 0xFFFF}));
+    EXPECT_FALSE(sunspec_accumulator_went_back(Words{0xFFFF, 0xFFFF, 0xFFFF, 0xFFFF},
+                                               Words{0, 0, 0, 5}));  // acc64 wraps
+    EXPECT_TRUE(sunspec_accumulator_went_back(Words{0, 0, 1, 0}, Words{0, 0, 0, 9}));
 }
 
 }  // namespace
