@@ -27,9 +27,7 @@ std::string FuzzMonitor::check(const MonitorChoice& choice) {
     if (const auto spec = rb::parse_monitor_spec(choice.spec, {}); !spec) return spec.error();
     if (!choice.ladder.empty() && choice.spec.empty())
         return "--ladder needs --monitor: the ladder reports the rate it held at";
-    for (const auto& text : choice.ladder) {
-        if (const auto ladder = rb::parse_ladders(text); !ladder) return ladder.error();
-    }
+    if (const auto ladders = rb::parse_ladders(choice.ladder); !ladders) return ladders.error();
     return {};
 }
 
@@ -58,18 +56,14 @@ protocol::Result<std::unique_ptr<FuzzMonitor>, std::string> FuzzMonitor::make(
             "read-only",
             spec->address);
     }
-    std::vector<rb::Ladder> ladders;
-    for (const auto& text : choice.ladder) {
-        auto parsed = rb::parse_ladders(text);
-        if (!parsed) return parsed.error();
-        for (auto& ladder : *parsed) {
-            if (ladder.kind == rb::StormKind::HalfOpen && !client::RawLink::can_vanish())
-                return fmt::format(
-                    "--ladder '{}': leaving a connection half-open needs CAP_NET_ADMIN (TCP "
-                    "repair mode), which this process lacks",
-                    text);
-            ladders.push_back(std::move(ladder));
-        }
+    auto parsed = rb::parse_ladders(choice.ladder);
+    if (!parsed) return parsed.error();
+    std::vector<rb::Ladder> ladders = std::move(parsed).value();
+    for (const auto& ladder : ladders) {
+        if (ladder.kind == rb::StormKind::HalfOpen && !client::RawLink::can_vanish())
+            return std::string(
+                "--ladder half-open: leaving a connection half-open needs CAP_NET_ADMIN (TCP "
+                "repair mode), which this process lacks");
     }
     rb::StormTarget storms;
     storms.dial = [target, timeout] { return client::open_link(target, timeout, nullptr); };

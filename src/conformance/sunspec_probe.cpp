@@ -2,8 +2,11 @@
 
 #include <fmt/core.h>
 
+#include <thread>
+
 #include "device/profile_paths.hpp"
 #include "device/sunspec_loader.hpp"
+#include "protocol/mbap_header.hpp"
 
 namespace mblab::conformance {
 
@@ -12,6 +15,8 @@ namespace {
 constexpr std::uint8_t kReadHolding = 0x03;
 constexpr std::uint8_t kWriteMultiple = 0x10;
 constexpr std::uint8_t kBroadcast = 0;
+constexpr int kBusyAttempts = 5;
+constexpr std::chrono::milliseconds kBusyPause{50};
 
 void put16(std::vector<std::uint8_t>& out, std::uint32_t value) {
     out.push_back(static_cast<std::uint8_t>(value >> 8));
@@ -51,12 +56,24 @@ SunSpecProbe::SunSpecProbe(Session& session) : session_(session) {
 
 client::CallResult<std::vector<std::uint8_t>> SunSpecProbe::ask(
     const std::vector<std::uint8_t>& pdu, std::optional<std::chrono::milliseconds> quiet) {
-    std::vector<std::uint8_t> frame;
-    put16(frame, ++transaction_);
-    put16(frame, 0);
-    put16(frame, pdu.size() + 1);
-    frame.push_back(quiet ? kBroadcast : session_.dut().unit);
-    frame.insert(frame.end(), pdu.begin(), pdu.end());
+    // Exception 06 asks the client to send the request again later ([APP] 7): a busy device is
+    // asked again, a little later each time, before its answer counts.
+    for (int attempt = 1;; ++attempt) {
+        auto answer = ask_once(pdu, quiet);
+        if (answer || answer.error().exception != protocol::ExceptionCode::ServerDeviceBusy ||
+            attempt == kBusyAttempts) {
+            return answer;
+        }
+        std::this_thread::sleep_for(kBusyPause * attempt);
+    }
+}
+
+client::CallResult<std::vector<std::uint8_t>> SunSpecProbe::ask_once(
+    const std::vector<std::uint8_t>& pdu, std::optional<std::chrono::milliseconds> quiet) {
+    const protocol::AduHeader header{protocol::Framing::Mbap,
+                                     quiet ? kBroadcast : session_.dut().unit, ++transaction_};
+    std::vector<std::uint8_t> frame(protocol::adu_size(protocol::Framing::Mbap, pdu.size()));
+    protocol::write_adu(header, pdu, frame);
     Exchange exchange;
     exchange.sent = frame;
     client::LinkError link_error;
@@ -76,11 +93,14 @@ client::CallResult<std::vector<std::uint8_t>> SunSpecProbe::ask(
         if (received.status == client::ReceiveStatus::Timeout) return std::vector<std::uint8_t>{};
         return error(client::ErrorKind::BadAnswer, "a broadcast was answered");
     }
-    if (received.status != client::ReceiveStatus::Frame || received.bytes.size() < 8) {
+    const auto adu = received.status == client::ReceiveStatus::Frame
+                         ? protocol::read_mbap_frame(received.bytes)
+                         : std::nullopt;
+    if (!adu || adu->pdu.empty()) {
         return error(client::ErrorKind::Timeout,
                      received.detail.empty() ? "no answer" : received.detail);
     }
-    std::vector<std::uint8_t> answer(received.bytes.begin() + 7, received.bytes.end());
+    std::vector<std::uint8_t> answer(adu->pdu.begin(), adu->pdu.end());
     if ((answer[0] & 0x7F) != pdu[0]) {
         return error(
             client::ErrorKind::BadAnswer,

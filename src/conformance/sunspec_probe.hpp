@@ -51,6 +51,8 @@ class SunSpecProbe {
   private:
     client::CallResult<std::vector<std::uint8_t>> ask(
         const std::vector<std::uint8_t>& pdu, std::optional<std::chrono::milliseconds> quiet = {});
+    client::CallResult<std::vector<std::uint8_t>> ask_once(
+        const std::vector<std::uint8_t>& pdu, std::optional<std::chrono::milliseconds> quiet);
 
     Session& session_;
     std::map<std::uint16_t, device::SunSpecModel> models_;

@@ -68,6 +68,16 @@ bool reads_back(SunSpecProbe& probe, const SunSpecPointReading& point,
     }
 }
 
+// "02, 03 or 04".
+std::string one_of(std::span<const protocol::ExceptionCode> codes) {
+    std::string text;
+    for (std::size_t i = 0; i < codes.size(); ++i) {
+        if (i > 0) text += i + 1 == codes.size() ? " or " : ", ";
+        text += fmt::format("{:02X}", static_cast<int>(codes[i]));
+    }
+    return text;
+}
+
 // Writes `value`, which the device must refuse, and checks the point kept its value; the
 // point's value is put back when the device took it. With `codes`, the refusal must be one of
 // those exceptions.
@@ -89,7 +99,7 @@ std::optional<std::string> refused(SunSpecProbe& probe, const std::string& name,
     }
     if (!codes.empty() &&
         std::find(codes.begin(), codes.end(), written.error().exception) == codes.end()) {
-        return name + " answered " + written.error().message + ", which is not 02, 03 or 04";
+        return name + " answered " + written.error().message + ", which is not " + one_of(codes);
     }
     if (!after) return name + " read after the refused write: " + after.error().message;
     if (*after != point.words) return name + " changed although the write was refused";

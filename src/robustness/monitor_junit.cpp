@@ -18,7 +18,21 @@ std::string during_text(const MonitorJudgement& judged, const MonitorPhase& phas
     return out;
 }
 
-// A test case per storm: failed where a rung lost the monitor, skipped where it did not run.
+std::string missed_words(const PhaseJudgement& p) {
+    return fmt::format("{} of {} cycles missed ({:.1f}%)", p.missed, p.cycles, p.missed_percent);
+}
+
+// Whether `phase` is a rung of the ladder: a rung is judged in its storm's case, so that one
+// loss is one failure.
+bool is_rung(const std::string& phase, const std::vector<LadderRung>& rungs) {
+    for (const auto& rung : rungs) {
+        if (phase == storm_phase_name(rung.kind, rung.rate)) return true;
+    }
+    return false;
+}
+
+// A test case per storm: failed where a rung lost the monitor, with that rung's missed cycles;
+// skipped where it did not run.
 std::string storm_cases(const MonitorJudgement& judged, const std::vector<LadderRung>& rungs,
                         const std::vector<StormNotRun>& not_run, JunitSuite& out) {
     using conformance::xml_escape;
@@ -30,8 +44,14 @@ std::string storm_cases(const MonitorJudgement& judged, const std::vector<Ladder
                              storm_key(s.kind));
         if (s.lost_at) {
             ++out.failures;
-            cases += fmt::format("\n      <failure message=\"{}\" type=\"monitor lost\"/>\n    ",
-                                 xml_escape(words));
+            std::string detail;
+            const auto rung = storm_phase_name(s.kind, *s.lost_at);
+            for (const auto& p : judged.phases) {
+                if (p.phase.name == rung) detail = rung + ": " + missed_words(p);
+            }
+            cases += fmt::format(
+                "\n      <failure message=\"{}\" type=\"monitor lost\">{}</failure>\n    ",
+                xml_escape(words), xml_escape(detail));
         } else {
             cases += fmt::format("\n      <system-out>{}</system-out>\n    ", xml_escape(words));
         }
@@ -56,6 +76,7 @@ JunitSuite monitor_junit_suite(const MonitorJudgement& judged, const std::vector
     JunitSuite out;
     std::string cases;
     for (const auto& p : judged.phases) {
+        if (is_rung(p.phase.name, rungs)) continue;
         const double seconds =
             static_cast<double>(
                 std::chrono::duration_cast<std::chrono::milliseconds>(p.phase.end - p.phase.begin)
@@ -68,8 +89,7 @@ JunitSuite monitor_junit_suite(const MonitorJudgement& judged, const std::vector
             ++out.failures;
             cases += fmt::format(
                 "\n      <failure message=\"{}\" type=\"monitor lost\">{}</failure>\n    ",
-                xml_escape(fmt::format("{} of {} cycles missed ({:.1f}%)", p.missed, p.cycles,
-                                       p.missed_percent)),
+                xml_escape(missed_words(p)),
                 xml_escape(p.phase.requirement + during_text(judged, p.phase)));
         }
         cases += "</testcase>\n";

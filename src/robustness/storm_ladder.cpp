@@ -162,6 +162,27 @@ protocol::Result<std::vector<Ladder>, std::string> parse_ladders(const std::stri
     return out;
 }
 
+protocol::Result<std::vector<Ladder>, std::string> parse_ladders(
+    std::span<const std::string> texts) {
+    std::vector<Ladder> out;
+    for (const auto& text : texts) {
+        auto parsed = parse_ladders(text);
+        if (!parsed) return parsed.error();
+        for (auto& ladder : *parsed) {
+            for (const auto& earlier : out) {
+                if (earlier.kind == ladder.kind) {
+                    return fmt::format(
+                        "--ladder '{}': the {} storm is already on the ladder; give each storm "
+                        "once",
+                        text, storm_key(ladder.kind));
+                }
+            }
+            out.push_back(std::move(ladder));
+        }
+    }
+    return out;
+}
+
 protocol::Result<Ladder, std::string> parse_ladder(const std::string& text) {
     Ladder ladder;
     std::string rates = text;

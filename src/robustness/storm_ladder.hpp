@@ -53,6 +53,10 @@ protocol::Result<Ladder, std::string> parse_ladder(const std::string& text);
 // As parse_ladder, and `requests:RATES`: the same rates for every request storm, in the order of
 // their function codes.
 protocol::Result<std::vector<Ladder>, std::string> parse_ladders(const std::string& text);
+// Every --ladder given, in order. A storm named twice (fc06 twice, or fc06 and `requests`) is
+// refused: a storm has one verdict, and a second ladder of it would overwrite the first's.
+protocol::Result<std::vector<Ladder>, std::string> parse_ladders(
+    std::span<const std::string> texts);
 protocol::Result<std::vector<double>, std::string> parse_rates(const std::string& text);
 
 }  // namespace mblab::robustness

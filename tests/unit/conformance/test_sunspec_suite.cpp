@@ -97,6 +97,20 @@ TEST(SunSpecSuite, TheBuiltInInverterPassesEveryCaseOverRtu) {
               "1.DA = 1 written; a broadcast write of 121.WMax applied, unanswered");
 }
 
+// Exception 06 asks for the request again later ([APP] 7): a device busy on every second write
+// is asked again and passes; it is not judged by its busy answers.
+TEST(SunSpecSuite, ABusyDeviceIsAskedAgain) {
+    const auto outcomes = run_sunspec(changed("max_read_registers = 125\n",
+                                              "max_read_registers = 125\n\n[[unit.faults]]\n"
+                                              "action = \"exception\"\nexception = 6\n"
+                                              "functions = [16]\nevery = 2\n"));
+    ASSERT_EQ(outcomes.size(), 16U);
+    for (const auto& [id, outcome] : outcomes) {
+        EXPECT_EQ(outcome.verdict, id == kLine ? Verdict::NotApplicable : Verdict::Pass)
+            << id << ": " << outcome.reason;
+    }
+}
+
 struct WrongDevice {
     const char* name;
     const char* from;

@@ -70,13 +70,22 @@ TEST_F(SunSpecBehaviours, NegativeScaleFactorsOnSignedAndUnsignedPoints) {
 }
 
 // WH (acc32, WH_SF = 1): 1000000 Wh is 100000 in two registers, high word first, both written
-// in one update; past its max an accumulator stays there instead of wrapping.
-TEST_F(SunSpecBehaviours, AccumulatorCountsUpAndNeverWraps) {
+// in one update; past a max of its own an accumulator stays there instead of wrapping.
+TEST_F(SunSpecBehaviours, AccumulatorCountsUpAndStopsAtItsOwnMax) {
     load(
         R"(behaviours = [{ point = "WH", kind = "counter", start = 1000000, max = 1000020, step = 10 }])");
     expect_trace(
         "03 00 5E 00 02",
         {{0ms, "03 04 00 01 86 A0"}, {1000ms, "03 04 00 01 86 A1"}, {5000ms, "03 04 00 01 86 A2"}});
+}
+
+// Without a max of its own, WH (acc32) rolls over at the type's end to its lowest value, 1 (0 is
+// "not implemented"), as a meter's register does.
+TEST_F(SunSpecBehaviours, AccumulatorRollsOverAtItsTypesEnd) {
+    load(R"(behaviours = [{ point = "WH", kind = "counter", start = 42949672940, step = 10 }])");
+    expect_trace(
+        "03 00 5E 00 02",
+        {{0ms, "03 04 FF FF FF FE"}, {1000ms, "03 04 FF FF FF FF"}, {2000ms, "03 04 00 00 00 01"}});
 }
 
 // An accumulator's counter starts above 0 by default: 0 is its "not implemented" value.

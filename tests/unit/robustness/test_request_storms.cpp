@@ -328,6 +328,24 @@ TEST(RequestStorms, AWriteStormStreamsLikeFc03OnAManualClock) {
               "basic objects, answers never waited for");
 }
 
+// One verdict per storm: a storm named twice, by its key or through `requests`, is refused; a
+// bare rate list is FC 03's.
+TEST(RequestStorms, AStormNamedTwiceIsRefused) {
+    using Texts = std::vector<std::string>;
+    const auto both = parse_ladders(Texts{"fc06:10", "opens:5,50"});
+    ASSERT_TRUE(both);
+    ASSERT_EQ(both->size(), 2U);
+    EXPECT_EQ((*both)[1].kind, StormKind::Opens);
+    EXPECT_EQ(parse_ladders(Texts{"fc06:10", "fc06:20"}).error(),
+              "--ladder 'fc06:20': the fc06 storm is already on the ladder; give each storm once");
+    EXPECT_EQ(parse_ladders(Texts{"fc06:10", "requests:100"}).error(),
+              "--ladder 'requests:100': the fc06 storm is already on the ladder; give each "
+              "storm once");
+    EXPECT_EQ(parse_ladders(Texts{"100", "fc03:200"}).error(),
+              "--ladder 'fc03:200': the fc03 storm is already on the ladder; give each storm "
+              "once");
+}
+
 TEST(RequestStorms, RequestsMakesALadderPerCodeAndTheUnservedAreSetAside) {
     const auto ladders = parse_ladders("requests:100,500");
     ASSERT_TRUE(ladders);
