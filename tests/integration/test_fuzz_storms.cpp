@@ -209,5 +209,12 @@ TEST(FuzzStormUsage, AnUnknownStormIsOneLineBeforeConnecting) {
                  "storm)\n");
 }
 
+TEST(FuzzStormUsage, AStormNamedTwiceIsOneLineBeforeConnecting) {
+    expect_usage({"fuzz", "tcp://127.0.0.1:1", "--monitor", "period=100", "--ladder", "fc06:10",
+                  "--ladder", "requests:100"},
+                 "mblab fuzz: --ladder 'requests:100': the fc06 storm is already on the ladder; "
+                 "give each storm once\n");
+}
+
 }  // namespace
 }  // namespace mblab::test
