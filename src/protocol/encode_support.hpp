@@ -5,6 +5,7 @@
 
 #include "protocol/cursor.hpp"
 #include "protocol/request.hpp"
+#include "protocol/shared_fields.hpp"
 
 // Encoding support shared by the request and response codecs (not part of the public API).
 namespace mblab::protocol::detail {
@@ -36,5 +37,33 @@ inline bool put_object_messaging_header(WriteCursor& out, const ObjectMessagingH
     out.put_u16(message.service_code);
     return true;
 }
+
+// Writes the fields after the function code of the layouts both directions share; the request
+// and response writers add their own messages. False when a length does not fit its count field.
+struct SharedBodyWriter {
+    WriteCursor& out;
+
+    template <FunctionCode Code>
+    bool operator()(const AddressValue<Code>& m) const {
+        return put_words(out, m.address, m.value);
+    }
+    bool operator()(const DiagnosticsFields& m) const {
+        put_words(out, m.sub_function);
+        out.put_bytes(m.data);
+        return true;
+    }
+    bool operator()(const MaskWriteFields& m) const {
+        return put_words(out, m.address, m.and_mask, m.or_mask);
+    }
+    bool operator()(const CanopenFields& m) const {
+        out.put_u8(m.mei_type);
+        out.put_bytes(m.data);
+        return true;
+    }
+    bool operator()(const RawFields& m) const {
+        out.put_bytes(m.data);
+        return true;
+    }
+};
 
 }  // namespace mblab::protocol::detail

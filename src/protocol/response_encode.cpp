@@ -10,26 +10,15 @@ namespace {
 constexpr std::size_t kEventLogHeader = 6;  // status, event count, message count
 
 // Writes the fields after the function code. False when a length does not fit its count field.
-struct ResponseBodyWriter {
-    WriteCursor& out;
+struct ResponseBodyWriter : detail::SharedBodyWriter {
+    using SharedBodyWriter::operator();
 
     bool operator()(const ReadBitsResponse& r) const { return detail::put_counted(out, r.packed); }
     bool operator()(const ReadRegistersResponse& r) const {
         return detail::put_counted(out, r.values.bytes());
     }
-    bool operator()(const WriteSingleCoilResponse& r) const {
-        return detail::put_words(out, r.address, r.value);
-    }
-    bool operator()(const WriteSingleRegisterResponse& r) const {
-        return detail::put_words(out, r.address, r.value);
-    }
     bool operator()(const ReadExceptionStatusResponse& r) const {
         out.put_u8(r.status);
-        return true;
-    }
-    bool operator()(const DiagnosticsResponse& r) const {
-        detail::put_words(out, r.sub_function);
-        out.put_bytes(r.data);
         return true;
     }
     bool operator()(const GetCommEventCounterResponse& r) const {
@@ -43,10 +32,8 @@ struct ResponseBodyWriter {
         out.put_bytes(r.events);
         return true;
     }
-    bool operator()(const WriteMultipleCoilsResponse& r) const {
-        return detail::put_words(out, r.address, r.quantity);
-    }
-    bool operator()(const WriteMultipleRegistersResponse& r) const {
+    template <FunctionCode Code>
+    bool operator()(const AddressQuantity<Code>& r) const {
         return detail::put_words(out, r.address, r.quantity);
     }
     bool operator()(const ReportServerIdResponse& r) const {
@@ -57,9 +44,6 @@ struct ResponseBodyWriter {
     }
     bool operator()(const WriteFileRecordResponse& r) const {
         return detail::put_counted(out, r.sub_requests);
-    }
-    bool operator()(const MaskWriteRegisterResponse& r) const {
-        return detail::put_words(out, r.address, r.and_mask, r.or_mask);
     }
     bool operator()(const ReadWriteMultipleRegistersResponse& r) const {
         return detail::put_counted(out, r.values.bytes());
@@ -82,11 +66,6 @@ struct ResponseBodyWriter {
         out.put_bytes(r.objects);
         return true;
     }
-    bool operator()(const EncapsulatedResponse& r) const {
-        out.put_u8(r.mei_type);
-        out.put_bytes(r.data);
-        return true;
-    }
     bool operator()(const ObjectMessagingResponse& r) const {
         const std::size_t fragment =
             limits::kMinObjectMessagingResponseFragment + r.parameters.size();
@@ -97,10 +76,6 @@ struct ResponseBodyWriter {
     }
     bool operator()(const ExceptionResponse& r) const {
         out.put_u8(static_cast<std::uint8_t>(r.code));
-        return true;
-    }
-    bool operator()(const RawResponse& r) const {
-        out.put_bytes(r.data);
         return true;
     }
 };
@@ -116,7 +91,7 @@ std::uint8_t function_of(const Response& response) {
 
 bool encode_response(const Response& response, WriteCursor& out) {
     out.put_u8(function_of(response));
-    return std::visit(ResponseBodyWriter{out}, response) && out.ok();
+    return std::visit(ResponseBodyWriter{{out}}, response) && out.ok();
 }
 
 bool encode_exception(std::uint8_t function, ExceptionCode code, WriteCursor& out) {
