@@ -1,11 +1,15 @@
 #pragma once
 
+#include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 #include "protocol/field_reader.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/request.hpp"
+#include "support/hex_digits.hpp"
 
 // Checks that requests and their echoing responses share (not part of the public API).
 namespace mblab::protocol::detail {
@@ -16,18 +20,50 @@ struct QuantityLimit {
     const char* reason = "";
 };
 
-inline constexpr QuantityLimit kReadBitsLimit{limits::kMaxReadBits, "quantity",
-                                              "must be 1..2000 (0x0001..0x07D0)"};
-inline constexpr QuantityLimit kReadRegistersLimit{limits::kMaxReadRegisters, "quantity",
-                                                   "must be 1..125 (0x0001..0x007D)"};
-inline constexpr QuantityLimit kWriteCoilsLimit{limits::kMaxWriteCoils, "quantity",
-                                                "must be 1..1968 (0x0001..0x07B0)"};
-inline constexpr QuantityLimit kWriteRegistersLimit{limits::kMaxWriteRegisters, "quantity",
-                                                    "must be 1..123 (0x0001..0x007B)"};
-inline constexpr QuantityLimit kReadWriteReadLimit{limits::kMaxReadWriteRead, "quantity to read",
-                                                   "must be 1..125 (0x0001..0x007D)"};
-inline constexpr QuantityLimit kReadWriteWriteLimit{limits::kMaxReadWriteWrite, "quantity to write",
-                                                    "must be 1..121 (0x0001..0x0079)"};
+// "must be 1..125 (0x0001..0x007D)", spelled from the limit so that the two cannot disagree.
+template <std::uint16_t Max>
+struct QuantityReason {
+    std::array<char, 34> text{};  // room for "must be 1..65535 (0x0001..0xFFFF)" and a NUL
+
+    constexpr QuantityReason() {
+        std::size_t at = 0;
+        const auto put = [&](std::string_view part) {
+            for (const char c : part)
+                text[at++] = c;
+        };
+        put("must be 1..");
+        std::array<char, 5> decimal{};
+        std::size_t digits = 0;
+        for (std::uint16_t rest = Max; rest != 0 || digits == 0; rest /= 10)
+            decimal[digits++] = static_cast<char>('0' + rest % 10);
+        while (digits > 0)
+            text[at++] = decimal[--digits];
+        put(" (0x0001..0x");
+        for (int shift = 12; shift >= 0; shift -= 4)
+            text[at++] = kHexDigits[(Max >> shift) & 0xF];
+        put(")");
+    }
+};
+
+template <std::uint16_t Max>
+inline constexpr QuantityReason<Max> kQuantityReason{};
+
+template <std::uint16_t Max>
+constexpr QuantityLimit quantity_limit(const char* field) {
+    return {Max, field, kQuantityReason<Max>.text.data()};
+}
+
+inline constexpr QuantityLimit kReadBitsLimit = quantity_limit<limits::kMaxReadBits>("quantity");
+inline constexpr QuantityLimit kReadRegistersLimit =
+    quantity_limit<limits::kMaxReadRegisters>("quantity");
+inline constexpr QuantityLimit kWriteCoilsLimit =
+    quantity_limit<limits::kMaxWriteCoils>("quantity");
+inline constexpr QuantityLimit kWriteRegistersLimit =
+    quantity_limit<limits::kMaxWriteRegisters>("quantity");
+inline constexpr QuantityLimit kReadWriteReadLimit =
+    quantity_limit<limits::kMaxReadWriteRead>("quantity to read");
+inline constexpr QuantityLimit kReadWriteWriteLimit =
+    quantity_limit<limits::kMaxReadWriteWrite>("quantity to write");
 
 // Bytes that `count` packed bits take on the wire.
 constexpr std::size_t packed_size(std::size_t count) {
