@@ -47,11 +47,8 @@ struct RequestBodyWriter : detail::SharedBodyWriter {
         return true;
     }
     bool operator()(const ObjectMessagingRequest& r) const {
-        const std::size_t fragment =
-            limits::kMinObjectMessagingRequestFragment + r.parameters.size();
-        if (!detail::put_object_messaging_header(out, r, fragment)) return false;
-        out.put_bytes(r.parameters);
-        return true;
+        return detail::put_object_messaging(out, r, limits::kMinObjectMessagingRequestFragment,
+                                            r.parameters);
     }
 };
 

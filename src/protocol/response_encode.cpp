@@ -67,12 +67,8 @@ struct ResponseBodyWriter : detail::SharedBodyWriter {
         return true;
     }
     bool operator()(const ObjectMessagingResponse& r) const {
-        const std::size_t fragment =
-            limits::kMinObjectMessagingResponseFragment + r.parameters.size();
-        if (!detail::put_object_messaging_header(out, r, fragment)) return false;
-        detail::put_words(out, r.error_code);
-        out.put_bytes(r.parameters);
-        return true;
+        return detail::put_object_messaging(out, r, limits::kMinObjectMessagingResponseFragment,
+                                            r.parameters, r.error_code);
     }
     bool operator()(const ExceptionResponse& r) const {
         out.put_u8(static_cast<std::uint8_t>(r.code));
