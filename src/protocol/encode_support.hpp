@@ -56,6 +56,9 @@ struct SharedBodyWriter {
         out.put_bytes(m.data);
         return true;
     }
+    bool operator()(const WriteFileRecordFields& m) const {
+        return put_counted(out, m.sub_requests);
+    }
     bool operator()(const MaskWriteFields& m) const {
         return put_words(out, m.address, m.and_mask, m.or_mask);
     }

@@ -5,10 +5,15 @@
 #include <cstdint>
 #include <span>
 #include <string_view>
+#include <type_traits>
+#include <variant>
 
+#include "protocol/direction.hpp"
 #include "protocol/field_reader.hpp"
+#include "protocol/file_record.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/request.hpp"
+#include "protocol/shared_fields.hpp"
 #include "support/hex_digits.hpp"
 
 // Checks that requests and their echoing responses share (not part of the public API).
@@ -82,38 +87,70 @@ void check_coil_value(FieldReader& reader, std::uint16_t value);
 // FC 08: an unknown sub-function is 01 ([APP] figure 18); sub-function 00 echoes any data, the
 // others carry one 2-byte field. A request's field must hold the value [APP] 6.8.1 lists; a
 // response's field is checked only where the response echoes the request.
-enum class Direction : std::uint8_t { Request, Response };
 void check_diagnostic(FieldReader& reader, std::uint16_t sub, std::span<const std::uint8_t> data,
                       Direction direction);
 
 // FC 2B / 0E read device id code 01..04, else 03.
 void check_read_device_id_code(FieldReader& reader, std::uint8_t code);
 
-// Messages whose response echoes the request field for field: one reader serves both.
-template <class Message>  // 05
-void read_write_single_coil(FieldReader& reader, Message& message) {
-    reader.u16(message.address, "output address").u16(message.value, "output value").end();
-    check_coil_value(reader, message.value);
-}
-template <class Message>  // 06
-void read_write_single_register(FieldReader& reader, Message& message) {
-    reader.u16(message.address, "register address").u16(message.value, "register value").end();
-}
-template <class Message>  // 16
-void read_mask_write_register(FieldReader& reader, Message& message) {
-    reader.u16(message.address, "reference address")
-        .u16(message.and_mask, "and mask")
-        .u16(message.or_mask, "or mask")
-        .end();
+// The alternative of a variant that is built on `Layout` (shared_fields.hpp).
+template <class Layout, class Message, class... Rest>
+constexpr auto built_on(std::type_identity<std::variant<Message, Rest...>>) {
+    if constexpr (std::is_base_of_v<Layout, Message>) {
+        return std::type_identity<Message>{};
+    } else {
+        return built_on<Layout>(std::type_identity<std::variant<Rest...>>{});
+    }
 }
 
-// Decodes a message whose fields `read` reads, into either variant.
-template <class Variant, class Message>
-Result<Variant> decode_fixed(FieldReader& reader, void (*read)(FieldReader&, Message&)) {
-    Message message;
-    read(reader, message);
-    return finish<Variant>(reader, message);
-}
+// Decoders of the layouts that a request and its response share, for the side whose variant is
+// `Variant`: the request and response decoders derive from it.
+template <class Variant, Direction Way>
+struct SharedDecoders {
+    template <class Layout>
+    using Message = typename decltype(built_on<Layout>(std::type_identity<Variant>{}))::type;
+
+    static Result<Variant> write_single_coil(FieldReader& in) {  // 05
+        Message<AddressValue<FunctionCode::WriteSingleCoil>> message;
+        in.u16(message.address, "output address").u16(message.value, "output value").end();
+        check_coil_value(in, message.value);
+        return finish<Variant>(in, message);
+    }
+    static Result<Variant> write_single_register(FieldReader& in) {  // 06
+        Message<AddressValue<FunctionCode::WriteSingleRegister>> message;
+        in.u16(message.address, "register address").u16(message.value, "register value").end();
+        return finish<Variant>(in, message);
+    }
+    static Result<Variant> diagnostics(FieldReader& in) {  // 08
+        Message<DiagnosticsFields> message;
+        in.u16(message.sub_function, "sub-function").rest(message.data);
+        check_diagnostic(in, message.sub_function, message.data, Way);
+        return finish<Variant>(in, message);
+    }
+    static Result<Variant> write_file_record(FieldReader& in) {  // 15
+        Message<WriteFileRecordFields> message;
+        write_file_record_body(in, message.sub_requests);
+        return finish<Variant>(in, message);
+    }
+    // 2B with an MEI type other than 0E: `not_canopen` is the direction's error for one other
+    // than 0D.
+    static Result<Variant> canopen(FieldReader& in, std::uint8_t mei_type,
+                                   const DecodeError& not_canopen) {
+        in.require(mei_type == kMeiCanopen, not_canopen);
+        Message<CanopenFields> message;
+        message.mei_type = mei_type;
+        in.rest(message.data);
+        return finish<Variant>(in, message);
+    }
+    static Result<Variant> mask_write_register(FieldReader& in) {  // 16
+        Message<MaskWriteFields> message;
+        in.u16(message.address, "reference address")
+            .u16(message.and_mask, "and mask")
+            .u16(message.or_mask, "or mask")
+            .end();
+        return finish<Variant>(in, message);
+    }
+};
 
 // FC 5B, request or response: the fragment byte count counts every byte after it (CTP
 // 7.13.1.4) and must cover at least the fields both directions carry.

@@ -63,9 +63,7 @@ struct FileRecordData {
     RegisterView data;
 };
 
-struct WriteFileRecordRequest {  // 15; sub-requests of 7 + 2*length bytes, already validated
-    static constexpr FunctionCode kFunction = FunctionCode::WriteFileRecord;
-    std::span<const std::uint8_t> sub_requests;
+struct WriteFileRecordRequest : WriteFileRecordFields {
     // Walks the validated sub-requests; returns false after the last.
     bool next(std::size_t& offset, FileRecordData& out) const;
 };

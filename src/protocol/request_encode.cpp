@@ -30,9 +30,6 @@ struct RequestBodyWriter : detail::SharedBodyWriter {
     bool operator()(const ReadFileRecordRequest& r) const {
         return detail::put_counted(out, r.sub_requests);
     }
-    bool operator()(const WriteFileRecordRequest& r) const {
-        return detail::put_counted(out, r.sub_requests);
-    }
     bool operator()(const ReadWriteMultipleRegistersRequest& r) const {
         detail::put_words(out, r.read_address, r.read_quantity, r.write_address, r.write_quantity);
         return detail::put_counted(out, r.values.bytes());

@@ -69,10 +69,7 @@ struct ReadFileRecordResponse {  // 14: sub-responses (length, reference type 6,
 // that ReadFileRecordResponse::sub_responses then views.
 void encode_file_record_sub_response(WriteCursor& out, RegisterView data);
 
-struct WriteFileRecordResponse {  // 15 (echo of the request)
-    static constexpr FunctionCode kFunction = FunctionCode::WriteFileRecord;
-    std::span<const std::uint8_t> sub_requests;
-};
+struct WriteFileRecordResponse : WriteFileRecordFields {};  // echo of the request
 
 struct MaskWriteRegisterResponse : MaskWriteFields {};  // echo
 

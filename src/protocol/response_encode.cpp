@@ -42,9 +42,6 @@ struct ResponseBodyWriter : detail::SharedBodyWriter {
     bool operator()(const ReadFileRecordResponse& r) const {
         return detail::put_counted(out, r.sub_responses);
     }
-    bool operator()(const WriteFileRecordResponse& r) const {
-        return detail::put_counted(out, r.sub_requests);
-    }
     bool operator()(const ReadWriteMultipleRegistersResponse& r) const {
         return detail::put_counted(out, r.values.bytes());
     }

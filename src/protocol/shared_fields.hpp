@@ -41,6 +41,12 @@ struct DiagnosticsFields {
     std::span<const std::uint8_t> data;
 };
 
+// 15, both ways: sub-requests of 7 + 2 x length bytes, already validated.
+struct WriteFileRecordFields {
+    static constexpr FunctionCode kFunction = FunctionCode::WriteFileRecord;
+    std::span<const std::uint8_t> sub_requests;
+};
+
 // 16, both ways.
 struct MaskWriteFields {
     static constexpr FunctionCode kFunction = FunctionCode::MaskWriteRegister;
