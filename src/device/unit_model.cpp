@@ -22,11 +22,11 @@ MaybeResponse refused(FunctionCode fc, ExceptionCode why) {
     return exception_response(code(fc), why);
 }
 
-// A write whose answer echoes the fields it shares with its request: the refusal, or the echo.
-template <class Answer, class Request>
-MaybeResponse echo_unless(std::optional<ExceptionCode> why, const Request& request) {
-    if (why) return refused(Request::kFunction, *why);
-    return protocol::Response{Answer{request}};
+// A write answered with the echo of its request, unless storing it was refused.
+template <class Answer>
+MaybeResponse echo_unless(std::optional<ExceptionCode> why, const Answer& echo) {
+    if (why) return refused(Answer::kFunction, *why);
+    return protocol::Response{echo};
 }
 
 }  // namespace
@@ -134,31 +134,32 @@ MaybeResponse UnitModel::read_registers(const protocol::ReadRegistersRequest& re
 
 MaybeResponse UnitModel::write_coil(const protocol::WriteSingleCoilRequest& request) {
     const std::uint16_t value = request.on() ? 1 : 0;
-    return echo_unless<protocol::WriteSingleCoilResponse>(
-        store(BankKind::Coils, request.address, std::span(&value, 1)), request);
+    return echo_unless(store(BankKind::Coils, request.address, std::span(&value, 1)),
+                       protocol::WriteSingleCoilResponse{request});
 }
 
 MaybeResponse UnitModel::write_register(const protocol::WriteSingleRegisterRequest& request) {
-    return echo_unless<protocol::WriteSingleRegisterResponse>(
-        store(BankKind::HoldingRegisters, request.address, std::span(&request.value, 1)), request);
+    return echo_unless(
+        store(BankKind::HoldingRegisters, request.address, std::span(&request.value, 1)),
+        protocol::WriteSingleRegisterResponse{request});
 }
 
 MaybeResponse UnitModel::write_coils(const protocol::WriteMultipleCoilsRequest& request) {
     std::array<std::uint16_t, protocol::limits::kMaxWriteCoils> bits{};
     for (std::size_t i = 0; i < request.quantity; ++i)
         bits[i] = request.values[i] ? 1 : 0;
-    return echo_unless<protocol::WriteMultipleCoilsResponse>(
-        store(BankKind::Coils, request.address, std::span(bits).first(request.quantity)), request);
+    return echo_unless(
+        store(BankKind::Coils, request.address, std::span(bits).first(request.quantity)),
+        protocol::WriteMultipleCoilsResponse{request.address, request.quantity});
 }
 
 MaybeResponse UnitModel::write_registers(const protocol::WriteMultipleRegistersRequest& request) {
     std::array<std::uint16_t, protocol::limits::kMaxWriteRegisters> values{};
     for (std::size_t i = 0; i < request.quantity; ++i)
         values[i] = request.values[i];
-    return echo_unless<protocol::WriteMultipleRegistersResponse>(
-        store(BankKind::HoldingRegisters, request.address,
-              std::span(values).first(request.quantity)),
-        request);
+    return echo_unless(store(BankKind::HoldingRegisters, request.address,
+                             std::span(values).first(request.quantity)),
+                       protocol::WriteMultipleRegistersResponse{request.address, request.quantity});
 }
 
 MaybeResponse UnitModel::mask_write(const protocol::MaskWriteRegisterRequest& request) {
@@ -168,10 +169,9 @@ MaybeResponse UnitModel::mask_write(const protocol::MaskWriteRegisterRequest& re
     const std::uint16_t now = holding.at(holding.find(request.address, 1).index);
     const auto value = static_cast<std::uint16_t>((now & request.and_mask) |
                                                   (request.or_mask & ~request.and_mask));
-    return echo_unless<protocol::MaskWriteRegisterResponse>(
-        write_permitted(BankKind::HoldingRegisters, request.address, std::span(&value, 1),
-                        permit.skip),
-        request);
+    return echo_unless(write_permitted(BankKind::HoldingRegisters, request.address,
+                                       std::span(&value, 1), permit.skip),
+                       protocol::MaskWriteRegisterResponse{request});
 }
 
 MaybeResponse UnitModel::read_write(const protocol::ReadWriteMultipleRegistersRequest& request,

@@ -36,10 +36,17 @@ struct DiagnosticsRequest : DiagnosticsFields {};
 struct GetCommEventCounterRequest : CodeOnly<FunctionCode::GetCommEventCounter> {};
 struct GetCommEventLogRequest : CodeOnly<FunctionCode::GetCommEventLog> {};
 
-struct WriteMultipleCoilsRequest : AddressQuantity<FunctionCode::WriteMultipleCoils> {
+struct WriteMultipleCoilsRequest {  // 0F
+    static constexpr FunctionCode kFunction = FunctionCode::WriteMultipleCoils;
+    std::uint16_t address = 0;
+    std::uint16_t quantity = 0;
     BitView values;
 };
-struct WriteMultipleRegistersRequest : AddressQuantity<FunctionCode::WriteMultipleRegisters> {
+
+struct WriteMultipleRegistersRequest {  // 10
+    static constexpr FunctionCode kFunction = FunctionCode::WriteMultipleRegisters;
+    std::uint16_t address = 0;
+    std::uint16_t quantity = 0;
     RegisterView values;
 };
 

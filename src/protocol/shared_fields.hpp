@@ -26,7 +26,7 @@ struct AddressValue {
     std::uint16_t value = 0;
 };
 
-// 0F, 10: the head of the request, and all of the response.
+// 0F, 10 responses: the echo of the request's starting address and quantity.
 template <FunctionCode Code>
 struct AddressQuantity {
     static constexpr FunctionCode kFunction = Code;
