@@ -36,19 +36,18 @@ struct DiagnosticsRequest : DiagnosticsFields {};
 struct GetCommEventCounterRequest : CodeOnly<FunctionCode::GetCommEventCounter> {};
 struct GetCommEventLogRequest : CodeOnly<FunctionCode::GetCommEventLog> {};
 
-struct WriteMultipleCoilsRequest {  // 0F
-    static constexpr FunctionCode kFunction = FunctionCode::WriteMultipleCoils;
+// 0F, 10: the starting address, the quantity, and the values as bits or registers.
+template <FunctionCode Code, class Values>
+struct WriteMultipleFields {
+    static constexpr FunctionCode kFunction = Code;
     std::uint16_t address = 0;
     std::uint16_t quantity = 0;
-    BitView values;
+    Values values;
 };
-
-struct WriteMultipleRegistersRequest {  // 10
-    static constexpr FunctionCode kFunction = FunctionCode::WriteMultipleRegisters;
-    std::uint16_t address = 0;
-    std::uint16_t quantity = 0;
-    RegisterView values;
+struct WriteMultipleCoilsRequest : WriteMultipleFields<FunctionCode::WriteMultipleCoils, BitView> {
 };
+struct WriteMultipleRegistersRequest
+    : WriteMultipleFields<FunctionCode::WriteMultipleRegisters, RegisterView> {};
 
 struct ReportServerIdRequest : CodeOnly<FunctionCode::ReportServerId> {};
 

@@ -21,10 +21,8 @@ struct RequestBodyWriter : detail::SharedBodyWriter {
     bool operator()(const CodeOnly<Code>&) const {
         return true;
     }
-    bool operator()(const WriteMultipleCoilsRequest& r) const {
-        return range(r) && detail::put_counted(out, r.values.bytes());
-    }
-    bool operator()(const WriteMultipleRegistersRequest& r) const {
+    template <FunctionCode Code, class Values>
+    bool operator()(const WriteMultipleFields<Code, Values>& r) const {
         return range(r) && detail::put_counted(out, r.values.bytes());
     }
     bool operator()(const ReadFileRecordRequest& r) const {
