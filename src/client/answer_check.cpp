@@ -25,20 +25,6 @@ bool same_bytes(std::span<const std::uint8_t> a, std::span<const std::uint8_t> b
     return std::equal(a.begin(), a.end(), b.begin(), b.end());
 }
 
-// Sub-functions whose answer echoes the request's data field ([APP] 6.8.1).
-bool diagnostic_echoes(std::uint16_t sub) {
-    switch (static_cast<DiagnosticSub>(sub)) {
-        case DiagnosticSub::ReturnQueryData:
-        case DiagnosticSub::RestartCommunications:
-        case DiagnosticSub::ChangeAsciiDelimiter:
-        case DiagnosticSub::ClearCounters:
-        case DiagnosticSub::ClearOverrunCounter:
-            return true;
-        default:
-            return false;
-    }
-}
-
 // One overload per request type; each finds the answer type it expects.
 class Judge {
   public:
@@ -82,7 +68,8 @@ class Judge {
             return "sub-function is " + hex16(answer->sub_function) + ", expected " +
                    hex16(request.sub_function);
         }
-        if (diagnostic_echoes(request.sub_function) && !same_bytes(answer->data, request.data)) {
+        if (diagnostic_answer_echoes(request.sub_function) &&
+            !same_bytes(answer->data, request.data)) {
             return echo_differs("data");
         }
         return std::nullopt;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "support/name_table.hpp"
+
 namespace mblab::device {
 
 namespace {
@@ -25,27 +27,26 @@ bool is_word(std::span<const std::uint8_t> data, std::uint16_t value) {
     return data.size() == 2 && data[0] == (value >> 8) && data[1] == (value & 0xFF);
 }
 
+// The counter that each "return ... count" sub-function reads.
+struct CounterRow {
+    DiagnosticSub value;
+    std::uint16_t CommCounters::*counter;
+};
+
+constexpr CounterRow kCounters[] = {
+    {DiagnosticSub::BusMessageCount, &CommCounters::bus_messages},
+    {DiagnosticSub::BusCommunicationErrorCount, &CommCounters::bus_errors},
+    {DiagnosticSub::BusExceptionErrorCount, &CommCounters::bus_exceptions},
+    {DiagnosticSub::ServerMessageCount, &CommCounters::server_messages},
+    {DiagnosticSub::ServerNoResponseCount, &CommCounters::no_response},
+    {DiagnosticSub::ServerNakCount, &CommCounters::naks},
+    {DiagnosticSub::ServerBusyCount, &CommCounters::busy},
+    {DiagnosticSub::BusCharacterOverrunCount, &CommCounters::overruns},
+};
+
 std::uint16_t counter(const CommCounters& c, DiagnosticSub sub) {
-    switch (sub) {
-        case DiagnosticSub::BusMessageCount:
-            return c.bus_messages;
-        case DiagnosticSub::BusCommunicationErrorCount:
-            return c.bus_errors;
-        case DiagnosticSub::BusExceptionErrorCount:
-            return c.bus_exceptions;
-        case DiagnosticSub::ServerMessageCount:
-            return c.server_messages;
-        case DiagnosticSub::ServerNoResponseCount:
-            return c.no_response;
-        case DiagnosticSub::ServerNakCount:
-            return c.naks;
-        case DiagnosticSub::ServerBusyCount:
-            return c.busy;
-        case DiagnosticSub::BusCharacterOverrunCount:
-            return c.overruns;
-        default:
-            return 0;
-    }
+    const CounterRow* row = row_of(kCounters, sub);
+    return row != nullptr ? c.*(row->counter) : 0;
 }
 
 MaybeResponse echo(const protocol::DiagnosticsRequest& request, const DiagnosticsSpec& spec) {

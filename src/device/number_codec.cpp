@@ -50,28 +50,6 @@ std::uint64_t raw_bits(double raw, NumberType type) {
     return 0;
 }
 
-double from_bits(std::uint64_t bits, NumberType type) {
-    switch (type) {
-        case NumberType::Bit:
-        case NumberType::U16:
-        case NumberType::U32:
-            return static_cast<double>(bits);
-        case NumberType::I16:
-            return static_cast<std::int16_t>(bits);
-        case NumberType::I32:
-            return static_cast<std::int32_t>(bits);
-        case NumberType::U64:
-            return static_cast<double>(bits);
-        case NumberType::I64:
-            return static_cast<double>(static_cast<std::int64_t>(bits));
-        case NumberType::F32:
-            return std::bit_cast<float>(static_cast<std::uint32_t>(bits));
-        case NumberType::F64:
-            return std::bit_cast<double>(bits);
-    }
-    return 0;
-}
-
 constexpr std::array<std::pair<std::string_view, NumberType>, 8> kRegisterTypes = {{
     {"u16", NumberType::U16},
     {"i16", NumberType::I16},
@@ -183,7 +161,29 @@ double decode_number(std::span<const std::uint16_t> words, const NumberLayout& l
         if (layout.order.low_byte_first && layout.type != NumberType::Bit) word = swap_bytes(word);
         bits = bits << 16 | word;
     }
-    return from_bits(bits, layout.type) * layout.scale + layout.offset;
+    return number_from_bits(bits, layout.type) * layout.scale + layout.offset;
+}
+
+double number_from_bits(std::uint64_t bits, NumberType type) {
+    switch (type) {
+        case NumberType::Bit:
+        case NumberType::U16:
+        case NumberType::U32:
+            return static_cast<double>(bits);
+        case NumberType::I16:
+            return static_cast<std::int16_t>(bits);
+        case NumberType::I32:
+            return static_cast<std::int32_t>(bits);
+        case NumberType::U64:
+            return static_cast<double>(bits);
+        case NumberType::I64:
+            return static_cast<double>(static_cast<std::int64_t>(bits));
+        case NumberType::F32:
+            return std::bit_cast<float>(static_cast<std::uint32_t>(bits));
+        case NumberType::F64:
+            return std::bit_cast<double>(bits);
+    }
+    return 0;
 }
 
 }  // namespace mblab::device

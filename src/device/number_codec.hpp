@@ -36,5 +36,7 @@ double largest_raw(NumberType type);
 NumberWords encode_number(double value, const NumberLayout& layout);
 // `words` holds number_width(layout.type) registers.
 double decode_number(std::span<const std::uint16_t> words, const NumberLayout& layout);
+// The raw value of `bits`, the type's width in the low bits, before scaling.
+double number_from_bits(std::uint64_t bits, NumberType type);
 
 }  // namespace mblab::device

@@ -1,16 +1,27 @@
 #include "device/object_messaging.hpp"
 
+#include "protocol/limits.hpp"
+
 namespace mblab::device {
 
 namespace {
 
-// Fragment protocol, class, instance, service code and error code precede the parameters.
-constexpr std::size_t kFragmentHeader = 9;
+constexpr std::uint16_t kServiceGetAttribute = 0x0007;
+
+// Service error codes of mblab's reference device (docs/profiles.md).
+enum class ServiceError : std::uint16_t {
+    ObjectNotFound = 0x0001,
+    ServiceNotSupported = 0x0002,
+    AttributeNotFound = 0x0003,
+    BadParameters = 0x0004,
+    FragmentationNotSupported = 0x0005,
+};
 
 MaybeResponse reply(const protocol::ObjectMessagingRequest& request, std::uint16_t error,
                     std::span<const std::uint8_t> parameters) {
     protocol::ObjectMessagingResponse response;
-    response.fragment_byte_count = static_cast<std::uint8_t>(kFragmentHeader + parameters.size());
+    response.fragment_byte_count = static_cast<std::uint8_t>(
+        protocol::limits::kMinObjectMessagingResponseFragment + parameters.size());
     response.fragment_protocol = 0;
     response.class_id = request.class_id;
     response.instance_id = request.instance_id;

@@ -145,21 +145,22 @@ bool load_functions(Fields& unit, UnitSpec& spec) {
     return true;
 }
 
-bool load_access_policy(Fields& unit, AccessPolicy& policy) {
+// The exception that refuses an access to addresses of the other access, or `pass`: the access
+// goes through and passes over them.
+void load_refusal(Fields& unit, std::string_view key, std::optional<protocol::ExceptionCode>& out,
+                  std::string_view pass) {
     using protocol::ExceptionCode;
-    using Choice = std::optional<ExceptionCode>;
-    unit.choice<Choice>("write_read_only", policy.write_read_only,
-                        {{"exception-01", ExceptionCode::IllegalFunction},
-                         {"exception-02", ExceptionCode::IllegalDataAddress},
-                         {"exception-03", ExceptionCode::IllegalDataValue},
-                         {"exception-04", ExceptionCode::ServerDeviceFailure},
-                         {"ignore", std::nullopt}});
-    unit.choice<Choice>("read_write_only", policy.read_write_only,
-                        {{"exception-01", ExceptionCode::IllegalFunction},
-                         {"exception-02", ExceptionCode::IllegalDataAddress},
-                         {"exception-03", ExceptionCode::IllegalDataValue},
-                         {"exception-04", ExceptionCode::ServerDeviceFailure},
-                         {"zeros", std::nullopt}});
+    unit.choice<std::optional<ExceptionCode>>(key, out,
+                                              {{"exception-01", ExceptionCode::IllegalFunction},
+                                               {"exception-02", ExceptionCode::IllegalDataAddress},
+                                               {"exception-03", ExceptionCode::IllegalDataValue},
+                                               {"exception-04", ExceptionCode::ServerDeviceFailure},
+                                               {pass, std::nullopt}});
+}
+
+bool load_access_policy(Fields& unit, AccessPolicy& policy) {
+    load_refusal(unit, "write_read_only", policy.write_read_only, "ignore");
+    load_refusal(unit, "read_write_only", policy.read_write_only, "zeros");
     return !unit.failed();
 }
 

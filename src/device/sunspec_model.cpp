@@ -6,63 +6,50 @@
 #include <cmath>
 #include <utility>
 
+#include "device/number_codec.hpp"
+
 namespace mblab::device {
 namespace {
 
+// Each type's name, size in registers, "not implemented" value in its width (Information Model
+// Specification, "Point types": accumulators use 0, strings and addresses all zero bits) and the
+// register type its value reads as (none for strings and addresses).
 struct TypeInfo {
     SunSpecType type;
     std::string_view name;
     std::uint16_t size;
+    std::uint64_t not_implemented;
+    std::optional<NumberType> number;
 };
 
 constexpr std::array<TypeInfo, 23> kTypes{{
-    {SunSpecType::Int16, "int16", 1},           {SunSpecType::Int32, "int32", 2},
-    {SunSpecType::Int64, "int64", 4},           {SunSpecType::Uint16, "uint16", 1},
-    {SunSpecType::Uint32, "uint32", 2},         {SunSpecType::Uint64, "uint64", 4},
-    {SunSpecType::Acc16, "acc16", 1},           {SunSpecType::Acc32, "acc32", 2},
-    {SunSpecType::Acc64, "acc64", 4},           {SunSpecType::Bitfield16, "bitfield16", 1},
-    {SunSpecType::Bitfield32, "bitfield32", 2}, {SunSpecType::Bitfield64, "bitfield64", 4},
-    {SunSpecType::Enum16, "enum16", 1},         {SunSpecType::Enum32, "enum32", 2},
-    {SunSpecType::Float32, "float32", 2},       {SunSpecType::Float64, "float64", 4},
-    {SunSpecType::String, "string", 0},         {SunSpecType::Pad, "pad", 1},
-    {SunSpecType::Ipaddr, "ipaddr", 2},         {SunSpecType::Ipv6addr, "ipv6addr", 8},
-    {SunSpecType::Eui48, "eui48", 4},           {SunSpecType::Sunssf, "sunssf", 1},
-    {SunSpecType::Count, "count", 1},
+    {SunSpecType::Int16, "int16", 1, 0x8000, NumberType::I16},
+    {SunSpecType::Int32, "int32", 2, 0x80000000, NumberType::I32},
+    {SunSpecType::Int64, "int64", 4, 0x8000000000000000, NumberType::I64},
+    {SunSpecType::Uint16, "uint16", 1, 0xFFFF, NumberType::U16},
+    {SunSpecType::Uint32, "uint32", 2, 0xFFFFFFFF, NumberType::U32},
+    {SunSpecType::Uint64, "uint64", 4, 0xFFFFFFFFFFFFFFFF, NumberType::U64},
+    {SunSpecType::Acc16, "acc16", 1, 0, NumberType::U16},
+    {SunSpecType::Acc32, "acc32", 2, 0, NumberType::U32},
+    {SunSpecType::Acc64, "acc64", 4, 0, NumberType::U64},
+    {SunSpecType::Bitfield16, "bitfield16", 1, 0xFFFF, NumberType::U16},
+    {SunSpecType::Bitfield32, "bitfield32", 2, 0xFFFFFFFF, NumberType::U32},
+    {SunSpecType::Bitfield64, "bitfield64", 4, 0xFFFFFFFFFFFFFFFF, NumberType::U64},
+    {SunSpecType::Enum16, "enum16", 1, 0xFFFF, NumberType::U16},
+    {SunSpecType::Enum32, "enum32", 2, 0xFFFFFFFF, NumberType::U32},
+    {SunSpecType::Float32, "float32", 2, 0x7FC00000, NumberType::F32},
+    {SunSpecType::Float64, "float64", 4, 0x7FF8000000000000, NumberType::F64},
+    {SunSpecType::String, "string", 0, 0, std::nullopt},
+    {SunSpecType::Pad, "pad", 1, 0x8000, std::nullopt},
+    {SunSpecType::Ipaddr, "ipaddr", 2, 0, std::nullopt},
+    {SunSpecType::Ipv6addr, "ipv6addr", 8, 0, std::nullopt},
+    {SunSpecType::Eui48, "eui48", 4, 0xFFFFFFFFFFFF, std::nullopt},
+    {SunSpecType::Sunssf, "sunssf", 1, 0x8000, NumberType::I16},
+    {SunSpecType::Count, "count", 1, 0xFFFF, NumberType::U16},
 }};
 
-// The "not implemented" value of a numeric type, in its width (Information Model Specification,
-// "Point types"); accumulators use 0, strings and addresses all zero bits.
-std::uint64_t not_implemented_raw(SunSpecType type) {
-    switch (type) {
-        case SunSpecType::Int16:
-        case SunSpecType::Sunssf:
-        case SunSpecType::Pad:
-            return 0x8000;
-        case SunSpecType::Int32:
-            return 0x80000000;
-        case SunSpecType::Int64:
-            return 0x8000000000000000;
-        case SunSpecType::Uint16:
-        case SunSpecType::Bitfield16:
-        case SunSpecType::Enum16:
-        case SunSpecType::Count:
-            return 0xFFFF;
-        case SunSpecType::Uint32:
-        case SunSpecType::Bitfield32:
-        case SunSpecType::Enum32:
-            return 0xFFFFFFFF;
-        case SunSpecType::Uint64:
-        case SunSpecType::Bitfield64:
-            return 0xFFFFFFFFFFFFFFFF;
-        case SunSpecType::Float32:
-            return 0x7FC00000;
-        case SunSpecType::Float64:
-            return 0x7FF8000000000000;
-        case SunSpecType::Eui48:
-            return 0xFFFFFFFFFFFF;
-        default:
-            return 0;
-    }
+const TypeInfo& info(SunSpecType type) {
+    return kTypes[static_cast<std::size_t>(type)];
 }
 
 std::uint32_t group_length(const SunSpecGroup& group,
@@ -92,11 +79,11 @@ std::optional<SunSpecType> sunspec_type_named(std::string_view name) {
 }
 
 std::string_view sunspec_type_name(SunSpecType type) {
-    return kTypes[static_cast<std::size_t>(type)].name;
+    return info(type).name;
 }
 
 std::uint16_t sunspec_type_size(SunSpecType type) {
-    return kTypes[static_cast<std::size_t>(type)].size;
+    return info(type).size;
 }
 
 const SunSpecPoint* SunSpecGroup::point(std::string_view point_name) const {
@@ -138,7 +125,7 @@ std::vector<std::uint16_t> sunspec_words(std::uint64_t raw, std::size_t size) {
 }
 
 std::vector<std::uint16_t> not_implemented_words(const SunSpecPoint& point) {
-    return sunspec_words(not_implemented_raw(point.type), point.size);
+    return sunspec_words(info(point.type).not_implemented, point.size);
 }
 
 bool is_not_implemented(const SunSpecPoint& point, std::span<const std::uint16_t> words) {
@@ -148,28 +135,9 @@ bool is_not_implemented(const SunSpecPoint& point, std::span<const std::uint16_t
 }
 
 std::optional<double> sunspec_raw_value(SunSpecType type, std::span<const std::uint16_t> words) {
-    const std::uint64_t raw = sunspec_bits(words);
-    switch (type) {
-        case SunSpecType::Int16:
-        case SunSpecType::Sunssf:
-            return static_cast<std::int16_t>(raw);
-        case SunSpecType::Int32:
-            return static_cast<std::int32_t>(raw);
-        case SunSpecType::Int64:
-            return static_cast<double>(static_cast<std::int64_t>(raw));
-        case SunSpecType::Float32:
-            return std::bit_cast<float>(static_cast<std::uint32_t>(raw));
-        case SunSpecType::Float64:
-            return std::bit_cast<double>(raw);
-        case SunSpecType::String:
-        case SunSpecType::Pad:
-        case SunSpecType::Ipaddr:
-        case SunSpecType::Ipv6addr:
-        case SunSpecType::Eui48:
-            return std::nullopt;
-        default:
-            return static_cast<double>(raw);
-    }
+    const std::optional<NumberType> number = info(type).number;
+    if (!number) return std::nullopt;
+    return number_from_bits(sunspec_bits(words), *number);
 }
 
 std::string sunspec_string(std::span<const std::uint16_t> words) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "device/device_units.hpp"
+#include "protocol/limits.hpp"
 
 // What the device tells about itself before a run: its profile, the unit ids it answers and,
 // per unit, what a tester is told (CTP 6.4-6.6).
@@ -14,8 +15,8 @@ namespace mblab::device {
 
 struct UnitDeclaration {
     std::uint8_t unit = 0;
-    std::uint16_t max_read_registers = 125;
-    std::uint16_t max_read_bits = 2000;
+    std::uint16_t max_read_registers = protocol::limits::kMaxReadRegisters;
+    std::uint16_t max_read_bits = protocol::limits::kMaxReadBits;
     // Holding registers readable from address 0 without a hole: what a 7.5.2 sweep covers.
     std::uint32_t holding_registers = 0;
     std::optional<std::uint16_t> semi_signature;  // holding address of the SEMI signature

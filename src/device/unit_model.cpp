@@ -22,6 +22,13 @@ MaybeResponse refused(FunctionCode fc, ExceptionCode why) {
     return exception_response(code(fc), why);
 }
 
+// A write answered with the echo of its request, unless storing it was refused.
+template <class Answer>
+MaybeResponse echo_unless(std::optional<ExceptionCode> why, const Answer& echo) {
+    if (why) return refused(Answer::kFunction, *why);
+    return protocol::Response{echo};
+}
+
 }  // namespace
 
 UnitModel::UnitModel(const UnitSpec& spec)
@@ -36,24 +43,26 @@ UnitModel::UnitModel(const UnitSpec& spec)
     comm_.diagnostic_register = spec.diagnostics.diagnostic_register;
 }
 
+UnitModel::Permit UnitModel::permit(bool mapped, bool crosses, std::optional<ExceptionCode> policy,
+                                    Access closed) {
+    if (!mapped) return {ExceptionCode::IllegalDataAddress, std::nullopt};
+    if (!crosses) return {};
+    if (policy) return {policy, std::nullopt};
+    return {std::nullopt, closed};
+}
+
 UnitModel::Permit UnitModel::may_read(BankKind kind, std::uint32_t address,
                                       std::uint32_t count) const {
     const auto span = bank(kind).find(address, count);
-    if (!span.mapped) return {ExceptionCode::IllegalDataAddress, std::nullopt};
-    if (!span.has_write_only) return {};
-    if (spec_.access_policy.read_write_only)
-        return {spec_.access_policy.read_write_only, std::nullopt};
-    return {std::nullopt, Access::WriteOnly};
+    return permit(span.mapped, span.has_write_only, spec_.access_policy.read_write_only,
+                  Access::WriteOnly);
 }
 
 UnitModel::Permit UnitModel::may_write(BankKind kind, std::uint32_t address,
                                        std::uint32_t count) const {
     const auto span = bank(kind).find(address, count);
-    if (!span.mapped) return {ExceptionCode::IllegalDataAddress, std::nullopt};
-    if (!span.has_read_only) return {};
-    if (spec_.access_policy.write_read_only)
-        return {spec_.access_policy.write_read_only, std::nullopt};
-    return {std::nullopt, Access::ReadOnly};
+    return permit(span.mapped, span.has_read_only, spec_.access_policy.write_read_only,
+                  Access::ReadOnly);
 }
 
 std::optional<ExceptionCode> UnitModel::store(BankKind kind, std::uint32_t address,
@@ -125,43 +134,32 @@ MaybeResponse UnitModel::read_registers(const protocol::ReadRegistersRequest& re
 
 MaybeResponse UnitModel::write_coil(const protocol::WriteSingleCoilRequest& request) {
     const std::uint16_t value = request.on() ? 1 : 0;
-    if (auto why = store(BankKind::Coils, request.address, std::span(&value, 1))) {
-        return refused(FunctionCode::WriteSingleCoil, *why);
-    }
-    return protocol::Response{protocol::WriteSingleCoilResponse{request.address, request.value}};
+    return echo_unless(store(BankKind::Coils, request.address, std::span(&value, 1)),
+                       protocol::WriteSingleCoilResponse{request});
 }
 
 MaybeResponse UnitModel::write_register(const protocol::WriteSingleRegisterRequest& request) {
-    if (auto why =
-            store(BankKind::HoldingRegisters, request.address, std::span(&request.value, 1))) {
-        return refused(FunctionCode::WriteSingleRegister, *why);
-    }
-    return protocol::Response{
-        protocol::WriteSingleRegisterResponse{request.address, request.value}};
+    return echo_unless(
+        store(BankKind::HoldingRegisters, request.address, std::span(&request.value, 1)),
+        protocol::WriteSingleRegisterResponse{request});
 }
 
 MaybeResponse UnitModel::write_coils(const protocol::WriteMultipleCoilsRequest& request) {
     std::array<std::uint16_t, protocol::limits::kMaxWriteCoils> bits{};
     for (std::size_t i = 0; i < request.quantity; ++i)
         bits[i] = request.values[i] ? 1 : 0;
-    if (auto why =
-            store(BankKind::Coils, request.address, std::span(bits).first(request.quantity))) {
-        return refused(FunctionCode::WriteMultipleCoils, *why);
-    }
-    return protocol::Response{
-        protocol::WriteMultipleCoilsResponse{request.address, request.quantity}};
+    return echo_unless(
+        store(BankKind::Coils, request.address, std::span(bits).first(request.quantity)),
+        protocol::WriteMultipleCoilsResponse{request.address, request.quantity});
 }
 
 MaybeResponse UnitModel::write_registers(const protocol::WriteMultipleRegistersRequest& request) {
     std::array<std::uint16_t, protocol::limits::kMaxWriteRegisters> values{};
     for (std::size_t i = 0; i < request.quantity; ++i)
         values[i] = request.values[i];
-    if (auto why = store(BankKind::HoldingRegisters, request.address,
-                         std::span(values).first(request.quantity))) {
-        return refused(FunctionCode::WriteMultipleRegisters, *why);
-    }
-    return protocol::Response{
-        protocol::WriteMultipleRegistersResponse{request.address, request.quantity}};
+    return echo_unless(store(BankKind::HoldingRegisters, request.address,
+                             std::span(values).first(request.quantity)),
+                       protocol::WriteMultipleRegistersResponse{request.address, request.quantity});
 }
 
 MaybeResponse UnitModel::mask_write(const protocol::MaskWriteRegisterRequest& request) {
@@ -171,12 +169,9 @@ MaybeResponse UnitModel::mask_write(const protocol::MaskWriteRegisterRequest& re
     const std::uint16_t now = holding.at(holding.find(request.address, 1).index);
     const auto value = static_cast<std::uint16_t>((now & request.and_mask) |
                                                   (request.or_mask & ~request.and_mask));
-    if (auto why = write_permitted(BankKind::HoldingRegisters, request.address,
-                                   std::span(&value, 1), permit.skip)) {
-        return refused(FunctionCode::MaskWriteRegister, *why);
-    }
-    return protocol::Response{
-        protocol::MaskWriteRegisterResponse{request.address, request.and_mask, request.or_mask}};
+    return echo_unless(write_permitted(BankKind::HoldingRegisters, request.address,
+                                       std::span(&value, 1), permit.skip),
+                       protocol::MaskWriteRegisterResponse{request});
 }
 
 MaybeResponse UnitModel::read_write(const protocol::ReadWriteMultipleRegistersRequest& request,

@@ -47,6 +47,10 @@ class UnitModel {
     };
     Permit may_read(BankKind kind, std::uint32_t address, std::uint32_t count) const;
     Permit may_write(BankKind kind, std::uint32_t address, std::uint32_t count) const;
+    // Either of them, for a span that is `mapped` and `crosses` addresses of the `closed` access:
+    // refused with the profile's `policy` for such a span, if it has one.
+    static Permit permit(bool mapped, bool crosses, std::optional<protocol::ExceptionCode> policy,
+                         Access closed);
 
     MaybeResponse read_bits(const protocol::ReadBitsRequest& request,
                             std::span<std::uint8_t> scratch);

@@ -93,7 +93,8 @@ std::optional<FailureKind> judge_answer(std::span<const AnswerPattern> alternati
         exception_expected = exception_expected || alternative.expects_exception();
     }
     const auto answer = protocol::read_mbap_frame(frame);
-    if (!answer || answer->header.protocol_id != 0 || !protocol::decode_response(answer->pdu).ok())
+    if (!answer || answer->header.protocol_id != protocol::kModbusProtocolId ||
+        !protocol::decode_response(answer->pdu).ok())
         return FailureKind::Malformed;
     if ((answer->pdu[0] & protocol::kExceptionBit) != 0 && !exception_expected) {
         return FailureKind::UnexpectedException;

@@ -30,7 +30,8 @@ bool is_whole_mbap_request(const std::vector<std::uint8_t>& bytes) {
     if (bytes.size() <= limits::kMbapHeader || bytes.size() > limits::kMaxTcpAdu) return false;
     const auto frame = protocol::read_mbap_frame(bytes);
     // The length field counts the unit id and the PDU.
-    return frame->header.protocol_id == 0 && frame->header.length == frame->pdu.size() + 1;
+    return frame->header.protocol_id == protocol::kModbusProtocolId &&
+           frame->header.length == frame->pdu.size() + 1;
 }
 
 LoadExchange make_exchange(std::string name, std::string source, std::vector<std::uint8_t> request,

@@ -17,13 +17,16 @@ enum class Framing : std::uint8_t {
 // "MBAP", "RTU", "ASCII".
 const char* framing_name(Framing framing);
 
+// The MBAP protocol identifier of Modbus [TCPG 3.1.3]: a frame with any other is not Modbus.
+inline constexpr std::uint16_t kModbusProtocolId = 0;
+
 struct AduHeader {
     Framing framing = Framing::Mbap;
     std::uint8_t unit = 0;  // unit id (MBAP) or serial address (RTU, ASCII)
     // MBAP only; 0 on a serial line, which pairs answers by order alone.
     std::uint16_t transaction_id = 0;
-    // MBAP only: 0 is Modbus. A lenient framer lets other values through for the tester to judge.
-    std::uint16_t protocol_id = 0;
+    // MBAP only. A lenient framer lets other values than Modbus's through for the tester to judge.
+    std::uint16_t protocol_id = kModbusProtocolId;
     // MBAP only: the length field as received (unit id and PDU bytes), so that a reader can judge
     // a frame's header fields without going back to its bytes. write_adu() computes its own.
     std::uint16_t length = 0;

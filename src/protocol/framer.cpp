@@ -52,7 +52,7 @@ Result<Adu, const char*> Framer::whole_frame(std::span<const std::uint8_t> frame
                     limits::kMbapHeader);
             }
             const auto& header = read->header;
-            if (header.protocol_id != 0) {
+            if (header.protocol_id != kModbusProtocolId) {
                 return error_.format("MBAP protocol id is 0x%04X, expected 0x0000 (Modbus)",
                                      unsigned{header.protocol_id});
             }

@@ -43,14 +43,20 @@ std::string_view function_name(std::uint8_t code) {
 
 namespace {
 
+struct DiagnosticSubRow {
+    DiagnosticSub value;
+    std::string_view name;
+    bool echoes = false;  // the answer's data field repeats the request's
+};
+
 // [APP] 6.8.1, one row per sub-function defined there.
-constexpr Named<DiagnosticSub> kDiagnosticSubs[] = {
-    {DiagnosticSub::ReturnQueryData, "return query data"},
-    {DiagnosticSub::RestartCommunications, "restart communications option"},
+constexpr DiagnosticSubRow kDiagnosticSubs[] = {
+    {DiagnosticSub::ReturnQueryData, "return query data", true},
+    {DiagnosticSub::RestartCommunications, "restart communications option", true},
     {DiagnosticSub::ReturnDiagnosticRegister, "return diagnostic register"},
-    {DiagnosticSub::ChangeAsciiDelimiter, "change ASCII input delimiter"},
-    {DiagnosticSub::ForceListenOnly, "force listen only mode"},
-    {DiagnosticSub::ClearCounters, "clear counters and diagnostic register"},
+    {DiagnosticSub::ChangeAsciiDelimiter, "change ASCII input delimiter", true},
+    {DiagnosticSub::ForceListenOnly, "force listen only mode", true},
+    {DiagnosticSub::ClearCounters, "clear counters and diagnostic register", true},
     {DiagnosticSub::BusMessageCount, "return bus message count"},
     {DiagnosticSub::BusCommunicationErrorCount, "return bus communication error count"},
     {DiagnosticSub::BusExceptionErrorCount, "return bus exception error count"},
@@ -59,7 +65,7 @@ constexpr Named<DiagnosticSub> kDiagnosticSubs[] = {
     {DiagnosticSub::ServerNakCount, "return server NAK count"},
     {DiagnosticSub::ServerBusyCount, "return server busy count"},
     {DiagnosticSub::BusCharacterOverrunCount, "return bus character overrun count"},
-    {DiagnosticSub::ClearOverrunCounter, "clear overrun counter and flag"},
+    {DiagnosticSub::ClearOverrunCounter, "clear overrun counter and flag", true},
 };
 
 }  // namespace
@@ -69,7 +75,13 @@ bool is_known_diagnostic_sub(std::uint16_t sub) {
 }
 
 std::string_view diagnostic_sub_name(std::uint16_t sub) {
-    return name_of(kDiagnosticSubs, static_cast<DiagnosticSub>(sub), "reserved sub-function");
+    return word_of(kDiagnosticSubs, static_cast<DiagnosticSub>(sub), &DiagnosticSubRow::name,
+                   "reserved sub-function");
+}
+
+bool diagnostic_answer_echoes(std::uint16_t sub) {
+    return word_of(kDiagnosticSubs, static_cast<DiagnosticSub>(sub), &DiagnosticSubRow::echoes,
+                   false);
 }
 
 }  // namespace mblab::protocol

@@ -60,5 +60,8 @@ enum class DiagnosticSub : std::uint16_t {
 
 bool is_known_diagnostic_sub(std::uint16_t sub);
 std::string_view diagnostic_sub_name(std::uint16_t sub);
+// Whether the answer to `sub` repeats the request's data field; the others return a register or
+// a counter. False for a sub-function [APP] does not define.
+bool diagnostic_answer_echoes(std::uint16_t sub);
 
 }  // namespace mblab::protocol

@@ -44,12 +44,12 @@ FrameEvent MbapFramer::finish(std::span<const std::uint8_t> adu) {
     event.header = to_adu_header(read_mbap_header(adu));
     event.adu = adu;
     event.pdu = adu.subspan(kHeader);
-    if (event.header.protocol_id == 0 && event.header.length >= kMinLength) {
+    if (event.header.protocol_id == kModbusProtocolId && event.header.length >= kMinLength) {
         event.status = FrameStatus::Frame;
     } else if (lenient_) {
         event.status = FrameStatus::Frame;
         event.violation =
-            event.header.protocol_id != 0
+            event.header.protocol_id != kModbusProtocolId
                 ? error_.format("MBAP protocol id 0x%04X is not 0 (Modbus)",
                                 unsigned{event.header.protocol_id})
                 : error_.format("MBAP length %u is under %u (unit id and function code)",
@@ -112,7 +112,8 @@ bool frames_to_end(std::span<const std::uint8_t> bytes) {
                                [](std::uint8_t b) { return b == 0; });
         }
         const auto header = read_mbap_header(bytes);
-        if (header.protocol_id != 0 || header.length < kMinLength || header.length > kMaxLength) {
+        if (header.protocol_id != kModbusProtocolId || header.length < kMinLength ||
+            header.length > kMaxLength) {
             return false;
         }
         const auto size = adu_size(header);

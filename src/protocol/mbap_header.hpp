@@ -13,7 +13,7 @@ namespace mblab::protocol {
 // the unit id and the PDU.
 struct MbapHeader {
     std::uint16_t transaction_id = 0;
-    std::uint16_t protocol_id = 0;
+    std::uint16_t protocol_id = kModbusProtocolId;
     std::uint16_t length = 0;
     std::uint8_t unit_id = 0;
 

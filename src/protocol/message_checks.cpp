@@ -26,20 +26,6 @@ bool diagnostic_value_allowed(std::uint16_t sub, std::uint16_t value) {
     }
 }
 
-// Responses to these sub-functions echo the request; the others return a register or counter.
-bool diagnostic_response_echoes(std::uint16_t sub) {
-    switch (static_cast<DiagnosticSub>(sub)) {
-        case DiagnosticSub::RestartCommunications:
-        case DiagnosticSub::ChangeAsciiDelimiter:
-        case DiagnosticSub::ForceListenOnly:
-        case DiagnosticSub::ClearCounters:
-        case DiagnosticSub::ClearOverrunCounter:
-            return true;
-        default:
-            return false;
-    }
-}
-
 }  // namespace
 
 void check_quantity(FieldReader& reader, std::uint16_t quantity, const QuantityLimit& limit) {
@@ -65,7 +51,7 @@ void check_diagnostic(FieldReader& reader, std::uint16_t sub, std::span<const st
     reader.require(data.size() == 2,
                    value_error("data", "must be 2 bytes for sub-functions other than 00"));
     if (!reader.ok()) return;
-    if (direction == Direction::Request || diagnostic_response_echoes(sub)) {
+    if (direction == Direction::Request || diagnostic_answer_echoes(sub)) {
         reader.require(diagnostic_value_allowed(sub, data_word(data)),
                        value_error("data", "must be 0000 (01: 0000 or FF00; 03: CHAR 00)"));
     }

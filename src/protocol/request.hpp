@@ -8,6 +8,7 @@
 #include "protocol/function_code.hpp"
 #include "protocol/register_view.hpp"
 #include "protocol/result.hpp"
+#include "protocol/shared_fields.hpp"
 
 // Request PDUs of every public function code. Decoded messages are views into the caller's
 // buffer: they stay valid only while that buffer does. A decoded request has passed every check
@@ -26,40 +27,29 @@ struct ReadRegistersRequest {  // 03, 04
     std::uint16_t quantity = 0;
 };
 
-struct WriteSingleCoilRequest {  // 05; value is 0x0000 or 0xFF00
-    std::uint16_t address = 0;
-    std::uint16_t value = 0;
-    bool on() const { return value == 0xFF00; }
+struct WriteSingleCoilRequest : AddressValue<FunctionCode::WriteSingleCoil> {
+    bool on() const { return value == 0xFF00; }  // the value is 0x0000 or 0xFF00
 };
+struct WriteSingleRegisterRequest : AddressValue<FunctionCode::WriteSingleRegister> {};
+struct ReadExceptionStatusRequest : CodeOnly<FunctionCode::ReadExceptionStatus> {};
+struct DiagnosticsRequest : DiagnosticsFields {};
+struct GetCommEventCounterRequest : CodeOnly<FunctionCode::GetCommEventCounter> {};
+struct GetCommEventLogRequest : CodeOnly<FunctionCode::GetCommEventLog> {};
 
-struct WriteSingleRegisterRequest {  // 06
-    std::uint16_t address = 0;
-    std::uint16_t value = 0;
-};
-
-struct ReadExceptionStatusRequest {};  // 07
-
-struct DiagnosticsRequest {  // 08
-    std::uint16_t sub_function = 0;
-    std::span<const std::uint8_t> data;
-};
-
-struct GetCommEventCounterRequest {};  // 0B
-struct GetCommEventLogRequest {};      // 0C
-
-struct WriteMultipleCoilsRequest {  // 0F
+// 0F, 10: the starting address, the quantity, and the values as bits or registers.
+template <FunctionCode Code, class Values>
+struct WriteMultipleFields {
+    static constexpr FunctionCode kFunction = Code;
     std::uint16_t address = 0;
     std::uint16_t quantity = 0;
-    BitView values;
+    Values values;
 };
-
-struct WriteMultipleRegistersRequest {  // 10
-    std::uint16_t address = 0;
-    std::uint16_t quantity = 0;
-    RegisterView values;
+struct WriteMultipleCoilsRequest : WriteMultipleFields<FunctionCode::WriteMultipleCoils, BitView> {
 };
+struct WriteMultipleRegistersRequest
+    : WriteMultipleFields<FunctionCode::WriteMultipleRegisters, RegisterView> {};
 
-struct ReportServerIdRequest {};  // 11
+struct ReportServerIdRequest : CodeOnly<FunctionCode::ReportServerId> {};
 
 struct FileRecordRef {
     std::uint16_t file = 0;
@@ -68,6 +58,7 @@ struct FileRecordRef {
 };
 
 struct ReadFileRecordRequest {  // 14; sub-requests of 7 bytes each, already validated
+    static constexpr FunctionCode kFunction = FunctionCode::ReadFileRecord;
     std::span<const std::uint8_t> sub_requests;
     std::size_t count() const { return sub_requests.size() / 7; }
     FileRecordRef at(std::size_t i) const;
@@ -78,8 +69,7 @@ struct FileRecordData {
     RegisterView data;
 };
 
-struct WriteFileRecordRequest {  // 15; sub-requests of 7 + 2*length bytes, already validated
-    std::span<const std::uint8_t> sub_requests;
+struct WriteFileRecordRequest : WriteFileRecordFields {
     // Walks the validated sub-requests; returns false after the last.
     bool next(std::size_t& offset, FileRecordData& out) const;
 };
@@ -91,13 +81,10 @@ void encode_file_record_ref(WriteCursor& out, const FileRecordRef& ref);
 // One FC 15 sub-request; the length field is taken from record.data, not record.ref.length.
 void encode_file_record_data(WriteCursor& out, const FileRecordData& record);
 
-struct MaskWriteRegisterRequest {  // 16
-    std::uint16_t address = 0;
-    std::uint16_t and_mask = 0;
-    std::uint16_t or_mask = 0;
-};
+struct MaskWriteRegisterRequest : MaskWriteFields {};
 
 struct ReadWriteMultipleRegistersRequest {  // 17
+    static constexpr FunctionCode kFunction = FunctionCode::ReadWriteMultipleRegisters;
     std::uint16_t read_address = 0;
     std::uint16_t read_quantity = 0;
     std::uint16_t write_address = 0;
@@ -106,22 +93,22 @@ struct ReadWriteMultipleRegistersRequest {  // 17
 };
 
 struct ReadFifoQueueRequest {  // 18
+    static constexpr FunctionCode kFunction = FunctionCode::ReadFifoQueue;
     std::uint16_t address = 0;
 };
 
-struct ReadDeviceIdRequest {     // 2B / 0E
+struct ReadDeviceIdRequest {  // 2B / 0E
+    static constexpr FunctionCode kFunction = FunctionCode::EncapsulatedInterface;
     std::uint8_t read_code = 1;  // 01 basic, 02 regular, 03 extended, 04 one object
     std::uint8_t object_id = 0;
 };
 
-struct EncapsulatedRequest {  // 2B with MEI 0D (CANopen), carried as opaque bytes
-    std::uint8_t mei_type = kMeiCanopen;
-    std::span<const std::uint8_t> data;
-};
+struct EncapsulatedRequest : CanopenFields {};
 
 // FC 5B, both directions: the fields up to the service code (CTP 7.13.1.4, 7.13.1.5). The
 // fragment byte count counts every byte after it.
 struct ObjectMessagingHeader {
+    static constexpr FunctionCode kFunction = FunctionCode::ObjectMessaging;
     std::uint8_t fragment_byte_count = 0;
     std::uint8_t fragment_protocol = 0;
     std::uint16_t class_id = 0;
@@ -133,10 +120,7 @@ struct ObjectMessagingRequest : ObjectMessagingHeader {  // 5B, CTP 7.13.1.4
     std::span<const std::uint8_t> parameters;
 };
 
-struct RawRequest {  // any other function code, carried as bytes
-    std::uint8_t function = 0;
-    std::span<const std::uint8_t> data;
-};
+struct RawRequest : RawFields {};
 
 using Request =
     std::variant<ReadBitsRequest, ReadRegistersRequest, WriteSingleCoilRequest,

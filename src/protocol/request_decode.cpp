@@ -67,7 +67,7 @@ Result<Request> decode_bare(FieldReader& in) {
     return detail::finish<Request>(in, Message{});
 }
 
-struct RequestDecoders {
+struct RequestDecoders : detail::SharedDecoders<Request, Direction::Request> {
     using Message = Request;
     using Raw = RawRequest;
 
@@ -77,23 +77,8 @@ struct RequestDecoders {
     static Result<Request> read_registers(FunctionCode function, FieldReader& in) {
         return decode_read_range<ReadRegistersRequest>(function, in, detail::kReadRegistersLimit);
     }
-    static Result<Request> write_single_coil(FieldReader& in) {
-        return detail::decode_fixed<Request, WriteSingleCoilRequest>(
-            in, detail::read_write_single_coil);
-    }
-    static Result<Request> write_single_register(FieldReader& in) {
-        return detail::decode_fixed<Request, WriteSingleRegisterRequest>(
-            in, detail::read_write_single_register);
-    }
     static Result<Request> read_exception_status(FieldReader& in) {
         return decode_bare<ReadExceptionStatusRequest>(in);
-    }
-    static Result<Request> diagnostics(FieldReader& in) {
-        DiagnosticsRequest request;
-        in.u16(request.sub_function, "sub-function").rest(request.data);
-        detail::check_diagnostic(in, request.sub_function, request.data,
-                                 detail::Direction::Request);
-        return detail::finish<Request>(in, request);
     }
     static Result<Request> comm_event_counter(FieldReader& in) {
         return decode_bare<GetCommEventCounterRequest>(in);
@@ -119,15 +104,6 @@ struct RequestDecoders {
         ReadFileRecordRequest request;
         detail::read_file_record_request_body(in, request.sub_requests);
         return detail::finish<Request>(in, request);
-    }
-    static Result<Request> write_file_record(FieldReader& in) {
-        WriteFileRecordRequest request;
-        detail::write_file_record_body(in, request.sub_requests);
-        return detail::finish<Request>(in, request);
-    }
-    static Result<Request> mask_write_register(FieldReader& in) {
-        return detail::decode_fixed<Request, MaskWriteRegisterRequest>(
-            in, detail::read_mask_write_register);
     }
     static Result<Request> read_write_multiple_registers(FieldReader& in) {
         ReadWriteMultipleRegistersRequest request;
@@ -169,12 +145,7 @@ struct RequestDecoders {
             return detail::finish<Request>(in, request);
         }
         // Other MEI types are reserved ([APP] annex A): the function is not supported.
-        in.require(mei_type == kMeiCanopen,
-                   detail::function_error("MEI type", "must be 0x0D or 0x0E"));
-        EncapsulatedRequest request;
-        request.mei_type = mei_type;
-        in.rest(request.data);
-        return detail::finish<Request>(in, request);
+        return canopen(in, mei_type, detail::function_error("MEI type", "must be 0x0D or 0x0E"));
     }
     static Result<Request> object_messaging(FieldReader& in) {
         ObjectMessagingRequest request;

@@ -8,8 +8,8 @@ namespace mblab::protocol {
 namespace {
 
 // Writes the fields after the function code. False when a length does not fit its count field.
-struct RequestBodyWriter {
-    WriteCursor& out;
+struct RequestBodyWriter : detail::SharedBodyWriter {
+    using SharedBodyWriter::operator();
 
     template <class Range>  // 01..04, and the head of 0F and 10
     bool range(const Range& r) const {
@@ -17,35 +17,16 @@ struct RequestBodyWriter {
     }
     bool operator()(const ReadBitsRequest& r) const { return range(r); }
     bool operator()(const ReadRegistersRequest& r) const { return range(r); }
-    bool operator()(const WriteSingleCoilRequest& r) const {
-        return detail::put_words(out, r.address, r.value);
-    }
-    bool operator()(const WriteSingleRegisterRequest& r) const {
-        return detail::put_words(out, r.address, r.value);
-    }
-    bool operator()(const ReadExceptionStatusRequest&) const { return true; }
-    bool operator()(const DiagnosticsRequest& r) const {
-        detail::put_words(out, r.sub_function);
-        out.put_bytes(r.data);
+    template <FunctionCode Code>
+    bool operator()(const CodeOnly<Code>&) const {
         return true;
     }
-    bool operator()(const GetCommEventCounterRequest&) const { return true; }
-    bool operator()(const GetCommEventLogRequest&) const { return true; }
-    bool operator()(const WriteMultipleCoilsRequest& r) const {
+    template <FunctionCode Code, class Values>
+    bool operator()(const WriteMultipleFields<Code, Values>& r) const {
         return range(r) && detail::put_counted(out, r.values.bytes());
     }
-    bool operator()(const WriteMultipleRegistersRequest& r) const {
-        return range(r) && detail::put_counted(out, r.values.bytes());
-    }
-    bool operator()(const ReportServerIdRequest&) const { return true; }
     bool operator()(const ReadFileRecordRequest& r) const {
         return detail::put_counted(out, r.sub_requests);
-    }
-    bool operator()(const WriteFileRecordRequest& r) const {
-        return detail::put_counted(out, r.sub_requests);
-    }
-    bool operator()(const MaskWriteRegisterRequest& r) const {
-        return detail::put_words(out, r.address, r.and_mask, r.or_mask);
     }
     bool operator()(const ReadWriteMultipleRegistersRequest& r) const {
         detail::put_words(out, r.read_address, r.read_quantity, r.write_address, r.write_quantity);
@@ -60,21 +41,9 @@ struct RequestBodyWriter {
         out.put_u8(r.object_id);
         return true;
     }
-    bool operator()(const EncapsulatedRequest& r) const {
-        out.put_u8(r.mei_type);
-        out.put_bytes(r.data);
-        return true;
-    }
     bool operator()(const ObjectMessagingRequest& r) const {
-        const std::size_t fragment =
-            limits::kMinObjectMessagingRequestFragment + r.parameters.size();
-        if (!detail::put_object_messaging_header(out, r, fragment)) return false;
-        out.put_bytes(r.parameters);
-        return true;
-    }
-    bool operator()(const RawRequest& r) const {
-        out.put_bytes(r.data);
-        return true;
+        return detail::put_object_messaging(out, r, limits::kMinObjectMessagingRequestFragment,
+                                            r.parameters);
     }
 };
 
@@ -86,7 +55,7 @@ std::uint8_t function_of(const Request& request) {
 
 bool encode_request(const Request& request, WriteCursor& out) {
     out.put_u8(function_of(request));
-    return std::visit(RequestBodyWriter{out}, request) && out.ok();
+    return std::visit(RequestBodyWriter{{out}}, request) && out.ok();
 }
 
 }  // namespace mblab::protocol

@@ -24,52 +24,42 @@ struct ReadRegistersResponse {  // 03, 04
     RegisterView values;
 };
 
-struct WriteSingleCoilResponse {  // 05 (echo)
-    std::uint16_t address = 0;
-    std::uint16_t value = 0;
-};
-
-struct WriteSingleRegisterResponse {  // 06 (echo)
-    std::uint16_t address = 0;
-    std::uint16_t value = 0;
-};
+// Echoes of the address and value written.
+struct WriteSingleCoilResponse : AddressValue<FunctionCode::WriteSingleCoil> {};
+struct WriteSingleRegisterResponse : AddressValue<FunctionCode::WriteSingleRegister> {};
 
 struct ReadExceptionStatusResponse {  // 07
+    static constexpr FunctionCode kFunction = FunctionCode::ReadExceptionStatus;
     std::uint8_t status = 0;
 };
 
-struct DiagnosticsResponse {  // 08
-    std::uint16_t sub_function = 0;
-    std::span<const std::uint8_t> data;
-};
+struct DiagnosticsResponse : DiagnosticsFields {};
 
 struct GetCommEventCounterResponse {  // 0B
+    static constexpr FunctionCode kFunction = FunctionCode::GetCommEventCounter;
     std::uint16_t status = 0;
     std::uint16_t event_count = 0;
 };
 
 struct GetCommEventLogResponse {  // 0C
+    static constexpr FunctionCode kFunction = FunctionCode::GetCommEventLog;
     std::uint16_t status = 0;
     std::uint16_t event_count = 0;
     std::uint16_t message_count = 0;
     std::span<const std::uint8_t> events;  // at most 64
 };
 
-struct WriteMultipleCoilsResponse {  // 0F
-    std::uint16_t address = 0;
-    std::uint16_t quantity = 0;
-};
-
-struct WriteMultipleRegistersResponse {  // 10
-    std::uint16_t address = 0;
-    std::uint16_t quantity = 0;
-};
+// Echoes of the starting address and quantity.
+struct WriteMultipleCoilsResponse : AddressQuantity<FunctionCode::WriteMultipleCoils> {};
+struct WriteMultipleRegistersResponse : AddressQuantity<FunctionCode::WriteMultipleRegisters> {};
 
 struct ReportServerIdResponse {  // 11: server id, run indicator, extra data (device specific)
+    static constexpr FunctionCode kFunction = FunctionCode::ReportServerId;
     std::span<const std::uint8_t> data;
 };
 
 struct ReadFileRecordResponse {  // 14: sub-responses (length, reference type 6, data)
+    static constexpr FunctionCode kFunction = FunctionCode::ReadFileRecord;
     std::span<const std::uint8_t> sub_responses;
     // Walks the validated sub-responses; returns false after the last.
     bool next(std::size_t& offset, RegisterView& out) const;
@@ -79,21 +69,17 @@ struct ReadFileRecordResponse {  // 14: sub-responses (length, reference type 6,
 // that ReadFileRecordResponse::sub_responses then views.
 void encode_file_record_sub_response(WriteCursor& out, RegisterView data);
 
-struct WriteFileRecordResponse {  // 15 (echo of the request)
-    std::span<const std::uint8_t> sub_requests;
-};
+struct WriteFileRecordResponse : WriteFileRecordFields {};  // echo of the request
 
-struct MaskWriteRegisterResponse {  // 16 (echo)
-    std::uint16_t address = 0;
-    std::uint16_t and_mask = 0;
-    std::uint16_t or_mask = 0;
-};
+struct MaskWriteRegisterResponse : MaskWriteFields {};  // echo
 
 struct ReadWriteMultipleRegistersResponse {  // 17
+    static constexpr FunctionCode kFunction = FunctionCode::ReadWriteMultipleRegisters;
     RegisterView values;
 };
 
 struct ReadFifoQueueResponse {  // 18
+    static constexpr FunctionCode kFunction = FunctionCode::ReadFifoQueue;
     RegisterView values;
 };
 
@@ -103,6 +89,7 @@ struct DeviceIdObject {
 };
 
 struct ReadDeviceIdResponse {  // 2B / 0E
+    static constexpr FunctionCode kFunction = FunctionCode::EncapsulatedInterface;
     std::uint8_t read_code = 1;
     std::uint8_t conformity_level = 0;
     std::uint8_t more_follows = 0;
@@ -118,10 +105,7 @@ struct ReadDeviceIdResponse {  // 2B / 0E
 bool encode_device_id_object(WriteCursor& out, std::uint8_t id,
                              std::span<const std::uint8_t> value);
 
-struct EncapsulatedResponse {  // 2B with MEI 0D, opaque
-    std::uint8_t mei_type = kMeiCanopen;
-    std::span<const std::uint8_t> data;
-};
+struct EncapsulatedResponse : CanopenFields {};
 
 struct ObjectMessagingResponse : ObjectMessagingHeader {  // 5B, CTP 7.13.1.5
     std::uint16_t error_code = 0;                         // 00 00 for service data
@@ -133,10 +117,7 @@ struct ExceptionResponse {
     ExceptionCode code = ExceptionCode::IllegalFunction;
 };
 
-struct RawResponse {
-    std::uint8_t function = 0;
-    std::span<const std::uint8_t> data;
-};
+struct RawResponse : RawFields {};
 
 using Response =
     std::variant<ReadBitsResponse, ReadRegistersResponse, WriteSingleCoilResponse,

@@ -69,7 +69,7 @@ Result<Response> decode_exception(std::uint8_t code, FieldReader& in) {
     return detail::finish<Response>(in, response);
 }
 
-struct ResponseDecoders {
+struct ResponseDecoders : detail::SharedDecoders<Response, Direction::Response> {
     using Message = Response;
     using Raw = RawResponse;
 
@@ -84,24 +84,9 @@ struct ResponseDecoders {
         response.function = function;
         return decode_registers(in, response);
     }
-    static Result<Response> write_single_coil(FieldReader& in) {
-        return detail::decode_fixed<Response, WriteSingleCoilResponse>(
-            in, detail::read_write_single_coil);
-    }
-    static Result<Response> write_single_register(FieldReader& in) {
-        return detail::decode_fixed<Response, WriteSingleRegisterResponse>(
-            in, detail::read_write_single_register);
-    }
     static Result<Response> read_exception_status(FieldReader& in) {
         ReadExceptionStatusResponse response;
         in.u8(response.status, "output data").end();
-        return detail::finish<Response>(in, response);
-    }
-    static Result<Response> diagnostics(FieldReader& in) {
-        DiagnosticsResponse response;
-        in.u16(response.sub_function, "sub-function").rest(response.data);
-        detail::check_diagnostic(in, response.sub_function, response.data,
-                                 detail::Direction::Response);
         return detail::finish<Response>(in, response);
     }
     static Result<Response> comm_event_counter(FieldReader& in) {
@@ -140,15 +125,6 @@ struct ResponseDecoders {
         detail::read_file_record_response_body(in, response.sub_responses);
         return detail::finish<Response>(in, response);
     }
-    static Result<Response> write_file_record(FieldReader& in) {
-        WriteFileRecordResponse response;
-        detail::write_file_record_body(in, response.sub_requests);
-        return detail::finish<Response>(in, response);
-    }
-    static Result<Response> mask_write_register(FieldReader& in) {
-        return detail::decode_fixed<Response, MaskWriteRegisterResponse>(
-            in, detail::read_mask_write_register);
-    }
     static Result<Response> read_write_multiple_registers(FieldReader& in) {
         return decode_registers(in, ReadWriteMultipleRegistersResponse{});
     }
@@ -172,11 +148,7 @@ struct ResponseDecoders {
         std::uint8_t mei_type = 0;
         in.u8(mei_type, "MEI type");
         if (in.ok() && mei_type == kMeiReadDeviceId) return decode_read_device_id(in);
-        in.require(mei_type == kMeiCanopen, value_error("MEI type", "must be 0x0D or 0x0E"));
-        EncapsulatedResponse response;
-        response.mei_type = mei_type;
-        in.rest(response.data);
-        return detail::finish<Response>(in, response);
+        return canopen(in, mei_type, value_error("MEI type", "must be 0x0D or 0x0E"));
     }
     static Result<Response> object_messaging(FieldReader& in) {
         ObjectMessagingResponse response;

@@ -10,26 +10,15 @@ namespace {
 constexpr std::size_t kEventLogHeader = 6;  // status, event count, message count
 
 // Writes the fields after the function code. False when a length does not fit its count field.
-struct ResponseBodyWriter {
-    WriteCursor& out;
+struct ResponseBodyWriter : detail::SharedBodyWriter {
+    using SharedBodyWriter::operator();
 
     bool operator()(const ReadBitsResponse& r) const { return detail::put_counted(out, r.packed); }
     bool operator()(const ReadRegistersResponse& r) const {
         return detail::put_counted(out, r.values.bytes());
     }
-    bool operator()(const WriteSingleCoilResponse& r) const {
-        return detail::put_words(out, r.address, r.value);
-    }
-    bool operator()(const WriteSingleRegisterResponse& r) const {
-        return detail::put_words(out, r.address, r.value);
-    }
     bool operator()(const ReadExceptionStatusResponse& r) const {
         out.put_u8(r.status);
-        return true;
-    }
-    bool operator()(const DiagnosticsResponse& r) const {
-        detail::put_words(out, r.sub_function);
-        out.put_bytes(r.data);
         return true;
     }
     bool operator()(const GetCommEventCounterResponse& r) const {
@@ -43,10 +32,8 @@ struct ResponseBodyWriter {
         out.put_bytes(r.events);
         return true;
     }
-    bool operator()(const WriteMultipleCoilsResponse& r) const {
-        return detail::put_words(out, r.address, r.quantity);
-    }
-    bool operator()(const WriteMultipleRegistersResponse& r) const {
+    template <FunctionCode Code>
+    bool operator()(const AddressQuantity<Code>& r) const {
         return detail::put_words(out, r.address, r.quantity);
     }
     bool operator()(const ReportServerIdResponse& r) const {
@@ -54,12 +41,6 @@ struct ResponseBodyWriter {
     }
     bool operator()(const ReadFileRecordResponse& r) const {
         return detail::put_counted(out, r.sub_responses);
-    }
-    bool operator()(const WriteFileRecordResponse& r) const {
-        return detail::put_counted(out, r.sub_requests);
-    }
-    bool operator()(const MaskWriteRegisterResponse& r) const {
-        return detail::put_words(out, r.address, r.and_mask, r.or_mask);
     }
     bool operator()(const ReadWriteMultipleRegistersResponse& r) const {
         return detail::put_counted(out, r.values.bytes());
@@ -82,25 +63,12 @@ struct ResponseBodyWriter {
         out.put_bytes(r.objects);
         return true;
     }
-    bool operator()(const EncapsulatedResponse& r) const {
-        out.put_u8(r.mei_type);
-        out.put_bytes(r.data);
-        return true;
-    }
     bool operator()(const ObjectMessagingResponse& r) const {
-        const std::size_t fragment =
-            limits::kMinObjectMessagingResponseFragment + r.parameters.size();
-        if (!detail::put_object_messaging_header(out, r, fragment)) return false;
-        detail::put_words(out, r.error_code);
-        out.put_bytes(r.parameters);
-        return true;
+        return detail::put_object_messaging(out, r, limits::kMinObjectMessagingResponseFragment,
+                                            r.parameters, r.error_code);
     }
     bool operator()(const ExceptionResponse& r) const {
         out.put_u8(static_cast<std::uint8_t>(r.code));
-        return true;
-    }
-    bool operator()(const RawResponse& r) const {
-        out.put_bytes(r.data);
         return true;
     }
 };
@@ -116,7 +84,7 @@ std::uint8_t function_of(const Response& response) {
 
 bool encode_response(const Response& response, WriteCursor& out) {
     out.put_u8(function_of(response));
-    return std::visit(ResponseBodyWriter{out}, response) && out.ok();
+    return std::visit(ResponseBodyWriter{{out}}, response) && out.ok();
 }
 
 bool encode_exception(std::uint8_t function, ExceptionCode code, WriteCursor& out) {

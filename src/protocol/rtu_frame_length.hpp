@@ -4,11 +4,9 @@
 #include <cstdint>
 #include <span>
 
-namespace mblab::protocol {
+#include "protocol/direction.hpp"
 
-// Which way a serial frame travels; requests and responses of one function code have different
-// layouts.
-enum class Direction : std::uint8_t { Request, Response };
+namespace mblab::protocol {
 
 // How long an RTU frame is, judged from its first bytes.
 struct RtuFrameLength {

@@ -124,26 +124,29 @@ std::vector<std::uint8_t> line_frame(Framing framing, std::uint8_t address,
 std::optional<std::string_view> not_applicable(BadInput kind, Framing framing) {
     struct Row {
         BadInput kind;
-        bool on_line;  // the class is out of place on a line (else: over Modbus/TCP)
         std::string_view why;
     };
-    static constexpr std::array<Row, 12> kRows{{
-        {BadInput::ProtocolId, true, "an MBAP header field: a serial line has none"},
-        {BadInput::MbapLength, true, "an MBAP header field: a serial line has none"},
-        {BadInput::PartialHeader, true, "an MBAP header field: a serial line has none"},
-        {BadInput::SplitFrame, true, "TCP segments: on a line a pause inside a frame is line-gap"},
-        {BadInput::Pipelined, true, "a serial line carries one request at a time"},
-        {BadInput::ManyConnections, true, "a serial line is one connection"},
-        {BadInput::SlowReader, true, "a serial line has no send buffer to fill"},
-        {BadInput::HalfOpen, true, "a serial line has no connection to leave half-open"},
-        {BadInput::Flood, true, "a serial line carries one request at a time"},
-        {BadInput::FrameCheck, false, "a serial-line class: the target speaks Modbus/TCP"},
-        {BadInput::ShortFrame, false, "a serial-line class: the target speaks Modbus/TCP"},
-        {BadInput::Noise, false, "a serial-line class: the target speaks Modbus/TCP"},
+    constexpr std::string_view kNoMbapHeader = "an MBAP header field: a serial line has none";
+    constexpr std::string_view kOneAtATime = "a serial line carries one request at a time";
+    // The classes of Modbus/TCP alone, and why each is out of place on a serial line.
+    static constexpr std::array<Row, 9> kTcpOnly{{
+        {BadInput::ProtocolId, kNoMbapHeader},
+        {BadInput::MbapLength, kNoMbapHeader},
+        {BadInput::PartialHeader, kNoMbapHeader},
+        {BadInput::SplitFrame, "TCP segments: on a line a pause inside a frame is line-gap"},
+        {BadInput::Pipelined, kOneAtATime},
+        {BadInput::ManyConnections, "a serial line is one connection"},
+        {BadInput::SlowReader, "a serial line has no send buffer to fill"},
+        {BadInput::HalfOpen, "a serial line has no connection to leave half-open"},
+        {BadInput::Flood, kOneAtATime},
     }};
-    const bool line = framing != Framing::Mbap;
-    for (const auto& row : kRows) {
-        if (row.kind == kind && row.on_line == line) return row.why;
+    if (framing != Framing::Mbap) {
+        for (const Row& row : kTcpOnly) {
+            if (row.kind == kind) return row.why;
+        }
+    } else if (kind == BadInput::FrameCheck || kind == BadInput::ShortFrame ||
+               kind == BadInput::Noise) {
+        return "a serial-line class: the target speaks Modbus/TCP";
     }
     if (kind == BadInput::LineGap && framing != Framing::Rtu)
         return "RTU timing: the target does not speak RTU";
