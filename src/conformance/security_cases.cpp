@@ -35,10 +35,18 @@ using security::ClientVersions;
 
 constexpr std::uint8_t kIllegalFunction = 0x01;
 
-Outcome refuse_old_version(Session& session, ClientVersions versions, std::string_view name) {
+// A session with the tester's own certificate, as `versions` allow; the outcome when the case
+// cannot be judged (N/A off mbaps://, NOT RUN when the attempt failed on this side).
+std::optional<Outcome> open_as_tester(Session& session, ClientVersions versions, bool verify_device,
+                                      Attempt& attempt) {
     if (auto na = not_secure(session)) return *na;
-    auto attempt = open_tls(session, session.dut().security.client, versions, false);
-    if (auto stop = not_judged(attempt)) return *stop;
+    attempt = open_tls(session, session.dut().security.client, versions, verify_device);
+    return not_judged(attempt);
+}
+
+Outcome refuse_old_version(Session& session, ClientVersions versions, std::string_view name) {
+    Attempt attempt;
+    if (auto stop = open_as_tester(session, versions, false, attempt)) return *stop;
     if (attempt.link) {
         const auto& peer = attempt.link->tls()->peer();
         return verdict(Verdict::Fail,
@@ -152,10 +160,8 @@ std::variant<Outcome, RoleSession> read_as_role(Session& session, const std::str
 }
 
 Outcome run_tls_handshake(Session& session, const Case&) {
-    if (auto na = not_secure(session)) return *na;
-    const auto& files = session.dut().security.client;
-    auto attempt = open_tls(session, files, ClientVersions::Modern, true);
-    if (auto stop = not_judged(attempt)) return *stop;
+    Attempt attempt;
+    if (auto stop = open_as_tester(session, ClientVersions::Modern, true, attempt)) return *stop;
     if (!attempt.link) {
         return verdict(Verdict::Fail, "the handshake with the tester's certificate failed: " +
                                           attempt.error.message);
@@ -291,9 +297,8 @@ Outcome run_write_role(Session& session, const Case&) {
 }
 
 Outcome run_tls_renegotiation(Session& session, const Case&) {
-    if (auto na = not_secure(session)) return *na;
-    auto attempt = open_tls(session, session.dut().security.client, ClientVersions::Tls12, false);
-    if (auto stop = not_judged(attempt)) return *stop;
+    Attempt attempt;
+    if (auto stop = open_as_tester(session, ClientVersions::Tls12, false, attempt)) return *stop;
     if (!attempt.link) {
         return verdict(Verdict::NotApplicable, "the device did not make a TLS 1.2 session (" +
                                                    attempt.error.message +
@@ -348,9 +353,8 @@ Outcome run_tls_renegotiation(Session& session, const Case&) {
 }
 
 Outcome run_tls_close_notify(Session& session, const Case&) {
-    if (auto na = not_secure(session)) return *na;
-    auto attempt = open_tls(session, session.dut().security.client, ClientVersions::Modern, false);
-    if (auto stop = not_judged(attempt)) return *stop;
+    Attempt attempt;
+    if (auto stop = open_as_tester(session, ClientVersions::Modern, false, attempt)) return *stop;
     if (!attempt.link) {
         return verdict(Verdict::NotRun, "cannot make a session with the tester's certificate: " +
                                             attempt.error.message);
