@@ -10,6 +10,7 @@
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/conform_reports.hpp"
 #include "cli/report_files.hpp"
 #include "cli/terminal_style.hpp"
 #include "conformance/capture.hpp"
@@ -46,10 +47,7 @@ struct ConformClientOptions {
     std::string error_pattern;
     std::string value_pattern;
     std::vector<std::string> cases;
-    std::string json;
-    std::string junit;
-    std::string pcap;
-    std::string html;
+    ConformReports reports;  // checked as conform checks them; written below
     std::string pki;
     bool attach = false;
     int attach_wait_ms = 60000;
@@ -187,22 +185,16 @@ int run_conform_client(const ConformClientOptions& options) {
     }
     ReportFiles files;
     std::string error;
-    if (options.pcap == "-") return usage_error("--pcap -: a capture is binary; give it a file");
-    for (const auto& [option, path] :
-         {std::pair{"--json", options.json}, std::pair{"--junit", options.junit},
-          std::pair{"--pcap", options.pcap}, std::pair{"--html", options.html}}) {
-        if (!path.empty() && path != "-" && !files.check(option, path, error))
-            return usage_error(error);
-    }
+    if (!options.reports.check(files, error)) return usage_error(error);
     conf::Capture capture;
-    if (!options.pcap.empty()) exam.capture = &capture;
+    if (!options.reports.pcap.empty()) exam.capture = &capture;
     ExamPlace place;
     if (auto bad = open_place(options, place)) return usage_error(*bad);
     exam.tls = place.tls.get();
 
     conf::ClientTranscripts transcripts;
-    if (!options.html.empty()) exam.transcripts = &transcripts;
-    const bool report_out = options.json == "-" || options.junit == "-" || options.html == "-";
+    if (!options.reports.html.empty()) exam.transcripts = &transcripts;
+    const bool report_out = options.reports.to_stdout();
     const int console_fd = report_out ? STDERR_FILENO : STDOUT_FILENO;
     std::FILE* console_file = report_out ? stderr : stdout;
     conf::ConsoleReport console(console_file, stderr, false, styles_wanted(console_fd),
@@ -245,11 +237,12 @@ int run_conform_client(const ConformClientOptions& options) {
     const web::ClientUnderTest client{place.url(), options.command, declared,
                                       place.tls ? place.tls->dir() : ""};
     const std::pair<const std::string*, std::string> reports[] = {
-        {&options.json, options.json.empty() ? "" : client_json(result, declared)},
-        {&options.junit, options.junit.empty() ? "" : client_junit(result)},
-        {&options.html, options.html.empty() ? ""
-                                             : web::conform_client_html_report(
-                                                   result, provenance, client, transcripts)},
+        {&options.reports.json, options.reports.json.empty() ? "" : client_json(result, declared)},
+        {&options.reports.junit, options.reports.junit.empty() ? "" : client_junit(result)},
+        {&options.reports.html,
+         options.reports.html.empty()
+             ? ""
+             : web::conform_client_html_report(result, provenance, client, transcripts)},
     };
     for (const auto& [path, text] : reports) {
         if (path->empty()) continue;
@@ -257,8 +250,8 @@ int run_conform_client(const ConformClientOptions& options) {
     }
     // A line's frames on pcapng's user link types (RTU, or ASCII as text); TCP as packets.
     const auto framing = place.line ? place.line->framing() : place.tcp->framing();
-    if (!options.pcap.empty() &&
-        !conf::write_capture(options.pcap, capture.events(), framing, provenance, error))
+    if (!options.reports.pcap.empty() &&
+        !conf::write_capture(options.reports.pcap, capture.events(), framing, provenance, error))
         return usage_error(error);
     return result.all_passed() ? kExitOk : kExitFailed;
 }
@@ -342,12 +335,13 @@ void add_conform_client_command(CLI::App& app, CommandRunner& runner,
                     "a decimal or 0x number); default: every number");
     cmd->add_option("--case", options->cases,
                     "run only this scenario (tcp.3) or group (tcp.6); repeatable");
-    cmd->add_option("--json", options->json, "write the JSON report to FILE ('-': stdout)");
-    cmd->add_option("--junit", options->junit, "write the JUnit XML report to FILE ('-': stdout)");
-    cmd->add_option("--html", options->html,
+    cmd->add_option("--json", options->reports.json, "write the JSON report to FILE ('-': stdout)");
+    cmd->add_option("--junit", options->reports.junit,
+                    "write the JUnit XML report to FILE ('-': stdout)");
+    cmd->add_option("--html", options->reports.html,
                     "write the HTML report to FILE ('-': stdout): each scenario's verdict, "
                     "citation and what the wire carried");
-    cmd->add_option("--pcap", options->pcap,
+    cmd->add_option("--pcap", options->reports.pcap,
                     "write what every connection carried to FILE (pcapng, the examiner on port "
                     "502; a line's frames on link type USER0 (RTU) or USER1 (ASCII); each "
                     "packet's comment its scenario's id)");

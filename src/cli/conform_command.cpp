@@ -21,6 +21,7 @@
 #include "cli/catalogue_listing.hpp"
 #include "cli/commands.hpp"
 #include "cli/conform_reports.hpp"
+#include "cli/dut_options.hpp"
 #include "cli/profile_lookup.hpp"
 #include "cli/report_files.hpp"
 #include "cli/stop_signals.hpp"
@@ -59,12 +60,7 @@ struct ConformOptions {
     std::vector<std::string> suites;
     std::vector<std::string> cases;
     bool list = false;
-    std::string dut_file;
-    int unit = 1;
-    std::uint32_t registers = 0;
-    int max_read = 125;
-    bool object_messaging = false;
-    bool alternate_encoding = false;
+    DutOptions dut;
     std::string profile;
     std::string catalogue;
     int timeout_ms = 1000;
@@ -97,32 +93,9 @@ std::optional<std::filesystem::path> builtin_profile(const std::string& wanted,
 // Flags override the DUT file, which overrides what the built-in device's profile says.
 bool declare_dut(const ConformOptions& options, conf::Dut& dut, conf::DeclarationSources& sources,
                  std::string& error) {
-    if (!options.dut_file.empty()) {
-        auto loaded = conf::load_dut_file(options.dut_file);
-        if (!loaded) {
-            error = loaded.error();
-            return false;
-        }
-        dut = std::move(loaded.value());
-        // The file replaces the whole declaration: what it leaves out is a default again.
-        sources.reset("defaults");
-        for (const auto& key : conf::dut_file_keys(options.dut_file))
-            sources.set(key, options.dut_file);
-    }
-    const CLI::App& app = *options.command;
-    bool flags = false;
-    auto given = [&](const char* name, std::string_view key) {
-        const bool present = app.count(name) > 0;
-        flags = flags || present;
-        if (present) sources.set(key, fmt::format("flag {}", name));
-        return present;
-    };
-    if (given("--unit", "unit")) dut.unit = static_cast<std::uint8_t>(options.unit);
-    if (given("--registers", "registers")) dut.registers = options.registers;
-    if (given("--max-read", "max_read"))
-        dut.max_read = static_cast<std::uint16_t>(options.max_read);
-    if (given("--object-messaging", "object_messaging")) dut.object_messaging = true;
-    if (given("--alternate-encoding", "alternate_encoding")) dut.alternate_encoding = true;
+    GivenFlags given(*options.command, sources);
+    error = options.dut.declare(dut, given);
+    if (!error.empty()) return false;
     if (given("--pki", "pki")) dut.security.pki = options.pki;
     if (given("--read-only-role", "read_only_role"))
         dut.security.read_only_role = options.read_only_role;
@@ -131,8 +104,7 @@ bool declare_dut(const ConformOptions& options, conf::Dut& dut, conf::Declaratio
     if (given("--key", "client_key")) dut.security.client.key = options.tls.key;
     if (given("--ca", "ca")) dut.security.client.ca = options.tls.ca;
     conf::take_client_files_from_pki(dut, sources);
-    if (flags)
-        dut.declared_by = dut.declared_by == "defaults" ? "flags" : dut.declared_by + " and flags";
+    given.mark(dut);
     return true;
 }
 
@@ -209,7 +181,7 @@ int run_conform(const ConformOptions& options) {
         }
     }
     if (!target.tcp) {
-        const bool declared = !options.dut_file.empty() || options.command->count("--unit") > 0;
+        const bool declared = options.dut.unit_declared(*options.command);
         if (auto problem = conf::settle_serial_unit(dut, declared, target.name)) {
             return usage_error(*problem);
         }
@@ -295,22 +267,13 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
                     "any one character), with the cases they depend on; repeatable");
     cmd->add_flag("--list", options->list,
                   "print the catalogue of the chosen suites (and cases) and exit");
-    cmd->add_option("--dut", options->dut_file,
-                    "TOML file declaring the device under test (keys as the flags below)")
-        ->check(CLI::ExistingFile);
-    cmd->add_option("--unit", options->unit,
-                    "unit identifier of the DUT (CTP 6.4; default 1, as every mblab command)")
-        ->check(CLI::Range(0, 255));
-    cmd->add_option("--registers", options->registers,
-                    "number of holding registers of the DUT (CTP 6.6)")
-        ->check(CLI::Range(1, 65536));
-    cmd->add_option("--max-read", options->max_read,
-                    "most registers one FC 03 request may read (CTP 6.6)")
-        ->check(CLI::Range(1, 125));
-    cmd->add_flag("--object-messaging", options->object_messaging,
-                  "the DUT supports function code 0x5B (CTP 6.5)");
-    cmd->add_flag("--alternate-encoding", options->alternate_encoding,
-                  "the DUT supports the 0x5B alternate encoding (CTP 6.5)");
+    options->dut.add_to(*cmd,
+                        {"TOML file declaring the device under test (keys as the flags below)",
+                         "unit identifier of the DUT (CTP 6.4; default 1, as every mblab command)",
+                         "number of holding registers of the DUT (CTP 6.6)",
+                         "most registers one FC 03 request may read (CTP 6.6)",
+                         "the DUT supports function code 0x5B (CTP 6.5)",
+                         "the DUT supports the 0x5B alternate encoding (CTP 6.5)"});
     cmd->add_option("--profile", options->profile,
                     "profile of the built-in reference device (no target only): a TOML file or a "
                     "shipped profile's name (reference, rs485-instrument, ...)");

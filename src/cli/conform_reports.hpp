@@ -7,7 +7,8 @@
 #include "conformance/provenance.hpp"
 #include "conformance/reports.hpp"
 
-// The report files of `mblab conform`: --json, --junit, --html and --pcap, each checked before
+// The report files of `mblab conform` (and of `mblab conform-client`, which checks them the same
+// way and writes its own): --json, --junit, --html and --pcap, each checked before
 // the run (a run must not end with "cannot write") and written after it. One text report may be
 // `-`, standard output; the console report then goes to standard error.
 namespace mblab::cli {

@@ -76,22 +76,12 @@ conf::Provenance provenance_of(const FuzzCommandOptions& options,
     return provenance;
 }
 
-FuzzOutputs outputs_of(const FuzzCommandOptions& options, std::FILE* console) {
-    FuzzOutputs out;
-    out.console = console;
-    out.reproducer = options.reproducer;
-    out.json = options.json;
-    out.junit = options.junit;
-    out.pcap = options.pcap;
-    return out;
-}
-
 int run_fuzz(const FuzzCommandOptions& options) {
     const auto started = std::chrono::system_clock::now();
     ReportFiles files;
     std::string unwritable;
-    if (!files.check("--json", options.json, unwritable) ||
-        !files.check("--junit", options.junit, unwritable)) {
+    if (!files.check("--json", options.files.json, unwritable) ||
+        !files.check("--junit", options.files.junit, unwritable)) {
         return usage_error(unwritable);
     }
     // A report on standard output has it to itself.
@@ -181,7 +171,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
     // Without --pcap nothing of the traffic is kept: against a device that floods its answers
     // that was every byte of the run. With it, the run's last kPcapBound bytes or so are kept.
     conf::Capture capture(kPcapBound);
-    client::LinkObserver* observer = options.pcap.empty() ? nullptr : &capture;
+    client::LinkObserver* observer = options.files.pcap.empty() ? nullptr : &capture;
     conf::Session session(*target, dut, engine, observer);
     client::LinkError error;
     if (!session.connect(error))
@@ -203,7 +193,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
     std::fflush(console);
     if (recon.killed_by && options.replay.empty()) {
         return write_fuzz_outputs(rb::probe_finding(recon, target->name, options.seed, framing),
-                                  *target, outputs_of(options, console), report_dir, capture,
+                                  *target, FuzzOutputs{console, options.files}, report_dir, capture,
                                   provenance_of(options, started));
     }
 
@@ -290,7 +280,7 @@ int run_fuzz(const FuzzCommandOptions& options) {
             result.memory = memory;
         }
     }
-    FuzzOutputs outputs = outputs_of(options, console);
+    FuzzOutputs outputs{console, options.files};
     if (*monitor) {
         (*monitor)->recover();
         const auto judged = (*monitor)->judge(result);

@@ -47,7 +47,7 @@ void add_fuzz_options(CLI::App& cmd, FuzzCommandOptions& options) {
                    "shell command that restarts the device: a finding is then minimised");
     cmd.add_option("--replay", options.replay,
                    "send a reproducer's frames instead of fuzzing, then check liveness");
-    cmd.add_option("--reproducer", options.reproducer,
+    cmd.add_option("--reproducer", options.files.reproducer,
                    "where the first finding's reproducer (hex lines) is written, FILE.pcapng "
                    "too (default: finding-1.hex in the report directory)");
     cmd.add_option("--report-dir", options.report_dir,
@@ -91,11 +91,11 @@ void add_fuzz_options(CLI::App& cmd, FuzzCommandOptions& options) {
                    "process id of a device running on this machine: its memory is reported")
         ->check(CLI::PositiveNumber);
     add_tls_options(cmd, options.tls, "tester's (client)");
-    cmd.add_option("--json", options.json,
+    cmd.add_option("--json", options.files.json,
                    "write the report as JSON to FILE (- for standard output)");
-    cmd.add_option("--junit", options.junit,
+    cmd.add_option("--junit", options.files.junit,
                    "write the report as JUnit XML to FILE (- for standard output)");
-    cmd.add_option("--pcap", options.pcap,
+    cmd.add_option("--pcap", options.files.pcap,
                    "write the run's frames as pcapng to FILE (a line's frames on "
                    "LINKTYPE_USER0); the last 32 MB or so of a longer run");
 }

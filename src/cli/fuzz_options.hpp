@@ -7,6 +7,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/fuzz_monitor.hpp"
+#include "cli/fuzz_output.hpp"
 #include "security/tls_context.hpp"
 
 // `mblab fuzz`'s options: what they hold and how they are registered (docs/robustness.md).
@@ -28,15 +29,12 @@ struct FuzzCommandOptions {
     bool allow_writes = false;
     std::string restart;
     std::string replay;
-    std::string reproducer;  // "": finding-N.hex in the report directory
     std::string report_dir;
     bool keep_going = false;
     std::vector<std::string> classes;
     std::vector<std::string> skip_classes;
     MonitorChoice monitor;
-    std::string json;
-    std::string junit;
-    std::string pcap;
+    FuzzFiles files;  // an empty reproducer: finding-N.hex in the report directory
     int device_pid = 0;
     security::TlsFiles tls;  // the tester's certificate on mbaps://
     const Invocation* invocation = nullptr;

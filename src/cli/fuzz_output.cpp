@@ -88,7 +88,7 @@ int write_fuzz_outputs(const rb::FuzzResult& result, const client::Target& targe
     std::string failed;
     for (std::size_t n = 1; n <= result.findings.size(); ++n) {
         const auto& f = result.findings[n - 1];
-        const auto path = reproducer_path(outputs.reproducer, n, dir, failed);
+        const auto path = reproducer_path(outputs.files.reproducer, n, dir, failed);
         if (!path) return write_failed(failed);
         const std::string comment = fmt::format(
             "mblab fuzz {} --seed {}\n{}: {} (case {})\nthe device {}\n{}\nreplay: "
@@ -114,7 +114,7 @@ int write_fuzz_outputs(const rb::FuzzResult& result, const client::Target& targe
         document["monitor"] = *outputs.monitor;
         json = document.dump(2) + "\n";
     }
-    if (!outputs.json.empty() && !ReportFiles::write(outputs.json, json, failed))
+    if (!outputs.files.json.empty() && !ReportFiles::write(outputs.files.json, json, failed))
         return write_failed(failed);
     // The report directory holds the JSON report beside the findings it explains.
     if (!outputs.monitor_html.empty()) {
@@ -129,21 +129,21 @@ int write_fuzz_outputs(const rb::FuzzResult& result, const client::Target& targe
         if (!conf::write_text_file(path, json, failed)) return write_failed(failed);
         fmt::print(outputs.console, "report directory: {}\n", dir.made());
     }
-    if (!outputs.junit.empty() &&
+    if (!outputs.files.junit.empty() &&
         !ReportFiles::write(
-            outputs.junit,
+            outputs.files.junit,
             rb::junit_report(result, provenance,
                              outputs.monitor_junit ? &*outputs.monitor_junit : nullptr),
             failed))
         return write_failed(failed);
-    if (!outputs.pcap.empty() &&
-        !conf::write_capture(outputs.pcap, capture.events(), framing, provenance, failed))
+    if (!outputs.files.pcap.empty() &&
+        !conf::write_capture(outputs.files.pcap, capture.events(), framing, provenance, failed))
         return write_failed(failed);
-    if (!outputs.pcap.empty() && capture.dropped_bytes() > 0) {
+    if (!outputs.files.pcap.empty() && capture.dropped_bytes() > 0) {
         fmt::print(
             "{} holds the run's last frames: the first {} byte(s) were let go to bound "
             "memory\n",
-            outputs.pcap, capture.dropped_bytes());
+            outputs.files.pcap, capture.dropped_bytes());
     }
     return result.findings.empty() && outputs.monitor_passed ? kExitOk : kExitFailed;
 }

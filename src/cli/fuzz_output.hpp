@@ -34,13 +34,18 @@ class ReportDir {
     std::string made_;
 };
 
-struct FuzzOutputs {
-    // Standard error when a report takes standard output ("-").
-    std::FILE* console = stdout;
+// The files the command line names (--reproducer, --json, --junit, --pcap).
+struct FuzzFiles {
     std::string reproducer;  // the first finding's hex lines when given; FILE.pcapng beside it
     std::string json;
     std::string junit;
     std::string pcap;
+};
+
+struct FuzzOutputs {
+    // Standard error when a report takes standard output ("-").
+    std::FILE* console = stdout;
+    FuzzFiles files;
     // With --monitor: its phases and verdict, printed after the summary and added to the JSON
     // report as "monitor".
     std::string monitor_text = {};

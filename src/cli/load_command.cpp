@@ -20,6 +20,7 @@
 
 #include "cli/client_options.hpp"
 #include "cli/commands.hpp"
+#include "cli/dut_options.hpp"
 #include "cli/report_files.hpp"
 #include "cli/stop_signals.hpp"
 #include "cli/tls_options.hpp"
@@ -66,10 +67,7 @@ struct LoadOptions {
     double rate = 0;
     std::string mix = "fc3:125=70,fc16:10=20,fc1:100=10";
     std::size_t pipeline = 1;
-    int unit = 1;
-    std::uint32_t registers = 0;
-    bool object_messaging = false;
-    std::string dut_file;
+    DutOptions dut;
     std::string metrics;  // --metrics HOST:PORT
     int timeout_ms = 1000;
     std::size_t threads = std::max(1U, std::thread::hardware_concurrency() / 2);
@@ -102,15 +100,9 @@ protocol::Result<conf::Suite, std::string> find_suite(const std::string& wanted,
 // What the nodes declare: a DUT file, then the flags over it (as `mblab conform` takes them).
 protocol::Result<conf::Dut, std::string> declared_dut(const LoadOptions& options) {
     conf::Dut dut;
-    if (!options.dut_file.empty()) {
-        auto loaded = conf::load_dut_file(options.dut_file);
-        if (!loaded) return loaded.error();
-        dut = std::move(loaded.value());
-    }
-    const CLI::App& app = *options.command;
-    if (app.count("--unit") > 0) dut.unit = static_cast<std::uint8_t>(options.unit);
-    if (app.count("--registers") > 0) dut.registers = options.registers;
-    if (options.object_messaging) dut.object_messaging = true;
+    conf::DeclarationSources unreported("defaults");
+    GivenFlags given(*options.command, unreported);
+    if (auto error = options.dut.declare(dut, given); !error.empty()) return error;
     return dut;
 }
 
@@ -164,8 +156,7 @@ std::optional<std::string> check_line_unit(const LoadOptions& options, const loa
     const auto line = std::find_if(plan.targets.begin(), plan.targets.end(),
                                    [](const load::LoadTarget& target) { return target.line; });
     if (line == plan.targets.end()) return std::nullopt;
-    const bool declared = !options.dut_file.empty() || options.command->count("--unit") > 0;
-    return conf::settle_serial_unit(dut, declared, line->url);
+    return conf::settle_serial_unit(dut, options.dut.unit_declared(*options.command), line->url);
 }
 
 protocol::Result<load::LoadPlan, std::string> make_plan(const LoadOptions& options) {
@@ -361,16 +352,11 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
     cmd->add_option("--pipeline", options->pipeline, "requests in flight per generator connection")
         ->check(CLI::Range(1, 1024))
         ->capture_default_str();
-    cmd->add_option("--unit", options->unit,
-                    "unit identifier of the nodes (CTP 6.4; default 1, as every mblab command)")
-        ->check(CLI::Range(0, 255));
-    cmd->add_option("--registers", options->registers,
-                    "holding registers of the nodes (CTP 6.6; the 9.1.2 read goes past them)")
-        ->check(CLI::Range(1, 65536));
-    cmd->add_flag("--object-messaging", options->object_messaging,
-                  "the nodes support function code 0x5B (CTP 6.5)");
-    cmd->add_option("--dut", options->dut_file, "TOML file declaring the nodes (as mblab conform)")
-        ->check(CLI::ExistingFile);
+    options->dut.add_to(
+        *cmd, {"TOML file declaring the nodes (as mblab conform)",
+               "unit identifier of the nodes (CTP 6.4; default 1, as every mblab command)",
+               "holding registers of the nodes (CTP 6.6; the 9.1.2 read goes past them)", "",
+               "the nodes support function code 0x5B (CTP 6.5)", ""});
     add_duration_option(*cmd, "--timeout", options->timeout_ms,
                         "time to wait for each answer: milliseconds, or 250ms, "
                         "2s",

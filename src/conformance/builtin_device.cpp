@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <utility>
+
 #include "conformance/device_dut.hpp"
 #include "device/profile_loader.hpp"
 
@@ -17,13 +19,18 @@ std::string BuiltinDevice::start(const std::filesystem::path& profile, Dut& dut,
     auto loaded = device::read_profile(profile);
     if (!loaded) return loaded.error();
     dut = dut_from_profile(*loaded, "profile " + profile.filename().string());
-    device_ = std::make_unique<device::ReferenceDevice>(std::move(loaded.value()));
-    server_ = std::make_unique<server::BackgroundServer>(*device_);
-    auto port = server_->start();
+    auto port = serve(std::move(loaded.value()), {});
     if (!port) return "cannot start the reference device: " + port.error();
     target.tcp = client::Endpoint{"127.0.0.1", *port, nullptr};
     target.name = fmt::format("tcp://127.0.0.1:{}", *port);
     return {};
+}
+
+protocol::Result<std::uint16_t, std::string> BuiltinDevice::serve(device::Profile profile,
+                                                                  server::ServerOptions options) {
+    device_ = std::make_unique<device::ReferenceDevice>(std::move(profile));
+    server_ = std::make_unique<server::BackgroundServer>(*device_, std::move(options));
+    return server_->start();
 }
 
 }  // namespace mblab::conformance

@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <memory>
+#include <utility>
+
 #include "conformance/procedures.hpp"
 #include "device/profile_loader.hpp"
 #include "security/tls_context.hpp"
@@ -17,10 +20,6 @@ bool uses_mbaps(const std::vector<Suite>& suites) {
     return false;
 }
 
-BuiltinMbaps::~BuiltinMbaps() {
-    server_.reset();
-}
-
 std::string BuiltinMbaps::start(const std::filesystem::path& profile, Dut& dut,
                                 client::Target& secure) {
     if (auto error = pki_.make("conform-pki"); !error.empty()) return error;
@@ -33,9 +32,7 @@ std::string BuiltinMbaps::start(const std::filesystem::path& profile, Dut& dut,
     server::ServerOptions options;
     options.tls = std::move(context.value());
     options.roles = std::make_shared<const device::RoleRules>(loaded->roles);
-    device_ = std::make_unique<device::ReferenceDevice>(std::move(loaded.value()));
-    server_ = std::make_unique<server::BackgroundServer>(*device_, options);
-    auto port = server_->start();
+    auto port = device_.serve(std::move(loaded.value()), std::move(options));
     if (!port) return "cannot start the reference device over mbaps: " + port.error();
     dut.security.pki = pki_.dir().string();
     dut.security.client = {file("client-Administrator.pem"), file("client-Administrator.key"),

@@ -1,16 +1,14 @@
 #pragma once
 
 #include <filesystem>
-#include <memory>
 #include <string>
 #include <vector>
 
 #include "client/target.hpp"
+#include "conformance/builtin_device.hpp"
 #include "conformance/catalogue.hpp"
 #include "conformance/dut.hpp"
-#include "device/reference_device.hpp"
 #include "security/temporary_pki.hpp"
-#include "server/background_server.hpp"
 
 // What `mblab conform` without a target tests over Modbus/TCP Security when a suite asks for it.
 namespace mblab::conformance {
@@ -24,18 +22,12 @@ bool uses_mbaps(const std::vector<Suite>& suites);
 // on the first, because each BackgroundServer calls its device from its own thread.
 class BuiltinMbaps {
   public:
-    BuiltinMbaps() = default;
-    BuiltinMbaps(const BuiltinMbaps&) = delete;
-    BuiltinMbaps& operator=(const BuiltinMbaps&) = delete;
-    ~BuiltinMbaps();
-
     // Starts it; "" when it runs, else why not. `dut` gets the PKI and the tester's certificate.
     std::string start(const std::filesystem::path& profile, Dut& dut, client::Target& secure);
 
   private:
     security::TemporaryPki pki_;  // destroyed last: the server is stopped before it goes
-    std::unique_ptr<device::ReferenceDevice> device_;
-    std::unique_ptr<server::BackgroundServer> server_;
+    BuiltinDevice device_;
 };
 
 }  // namespace mblab::conformance

@@ -2,9 +2,21 @@
 
 #include <fmt/core.h>
 
+#include <string_view>
+
 namespace mblab::conformance {
 
 namespace {
+
+// Scenario 6 of each transport: every exception code a client must take as an error.
+void add_exception_cases(std::vector<ClientCase>& cases, std::string_view transport,
+                         const std::string& source) {
+    for (const std::uint8_t code : {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x0A, 0x0B}) {
+        cases.push_back({fmt::format("{}.6.{:02X}", transport, code),
+                         fmt::format("exception {:02X} is an error, never a value", code), source,
+                         ClientScenario::Exception, code});
+    }
+}
 
 std::vector<ClientCase> make_cases() {
     // TCPG 4.4.1.1 is the client's side: how it builds requests, manages its timeout and
@@ -26,11 +38,7 @@ std::vector<ClientCase> make_cases() {
         {"tcp.5.3", "an answer with extra bytes is rejected", "APP 6.3; TCPG 3.1.3",
          ClientScenario::ExtraBytes},
     };
-    for (const std::uint8_t code : {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x0A, 0x0B}) {
-        cases.push_back({fmt::format("tcp.6.{:02X}", code),
-                         fmt::format("exception {:02X} is an error, never a value", code), "APP 7",
-                         ClientScenario::Exception, code});
-    }
+    add_exception_cases(cases, "tcp", "APP 7");
     cases.insert(
         cases.end(),
         {
@@ -61,11 +69,7 @@ std::vector<ClientCase> make_line_cases() {
         {"ser.5", "an answer with a bad CRC or LRC is rejected and the client recovers",
          "SER 2.5.1.2; SER 2.5.2.2", ClientScenario::BadCheck},
     };
-    for (const std::uint8_t code : {0x01, 0x02, 0x03, 0x04, 0x05, 0x06, 0x0A, 0x0B}) {
-        cases.push_back({fmt::format("ser.6.{:02X}", code),
-                         fmt::format("exception {:02X} is an error, never a value", code),
-                         "APP 7; SER 2.4.1", ClientScenario::Exception, code});
-    }
+    add_exception_cases(cases, "ser", "APP 7; SER 2.4.1");
     cases.push_back({"ser.9", "broadcast: no wait for an answer, a turnaround delay after it",
                      "SER 2.2; SER 2.4.1", ClientScenario::Broadcast});
     return cases;

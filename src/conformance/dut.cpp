@@ -22,38 +22,66 @@ std::vector<std::uint8_t> be16(std::uint32_t value) {
 }
 
 template <class T>
-std::optional<std::int64_t> widen(const std::optional<T>& value) {
-    if (!value) return std::nullopt;
-    return static_cast<std::int64_t>(*value);
+DutValue declared(const std::optional<T>& value) {
+    if (!value) return {};
+    return static_cast<std::uint32_t>(*value);
 }
 
-// Numbers `requires` can compare; booleans count as 1 when declared true.
+DutValue declared(const std::string& text) {
+    if (text.empty()) return {};
+    return text;
+}
+
+std::string joined(const std::vector<std::string>& settings) {
+    std::string all;
+    for (const auto& setting : settings)
+        all += (all.empty() ? "" : ", ") + setting;
+    return all;
+}
+
+// Every key of a DUT file, in the order the reports list them, and what the Dut holds for it.
+struct DutKey {
+    std::string_view name;
+    DutValue (*value)(const Dut& dut);
+};
+
+constexpr std::array kDutKeys = {
+    DutKey{"unit", [](const Dut& d) -> DutValue { return std::uint32_t{d.unit}; }},
+    DutKey{"registers", [](const Dut& d) { return declared(d.registers); }},
+    DutKey{"max_read", [](const Dut& d) -> DutValue { return std::uint32_t{d.max_read}; }},
+    DutKey{"object_messaging", [](const Dut& d) -> DutValue { return d.object_messaging; }},
+    DutKey{"alternate_encoding", [](const Dut& d) -> DutValue { return d.alternate_encoding; }},
+    DutKey{"coils", [](const Dut& d) { return declared(d.coils); }},
+    DutKey{"discrete_inputs", [](const Dut& d) { return declared(d.discrete_inputs); }},
+    DutKey{"input_registers", [](const Dut& d) { return declared(d.input_registers); }},
+    DutKey{"read_only_register", [](const Dut& d) { return declared(d.read_only_register); }},
+    DutKey{"read_only_coil", [](const Dut& d) { return declared(d.read_only_coil); }},
+    DutKey{"fifo_address", [](const Dut& d) { return declared(d.fifo_address); }},
+    DutKey{"fifo_count_writable", [](const Dut& d) -> DutValue { return d.fifo_count_writable; }},
+    DutKey{"file_number", [](const Dut& d) { return declared(d.file_number); }},
+    DutKey{"echo_max_words", [](const Dut& d) { return declared(d.echo_max_words); }},
+    DutKey{"other_address", [](const Dut& d) { return declared(d.other_address); }},
+    DutKey{"turnaround_ms", [](const Dut& d) { return declared(d.turnaround_ms); }},
+    DutKey{"line_settings", [](const Dut& d) { return declared(joined(d.line_settings)); }},
+    DutKey{"pki", [](const Dut& d) { return declared(d.security.pki); }},
+    DutKey{"client_cert", [](const Dut& d) { return declared(d.security.client.cert); }},
+    DutKey{"client_key", [](const Dut& d) { return declared(d.security.client.key); }},
+    DutKey{"ca", [](const Dut& d) { return declared(d.security.client.ca); }},
+    DutKey{"read_only_role", [](const Dut& d) { return declared(d.security.read_only_role); }},
+    DutKey{"write_role", [](const Dut& d) { return declared(d.security.write_role); }},
+    DutKey{"null_role_granted",
+           [](const Dut& d) -> DutValue { return d.security.null_role_granted; }},
+};
+
+// Numbers `requires` can compare: booleans count as 1 when declared true, and names, paths and
+// line settings only say whether they were given.
 std::optional<std::int64_t> number_of(const Dut& dut, std::string_view name) {
-    if (name == "unit") return dut.unit;
-    if (name == "registers") return widen(dut.registers);
-    if (name == "max_read") return dut.max_read;
-    if (name == "object_messaging")
-        return dut.object_messaging ? std::optional<std::int64_t>(1) : std::nullopt;
-    if (name == "alternate_encoding")
-        return dut.alternate_encoding ? std::optional<std::int64_t>(1) : std::nullopt;
-    if (name == "coils") return widen(dut.coils);
-    if (name == "discrete_inputs") return widen(dut.discrete_inputs);
-    if (name == "input_registers") return widen(dut.input_registers);
-    if (name == "read_only_register") return widen(dut.read_only_register);
-    if (name == "read_only_coil") return widen(dut.read_only_coil);
-    if (name == "fifo_address") return widen(dut.fifo_address);
-    if (name == "fifo_count_writable")
-        return dut.fifo_count_writable ? std::optional<std::int64_t>(1) : std::nullopt;
-    if (name == "file_number") return widen(dut.file_number);
-    if (name == "echo_max_words") return widen(dut.echo_max_words);
-    if (name == "other_address") return widen(dut.other_address);
-    if (name == "turnaround_ms") return widen(dut.turnaround_ms);
-    // Security declarations are names and paths: `requires` asks only whether they were given.
-    auto given = [](bool yes) { return yes ? std::optional<std::int64_t>(1) : std::nullopt; };
-    if (name == "pki") return given(!dut.security.pki.empty());
-    if (name == "read_only_role") return given(!dut.security.read_only_role.empty());
-    if (name == "write_role") return given(!dut.security.write_role.empty());
-    if (name == "null_role_granted") return given(dut.security.null_role_granted);
+    const DutValue value = dut_value(dut, name);
+    if (const auto* number = std::get_if<std::uint32_t>(&value)) return *number;
+    if (const auto* yes = std::get_if<bool>(&value)) {
+        return *yes ? std::optional<std::int64_t>(1) : std::nullopt;
+    }
+    if (std::holds_alternative<std::string>(value)) return 1;
     return std::nullopt;
 }
 
@@ -100,31 +128,20 @@ constexpr std::string_view kSerialPortRequirement = "serial_port";
 }  // namespace
 
 const std::vector<std::string_view>& dut_keys() {
-    static const std::vector<std::string_view> keys = {"unit",
-                                                       "registers",
-                                                       "max_read",
-                                                       "object_messaging",
-                                                       "alternate_encoding",
-                                                       "coils",
-                                                       "discrete_inputs",
-                                                       "input_registers",
-                                                       "read_only_register",
-                                                       "read_only_coil",
-                                                       "fifo_address",
-                                                       "fifo_count_writable",
-                                                       "file_number",
-                                                       "echo_max_words",
-                                                       "other_address",
-                                                       "turnaround_ms",
-                                                       "line_settings",
-                                                       "pki",
-                                                       "client_cert",
-                                                       "client_key",
-                                                       "ca",
-                                                       "read_only_role",
-                                                       "write_role",
-                                                       "null_role_granted"};
+    static const std::vector<std::string_view> keys = [] {
+        std::vector<std::string_view> out;
+        for (const auto& key : kDutKeys)
+            out.push_back(key.name);
+        return out;
+    }();
     return keys;
+}
+
+DutValue dut_value(const Dut& dut, std::string_view key) {
+    for (const auto& known : kDutKeys) {
+        if (known.name == key) return known.value(dut);
+    }
+    return {};
 }
 
 bool is_known_fact(std::string_view name) {

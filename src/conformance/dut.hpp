@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
 #include "conformance/pattern.hpp"
@@ -75,6 +76,11 @@ std::optional<std::string> settle_serial_unit(Dut& dut, bool declared, std::stri
 
 // Keys of a DUT file, which are also the names `requires` and placeholders may use.
 const std::vector<std::string_view>& dut_keys();
+
+// What `dut` declares for one of dut_keys(), as reports show it (line settings joined by ", ");
+// std::monostate for a key left undeclared or unknown.
+using DutValue = std::variant<std::monostate, bool, std::uint32_t, std::string>;
+DutValue dut_value(const Dut& dut, std::string_view key);
 
 // Loads a DUT file (TOML, the keys above at top level). Errors name the file, line and reason.
 protocol::Result<Dut, std::string> load_dut_file(const std::string& path);

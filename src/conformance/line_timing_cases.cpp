@@ -140,14 +140,18 @@ microseconds quantile(const std::vector<microseconds>& sorted, double q) {
     return sorted[std::min(at, sorted.size() - 1)];
 }
 
-}  // namespace
-
+// The timing cases (line_timing_cases.cpp), on a serial port only (`requires =
+// ["serial_port"]`): over RTU over TCP frames are cut by their length.
+// RTU: FC 06 broken by a silence over t1.5 is neither answered nor executed [SER 2.5.1.1].
+// ASCII: FC 03 with a pause under 1 s between its characters is answered [SER 2.5.2.1].
 Outcome run_broken_request(Session& session, const Case& c) {
     LineProbe line(session, c);
     if (line.ascii()) return ascii_paused_request(session, c, line);
     return rtu_broken_request(session, c, line, line_timing(session, c));
 }
 
+// FC 03 reads, each sent t3.5 after the last answer, are all answered, with no silence over t1.5
+// inside an answer; the response times are reported against the timeout [SER 2.5.1.1, 2.4.1].
 Outcome run_answer_timing(Session& session, const Case& c) {
     LineProbe line(session, c);
     const LineTiming timing = line_timing(session, c);
@@ -203,6 +207,30 @@ Outcome run_answer_timing(Session& session, const Case& c) {
                     ms(responses.back()), line.timeout().count(), ms(widest),
                     timing.words(line.ascii())),
         {}};
+}
+
+}  // namespace
+
+std::vector<ProcedureInfo> line_timing_procedures() {
+    return {
+        modbus_procedure(
+            "broken_request",
+            "RTU: FC 06 broken by a silence over t1.5 is neither answered nor executed; ASCII: FC "
+            "03 with a pause under 1 s between its characters is answered (SER 2.5.1.1, 2.5.2.1)",
+            &run_broken_request,
+            {{"register", 0x0010},
+             {"silence_ms", 50},
+             {"ascii_pause_ms", 300},
+             {"latency_ms", 16},
+             {"pty_latency_ms", 2}}),
+        modbus_procedure(
+            "answer_timing",
+            "FC 03 reads, each sent t3.5 after the last answer, all answered with no silence over "
+            "t1.5 inside an answer; response times reported against the timeout (SER 2.5.1.1, "
+            "2.4.1)",
+            &run_answer_timing,
+            {{"register", 0x0010}, {"count", 10}, {"latency_ms", 16}, {"pty_latency_ms", 2}}),
+    };
 }
 
 }  // namespace mblab::conformance

@@ -35,6 +35,10 @@ struct ProcedureInfo {
 };
 
 const std::vector<ProcedureInfo>& procedures();
+// A procedure on the connection to the device, with no steps for `mblab load`: most of them.
+ProcedureInfo modbus_procedure(std::string_view name, std::string_view summary,
+                               Outcome (*run)(Session&, const Case&),
+                               std::vector<std::pair<std::string_view, std::int64_t>> params = {});
 const ProcedureInfo* find_procedure(std::string_view name);
 // Whether `procedure` opens TLS sessions of its own (ProcedureInfo::needs_mbaps): a run that has
 // one needs an mbaps:// port.

@@ -6,6 +6,8 @@
 #include <array>
 #include <ctime>
 #include <span>
+#include <type_traits>
+#include <variant>
 
 #include "conformance/session.hpp"
 #include "protocol/adu.hpp"
@@ -74,71 +76,12 @@ std::vector<Declaration> declarations_of(
     const Dut& dut, const std::function<std::string(std::string_view)>& source_of) {
     std::vector<Declaration> out;
     for (std::string_view key : dut_keys()) {
-        std::variant<bool, std::uint32_t, std::string> value;
-        auto number = [&](const auto& field) {
-            if (!field) return false;
-            value = static_cast<std::uint32_t>(*field);
-            return true;
-        };
-        auto text = [&](const std::string& field) {
-            if (field.empty()) return false;
-            value = field;
-            return true;
-        };
-        bool held = true;
-        if (key == "unit") {
-            value = std::uint32_t{dut.unit};
-        } else if (key == "registers") {
-            held = number(dut.registers);
-        } else if (key == "max_read") {
-            value = std::uint32_t{dut.max_read};
-        } else if (key == "object_messaging") {
-            value = dut.object_messaging;
-        } else if (key == "alternate_encoding") {
-            value = dut.alternate_encoding;
-        } else if (key == "coils") {
-            held = number(dut.coils);
-        } else if (key == "discrete_inputs") {
-            held = number(dut.discrete_inputs);
-        } else if (key == "input_registers") {
-            held = number(dut.input_registers);
-        } else if (key == "read_only_register") {
-            held = number(dut.read_only_register);
-        } else if (key == "read_only_coil") {
-            held = number(dut.read_only_coil);
-        } else if (key == "fifo_address") {
-            held = number(dut.fifo_address);
-        } else if (key == "file_number") {
-            held = number(dut.file_number);
-        } else if (key == "echo_max_words") {
-            held = number(dut.echo_max_words);
-        } else if (key == "other_address") {
-            held = number(dut.other_address);
-        } else if (key == "turnaround_ms") {
-            held = number(dut.turnaround_ms);
-        } else if (key == "line_settings") {
-            std::string all;
-            for (const auto& setting : dut.line_settings)
-                all += (all.empty() ? "" : ", ") + setting;
-            held = text(all);
-        } else if (key == "pki") {
-            held = text(dut.security.pki);
-        } else if (key == "client_cert") {
-            held = text(dut.security.client.cert);
-        } else if (key == "client_key") {
-            held = text(dut.security.client.key);
-        } else if (key == "ca") {
-            held = text(dut.security.client.ca);
-        } else if (key == "read_only_role") {
-            held = text(dut.security.read_only_role);
-        } else if (key == "write_role") {
-            held = text(dut.security.write_role);
-        } else if (key == "null_role_granted") {
-            value = dut.security.null_role_granted;
-        } else {
-            held = false;  // a key added to dut_keys() that this list does not know yet
-        }
-        if (held) out.push_back({std::string(key), std::move(value), source_of(key)});
+        std::visit(
+            [&](const auto& value) {
+                if constexpr (!std::is_same_v<std::decay_t<decltype(value)>, std::monostate>)
+                    out.push_back({std::string(key), value, source_of(key)});
+            },
+            dut_value(dut, key));
     }
     return out;
 }

@@ -35,10 +35,18 @@ using security::ClientVersions;
 
 constexpr std::uint8_t kIllegalFunction = 0x01;
 
-Outcome refuse_old_version(Session& session, ClientVersions versions, std::string_view name) {
+// A session with the tester's own certificate, as `versions` allow; the outcome when the case
+// cannot be judged (N/A off mbaps://, NOT RUN when the attempt failed on this side).
+std::optional<Outcome> open_as_tester(Session& session, ClientVersions versions, bool verify_device,
+                                      Attempt& attempt) {
     if (auto na = not_secure(session)) return *na;
-    auto attempt = open_tls(session, session.dut().security.client, versions, false);
-    if (auto stop = not_judged(attempt)) return *stop;
+    attempt = open_tls(session, session.dut().security.client, versions, verify_device);
+    return not_judged(attempt);
+}
+
+Outcome refuse_old_version(Session& session, ClientVersions versions, std::string_view name) {
+    Attempt attempt;
+    if (auto stop = open_as_tester(session, versions, false, attempt)) return *stop;
     if (attempt.link) {
         const auto& peer = attempt.link->tls()->peer();
         return verdict(Verdict::Fail,
@@ -151,13 +159,9 @@ std::variant<Outcome, RoleSession> read_as_role(Session& session, const std::str
     return out;
 }
 
-}  // namespace
-
 Outcome run_tls_handshake(Session& session, const Case&) {
-    if (auto na = not_secure(session)) return *na;
-    const auto& files = session.dut().security.client;
-    auto attempt = open_tls(session, files, ClientVersions::Modern, true);
-    if (auto stop = not_judged(attempt)) return *stop;
+    Attempt attempt;
+    if (auto stop = open_as_tester(session, ClientVersions::Modern, true, attempt)) return *stop;
     if (!attempt.link) {
         return verdict(Verdict::Fail, "the handshake with the tester's certificate failed: " +
                                           attempt.error.message);
@@ -293,9 +297,8 @@ Outcome run_write_role(Session& session, const Case&) {
 }
 
 Outcome run_tls_renegotiation(Session& session, const Case&) {
-    if (auto na = not_secure(session)) return *na;
-    auto attempt = open_tls(session, session.dut().security.client, ClientVersions::Tls12, false);
-    if (auto stop = not_judged(attempt)) return *stop;
+    Attempt attempt;
+    if (auto stop = open_as_tester(session, ClientVersions::Tls12, false, attempt)) return *stop;
     if (!attempt.link) {
         return verdict(Verdict::NotApplicable, "the device did not make a TLS 1.2 session (" +
                                                    attempt.error.message +
@@ -350,9 +353,8 @@ Outcome run_tls_renegotiation(Session& session, const Case&) {
 }
 
 Outcome run_tls_close_notify(Session& session, const Case&) {
-    if (auto na = not_secure(session)) return *na;
-    auto attempt = open_tls(session, session.dut().security.client, ClientVersions::Modern, false);
-    if (auto stop = not_judged(attempt)) return *stop;
+    Attempt attempt;
+    if (auto stop = open_as_tester(session, ClientVersions::Modern, false, attempt)) return *stop;
     if (!attempt.link) {
         return verdict(Verdict::NotRun, "cannot make a session with the tester's certificate: " +
                                             attempt.error.message);
@@ -369,6 +371,60 @@ Outcome run_tls_close_notify(Session& session, const Case&) {
         return verdict(Verdict::Fail, "after close_notify " + how + "; " + *dead);
     }
     return verdict(Verdict::Pass, "after close_notify " + how + "; the device serves new sessions");
+}
+
+// A security procedure opens TLS sessions of its own to the device's mbaps:// port.
+ProcedureInfo tls_procedure(std::string_view name, std::string_view summary,
+                            Outcome (*run)(Session&, const Case&)) {
+    return ProcedureInfo{name, summary, {}, {}, false, run, nullptr, true};
+}
+
+}  // namespace
+
+std::vector<ProcedureInfo> security_procedures() {
+    return {
+        tls_procedure(
+            "tls_handshake",
+            "[SEC] handshake with the tester's certificate (TLS 1.2+, mutual authentication, the "
+            "device's certificate verified against the CA), then an FC 03 read answered inside TLS",
+            &run_tls_handshake),
+        tls_procedure("tls10_refused", "a TLS 1.0-only ClientHello is refused (R-34)",
+                      &run_tls10_refused),
+        tls_procedure("tls11_refused", "a TLS 1.1-only ClientHello is refused (R-34)",
+                      &run_tls11_refused),
+        tls_procedure(
+            "no_certificate_refused",
+            "a client that sends no certificate is refused with a fatal alert (R-10, R-44)",
+            &run_no_certificate_refused),
+        tls_procedure("expired_certificate_refused",
+                      "the PKI's client-expired certificate is refused (R-06, R-47)",
+                      &run_expired_certificate_refused),
+        tls_procedure("foreign_ca_certificate_refused",
+                      "the PKI's client-foreign-ca certificate is refused (R-06)",
+                      &run_foreign_ca_certificate_refused),
+        tls_procedure("self_signed_certificate_refused",
+                      "the PKI's client-self-signed certificate is refused (R-06)",
+                      &run_self_signed_certificate_refused),
+        tls_procedure("null_role_denied",
+                      "the PKI's client-norole certificate: every public function code answered "
+                      "exception 01 (R-23, R-31)",
+                      &run_null_role_denied),
+        tls_procedure("read_only_role",
+                      "the declared read-only role: FC 03 of register 0x0010 answered with data, "
+                      "FC 06 and FC 10 answered exception 01 (R-04, R-30, R-31)",
+                      &run_read_only_role),
+        tls_procedure(
+            "write_role",
+            "the declared write role: FC 03 and FC 06 of register 0x0010 answered (R-04, R-30)",
+            &run_write_role),
+        tls_procedure("tls_renegotiation",
+                      "TLS 1.2 session: the RFC 5746 indication present (R-60); a renegotiation "
+                      "request leaves the device serving",
+                      &run_tls_renegotiation),
+        tls_procedure("tls_close_notify",
+                      "close_notify after a read: the device ends the session and serves new ones",
+                      &run_tls_close_notify),
+    };
 }
 
 }  // namespace mblab::conformance

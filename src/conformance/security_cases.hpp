@@ -1,6 +1,8 @@
 #pragma once
 
-#include "conformance/verdict.hpp"
+#include <vector>
+
+#include "conformance/procedures.hpp"
 
 // The security suite's procedures (catalogue/security.toml, docs/security.md): Modbus/TCP
 // Security ([SEC], MB-TCP-Security v36 requirement numbers) judged from the client's side. Each
@@ -10,20 +12,6 @@
 // certificate this side cannot present, gives NOT RUN; a declaration missing gives N/A.
 namespace mblab::conformance {
 
-class Session;
-struct Case;
-
-Outcome run_tls_handshake(Session& session, const Case& c);
-Outcome run_tls10_refused(Session& session, const Case& c);
-Outcome run_tls11_refused(Session& session, const Case& c);
-Outcome run_no_certificate_refused(Session& session, const Case& c);
-Outcome run_expired_certificate_refused(Session& session, const Case& c);
-Outcome run_foreign_ca_certificate_refused(Session& session, const Case& c);
-Outcome run_self_signed_certificate_refused(Session& session, const Case& c);
-Outcome run_null_role_denied(Session& session, const Case& c);
-Outcome run_read_only_role(Session& session, const Case& c);
-Outcome run_write_role(Session& session, const Case& c);
-Outcome run_tls_renegotiation(Session& session, const Case& c);
-Outcome run_tls_close_notify(Session& session, const Case& c);
+std::vector<ProcedureInfo> security_procedures();
 
 }  // namespace mblab::conformance

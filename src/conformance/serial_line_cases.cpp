@@ -85,8 +85,7 @@ std::optional<std::string> rtu_layout_fault(const LineAnswer& answer) {
     return std::nullopt;
 }
 
-}  // namespace
-
+// FC 03 to another address is not answered [SER 2.2].
 Outcome run_other_address_read(Session& session, const Case& c) {
     LineProbe line(session, c);
     const auto answer = line.ask(line.other(), read_holding(line.register_address()));
@@ -99,6 +98,7 @@ Outcome run_other_address_read(Session& session, const Case& c) {
                             line.timeout().count()));
 }
 
+// FC 06 to another address is neither answered nor executed [SER 2.2].
 Outcome run_other_address_write(Session& session, const Case& c) {
     LineProbe line(session, c);
     Outcome failed;
@@ -114,6 +114,8 @@ Outcome run_other_address_write(Session& session, const Case& c) {
                             line.register_address(), *before));
 }
 
+// FC 06 to address 0 is executed, not answered, and the device answers again once the declared
+// turnaround delay is over [SER 2.2, 2.4.1].
 Outcome run_broadcast_write(Session& session, const Case& c) {
     LineProbe line(session, c);
     Outcome failed;
@@ -160,6 +162,7 @@ Outcome run_broadcast_write(Session& session, const Case& c) {
                             turnaround.count()));
 }
 
+// A read (`function` 3) or FC 08 (`function` 8) to address 0 is never answered [SER 2.2].
 Outcome run_broadcast_unanswered(Session& session, const Case& c) {
     LineProbe line(session, c);
     const bool diagnostic = param(c, "function") == kDiagnostics;
@@ -172,6 +175,8 @@ Outcome run_broadcast_unanswered(Session& session, const Case& c) {
     return pass(fmt::format("{} went unanswered for {} ms", what, line.timeout().count()));
 }
 
+// A write with a wrong CRC or LRC is neither answered nor executed, and FC 08 sub-function 0C
+// counts it where it is served [SER 2.4.2, 2.5.1.2, 2.5.2.2, 6.1].
 Outcome run_wrong_checksum(Session& session, const Case& c) {
     LineProbe line(session, c);
     const auto checksum = line.ascii() ? "LRC" : "CRC";
@@ -203,6 +208,8 @@ Outcome run_wrong_checksum(Session& session, const Case& c) {
                             *count_after));
 }
 
+// The answer carries the device's own address, its checksum laid out as the framing says, and
+// nothing after it [SER 2.5.1, 2.5.2].
 Outcome run_answer_frame(Session& session, const Case& c) {
     LineProbe line(session, c);
     const auto answer = line.ask(line.own(), read_holding(line.register_address()));
@@ -227,6 +234,7 @@ Outcome run_answer_frame(Session& session, const Case& c) {
                              : "the device's own address, CRC low byte first, nothing after");
 }
 
+// ASCII: a write in lower-case hex is a framing error, neither answered nor executed [SER 2.5.2].
 Outcome run_ascii_lower_case(Session& session, const Case& c) {
     LineProbe line(session, c);
     Outcome failed;
@@ -243,6 +251,42 @@ Outcome run_ascii_lower_case(Session& session, const Case& c) {
     if (!answer.silent()) return answered(session, line, answer, what);
     if (auto executed = unchanged(session, line, *before, answer.exchange, what)) return *executed;
     return pass("unanswered and not executed");
+}
+
+}  // namespace
+
+std::vector<ProcedureInfo> serial_line_procedures() {
+    return {
+        modbus_procedure("other_address_read",
+                         "FC 03 to another address on the line is not answered (SER 2.2)",
+                         &run_other_address_read, {{"register", 0x0010}, {"other_address", 0}}),
+        modbus_procedure("other_address_write",
+                         "FC 06 to another address is neither answered nor executed: the register "
+                         "read back at the device's own address is unchanged (SER 2.2)",
+                         &run_other_address_write, {{"register", 0x0010}, {"other_address", 0}}),
+        modbus_procedure(
+            "broadcast_write",
+            "FC 06 to address 0 is executed and not answered; the device answers a read once the "
+            "turnaround delay is over, and the value is put back (SER 2.2, 2.4.1)",
+            &run_broadcast_write, {{"register", 0x0010}, {"turnaround_ms", 200}}),
+        modbus_procedure("broadcast_unanswered",
+                         "a request to address 0 (FC 03, or FC 08 with function = 8) is never "
+                         "answered (SER 2.2)",
+                         &run_broadcast_unanswered, {{"register", 0x0010}, {"function", 3}}),
+        modbus_procedure("wrong_checksum",
+                         "FC 06 with a wrong CRC (RTU) or LRC (ASCII) is neither answered nor "
+                         "executed; FC 08 sub-function 0C counts it where served (SER 2.4.2, 6.1)",
+                         &run_wrong_checksum, {{"register", 0x0010}}),
+        modbus_procedure(
+            "answer_frame",
+            "the answer to FC 03 carries the device's own address, its CRC low byte first or ':', "
+            "upper-case hex, LRC and CR LF, and nothing after it (SER 2.5.1, 2.5.2)",
+            &run_answer_frame, {{"register", 0x0010}}),
+        modbus_procedure(
+            "ascii_lower_case",
+            "ASCII: FC 06 in lower-case hex is neither answered nor executed (SER 2.5.2)",
+            &run_ascii_lower_case, {{"register", 0x0010}}),
+    };
 }
 
 }  // namespace mblab::conformance

@@ -99,65 +99,66 @@ std::optional<std::string> wrong_sentinel(const SunSpecPointReading& point) {
     }
 }
 
-ProcedureInfo procedure(std::string_view name, std::string_view summary,
-                        Outcome (*run)(Session&, const Case&),
-                        std::vector<std::pair<std::string_view, std::int64_t>> params = {}) {
-    return ProcedureInfo{name, summary, std::move(params), {}, true, run, nullptr, false};
-}
-
 }  // namespace
 
 std::vector<ProcedureInfo> sunspec_procedures() {
     return {
-        procedure("sunspec_marker",
-                  "\"SunS\" at 40000, 0 or 50000 (which is reported); a marker one register off "
-                  "a base fails as such",
-                  &run_sunspec_marker),
-        procedure("sunspec_common", "the first model is the common model 1, of length 66",
-                  &run_sunspec_common),
-        procedure("sunspec_chain_end",
-                  "the chain of models ends with the end model 0xFFFF, length 0, inside the "
-                  "address space",
-                  &run_sunspec_chain_end),
-        procedure("sunspec_lengths",
-                  "each model's L is what its definition makes it (fixed part plus repeating "
-                  "groups as their count points say)",
-                  &run_sunspec_lengths),
-        procedure("sunspec_unknown", "models without a definition are listed",
-                  &run_sunspec_unknown),
-        procedure("sunspec_mandatory", "no mandatory point holds its \"not implemented\" value",
-                  &run_sunspec_mandatory),
-        procedure("sunspec_sentinels",
-                  "float NaNs and EUI-48s not implemented hold their type's exact sentinel",
-                  &run_sunspec_sentinels),
-        procedure("sunspec_scale_factors",
-                  "scale factors within -10..10, implemented where a point they scale is, and "
-                  "the same when read again",
-                  &run_sunspec_scale_factors),
-        procedure("sunspec_enums", "enum values are among their symbols", &run_sunspec_enums),
-        procedure("sunspec_strings", "strings are printable ASCII, NUL-padded",
-                  &run_sunspec_strings),
-        procedure("sunspec_accumulators", "accumulators read again do not decrease",
-                  &run_sunspec_accumulators, {{"interval_ms", 500}}),
-        procedure("sunspec_chunks",
-                  "every model read whole in reads of at most 125 registers (the declared "
-                  "maximum) that end on point boundaries",
-                  &run_sunspec_chunks),
-        procedure("sunspec_rw_points",
-                  "every implemented RW point takes a different valid value, reads it back, and "
-                  "is given its first value back",
-                  &run_sunspec_rw_points, {{"read_back_ms", 1000}}),
-        procedure("sunspec_read_only",
-                  "a write to an R point of each model is refused and leaves it unchanged",
-                  &run_sunspec_read_only),
-        procedure("sunspec_bad_enum",
-                  "a value outside its symbols written to each RW enum point is refused and "
-                  "leaves it unchanged",
-                  &run_sunspec_bad_enum),
-        procedure("sunspec_line",
-                  "on a serial line, 1.DA takes a write of its own value, and an RW point takes a "
-                  "broadcast write (FC 16 to address 0), unanswered",
-                  &run_sunspec_line, {{"turnaround_ms", 200}}),
+        modbus_procedure(
+            "sunspec_marker",
+            "\"SunS\" at 40000, 0 or 50000 (which is reported); a marker one register off "
+            "a base fails as such",
+            &run_sunspec_marker),
+        modbus_procedure("sunspec_common", "the first model is the common model 1, of length 66",
+                         &run_sunspec_common),
+        modbus_procedure("sunspec_chain_end",
+                         "the chain of models ends with the end model 0xFFFF, length 0, inside the "
+                         "address space",
+                         &run_sunspec_chain_end),
+        modbus_procedure(
+            "sunspec_lengths",
+            "each model's L is what its definition makes it (fixed part plus repeating "
+            "groups as their count points say)",
+            &run_sunspec_lengths),
+        modbus_procedure("sunspec_unknown", "models without a definition are listed",
+                         &run_sunspec_unknown),
+        modbus_procedure("sunspec_mandatory",
+                         "no mandatory point holds its \"not implemented\" value",
+                         &run_sunspec_mandatory),
+        modbus_procedure("sunspec_sentinels",
+                         "float NaNs and EUI-48s not implemented hold their type's exact sentinel",
+                         &run_sunspec_sentinels),
+        modbus_procedure(
+            "sunspec_scale_factors",
+            "scale factors within -10..10, implemented where a point they scale is, and "
+            "the same when read again",
+            &run_sunspec_scale_factors),
+        modbus_procedure("sunspec_enums", "enum values are among their symbols",
+                         &run_sunspec_enums),
+        modbus_procedure("sunspec_strings", "strings are printable ASCII, NUL-padded",
+                         &run_sunspec_strings),
+        modbus_procedure("sunspec_accumulators", "accumulators read again do not decrease",
+                         &run_sunspec_accumulators, {{"interval_ms", 500}}),
+        modbus_procedure("sunspec_chunks",
+                         "every model read whole in reads of at most 125 registers (the declared "
+                         "maximum) that end on point boundaries",
+                         &run_sunspec_chunks),
+        modbus_procedure(
+            "sunspec_rw_points",
+            "every implemented RW point takes a different valid value, reads it back, and "
+            "is given its first value back",
+            &run_sunspec_rw_points, {{"read_back_ms", 1000}}),
+        modbus_procedure("sunspec_read_only",
+                         "a write to an R point of each model is refused and leaves it unchanged",
+                         &run_sunspec_read_only),
+        modbus_procedure("sunspec_bad_enum",
+                         "a value outside its symbols written to each RW enum point is refused and "
+                         "leaves it unchanged",
+                         &run_sunspec_bad_enum),
+        modbus_procedure(
+            "sunspec_line",
+            "on a serial line, 1.DA takes a write of its own value, and an RW point takes a "
+            "broadcast write (FC 16 to address 0), unanswered",
+            &run_sunspec_line, {{"turnaround_ms", 200}}),
     };
 }
 

@@ -3,8 +3,6 @@
 #include <filesystem>
 #include <string>
 
-#include "protocol/result.hpp"
-
 // A lab PKI made for one run in a new directory of its own, removed with the object: the
 // built-in device's and the client examiner's certificates when no PKI is given.
 namespace mblab::security {

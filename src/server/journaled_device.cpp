@@ -1,5 +1,6 @@
 #include "server/journaled_device.hpp"
 
+#include <optional>
 #include <vector>
 
 #include "protocol/exception_code.hpp"
@@ -34,23 +35,36 @@ long word_at(std::string_view text, std::size_t at) {
     return word;
 }
 
-// "UNIT V C|H START HEX" back into set_values; false when the line is not one.
-bool replay_values(device::ReferenceDevice& device, std::string_view line) {
-    const auto first = line.find(' ');
-    if (first == std::string_view::npos || first == 0 || first > 3 || line.size() < first + 5 ||
-        line.substr(first, 3) != " V " || line[first + 4] != ' ') {
-        return false;
-    }
+// The unit number every record starts with, 0..255, and where the space after it stands.
+struct LeadingUnit {
+    std::uint8_t unit;
+    std::size_t space;
+};
+
+std::optional<LeadingUnit> leading_unit(std::string_view line) {
+    const auto space = line.find(' ');
+    if (space == std::string_view::npos || space == 0 || space > 3) return std::nullopt;
     unsigned unit = 0;
-    for (std::size_t i = 0; i < first; ++i) {
-        if (line[i] < '0' || line[i] > '9') return false;
+    for (std::size_t i = 0; i < space; ++i) {
+        if (line[i] < '0' || line[i] > '9') return std::nullopt;
         unit = unit * 10 + static_cast<unsigned>(line[i] - '0');
     }
+    if (unit > 255) return std::nullopt;
+    return LeadingUnit{static_cast<std::uint8_t>(unit), space};
+}
+
+// "UNIT V C|H START HEX" back into set_values; false when the line is not one.
+bool replay_values(device::ReferenceDevice& device, std::string_view line) {
+    const auto lead = leading_unit(line);
+    if (!lead) return false;
+    const auto first = lead->space;
+    if (line.size() < first + 5 || line.substr(first, 3) != " V " || line[first + 4] != ' ')
+        return false;
     const char bank = line[first + 3];
     const auto rest = line.substr(first + 5);
     const long start = word_at(rest, 0);
-    if (unit > 255 || (bank != 'C' && bank != 'H') || start < 0 || rest.size() < 9 ||
-        rest[4] != ' ' || (rest.size() - 5) % 4 != 0) {
+    if ((bank != 'C' && bank != 'H') || start < 0 || rest.size() < 9 || rest[4] != ' ' ||
+        (rest.size() - 5) % 4 != 0) {
         return false;
     }
     std::vector<std::uint16_t> values;
@@ -61,8 +75,7 @@ bool replay_values(device::ReferenceDevice& device, std::string_view line) {
     }
     // A unit or an address the profile no longer maps was refused when written: nothing to do.
     (void)device.data().set_values(
-        static_cast<std::uint8_t>(unit),
-        bank == 'C' ? device::BankKind::Coils : device::BankKind::HoldingRegisters,
+        lead->unit, bank == 'C' ? device::BankKind::Coils : device::BankKind::HoldingRegisters,
         static_cast<std::uint32_t>(start), values);
     return true;
 }
@@ -82,18 +95,12 @@ std::string journal_record(const device::RequestContext& context,
 
 bool parse_journal_record(std::string_view line, device::RequestContext& context,
                           std::vector<std::uint8_t>& request) {
-    const auto first = line.find(' ');
-    if (first == std::string::npos || first == 0 || first > 3 || line.size() < first + 3 ||
-        line[first + 2] != ' ') {
-        return false;
-    }
-    unsigned unit = 0;
-    for (std::size_t i = 0; i < first; ++i) {
-        if (line[i] < '0' || line[i] > '9') return false;
-        unit = unit * 10 + static_cast<unsigned>(line[i] - '0');
-    }
+    const auto lead = leading_unit(line);
+    if (!lead) return false;
+    const auto first = lead->space;
+    if (line.size() < first + 3 || line[first + 2] != ' ') return false;
     const char link = line[first + 1];
-    if (unit > 255 || (link != 'T' && link != 'S')) return false;
+    if (link != 'T' && link != 'S') return false;
     const auto hex = line.substr(first + 3);
     if (hex.empty() || hex.size() % 2 != 0) return false;
     request.clear();
@@ -103,7 +110,7 @@ bool parse_journal_record(std::string_view line, device::RequestContext& context
         if (high < 0 || low < 0) return false;
         request.push_back(static_cast<std::uint8_t>(high * 16 + low));
     }
-    context.unit = static_cast<std::uint8_t>(unit);
+    context.unit = lead->unit;
     context.link = link == 'S' ? device::Link::Serial : device::Link::Tcp;
     return true;
 }

@@ -17,19 +17,25 @@ std::string hex_code(std::uint8_t function) {
 std::string serve_metrics(const ServeView& view) {
     MetricsText out;
     const auto counts = view.meter.counts();
-    out.family("mblab_requests_total", "counter",
-               "Modbus requests handed to the device, by unit and function code.");
-    for (const auto& row : counts) {
-        out.sample("mblab_requests_total",
-                   {{"unit", std::to_string(row.unit)}, {"function", hex_code(row.function)}},
-                   static_cast<double>(row.requests));
-    }
-    out.family("mblab_exceptions_total", "counter",
-               "Modbus answers with the exception bit, by unit and function code.");
-    for (const auto& row : counts) {
-        out.sample("mblab_exceptions_total",
-                   {{"unit", std::to_string(row.unit)}, {"function", hex_code(row.function)}},
-                   static_cast<double>(row.exceptions));
+    struct FunctionCounter {
+        const char* name;
+        const char* help;
+        std::uint64_t RequestCount::*field;
+    };
+    const FunctionCounter function_counters[] = {
+        {"mblab_requests_total", "Modbus requests handed to the device, by unit and function code.",
+         &RequestCount::requests},
+        {"mblab_exceptions_total",
+         "Modbus answers with the exception bit, by unit and function code.",
+         &RequestCount::exceptions},
+    };
+    for (const auto& counter : function_counters) {
+        out.family(counter.name, "counter", counter.help);
+        for (const auto& row : counts) {
+            out.sample(counter.name,
+                       {{"unit", std::to_string(row.unit)}, {"function", hex_code(row.function)}},
+                       static_cast<double>(row.*counter.field));
+        }
     }
     const auto latency = view.meter.latency();
     out.family("mblab_request_duration_seconds", "histogram",

@@ -97,11 +97,12 @@ TEST(Provenance, DeclarationsNameEveryKeyWithAValueAndItsSource) {
     for (const auto& declaration : declarations)
         keys.push_back(declaration.key + "=" + value_text(declaration) + " (" + declaration.source +
                        ")");
-    EXPECT_EQ(keys, (std::vector<std::string>{
-                        "unit=1 (defaults)", "registers=100 (flag --registers)",
-                        "max_read=125 (defaults)", "object_messaging=false (defaults)",
-                        "alternate_encoding=false (defaults)", "write_role=Operator (defaults)",
-                        "null_role_granted=false (defaults)"}));
+    EXPECT_EQ(keys,
+              (std::vector<std::string>{
+                  "unit=1 (defaults)", "registers=100 (flag --registers)",
+                  "max_read=125 (defaults)", "object_messaging=false (defaults)",
+                  "alternate_encoding=false (defaults)", "fifo_count_writable=false (defaults)",
+                  "write_role=Operator (defaults)", "null_role_granted=false (defaults)"}));
 }
 
 TEST(EvidenceText, MarksTheDifferingBytes) {
