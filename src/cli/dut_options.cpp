@@ -50,9 +50,10 @@ std::string DutOptions::declare(conformance::Dut& dut, GivenFlags& given) const 
     if (given("--registers", "registers")) dut.registers = registers_;
     if (has_max_read_ && given("--max-read", "max_read"))
         dut.max_read = static_cast<std::uint16_t>(max_read_);
-    if (given("--object-messaging", "object_messaging")) dut.object_messaging = true;
+    // A flag given as --object-messaging=false declares false.
+    if (given("--object-messaging", "object_messaging")) dut.object_messaging = object_messaging_;
     if (has_alternate_encoding_ && given("--alternate-encoding", "alternate_encoding"))
-        dut.alternate_encoding = true;
+        dut.alternate_encoding = alternate_encoding_;
     return {};
 }
 

@@ -28,6 +28,7 @@ std::string BuiltinDevice::start(const std::filesystem::path& profile, Dut& dut,
 
 protocol::Result<std::uint16_t, std::string> BuiltinDevice::serve(device::Profile profile,
                                                                   server::ServerOptions options) {
+    server_.reset();  // it serves the device about to be replaced
     device_ = std::make_unique<device::ReferenceDevice>(std::move(profile));
     server_ = std::make_unique<server::BackgroundServer>(*device_, std::move(options));
     return server_->start();

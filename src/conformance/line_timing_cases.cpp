@@ -140,7 +140,7 @@ microseconds quantile(const std::vector<microseconds>& sorted, double q) {
     return sorted[std::min(at, sorted.size() - 1)];
 }
 
-// The timing cases (line_timing_cases.cpp), on a serial port only (`requires =
+// The timing cases, on a serial port only (`requires =
 // ["serial_port"]`): over RTU over TCP frames are cut by their length.
 // RTU: FC 06 broken by a silence over t1.5 is neither answered nor executed [SER 2.5.1.1].
 // ASCII: FC 03 with a pause under 1 s between its characters is answered [SER 2.5.2.1].

@@ -115,8 +115,9 @@ class PointBehaviour {
             if (!fields_.has("max")) out.max = high * scale;
             if (!fields_.has("min")) out.min = std::max(low, 0.0) * scale;
             if (!fields_.has("start")) out.start = out.min;
-            // An accumulator rolls over at its type's end, as a meter's register does (a reader
-            // counts the step modulo the range); one given a max of its own stops there.
+            // An accumulator rolls over at its type's end and starts again at its min, as a
+            // meter's register rolls over (a reader counts the step modulo the range); one given
+            // a max of its own stops there.
             out.wraps = !accumulator || !fields_.has("max");
             // Below its min a counter would run on to the type's "not implemented" value.
             if (!(out.step > 0)) {

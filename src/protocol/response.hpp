@@ -10,6 +10,7 @@
 #include "protocol/register_view.hpp"
 #include "protocol/request.hpp"
 #include "protocol/result.hpp"
+#include "protocol/shared_fields.hpp"
 
 // Response PDUs of every public function code, as views into the caller's buffer.
 namespace mblab::protocol {

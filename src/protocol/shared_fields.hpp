@@ -9,7 +9,7 @@
 // carries the same fields back. Each message type derives from its layout instead of naming it
 // with `using`, so that it stays a type of its own (an alternative of its variant, with its own
 // name). A layout names its function code as `kFunction`, a template argument where the layout
-// serves several codes.
+// serves several codes; the raw layout, which carries any code, holds it as `function`.
 namespace mblab::protocol {
 
 // 07, 0B, 0C, 11 requests: the function code is the whole PDU.

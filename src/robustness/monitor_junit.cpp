@@ -47,7 +47,8 @@ std::string storm_cases(const MonitorJudgement& judged, const std::vector<Ladder
             std::string detail;
             const auto rung = storm_phase_name(s.kind, *s.lost_at);
             for (const auto& p : judged.phases) {
-                if (p.phase.name == rung) detail = rung + ": " + missed_words(p);
+                if (p.phase.name == rung)
+                    detail = rung + ": " + missed_words(p) + "\n" + p.phase.requirement;
             }
             cases += fmt::format(
                 "\n      <failure message=\"{}\" type=\"monitor lost\">{}</failure>\n    ",

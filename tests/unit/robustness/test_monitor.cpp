@@ -273,7 +273,7 @@ TEST(StormLadder, EachStormsHighestRateHeldAndWhereItWasLost) {
     for (const char* part :
          {"<testcase classname=\"monitor.ladder\" name=\"fc03\" time=\"0\">\n      <failure "
           "message=\"held up to 100 requests/s, lost at 1000/s [CR 7.1]\" type=\"monitor "
-          "lost\">storm 1000/s: 4 of 5 cycles missed (80.0%)</failure>",
+          "lost\">storm 1000/s: 4 of 5 cycles missed (80.0%)\nCR 7.1</failure>",
           "name=\"opens\" time=\"0\">\n      <system-out>held up to 50 connection opens/s "
           "[CR 7.1]</system-out>",
           "name=\"fc06\" time=\"0\">\n      <skipped message=\"not run: no holding "
