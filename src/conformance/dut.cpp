@@ -157,6 +157,9 @@ std::optional<std::vector<std::uint8_t>> DutFacts::fact(std::string_view name) c
         if (!dut_.echo_max_words) return std::nullopt;
         return echo_words(*dut_.echo_max_words + (name == "echo_over_data" ? 1U : 0U));
     }
+    // A path or a text (client_cert, line_settings) is no request field: only `requires` asks
+    // whether it was declared.
+    if (std::holds_alternative<std::string>(dut_value(dut_, name))) return std::nullopt;
     auto value = number_of(dut_, name);
     if (!value) return std::nullopt;
     return be16(static_cast<std::uint32_t>(*value));
