@@ -10,7 +10,8 @@ namespace {
 // the framing numbers requests; on a line, which pairs answers by order, the address asked.
 bool paired(const protocol::AduHeader& sent, const protocol::AduHeader& answer) {
     if (sent.has_transaction())
-        return answer.transaction_id == sent.transaction_id && answer.protocol_id == 0;
+        return answer.transaction_id == sent.transaction_id &&
+               answer.protocol_id == protocol::kModbusProtocolId;
     return answer.unit == sent.unit;
 }
 

@@ -142,8 +142,8 @@ std::span<const std::uint8_t> answer_pdu(const Exchange& e) {
     const auto got = protocol::read_mbap_frame(e.received);
     if (!asked || !got || got->pdu.empty() ||
         got->header.transaction_id != asked->header.transaction_id ||
-        got->header.protocol_id != 0 || got->header.unit != asked->header.unit ||
-        (got->pdu[0] & 0x7F) != asked->pdu[0]) {
+        got->header.protocol_id != protocol::kModbusProtocolId ||
+        got->header.unit != asked->header.unit || (got->pdu[0] & 0x7F) != asked->pdu[0]) {
         return {};
     }
     return got->pdu;

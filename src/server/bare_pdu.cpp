@@ -12,7 +12,8 @@ namespace {
 // those bytes could also be read as.
 bool is_whole_mbap(std::span<const std::uint8_t> bytes) {
     const auto frame = protocol::read_mbap_frame(bytes);
-    return frame && !frame->pdu.empty() && frame->header.protocol_id == 0 &&
+    return frame && !frame->pdu.empty() &&
+           frame->header.protocol_id == protocol::kModbusProtocolId &&
            frame->header.length <= frame->pdu.size() + 1;
 }
 

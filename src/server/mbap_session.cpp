@@ -207,7 +207,8 @@ void MbapSession::on_frame_error(const protocol::FrameEvent& frame, Clock::time_
         ServerStats::bump(stats_.frames_dropped);
         return;
     }
-    if (header.length > protocol::limits::kMaxPdu + 1 && header.protocol_id == 0) {
+    if (header.length > protocol::limits::kMaxPdu + 1 &&
+        header.protocol_id == protocol::kModbusProtocolId) {
         unfinished_.begin_overlong(protocol::to_mbap_header(header), started);
         partial_deadline_ = now + limits_.partial_frame_timeout;
         return;

@@ -38,7 +38,8 @@ bool UnfinishedMbapFrame::skip(std::span<const std::uint8_t> bytes) {
 }
 
 std::optional<UnfinishedMbapFrame::Answerable> UnfinishedMbapFrame::answerable() const {
-    if (!header_ || header_->protocol_id != 0 || !function_) return std::nullopt;
+    if (!header_ || header_->protocol_id != protocol::kModbusProtocolId || !function_)
+        return std::nullopt;
     return Answerable{*header_, *function_};
 }
 
