@@ -13,8 +13,10 @@ namespace {
 std::string during_text(const MonitorJudgement& judged, const MonitorPhase& phase) {
     std::string out;
     if (phase.name != kCasesPhase) return out;
-    for (const auto& d : judged.missed_during)
-        out += "\n" + missed_during_text(d);
+    for (const auto& d : judged.missed_during) {
+        out += '\n';
+        out += missed_during_text(d);
+    }
     return out;
 }
 
