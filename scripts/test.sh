@@ -30,8 +30,12 @@ CC=clang-14 CXX=clang++-14 cmake -S . -B build-asan -G Ninja -DMBLAB_WERROR=ON \
     -DMBLAB_SANITIZE=ON -DMBLAB_BENCH=OFF -DCMAKE_BUILD_TYPE=Debug >/dev/null
 cmake --build build-asan -j "$jobs"
 step "unit and integration tests under ASan+UBSan"
+# The slow-reader storm tests judge how fast a fragile test device fills its socket buffers
+# within one rung; the unoptimised, instrumented device is too slow for that verdict, which the
+# g++ run above checks. Under ASan they would test the sanitiser's speed, not mblab.
 ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --test-dir build-asan --output-on-failure -j "$jobs" --timeout 600 -LE interop
+    ctest --test-dir build-asan --output-on-failure -j "$jobs" --timeout 600 -LE interop \
+    -E 'FuzzFragile\.ASlowReader(ThatStallsEveryoneIsFound|StallsADeviceThatSendsBlocking)'
 
 step "libFuzzer targets, ${fuzz_seconds}s each"
 CC=clang-14 CXX=clang++-14 cmake -S . -B build-fuzz -G Ninja -DMBLAB_FUZZ=ON -DMBLAB_TESTS=OFF \
