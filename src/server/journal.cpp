@@ -54,16 +54,12 @@ Journal::Journal(std::filesystem::path path, int fd)
     : path_(std::move(path)), old_path_(journal_old_path(path_)), fd_(fd) {
     std::error_code ec;
     old_exists_ = std::filesystem::exists(old_path_, ec);
-    thread_ = std::thread([this] { run(); });
+    worker_.start([this] { return !queue_.empty(); },
+                  [this](WorkThread::Lock& lock) { write_queued(lock); });
 }
 
 Journal::~Journal() {
-    {
-        std::lock_guard lock(mutex_);
-        stopping_ = true;
-    }
-    wake_.notify_one();
-    thread_.join();
+    worker_.stop();
     if (fd_ >= 0) ::close(fd_);
 }
 
@@ -82,79 +78,72 @@ void Journal::drop_old(std::uint64_t rotation) {
 }
 
 std::uint64_t Journal::syncs() const {
-    std::lock_guard lock(mutex_);
+    std::lock_guard lock(worker_.mutex());
     return syncs_;
 }
 
 void Journal::push(Item item) {
     {
-        std::lock_guard lock(mutex_);
+        std::lock_guard lock(worker_.mutex());
         queue_.push_back(std::move(item));
     }
-    wake_.notify_one();
+    worker_.wake();
 }
 
-void Journal::run() {
-    std::vector<Item> batch;
-    std::string buffer;
-    std::vector<Durable> waiting;
-    std::unique_lock lock(mutex_);
-    for (;;) {
-        wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
-        if (queue_.empty()) return;  // stopping, and everything is written
-        batch.swap(queue_);
-        lock.unlock();
-        for (auto& item : batch) {
-            switch (item.kind) {
-                case Item::Kind::Record:
-                    buffer += seal_record(item.record);
-                    buffer += '\n';
-                    waiting.push_back(std::move(item.done));
-                    break;
-                case Item::Kind::Rotate:
-                    flush(buffer, waiting);
-                    (void)do_rotate();
-                    last_rotation_ = item.rotation;
-                    break;
-                case Item::Kind::DropOld:
-                    // Records appended after the rotation may be in PATH.old when a rotation
-                    // failed half-way: then it never goes.
-                    if (item.rotation != last_rotation_ || appending_to_old_) break;
-                    flush(buffer, waiting);
-                    if (::unlink(old_path_.c_str()) == 0 || errno == ENOENT) {
-                        old_exists_ = false;
-                        sync_directory_of(path_);
-                    }
-                    break;
-            }
+// Writes what was queued, the records made durable together: one fdatasync for a batch.
+void Journal::write_queued(WorkThread::Lock& lock) {
+    batch_.swap(queue_);
+    lock.unlock();
+    for (auto& item : batch_) {
+        switch (item.kind) {
+            case Item::Kind::Record:
+                buffer_ += seal_record(item.record);
+                buffer_ += '\n';
+                waiting_.push_back(std::move(item.done));
+                break;
+            case Item::Kind::Rotate:
+                flush();
+                (void)do_rotate();
+                last_rotation_ = item.rotation;
+                break;
+            case Item::Kind::DropOld:
+                // Records appended after the rotation may be in PATH.old when a rotation
+                // failed half-way: then it never goes.
+                if (item.rotation != last_rotation_ || appending_to_old_) break;
+                flush();
+                if (::unlink(old_path_.c_str()) == 0 || errno == ENOENT) {
+                    old_exists_ = false;
+                    sync_directory_of(path_);
+                }
+                break;
         }
-        batch.clear();
-        flush(buffer, waiting);
-        lock.lock();
     }
+    batch_.clear();
+    flush();
+    lock.lock();
 }
 
-void Journal::flush(std::string& buffer, std::vector<Durable>& waiting) {
-    if (waiting.empty()) return;
+void Journal::flush() {
+    if (waiting_.empty()) return;
     bool written = fd_ >= 0 && (!torn_ || ::ftruncate(fd_, good_size_) == 0);
     if (written) torn_ = false;
-    written = written && write_all(fd_, buffer) && ::fdatasync(fd_) == 0;
+    written = written && write_all(fd_, buffer_) && ::fdatasync(fd_) == 0;
     if (written) {
-        good_size_ += static_cast<off_t>(buffer.size());
+        good_size_ += static_cast<off_t>(buffer_.size());
     } else if (fd_ >= 0) {
         // A record cut short by a full disk would glue the next one to it: the file goes back
         // to its last good end, and until it does nothing more is appended.
         torn_ = ::ftruncate(fd_, good_size_) != 0;
     }
     {
-        std::lock_guard lock(mutex_);
+        std::lock_guard lock(worker_.mutex());
         ++syncs_;
     }
-    for (auto& done : waiting) {
+    for (auto& done : waiting_) {
         if (done) done(written);
     }
-    buffer.clear();
-    waiting.clear();
+    buffer_.clear();
+    waiting_.clear();
 }
 
 // Every step is checked; on a failure the records stay where replay finds them (PATH.old, then

@@ -2,18 +2,16 @@
 
 #include <sys/types.h>
 
-#include <condition_variable>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <memory>
-#include <mutex>
 #include <string>
-#include <thread>
 #include <vector>
 
 #include "protocol/result.hpp"
 #include "server/journal_file.hpp"
+#include "server/work_thread.hpp"
 
 // The write journal of `mblab serve --durable`: every acknowledged write is appended to a file
 // and made durable before its answer goes out. Records are lines of text, each sealed with its
@@ -59,9 +57,10 @@ class Journal {
     };
 
     Journal(std::filesystem::path path, int fd);
-    void run();
     void push(Item item);
-    void flush(std::string& buffer, std::vector<Durable>& waiting);
+    // On the worker's thread; `lock` is held on entry and on return.
+    void write_queued(WorkThread::Lock& lock);
+    void flush();
     bool do_rotate();
 
     std::filesystem::path path_;
@@ -73,12 +72,12 @@ class Journal {
     bool appending_to_old_ = false;    // a rotation failed half-way: fd_ writes to PATH.old
     std::uint64_t rotations_ = 0;      // asked for, on the caller's side
     std::uint64_t last_rotation_ = 0;  // done, on the journal's thread
-    mutable std::mutex mutex_;
-    std::condition_variable wake_;
-    std::vector<Item> queue_;
-    bool stopping_ = false;
+    std::vector<Item> batch_;          // the journal's thread's, as the two below
+    std::string buffer_;
+    std::vector<Durable> waiting_;
+    std::vector<Item> queue_;  // under worker_.mutex(), as syncs_
     std::uint64_t syncs_ = 0;
-    std::thread thread_;
+    WorkThread worker_;  // last: it stops before what it works on goes
 };
 
 // Removes PATH and PATH.old, once the state file holds their records.

@@ -4,12 +4,11 @@
 #include <deque>
 #include <filesystem>
 #include <functional>
-#include <mutex>
 #include <string>
 #include <string_view>
-#include <thread>
 
 #include "device/reference_device.hpp"
+#include "server/work_thread.hpp"
 
 // Writes state files on a thread of its own, so that a save never stalls the server's thread:
 // the server takes a snapshot (a copy under the device's lock) and hands it over; the JSON text,
@@ -42,16 +41,14 @@ class StateSaver {
         device::StateSnapshot snapshot;
         Done done;
     };
-    void run();
+    // One save, on the worker's thread; `lock` is held on entry and on return.
+    void save_next(WorkThread::Lock& lock);
 
     Write write_;
-    std::mutex mutex_;
-    std::condition_variable wake_;
     std::condition_variable idle_;
-    std::deque<Job> queue_;
+    std::deque<Job> queue_;  // under worker_.mutex(), as busy_
     bool busy_ = false;
-    bool stopping_ = false;
-    std::thread thread_;
+    WorkThread worker_;  // last: it stops before what it works on goes
 };
 
 }  // namespace mblab::server
