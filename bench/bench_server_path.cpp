@@ -43,7 +43,7 @@ void BM_SessionFc03x125(benchmark::State& state) {
     std::array<std::uint8_t, 12> request{};
     std::array<iovec, MbapSession::kMaxGather> out{};
     std::uint16_t transaction = 0;
-    std::size_t answered = 0;
+    std::int64_t answered = 0;
     for (auto _ : state) {
         protocol::write_mbap_adu({++transaction, 0, 0, 1}, kPdu, request);
         session.receive(request, now);
@@ -51,7 +51,7 @@ void BM_SessionFc03x125(benchmark::State& state) {
         std::size_t bytes = 0;
         for (std::size_t i = 0; i < parts; ++i)
             bytes += out[i].iov_len;
-        answered += bytes;
+        answered += static_cast<std::int64_t>(bytes);
         session.sent(bytes, now);
     }
     if (answered != state.iterations() * 259) state.SkipWithError("an answer was not 259 bytes");
