@@ -335,16 +335,7 @@ void add_conform_client_command(CLI::App& app, CommandRunner& runner,
                     "a decimal or 0x number); default: every number");
     cmd->add_option("--case", options->cases,
                     "run only this scenario (tcp.3) or group (tcp.6); repeatable");
-    cmd->add_option("--json", options->reports.json, "write the JSON report to FILE ('-': stdout)");
-    cmd->add_option("--junit", options->reports.junit,
-                    "write the JUnit XML report to FILE ('-': stdout)");
-    cmd->add_option("--html", options->reports.html,
-                    "write the HTML report to FILE ('-': stdout): each scenario's verdict, "
-                    "citation and what the wire carried");
-    cmd->add_option("--pcap", options->reports.pcap,
-                    "write what every connection carried to FILE (pcapng, the examiner on port "
-                    "502; a line's frames on link type USER0 (RTU) or USER1 (ASCII); each "
-                    "packet's comment its scenario's id)");
+    options->reports.add_to(*cmd, "scenario");
     cmd->add_flag("--attach", options->attach,
                   "run no command: wait for a client that polls by itself (a PLC) and play it "
                   "each scenario in turn, judging only its requests (needs --client-timeout)");

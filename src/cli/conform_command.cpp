@@ -307,21 +307,7 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
         "--write-role", options->write_role,
         "mbaps://: a role the device lets write holding register 0x0010 (client-ROLE.pem "
         "in --pki)");
-    cmd->add_option(
-        "--json", options->reports.json,
-        "write the report as JSON to FILE (- for standard output, the console report then "
-        "going to standard error), with the run's provenance (checked before any traffic)");
-    cmd->add_option("--junit", options->reports.junit,
-                    "write the report as JUnit XML to FILE, the run's provenance as each suite's "
-                    "<properties> (checked before any traffic)");
-    cmd->add_option("--pcap", options->reports.pcap,
-                    "write every exchange as a pcapng capture to FILE, the run's provenance in its "
-                    "section header and each case's id as its packets' comment; a line's frames "
-                    "on LINKTYPE_USER0 (RTU) or USER1 (ASCII) (checked before any traffic)");
-    cmd->add_option("--html", options->reports.html,
-                    "write the report as one self-contained HTML page to FILE: summary, "
-                    "provenance, every case, the differing bytes of failures marked, filters by "
-                    "verdict and a search by case id (checked before any traffic)");
+    options->reports.add_to(*cmd, "case");
 }
 
 }  // namespace mblab::cli

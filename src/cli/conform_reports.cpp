@@ -9,6 +9,25 @@ namespace mblab::cli {
 
 namespace conf = mblab::conformance;
 
+void ConformReports::add_to(CLI::App& command, std::string_view item) {
+    const std::string each(item);
+    command.add_option("--json", json,
+                       "write the report as JSON to FILE ('-': standard output, the console report "
+                       "then going to standard error)");
+    command.add_option("--junit", junit,
+                       "write the report as JUnit XML to FILE ('-': standard output), one test "
+                       "case per " +
+                           each);
+    command.add_option("--html", html,
+                       "write the report as one self-contained HTML page to FILE: each " + each +
+                           "'s verdict and citation, and what the wire carried");
+    command.add_option("--pcap", pcap,
+                       "write what the wire carried to FILE as pcapng, each packet's comment its " +
+                           each +
+                           "'s id; a line's frames on link type USER0 (RTU) or USER1 (ASCII). "
+                           "Every report file is checked before any traffic");
+}
+
 bool ConformReports::check(ReportFiles& files, std::string& error) const {
     if (pcap == kStandardOutput) {
         error = "--pcap -: a capture is binary; give it a file (tshark -r FILE reads it)";

@@ -1,6 +1,8 @@
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <string>
+#include <string_view>
 
 #include "cli/report_files.hpp"
 #include "conformance/capture.hpp"
@@ -19,6 +21,9 @@ struct ConformReports {
     std::string pcap;
     std::string html;
 
+    // The four options, their help naming what the run judges one by one (`item`: "case",
+    // "scenario").
+    void add_to(CLI::App& command, std::string_view item);
     bool wanted() const {
         return !json.empty() || !junit.empty() || !pcap.empty() || !html.empty();
     }

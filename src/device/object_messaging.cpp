@@ -8,13 +8,14 @@ namespace {
 
 constexpr std::uint16_t kServiceGetAttribute = 0x0007;
 
-// Service error codes of mblab's reference device (docs/profiles.md).
+// Service error codes of mblab's reference device, 0001 to 0005 in the order docs/profiles.md
+// lists them.
 enum class ServiceError : std::uint16_t {
-    ObjectNotFound = 0x0001,
-    ServiceNotSupported = 0x0002,
-    AttributeNotFound = 0x0003,
-    BadParameters = 0x0004,
-    FragmentationNotSupported = 0x0005,
+    ObjectNotFound = 1,
+    ServiceNotSupported,
+    AttributeNotFound,
+    BadParameters,
+    FragmentationNotSupported,
 };
 
 MaybeResponse reply(const protocol::ObjectMessagingRequest& request, std::uint16_t error,

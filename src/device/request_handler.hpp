@@ -99,15 +99,6 @@ class ForwardingHandler : public DeferringHandler {
   protected:
     RequestHandler& inner() const { return inner_; }
 
-    // Forwards the request and calls `seen(reply, pdu)` with inner's reply when it comes: at once,
-    // or when inner gives its deferred answer (a copy of `seen` then waits in the deferred
-    // function). What a decorator that watches replies (counting, logging) needs.
-    template <class Seen>
-    std::optional<Reply> forward_seen(const RequestContext& context,
-                                      std::span<const std::uint8_t> request,
-                                      std::span<std::uint8_t> response, Deferral& deferral,
-                                      Seen seen) const;
-
   private:
     RequestHandler& inner_;
 };
@@ -135,15 +126,30 @@ class SeenDeferral final : public Deferral {
 
 }  // namespace detail
 
-template <class Seen>
-std::optional<Reply> ForwardingHandler::forward_seen(const RequestContext& context,
-                                                     std::span<const std::uint8_t> request,
-                                                     std::span<std::uint8_t> response,
-                                                     Deferral& deferral, Seen seen) const {
-    detail::SeenDeferral<Seen> watched(deferral, seen);
-    auto reply = inner_.handle_or_defer(context, request, response, watched);
-    if (reply) seen(*reply, response);
-    return reply;
-}
+// A decorator that watches replies (counting, logging) and passes them on unchanged.
+// `watch.start(context, request)` is called as a request arrives; the callable it returns,
+// `seen(reply, pdu)`, is called with inner's reply when it comes: at once, or when inner gives
+// its deferred answer (a copy of it then waits in the deferred function).
+template <class Watch>
+class WatchingHandler final : public ForwardingHandler {
+  public:
+    template <class... WatchArgs>
+    explicit WatchingHandler(RequestHandler& inner, WatchArgs&&... watch)
+        : ForwardingHandler(inner), watch_{std::forward<WatchArgs>(watch)...} {}
+
+    std::optional<Reply> handle_or_defer(const RequestContext& context,
+                                         std::span<const std::uint8_t> request,
+                                         std::span<std::uint8_t> response,
+                                         Deferral& deferral) override {
+        auto seen = watch_.start(context, request);
+        detail::SeenDeferral<decltype(seen)> watched(deferral, seen);
+        auto reply = inner().handle_or_defer(context, request, response, watched);
+        if (reply) seen(*reply, response);
+        return reply;
+    }
+
+  private:
+    Watch watch_;
+};
 
 }  // namespace mblab::device

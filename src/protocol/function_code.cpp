@@ -46,26 +46,14 @@ namespace {
 struct DiagnosticSubRow {
     DiagnosticSub value;
     std::string_view name;
-    bool echoes = false;  // the answer's data field repeats the request's
+    bool echoes = false;
 };
 
-// [APP] 6.8.1, one row per sub-function defined there.
 constexpr DiagnosticSubRow kDiagnosticSubs[] = {
-    {DiagnosticSub::ReturnQueryData, "return query data", true},
-    {DiagnosticSub::RestartCommunications, "restart communications option", true},
-    {DiagnosticSub::ReturnDiagnosticRegister, "return diagnostic register"},
-    {DiagnosticSub::ChangeAsciiDelimiter, "change ASCII input delimiter", true},
-    {DiagnosticSub::ForceListenOnly, "force listen only mode", true},
-    {DiagnosticSub::ClearCounters, "clear counters and diagnostic register", true},
-    {DiagnosticSub::BusMessageCount, "return bus message count"},
-    {DiagnosticSub::BusCommunicationErrorCount, "return bus communication error count"},
-    {DiagnosticSub::BusExceptionErrorCount, "return bus exception error count"},
-    {DiagnosticSub::ServerMessageCount, "return server message count"},
-    {DiagnosticSub::ServerNoResponseCount, "return server no response count"},
-    {DiagnosticSub::ServerNakCount, "return server NAK count"},
-    {DiagnosticSub::ServerBusyCount, "return server busy count"},
-    {DiagnosticSub::BusCharacterOverrunCount, "return bus character overrun count"},
-    {DiagnosticSub::ClearOverrunCounter, "clear overrun counter and flag", true},
+#define MBLAB_DIAGNOSTIC_ROW(enumerator, code, name, echoes) \
+    {DiagnosticSub::enumerator, name, echoes},
+    MBLAB_DIAGNOSTIC_SUBS(MBLAB_DIAGNOSTIC_ROW)
+#undef MBLAB_DIAGNOSTIC_ROW
 };
 
 }  // namespace

@@ -39,23 +39,30 @@ bool is_public_function(std::uint8_t code);
 // "read holding registers", or "function 0x41" for others.
 std::string_view function_name(std::uint8_t code);
 
-// FC 08 sub-functions of [APP] 6.8.1.
+// FC 08 sub-functions of [APP] 6.8.1, one row each: the enumerator, the sub-function code, its
+// name, and whether the answer's data field repeats the request's (the others answer with a
+// register or a counter).
+#define MBLAB_DIAGNOSTIC_SUBS(X)                                                       \
+    X(ReturnQueryData, 0x00, "return query data", true)                                \
+    X(RestartCommunications, 0x01, "restart communications option", true)              \
+    X(ReturnDiagnosticRegister, 0x02, "return diagnostic register", false)             \
+    X(ChangeAsciiDelimiter, 0x03, "change ASCII input delimiter", true)                \
+    X(ForceListenOnly, 0x04, "force listen only mode", true)                           \
+    X(ClearCounters, 0x0A, "clear counters and diagnostic register", true)             \
+    X(BusMessageCount, 0x0B, "return bus message count", false)                        \
+    X(BusCommunicationErrorCount, 0x0C, "return bus communication error count", false) \
+    X(BusExceptionErrorCount, 0x0D, "return bus exception error count", false)         \
+    X(ServerMessageCount, 0x0E, "return server message count", false)                  \
+    X(ServerNoResponseCount, 0x0F, "return server no response count", false)           \
+    X(ServerNakCount, 0x10, "return server NAK count", false)                          \
+    X(ServerBusyCount, 0x11, "return server busy count", false)                        \
+    X(BusCharacterOverrunCount, 0x12, "return bus character overrun count", false)     \
+    X(ClearOverrunCounter, 0x14, "clear overrun counter and flag", true)
+
 enum class DiagnosticSub : std::uint16_t {
-    ReturnQueryData = 0x00,
-    RestartCommunications = 0x01,
-    ReturnDiagnosticRegister = 0x02,
-    ChangeAsciiDelimiter = 0x03,
-    ForceListenOnly = 0x04,
-    ClearCounters = 0x0A,
-    BusMessageCount = 0x0B,
-    BusCommunicationErrorCount = 0x0C,
-    BusExceptionErrorCount = 0x0D,
-    ServerMessageCount = 0x0E,
-    ServerNoResponseCount = 0x0F,
-    ServerNakCount = 0x10,
-    ServerBusyCount = 0x11,
-    BusCharacterOverrunCount = 0x12,
-    ClearOverrunCounter = 0x14,
+#define MBLAB_DIAGNOSTIC_ENUMERATOR(enumerator, code, name, echoes) enumerator = code,
+    MBLAB_DIAGNOSTIC_SUBS(MBLAB_DIAGNOSTIC_ENUMERATOR)
+#undef MBLAB_DIAGNOSTIC_ENUMERATOR
 };
 
 bool is_known_diagnostic_sub(std::uint16_t sub);

@@ -122,14 +122,9 @@ struct ObjectMessagingRequest : ObjectMessagingHeader {  // 5B, CTP 7.13.1.4
 
 struct RawRequest : RawFields {};
 
-using Request =
-    std::variant<ReadBitsRequest, ReadRegistersRequest, WriteSingleCoilRequest,
-                 WriteSingleRegisterRequest, ReadExceptionStatusRequest, DiagnosticsRequest,
-                 GetCommEventCounterRequest, GetCommEventLogRequest, WriteMultipleCoilsRequest,
-                 WriteMultipleRegistersRequest, ReportServerIdRequest, ReadFileRecordRequest,
-                 WriteFileRecordRequest, MaskWriteRegisterRequest,
-                 ReadWriteMultipleRegistersRequest, ReadFifoQueueRequest, ReadDeviceIdRequest,
-                 EncapsulatedRequest, ObjectMessagingRequest, RawRequest>;
+#define MBLAB_REQUEST_TYPE(kind) kind##Request,
+using Request = std::variant<MBLAB_MESSAGE_KINDS(MBLAB_REQUEST_TYPE) RawRequest>;
+#undef MBLAB_REQUEST_TYPE
 
 // Function code byte of any request.
 std::uint8_t function_of(const Request& request);

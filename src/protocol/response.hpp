@@ -120,14 +120,10 @@ struct ExceptionResponse {
 
 struct RawResponse : RawFields {};
 
+#define MBLAB_RESPONSE_TYPE(kind) kind##Response,
 using Response =
-    std::variant<ReadBitsResponse, ReadRegistersResponse, WriteSingleCoilResponse,
-                 WriteSingleRegisterResponse, ReadExceptionStatusResponse, DiagnosticsResponse,
-                 GetCommEventCounterResponse, GetCommEventLogResponse, WriteMultipleCoilsResponse,
-                 WriteMultipleRegistersResponse, ReportServerIdResponse, ReadFileRecordResponse,
-                 WriteFileRecordResponse, MaskWriteRegisterResponse,
-                 ReadWriteMultipleRegistersResponse, ReadFifoQueueResponse, ReadDeviceIdResponse,
-                 EncapsulatedResponse, ObjectMessagingResponse, ExceptionResponse, RawResponse>;
+    std::variant<MBLAB_MESSAGE_KINDS(MBLAB_RESPONSE_TYPE) ExceptionResponse, RawResponse>;
+#undef MBLAB_RESPONSE_TYPE
 
 // Function code byte of any response as it goes on the wire (with 0x80 for an exception).
 std::uint8_t function_of(const Response& response);

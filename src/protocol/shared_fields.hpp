@@ -62,6 +62,32 @@ struct CanopenFields {
     std::span<const std::uint8_t> data;
 };
 
+// The typed messages, one name for each request and response pair (FooRequest in request.hpp,
+// FooResponse in response.hpp): the alternatives of both variants, in their order, so a new
+// pair is listed once.
+// clang-format off
+#define MBLAB_MESSAGE_KINDS(X)    \
+    X(ReadBits)                   \
+    X(ReadRegisters)              \
+    X(WriteSingleCoil)            \
+    X(WriteSingleRegister)        \
+    X(ReadExceptionStatus)        \
+    X(Diagnostics)                \
+    X(GetCommEventCounter)        \
+    X(GetCommEventLog)            \
+    X(WriteMultipleCoils)         \
+    X(WriteMultipleRegisters)     \
+    X(ReportServerId)             \
+    X(ReadFileRecord)             \
+    X(WriteFileRecord)            \
+    X(MaskWriteRegister)          \
+    X(ReadWriteMultipleRegisters) \
+    X(ReadFifoQueue)              \
+    X(ReadDeviceId)               \
+    X(Encapsulated)               \
+    X(ObjectMessaging)
+// clang-format on
+
 // Any other function code, both ways, carried as bytes.
 struct RawFields {
     std::uint8_t function = 0;

@@ -21,25 +21,6 @@ TrafficEntry request_entry(const device::RequestContext& context,
     return entry;
 }
 
-// What is known of a request before its answer: the answer completes it.
-struct Pending {
-    TrafficLog* log = nullptr;
-    TrafficEntry entry = {};
-    Clock::time_point start = {};
-
-    void operator()(const device::Reply& reply, std::span<const std::uint8_t> pdu) {
-        entry.action = reply.action;
-        if (reply.action == device::ReplyAction::Answer) {
-            const auto size = std::min(reply.size, pdu.size());
-            entry.response.assign(pdu.begin(), pdu.begin() + static_cast<std::ptrdiff_t>(size));
-        }
-        entry.latency =
-            std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start) +
-            std::chrono::duration_cast<std::chrono::microseconds>(reply.delay);
-        log->record(std::move(entry));
-    }
-};
-
 }  // namespace
 
 TrafficLog::TrafficLog(std::optional<RotatingFile> out, TrafficFormat format, std::size_t ring)
@@ -77,12 +58,20 @@ std::vector<TrafficEntry> TrafficLog::recent(std::uint64_t after, std::uint64_t&
     return out;
 }
 
-std::optional<device::Reply> LoggedHandler::handle_or_defer(const device::RequestContext& context,
-                                                            std::span<const std::uint8_t> request,
-                                                            std::span<std::uint8_t> response,
-                                                            device::Deferral& deferral) {
-    return forward_seen(context, request, response, deferral,
-                        Pending{&log_, request_entry(context, request, line_name_), Clock::now()});
+void LogWatch::Pending::operator()(const device::Reply& reply, std::span<const std::uint8_t> pdu) {
+    entry.action = reply.action;
+    if (reply.action == device::ReplyAction::Answer) {
+        const auto size = std::min(reply.size, pdu.size());
+        entry.response.assign(pdu.begin(), pdu.begin() + static_cast<std::ptrdiff_t>(size));
+    }
+    entry.latency = std::chrono::duration_cast<std::chrono::microseconds>(Clock::now() - start) +
+                    std::chrono::duration_cast<std::chrono::microseconds>(reply.delay);
+    log->record(std::move(entry));
+}
+
+LogWatch::Pending LogWatch::start(const device::RequestContext& context,
+                                  std::span<const std::uint8_t> request) const {
+    return {&log, request_entry(context, request, line_name), Clock::now()};
 }
 
 }  // namespace mblab::server

@@ -51,19 +51,23 @@ class TrafficLog {
 // Hands each request and its answer to the log. The latency is the handler's time plus the
 // delay the reply asks for (a fault rule's "delay"): what a client waits beyond the network.
 // `line_name` stands for the peer where the link has no address (a serial line).
-class LoggedHandler final : public device::ForwardingHandler {
-  public:
-    LoggedHandler(device::RequestHandler& inner, TrafficLog& log, std::string line_name)
-        : ForwardingHandler(inner), log_(log), line_name_(std::move(line_name)) {}
+struct LogWatch {
+    // What is known of a request before its answer: the answer completes it.
+    struct Pending {
+        TrafficLog* log = nullptr;
+        TrafficEntry entry = {};
+        std::chrono::steady_clock::time_point start = {};
 
-    std::optional<device::Reply> handle_or_defer(const device::RequestContext& context,
-                                                 std::span<const std::uint8_t> request,
-                                                 std::span<std::uint8_t> response,
-                                                 device::Deferral& deferral) override;
+        void operator()(const device::Reply& reply, std::span<const std::uint8_t> pdu);
+    };
 
-  private:
-    TrafficLog& log_;
-    std::string line_name_;
+    TrafficLog& log;
+    std::string line_name;
+
+    Pending start(const device::RequestContext& context,
+                  std::span<const std::uint8_t> request) const;
 };
+
+using LoggedHandler = device::WatchingHandler<LogWatch>;
 
 }  // namespace mblab::server

@@ -16,18 +16,6 @@ bool is_exception(const device::Reply& reply, std::span<const std::uint8_t> pdu)
            (pdu[0] & 0x80) != 0;
 }
 
-// A request on its way: counted when its reply comes.
-struct Timing {
-    RequestMeter* meter = nullptr;
-    std::uint8_t unit = 0;
-    std::uint8_t function = 0;
-    Clock::time_point start = {};
-
-    void operator()(const device::Reply& reply, std::span<const std::uint8_t> pdu) const {
-        meter->count(unit, function, is_exception(reply, pdu), Clock::now() - start + reply.delay);
-    }
-};
-
 }  // namespace
 
 RequestMeter::RequestMeter()
@@ -83,13 +71,15 @@ void RequestMeter::reset() {
     sum_nanos_.store(0, std::memory_order_relaxed);
 }
 
-std::optional<device::Reply> MeteredHandler::handle_or_defer(const device::RequestContext& context,
-                                                             std::span<const std::uint8_t> request,
-                                                             std::span<std::uint8_t> response,
-                                                             device::Deferral& deferral) {
+void MeterWatch::Timing::operator()(const device::Reply& reply,
+                                    std::span<const std::uint8_t> pdu) const {
+    meter->count(unit, function, is_exception(reply, pdu), Clock::now() - start + reply.delay);
+}
+
+MeterWatch::Timing MeterWatch::start(const device::RequestContext& context,
+                                     std::span<const std::uint8_t> request) const {
     const std::uint8_t function = request.empty() ? 0 : request[0];
-    return forward_seen(context, request, response, deferral,
-                        Timing{&meter_, context.unit, function, Clock::now()});
+    return {&meter, context.unit, function, Clock::now()};
 }
 
 }  // namespace mblab::web

@@ -48,18 +48,23 @@ class RequestMeter {
 
 // Counts what passes between a server and its handler. The time is the handler's plus the
 // delay the reply asks for (a fault rule's "delay"), what a client waits beyond the network.
-class MeteredHandler final : public device::ForwardingHandler {
-  public:
-    MeteredHandler(device::RequestHandler& inner, RequestMeter& meter)
-        : ForwardingHandler(inner), meter_(meter) {}
+struct MeterWatch {
+    // A request on its way: counted when its reply comes.
+    struct Timing {
+        RequestMeter* meter = nullptr;
+        std::uint8_t unit = 0;
+        std::uint8_t function = 0;
+        std::chrono::steady_clock::time_point start = {};
 
-    std::optional<device::Reply> handle_or_defer(const device::RequestContext& context,
-                                                 std::span<const std::uint8_t> request,
-                                                 std::span<std::uint8_t> response,
-                                                 device::Deferral& deferral) override;
+        void operator()(const device::Reply& reply, std::span<const std::uint8_t> pdu) const;
+    };
 
-  private:
-    RequestMeter& meter_;
+    RequestMeter& meter;
+
+    Timing start(const device::RequestContext& context,
+                 std::span<const std::uint8_t> request) const;
 };
+
+using MeteredHandler = device::WatchingHandler<MeterWatch>;
 
 }  // namespace mblab::web

@@ -32,5 +32,21 @@ TEST(CliUsage, AnUnknownCommandListsTheCommands) {
                   "--help' for usage)\n");
 }
 
+// conform and conform-client write the same four report files; each help names what its run
+// judges one by one.
+TEST(CliUsage, BothConformCommandsOfferTheFourReportFiles) {
+    for (const auto& [command, item] :
+         {std::pair{"conform", "case"}, {"conform-client", "scenario"}}) {
+        const auto help = run_mblab({command, "--help"});
+        ASSERT_EQ(help.status, 0) << command;
+        for (const char* option : {"--json", "--junit", "--html", "--pcap"})
+            EXPECT_NE(help.out.find(option), std::string::npos) << command << " " << option;
+        EXPECT_NE(help.out.find(std::string("one test case per ") + item), std::string::npos)
+            << help.out;
+        EXPECT_NE(help.out.find(std::string("comment its ") + item + "'s id"), std::string::npos)
+            << help.out;
+    }
+}
+
 }  // namespace
 }  // namespace mblab::test
