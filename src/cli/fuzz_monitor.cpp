@@ -5,6 +5,7 @@
 #include <thread>
 
 #include "client/raw_link.hpp"
+#include "protocol/request.hpp"
 #include "robustness/fuzz_progress.hpp"
 #include "robustness/iec62443_report.hpp"
 #include "robustness/ladder_report.hpp"
@@ -44,9 +45,9 @@ protocol::Result<std::unique_ptr<FuzzMonitor>, std::string> FuzzMonitor::make(
     defaults.address = recon.check_address;
     auto spec = rb::parse_monitor_spec(choice.spec, defaults);
     if (!spec) return spec.error();
-    const std::vector<std::uint8_t> write = {0x06, static_cast<std::uint8_t>(spec->address >> 8),
-                                             static_cast<std::uint8_t>(spec->address), 0, 1};
-    // Naming the register is leave to write it; the liveness check's register, the default, is
+    const auto write =
+        protocol::encoded_pdu(protocol::WriteSingleRegisterRequest{spec->address, 1});
+    // Naming the register gives leave to write it; the liveness check's register, the default, is
     // written only where the write policy allows it.
     const bool named = choice.spec.find("register=") != std::string::npos;
     if (!spec->read_only && !named && !rb::may_send(write, policy)) {

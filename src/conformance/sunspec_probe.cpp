@@ -2,29 +2,48 @@
 
 #include <fmt/core.h>
 
+#include <array>
 #include <thread>
 
 #include "device/profile_paths.hpp"
 #include "device/sunspec_loader.hpp"
+#include "protocol/limits.hpp"
 #include "protocol/mbap_header.hpp"
+#include "protocol/request.hpp"
+#include "protocol/response.hpp"
 
 namespace mblab::conformance {
 
 namespace {
 
-constexpr std::uint8_t kReadHolding = 0x03;
-constexpr std::uint8_t kWriteMultiple = 0x10;
 constexpr std::uint8_t kBroadcast = 0;
 constexpr int kBusyAttempts = 5;
 constexpr std::chrono::milliseconds kBusyPause{50};
 
-void put16(std::vector<std::uint8_t>& out, std::uint32_t value) {
-    out.push_back(static_cast<std::uint8_t>(value >> 8));
-    out.push_back(static_cast<std::uint8_t>(value & 0xFF));
-}
-
 client::ClientError error(client::ErrorKind kind, std::string message) {
     return {kind, std::move(message), std::nullopt};
+}
+
+// Register addresses end at 0xFFFF ([APP] 4.4): a model chain that runs past it cannot be read
+// there, and sending the address cut to 16 bits would read somewhere else.
+std::optional<client::ClientError> past_last_address(std::uint32_t address, std::size_t count) {
+    if (address + count <= 0x10000) return std::nullopt;
+    return error(client::ErrorKind::Invalid,
+                 fmt::format("registers {} to {} run past the last address, 65535", address,
+                             address + count - 1));
+}
+
+// The answer decoded by the codec's strict rules, and of the kind asked for.
+template <class Answer>
+client::CallResult<Answer> decode_answer(std::span<const std::uint8_t> pdu) {
+    auto decoded = protocol::decode_response(pdu);
+    if (!decoded) {
+        return error(
+            client::ErrorKind::BadAnswer,
+            fmt::format("bad answer: {}: {}", decoded.error().field, decoded.error().reason));
+    }
+    if (const auto* answer = std::get_if<Answer>(&*decoded)) return *answer;
+    return error(client::ErrorKind::BadAnswer, "an answer of another kind than the request's");
 }
 
 }  // namespace
@@ -116,34 +135,48 @@ client::CallResult<std::vector<std::uint8_t>> SunSpecProbe::ask_once(
 
 client::CallResult<std::vector<std::uint16_t>> SunSpecProbe::read(std::uint32_t address,
                                                                   std::uint16_t count) {
-    std::vector<std::uint8_t> pdu{kReadHolding};
-    put16(pdu, address);
-    put16(pdu, count);
-    auto answer = ask(pdu);
+    if (const auto refused = past_last_address(address, count)) return *refused;
+    auto answer = ask(protocol::encoded_pdu(protocol::ReadRegistersRequest{
+        protocol::FunctionCode::ReadHoldingRegisters, static_cast<std::uint16_t>(address), count}));
     if (!answer) return answer.error();
-    if (answer->size() != 2u + 2u * count || (*answer)[1] != 2u * count) {
+    auto decoded = decode_answer<protocol::ReadRegistersResponse>(*answer);
+    if (!decoded) return decoded.error();
+    if (decoded->values.size() != count) {
         return error(client::ErrorKind::BadAnswer,
-                     fmt::format("{} registers asked, {} bytes answered", count,
-                                 answer->size() > 1 ? (*answer)[1] : 0));
+                     fmt::format("{} registers asked, {} answered", count, decoded->values.size()));
     }
     std::vector<std::uint16_t> words(count);
-    for (std::size_t i = 0; i < count; ++i) {
-        words[i] = static_cast<std::uint16_t>((*answer)[2 + 2 * i] << 8 | (*answer)[3 + 2 * i]);
-    }
+    for (std::size_t i = 0; i < count; ++i)
+        words[i] = decoded->values[i];
     return words;
 }
 
 client::CallResult<bool> SunSpecProbe::write(std::uint32_t address,
                                              std::span<const std::uint16_t> values,
                                              std::optional<std::chrono::milliseconds> quiet) {
-    std::vector<std::uint8_t> pdu{kWriteMultiple};
-    put16(pdu, address);
-    put16(pdu, values.size());
-    pdu.push_back(static_cast<std::uint8_t>(2 * values.size()));
+    if (const auto refused = past_last_address(address, values.size())) return *refused;
+    std::array<std::uint8_t, 2 * protocol::limits::kMaxWriteRegisters> bytes{};
+    protocol::WriteCursor out(bytes);
     for (std::uint16_t value : values)
-        put16(pdu, value);
+        out.put_u16(value);
+    const auto quantity = static_cast<std::uint16_t>(values.size());
+    const auto pdu = protocol::encoded_pdu(protocol::WriteMultipleRegistersRequest{
+        static_cast<std::uint16_t>(address), quantity, protocol::RegisterView(out.written())});
+    if (!out.ok() || pdu.empty()) {
+        return error(client::ErrorKind::Invalid,
+                     fmt::format("{} registers do not fit one write (at most {})", values.size(),
+                                 protocol::limits::kMaxWriteRegisters));
+    }
     auto answer = ask(pdu, quiet);
     if (!answer) return answer.error();
+    if (quiet) return true;  // a broadcast: ask() has checked that nothing answered
+    auto echo = decode_answer<protocol::WriteMultipleRegistersResponse>(*answer);
+    if (!echo) return echo.error();
+    if (echo->address != address || echo->quantity != quantity) {
+        return error(client::ErrorKind::BadAnswer,
+                     fmt::format("write of {} registers at {} answered as {} at {}", quantity,
+                                 address, echo->quantity, echo->address));
+    }
     return true;
 }
 

@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <span>
 #include <variant>
+#include <vector>
 
 #include "protocol/cursor.hpp"
 #include "protocol/function_code.hpp"
@@ -139,5 +140,7 @@ Result<Request> decode_request(std::span<const std::uint8_t> pdu);
 
 // Writes the request PDU. Returns false when `out` ran out of space.
 bool encode_request(const Request& request, WriteCursor& out);
+// The PDU `request` encodes to; empty when it does not fit one.
+std::vector<std::uint8_t> encoded_pdu(const Request& request);
 
 }  // namespace mblab::protocol

@@ -1,3 +1,5 @@
+#include <array>
+
 #include "protocol/encode_support.hpp"
 #include "protocol/limits.hpp"
 #include "protocol/message_function.hpp"
@@ -56,6 +58,14 @@ std::uint8_t function_of(const Request& request) {
 bool encode_request(const Request& request, WriteCursor& out) {
     out.put_u8(function_of(request));
     return std::visit(RequestBodyWriter{{out}}, request) && out.ok();
+}
+
+std::vector<std::uint8_t> encoded_pdu(const Request& request) {
+    std::array<std::uint8_t, limits::kMaxPdu> buffer{};
+    WriteCursor out(buffer);
+    if (!encode_request(request, out) || !out.ok()) return {};
+    const auto bytes = out.written();
+    return {bytes.begin(), bytes.end()};
 }
 
 }  // namespace mblab::protocol

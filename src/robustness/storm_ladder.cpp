@@ -42,10 +42,10 @@ LadderRung storm(const StormTarget& target, StormKind kind, double rate,
     Bytes large;
     std::uint16_t transaction = 0;
     for (std::size_t i = 0; i < kSlowReaderBlock; ++i) {
-        const auto frame = mbap_frame(
-            ++transaction, target.unit,
-            encoded(protocol::ReadRegistersRequest{protocol::FunctionCode::ReadHoldingRegisters,
-                                                   target.large_address, target.large_quantity}));
+        const auto frame = mbap_frame(++transaction, target.unit,
+                                      protocol::encoded_pdu(protocol::ReadRegistersRequest{
+                                          protocol::FunctionCode::ReadHoldingRegisters,
+                                          target.large_address, target.large_quantity}));
         large.insert(large.end(), frame.begin(), frame.end());
     }
     const std::size_t large_frame = large.size() / kSlowReaderBlock;

@@ -135,14 +135,6 @@ std::string not_served(std::uint8_t function, const Recon& recon) {
 
 }  // namespace
 
-Bytes encoded(const protocol::Request& request) {
-    std::array<std::uint8_t, 260> buffer{};
-    protocol::WriteCursor out(buffer);
-    if (!protocol::encode_request(request, out) || !out.ok()) return {};
-    const auto bytes = out.written();
-    return Bytes(bytes.begin(), bytes.end());
-}
-
 Bytes storm_request(StormKind kind, std::uint16_t address, std::uint16_t value) {
     const auto code = static_cast<FunctionCode>(storm_words(kind).function);
     // Values as the wire carries them: a register's two bytes, a coil's bit 0.
@@ -156,47 +148,48 @@ Bytes storm_request(StormKind kind, std::uint16_t address, std::uint16_t value) 
     switch (kind) {
         case StormKind::Fc01:
         case StormKind::Fc02:
-            return encoded(protocol::ReadBitsRequest{code, address, 1});
+            return protocol::encoded_pdu(protocol::ReadBitsRequest{code, address, 1});
         case StormKind::Fc03:
         case StormKind::Fc04:
-            return encoded(protocol::ReadRegistersRequest{code, address, 1});
+            return protocol::encoded_pdu(protocol::ReadRegistersRequest{code, address, 1});
         case StormKind::Fc05:
-            return encoded(protocol::WriteSingleCoilRequest{
+            return protocol::encoded_pdu(protocol::WriteSingleCoilRequest{
                 address, static_cast<std::uint16_t>(value != 0 ? 0xFF00 : 0x0000)});
         case StormKind::Fc06:
-            return encoded(protocol::WriteSingleRegisterRequest{address, value});
+            return protocol::encoded_pdu(protocol::WriteSingleRegisterRequest{address, value});
         case StormKind::Fc08:
-            return encoded(protocol::DiagnosticsRequest{0x0000, kEchoData});
+            return protocol::encoded_pdu(protocol::DiagnosticsRequest{0x0000, kEchoData});
         case StormKind::Fc0F:
-            return encoded(protocol::WriteMultipleCoilsRequest{address, 1, {bit, 1}});
+            return protocol::encoded_pdu(protocol::WriteMultipleCoilsRequest{address, 1, {bit, 1}});
         case StormKind::Fc10:
-            return encoded(
+            return protocol::encoded_pdu(
                 protocol::WriteMultipleRegistersRequest{address, 1, protocol::RegisterView(word)});
         case StormKind::Fc17:
-            return encoded(protocol::ReadWriteMultipleRegistersRequest{
+            return protocol::encoded_pdu(protocol::ReadWriteMultipleRegistersRequest{
                 address, 1, address, 1, protocol::RegisterView(word)});
         case StormKind::Fc2B:
-            return encoded(protocol::ReadDeviceIdRequest{1, 0});
+            return protocol::encoded_pdu(protocol::ReadDeviceIdRequest{1, 0});
         case StormKind::Fc07:
-            return encoded(protocol::ReadExceptionStatusRequest{});
+            return protocol::encoded_pdu(protocol::ReadExceptionStatusRequest{});
         case StormKind::Fc0B:
-            return encoded(protocol::GetCommEventCounterRequest{});
+            return protocol::encoded_pdu(protocol::GetCommEventCounterRequest{});
         case StormKind::Fc0C:
-            return encoded(protocol::GetCommEventLogRequest{});
+            return protocol::encoded_pdu(protocol::GetCommEventLogRequest{});
         case StormKind::Fc11:
-            return encoded(protocol::ReportServerIdRequest{});
+            return protocol::encoded_pdu(protocol::ReportServerIdRequest{});
         case StormKind::Fc14:
             protocol::encode_file_record_ref(file, record);
-            return encoded(protocol::ReadFileRecordRequest{file.written()});
+            return protocol::encoded_pdu(protocol::ReadFileRecordRequest{file.written()});
         case StormKind::Fc15:
             protocol::encode_file_record_data(file, {record, protocol::RegisterView(word)});
-            return encoded(protocol::WriteFileRecordRequest{file.written()});
+            return protocol::encoded_pdu(protocol::WriteFileRecordRequest{file.written()});
         case StormKind::Fc16:
             // (value AND FFFF) OR (0000 AND NOT FFFF) is the value itself ([APP] 6.16): the
             // register is written with what it holds, with no read needed for it.
-            return encoded(protocol::MaskWriteRegisterRequest{address, 0xFFFF, 0x0000});
+            return protocol::encoded_pdu(
+                protocol::MaskWriteRegisterRequest{address, 0xFFFF, 0x0000});
         case StormKind::Fc18:
-            return encoded(protocol::ReadFifoQueueRequest{address});
+            return protocol::encoded_pdu(protocol::ReadFifoQueueRequest{address});
         case StormKind::Opens:
         case StormKind::SlowReaders:
         case StormKind::HalfOpen:

@@ -30,9 +30,6 @@ struct RequestPlan {
     std::string not_run;            // why the storm cannot run; "" when it can
 };
 
-// The PDU `request` encodes to.
-std::vector<std::uint8_t> encoded(const protocol::Request& request);
-
 // The request of storm `kind` at `address`; a write carries `value` (for a coil, 0 off, else on).
 // Empty for a connection storm.
 std::vector<std::uint8_t> storm_request(StormKind kind, std::uint16_t address,

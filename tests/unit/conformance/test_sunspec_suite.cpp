@@ -13,6 +13,7 @@
 #include "conformance/device_dut.hpp"
 #include "conformance/engine.hpp"
 #include "conformance/suite_selection.hpp"
+#include "conformance/sunspec_probe.hpp"
 #include "device/profile_loader.hpp"
 #include "device/reference_device.hpp"
 #include "support/manual_clock.hpp"
@@ -37,38 +38,62 @@ std::string changed(const std::string& from, const std::string& to) {
     return text;
 }
 
+// A device loaded from `profile_text` behind an in-memory link, and a session to it.
+struct MemorySunSpec {
+    explicit MemorySunSpec(const std::string& profile_text,
+                           protocol::Framing framing = protocol::Framing::Mbap)
+        : profile(load(profile_text)),
+          dut(dut_from_profile(profile, "profile sunspec-test.toml")),
+          device(profile),
+          memory(device, framing, clock),
+          session(target_for(framing, dut), dut, engine_options()) {
+        session.dial_with(
+            [this]() -> protocol::Result<std::unique_ptr<client::Link>, client::LinkError> {
+                return memory.open();
+            });
+    }
+
+    static device::Profile load(const std::string& text) {
+        auto parsed = device::parse_profile(text, "sunspec-test.toml");
+        EXPECT_TRUE(parsed) << parsed.error();
+        return parsed ? std::move(parsed).value() : device::Profile{};
+    }
+    static client::Target target_for(protocol::Framing framing, Dut& dut) {
+        client::Target target;
+        target.name = "memory";
+        if (framing == protocol::Framing::Mbap) {
+            target.tcp = client::Endpoint{"127.0.0.1", 502, nullptr};
+        } else {
+            target.serial = transport::SerialUrl{};
+            target.serial->kind = transport::SerialUrl::Kind::Rtu;
+            dut.serial_framing = "RTU";
+        }
+        return target;
+    }
+    static EngineOptions engine_options() {
+        EngineOptions options;
+        options.timeout = std::chrono::milliseconds(200);
+        return options;
+    }
+
+    device::Profile profile;
+    Dut dut;
+    device::ReferenceDevice device;
+    test::ManualClock clock;
+    test::MemoryDevice memory;
+    Session session;
+};
+
 // Every case's outcome, by id.
 std::map<std::string, Outcome> run_sunspec(const std::string& profile_text,
                                            protocol::Framing framing = protocol::Framing::Mbap) {
-    auto profile = device::parse_profile(profile_text, "sunspec-test.toml");
-    EXPECT_TRUE(profile) << profile.error();
-    if (!profile) return {};
-    Dut dut = dut_from_profile(*profile, "profile sunspec-test.toml");
-    device::ReferenceDevice device(std::move(profile).value());
-    test::ManualClock clock;
-    test::MemoryDevice memory(device, framing, clock);
-    client::Target target;
-    target.name = "memory";
-    if (framing == protocol::Framing::Mbap) {
-        target.tcp = client::Endpoint{"127.0.0.1", 502, nullptr};
-    } else {
-        target.serial = transport::SerialUrl{};
-        target.serial->kind = transport::SerialUrl::Kind::Rtu;
-        dut.serial_framing = "RTU";
-    }
-    EngineOptions options;
-    options.timeout = std::chrono::milliseconds(200);
-    Session session(target, dut, options);
-    session.dial_with(
-        [&memory]() -> protocol::Result<std::unique_ptr<client::Link>, client::LinkError> {
-            return memory.open();
-        });
+    MemorySunSpec lab(profile_text, framing);
     std::vector<Suite> suites;
     std::string error;
     EXPECT_TRUE(
         load_suites(std::string(MBLAB_SOURCE_DIR) + "/catalogue", {"sunspec"}, suites, error))
         << error;
-    Engine engine(session);
+    Engine engine(lab.session);
     const RunResult result = engine.run(suites, "memory");
     std::map<std::string, Outcome> outcomes;
     for (const auto& c : result.suites.at(0).cases)
@@ -152,6 +177,28 @@ TEST(SunSpecSuite, EachWrongDeviceFailsItsCaseAndNoOther) {
             EXPECT_EQ(outcome.verdict, expected) << id << ": " << outcome.reason;
         }
     }
+}
+
+// The probe's reads and writes go through the codec: registers past 0xFFFF are refused rather
+// than sent cut to 16 bits, and a write is judged by its echo.
+TEST(SunSpecProbe, ReadsAndWritesStayInsideTheRegisterAddresses) {
+    MemorySunSpec lab(shipped_profile());
+    SunSpecProbe probe(lab.session);
+    ASSERT_FALSE(probe.unusable()) << probe.unusable()->reason;
+
+    const auto marker = probe.read(40000, 2);
+    ASSERT_TRUE(marker) << marker.error().message;
+    EXPECT_EQ(*marker, (std::vector<std::uint16_t>{0x5375, 0x6E53}));  // "SunS"
+
+    const auto past = probe.read(0xFFFF, 2);
+    ASSERT_FALSE(past);
+    EXPECT_EQ(past.error().kind, client::ErrorKind::Invalid);
+    EXPECT_EQ(past.error().message, "registers 65535 to 65536 run past the last address, 65535");
+
+    const std::vector<std::uint16_t> too_many(124, 0);
+    const auto refused = probe.write(40000, too_many);
+    ASSERT_FALSE(refused);
+    EXPECT_EQ(refused.error().message, "124 registers do not fit one write (at most 123)");
 }
 
 }  // namespace
