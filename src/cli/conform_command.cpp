@@ -25,6 +25,7 @@
 #include "cli/profile_lookup.hpp"
 #include "cli/report_files.hpp"
 #include "cli/stop_signals.hpp"
+#include "cli/suite_options.hpp"
 #include "cli/terminal_style.hpp"
 #include "cli/tls_options.hpp"
 #include "client/target.hpp"
@@ -57,8 +58,7 @@ namespace conf = mblab::conformance;
 
 struct ConformOptions {
     std::string target;
-    std::vector<std::string> suites;
-    std::vector<std::string> cases;
+    SuiteOptions choice;
     bool list = false;
     DutOptions dut;
     std::string profile;
@@ -115,9 +115,7 @@ int run_conform(const ConformOptions& options) {
     }
     std::vector<conf::Suite> suites;
     std::string error;
-    if (!conf::load_suites(options.catalogue, options.suites, suites, error))
-        return usage_error(error);
-    if (!conf::select_cases(options.cases, suites, error)) return usage_error(error);
+    if (!options.choice.choose({}, suites, error)) return usage_error(error);
     if (options.list) {
         print_catalogue(suites);
         return kExitOk;
@@ -259,12 +257,9 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
         "the device under test: tcp://HOST[:PORT] (port 502 by default), mbaps://HOST[:PORT] "
         "(Modbus/TCP Security, port 802 by default), rtu+tcp://HOST:PORT, "
         "rtu:///dev/ttyX?baud=19200&parity=E&stop=1 or ascii:///dev/ttyX?...");
-    cmd->add_option("--suite", options->suites,
-                    "suite to run, by name or TOML file; repeatable (default: every shipped "
-                    "suite, policy first)");
-    cmd->add_option("--case", options->cases,
-                    "run only the cases whose id matches, e.g. 7.5.1 or '7.5.*' (* any text, ? "
-                    "any one character), with the cases they depend on; repeatable");
+    options->choice.add_to(*cmd,
+                           "suite to run, by name or TOML file; repeatable (default: "
+                           "every shipped suite, policy first)");
     cmd->add_flag("--list", options->list,
                   "print the catalogue of the chosen suites (and cases) and exit");
     options->dut.add_to(*cmd,
@@ -277,7 +272,6 @@ void add_conform_command(CLI::App& app, CommandRunner& runner, const Invocation&
     cmd->add_option("--profile", options->profile,
                     "profile of the built-in reference device (no target only): a TOML file or a "
                     "shipped profile's name (reference, rs485-instrument, ...)");
-    cmd->add_option("--catalogue", options->catalogue, "directory of the shipped suites");
     cmd->add_option("--sunspec-models", options->sunspec_models,
                     "sunspec suite: folder of SunSpec model definitions (model_*.json), e.g. the "
                     "json/ folder of the official set (default: MBLAB_SUNSPEC_MODELS, else "

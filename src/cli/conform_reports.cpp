@@ -11,16 +11,8 @@ namespace conf = mblab::conformance;
 
 void ConformReports::add_to(CLI::App& command, std::string_view item) {
     const std::string each(item);
-    command.add_option("--json", json,
-                       "write the report as JSON to FILE ('-': standard output, the console report "
-                       "then going to standard error)");
-    command.add_option("--junit", junit,
-                       "write the report as JUnit XML to FILE ('-': standard output), one test "
-                       "case per " +
-                           each);
-    command.add_option("--html", html,
-                       "write the report as one self-contained HTML page to FILE: each " + each +
-                           "'s verdict and citation, and what the wire carried");
+    TextReports::add_to(command, each,
+                        "each " + each + "'s verdict and citation, and what the wire carried");
     command.add_option("--pcap", pcap,
                        "write what the wire carried to FILE as pcapng, each packet's comment its " +
                            each +
@@ -33,8 +25,7 @@ bool ConformReports::check(ReportFiles& files, std::string& error) const {
         error = "--pcap -: a capture is binary; give it a file (tshark -r FILE reads it)";
         return false;
     }
-    return files.check("--json", json, error) && files.check("--junit", junit, error) &&
-           files.check("--pcap", pcap, error) && files.check("--html", html, error);
+    return TextReports::check(files, error) && files.check("--pcap", pcap, error);
 }
 
 bool ConformReports::write(const conf::RunResult& result, const conf::Provenance& provenance,

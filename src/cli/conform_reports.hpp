@@ -15,20 +15,13 @@
 // `-`, standard output; the console report then goes to standard error.
 namespace mblab::cli {
 
-struct ConformReports {
-    std::string json;
-    std::string junit;
+struct ConformReports : TextReports {
     std::string pcap;
-    std::string html;
 
     // The four options, their help naming what the run judges one by one (`item`: "case",
     // "scenario").
     void add_to(CLI::App& command, std::string_view item);
-    bool wanted() const {
-        return !json.empty() || !junit.empty() || !pcap.empty() || !html.empty();
-    }
-    // Whether one report goes to standard output.
-    bool to_stdout() const { return json == "-" || junit == "-" || html == "-"; }
+    bool wanted() const { return TextReports::wanted() || !pcap.empty(); }
     // False with `error` when a file cannot be written.
     bool check(ReportFiles& files, std::string& error) const;
     // The capture is laid out for `framing`: TCP packets for Modbus/TCP, a line's frames else.

@@ -8,7 +8,6 @@
 #include <csignal>
 #include <cstdlib>
 #include <cstring>
-#include <filesystem>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -23,11 +22,11 @@
 #include "cli/dut_options.hpp"
 #include "cli/report_files.hpp"
 #include "cli/stop_signals.hpp"
+#include "cli/suite_options.hpp"
 #include "cli/tls_options.hpp"
 #include "client/raw_link.hpp"
 #include "client/target.hpp"
 #include "conformance/catalogue.hpp"
-#include "conformance/catalogue_paths.hpp"
 #include "conformance/reports.hpp"
 #include "load/mix.hpp"
 #include "load/plan.hpp"
@@ -49,7 +48,6 @@ namespace {
 
 namespace conf = mblab::conformance;
 namespace load = mblab::load;
-namespace fs = std::filesystem;
 
 constexpr auto kLiveStatusPeriod = std::chrono::seconds(1);
 constexpr auto kLogStatusPeriod = std::chrono::seconds(10);
@@ -58,9 +56,7 @@ constexpr auto kMetricsPeriod = std::chrono::seconds(1);
 
 struct LoadOptions {
     std::vector<std::string> targets;
-    std::vector<std::string> suites;
-    std::vector<std::string> cases;
-    std::string catalogue;
+    SuiteOptions choice;
     bool no_tests = false;
     double duration_s = 3600;
     std::size_t connections = 8;
@@ -72,9 +68,7 @@ struct LoadOptions {
     int timeout_ms = 1000;
     std::size_t threads = std::max(1U, std::thread::hardware_concurrency() / 2);
     std::uint64_t seed = 1;
-    std::string json;
-    std::string junit;
-    std::string html;
+    TextReports reports;
     security::TlsFiles tls;  // mbaps:// nodes
     CLI::App* command = nullptr;
 };
@@ -82,19 +76,6 @@ struct LoadOptions {
 int usage_error(const std::string& message) {
     fmt::print(stderr, "mblab load: {}\n", message);
     return kExitUsage;
-}
-
-// A suite given as a file, or a shipped one by its name or file stem.
-protocol::Result<conf::Suite, std::string> find_suite(const std::string& wanted,
-                                                      const std::string& directory) {
-    std::error_code ignored;
-    if (fs::is_regular_file(wanted, ignored)) return conf::load_suite_file(wanted);
-    for (const auto& file : conf::shipped_suite_files(directory)) {
-        auto suite = conf::load_suite_file(file);
-        if (suite && (suite->name == wanted || fs::path(file).stem() == wanted)) return suite;
-    }
-    return fmt::format("no suite file or shipped suite named '{}' (looked in {})", wanted,
-                       directory);
 }
 
 // What the nodes declare: a DUT file, then the flags over it (as `mblab conform` takes them).
@@ -184,16 +165,10 @@ protocol::Result<load::LoadPlan, std::string> make_plan(const LoadOptions& optio
     if (!dut) return dut.error();
     if (auto error = check_line_unit(options, plan, *dut)) return *error;
     if (s.tests) {
-        const std::string dir =
-            options.catalogue.empty() ? conf::catalogue_dir().string() : options.catalogue;
         std::vector<conf::Suite> suites;
-        for (const auto& wanted :
-             options.suites.empty() ? std::vector<std::string>{"policy-2.1"} : options.suites) {
-            auto suite = find_suite(wanted, dir);
-            if (!suite) return suite.error();
-            suites.push_back(std::move(suite.value()));
-        }
-        auto added = load::add_protocol_tests(plan, suites, *dut, options.cases);
+        std::string error;
+        if (!options.choice.choose({"policy-2.1"}, suites, error)) return error;
+        auto added = load::add_protocol_tests(plan, suites, *dut, {});
         if (!added) return added.error();
     }
     if (s.connections > 0) {
@@ -254,11 +229,7 @@ int run_load(const LoadOptions& options) {
     // Before the plan, which connects to every node: a run must not end with "cannot write".
     ReportFiles files;
     std::string error;
-    if (!files.check("--json", options.json, error) ||
-        !files.check("--junit", options.junit, error) ||
-        !files.check("--html", options.html, error)) {
-        return usage_error(error);
-    }
+    if (!options.reports.check(files, error)) return usage_error(error);
     // A report on standard output has it to itself.
     std::FILE* const console = files.uses_standard_output() ? stderr : stdout;
     auto plan = make_plan(options);
@@ -294,9 +265,9 @@ int run_load(const LoadOptions& options) {
 
     const std::pair<const std::string&,
                     std::string (*)(const load::LoadPlan&, const load::LoadResult&)>
-        reports[] = {{options.json, &load::load_json_report},
-                     {options.junit, &load::load_junit_report},
-                     {options.html, &web::load_html_report}};
+        reports[] = {{options.reports.json, &load::load_json_report},
+                     {options.reports.junit, &load::load_junit_report},
+                     {options.reports.html, &web::load_html_report}};
     for (const auto& [path, write] : reports) {
         if (path.empty()) continue;
         if (!files.write(path, write(*plan, result), error)) return usage_error(error);
@@ -361,11 +332,9 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
                         "time to wait for each answer: milliseconds, or 250ms, "
                         "2s",
                         DurationUnit::milliseconds, CLI::Range(1, 600000));
-    cmd->add_option("--suite", options->suites,
-                    "suite whose request/response cases loop, by name or file; repeatable "
-                    "(default: policy-2.1)");
-    cmd->add_option("--case", options->cases, "only this case id; repeatable");
-    cmd->add_option("--catalogue", options->catalogue, "directory of the shipped suites");
+    options->choice.add_to(*cmd,
+                           "suite whose request/response cases loop, by name or file; "
+                           "repeatable (default: policy-2.1)");
     cmd->add_flag("--no-tests", options->no_tests,
                   "no protocol tests: only the traffic generator (a plain load test)");
     cmd->add_option("--threads", options->threads,
@@ -375,13 +344,9 @@ void add_load_command(CLI::App& app, CommandRunner& runner) {
         ->capture_default_str();
     cmd->add_option("--seed", options->seed, "seed of the generator's choices from the mix")
         ->capture_default_str();
-    cmd->add_option("--json", options->json,
-                    "write the report as JSON to FILE (- for standard output)");
-    cmd->add_option("--junit", options->junit,
-                    "write the report as JUnit XML to FILE (- for standard output)");
-    cmd->add_option("--html", options->html,
-                    "write the report as one self-contained HTML page to FILE: per-node tables "
-                    "and latency histograms (every report file is checked before any traffic)");
+    options->reports.add_to(*cmd, "node",
+                            "per-node tables and latency histograms (every report file is "
+                            "checked before any traffic)");
     cmd->add_option("--metrics", options->metrics,
                     "serve the run's counters and latency histogram in Prometheus text format at "
                     "http://HOST:PORT/metrics while it runs, e.g. 127.0.0.1:9100");

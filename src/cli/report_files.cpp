@@ -90,4 +90,23 @@ bool ReportFiles::write(const std::string& path, const std::string& text, std::s
     return conformance::write_text_file(path, text, error);
 }
 
+void TextReports::add_to(CLI::App& command, std::string_view junit_case,
+                         std::string_view html_page) {
+    command.add_option("--json", json,
+                       "write the report as JSON to FILE ('-': standard output, the console report "
+                       "then going to standard error)");
+    command.add_option("--junit", junit,
+                       fmt::format("write the report as JUnit XML to FILE ('-': standard output), "
+                                   "one test case per {}",
+                                   junit_case));
+    command.add_option(
+        "--html", html,
+        fmt::format("write the report as one self-contained HTML page to FILE: {}", html_page));
+}
+
+bool TextReports::check(ReportFiles& files, std::string& error) const {
+    return files.check("--json", json, error) && files.check("--junit", junit, error) &&
+           files.check("--html", html, error);
+}
+
 }  // namespace mblab::cli

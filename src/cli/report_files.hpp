@@ -1,5 +1,6 @@
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -30,6 +31,24 @@ class ReportFiles {
   private:
     std::vector<std::pair<std::string, std::string>> checked_;  // option, absolute path
     std::string standard_output_;                               // the option that has it
+};
+
+// --json, --junit and --html: the text reports of a command that judges a run (conform,
+// conform-client, load), declared, checked and sent to standard output the same way.
+struct TextReports {
+    std::string json;
+    std::string junit;
+    std::string html;
+
+    // `junit_case`: what one JUnit test case stands for ("case"); `html_page`: what the HTML
+    // page shows.
+    void add_to(CLI::App& command, std::string_view junit_case, std::string_view html_page);
+    bool check(ReportFiles& files, std::string& error) const;
+    bool wanted() const { return !json.empty() || !junit.empty() || !html.empty(); }
+    // Whether one report goes to standard output (the console report then goes to stderr).
+    bool to_stdout() const {
+        return json == kStandardOutput || junit == kStandardOutput || html == kStandardOutput;
+    }
 };
 
 }  // namespace mblab::cli

@@ -48,5 +48,22 @@ TEST(CliUsage, BothConformCommandsOfferTheFourReportFiles) {
     }
 }
 
+// conform and load pick suites and cases one way (SuiteOptions), and write their text reports one
+// way (TextReports): their help says the same of both.
+TEST(CliUsage, ConformAndLoadChooseCasesAndWriteReportsAlike) {
+    for (const char* command : {"conform", "load"}) {
+        const auto help = run_mblab({command, "--help"});
+        ASSERT_EQ(help.status, 0) << command;
+        for (const char* text :
+             {"--suite", "--catalogue", "--case", "'7.5.*' (* any text, ? any one character)",
+              "with the cases they depend on",
+              "('-': standard output, the console report then "
+              "going to standard error)"}) {
+            EXPECT_NE(help.out.find(text), std::string::npos) << command << ": " << text;
+        }
+    }
+    EXPECT_NE(run_mblab({"load", "--help"}).out.find("one test case per node"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace mblab::test

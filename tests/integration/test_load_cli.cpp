@@ -271,6 +271,22 @@ TEST(LoadCli, AnAnswerWithAnotherTransactionIdIsAWrongAnswer) {
     EXPECT_EQ(node["first_failure"]["exchange"], "7.8.1 step 1");
 }
 
+// --case takes the patterns mblab conform takes, and brings the cases a chosen one depends on.
+TEST(LoadCli, CasePatternsChooseAsConformChooses) {
+    ChildProcess serve({MBLAB_BINARY, "serve", "--listen", "tcp://127.0.0.1:0"});
+    const auto targets = served_urls(serve);
+    ASSERT_EQ(targets.size(), 1U);
+    // 7.13.2 (FC 5B, alternate encoding) depends on 7.5.1 and is itself N/A for this DUT.
+    auto run = mblab_load("glob", {targets[0], "--duration", "1s", "--connections", "0", "--case",
+                                   "7.3.?", "--case", "7.13.2"});
+    serve.signal(SIGINT);
+    EXPECT_EQ(serve.wait_exit(seconds(10)), 0);
+    EXPECT_EQ(run.status, 0) << run.out << run.err;
+    EXPECT_EQ(run.report["settings"]["cases"], json::array({"7.3.1", "7.5.1"}));
+    EXPECT_THAT(run.out, HasSubstr("not in the loop: 7.13.2 (N/A: the DUT does not declare "
+                                   "alternate_encoding)"));
+}
+
 TEST(LoadCli, AnswersOutOfOrderAreMatchedByTransactionId) {
     FaultyDevice reordering({Fault::ReorderAnswers, 0});
     auto run =
@@ -346,7 +362,9 @@ TEST(LoadCli, BadArgumentsAreUsageErrors) {
                   "mblab load: --duration: '5x' is not a duration: give e.g. 250ms, 1s, 1.5s or "
                   "2m (a number alone is seconds) (run 'mblab load --help' for usage)\n");
     auto unknown_case = mblab_load("usage", {device.url(), "--case", "7.99"});
-    expect_failed(unknown_case, 2, "mblab load: no case 7.99 in the chosen suites\n");
+    expect_failed(unknown_case, 2,
+                  "mblab load: --case '7.99' matches no case of the selected suites (policy-2.1); "
+                  "conform --list shows the case ids\n");
     auto twice = mblab_load("usage", {device.url(), device.url()});
     EXPECT_EQ(twice.status, 2);
     EXPECT_EQ(twice.err,
