@@ -38,6 +38,7 @@ Clock::time_point MbapDriver::deadline() const {
 }
 
 void MbapDriver::readable(Clock::time_point now) {
+    input_may_remain_ = false;
     if (!wants_read()) return;
     take(now);
     flush(now);
@@ -91,6 +92,7 @@ bool MbapDriver::take(Clock::time_point now) {
     const bool was_handshaking = channel_.handshaking();
     const auto space = session_.input_space();
     const auto io = channel_.read(space);
+    input_may_remain_ = io.status == Status::Done && (tls_ || io.bytes == space.size());
     if (was_handshaking && !channel_.handshaking()) {
         if (const auto peer = channel_.peer(); peer.tls != nullptr) on_handshake(*peer.tls);
     }

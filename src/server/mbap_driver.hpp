@@ -41,6 +41,9 @@ class MbapDriver {
 
     bool wants_read() const;
     bool wants_write() const { return write_blocked_; }
+    // The last read may have left input in the channel: it filled all the room it was given, or
+    // it went through TLS, whose records need not end where a read does.
+    bool input_may_remain() const { return input_may_remain_; }
     Clock::time_point deadline() const;
     bool handshaking() const { return channel_.handshaking(); }
     bool closed() const { return closed_; }
@@ -68,6 +71,7 @@ class MbapDriver {
     Clock::time_point handshake_deadline_ = Clock::time_point::max();
     bool closed_ = false;
     bool write_blocked_ = false;   // the channel took less than it was given
+    bool input_may_remain_ = false;
     bool input_ended_ = false;     // the session was told the client sends nothing more
     bool seen_plaintext_ = false;  // the first plaintext was checked for a bare PDU
 };

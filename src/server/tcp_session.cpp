@@ -99,10 +99,10 @@ void TcpSession::close_socket() {
     fd_ = -1;
 }
 
-void TcpSession::on_ready(std::uint32_t events) {
+bool TcpSession::on_ready(std::uint32_t events) {
     if (events & EPOLLERR) {
         close();  // reset by the peer: nothing can reach it any more
-        return;
+        return false;
     }
     const auto now = Clock::now();
     if (events & EPOLLOUT) driver_.writable(now);
@@ -110,6 +110,7 @@ void TcpSession::on_ready(std::uint32_t events) {
     // Both directions shut: no answer can go out, and a level-triggered hang-up would repeat.
     if (events & EPOLLHUP) close();
     settle();
+    return !closed_ && (events & EPOLLIN) != 0 && driver_.input_may_remain();
 }
 
 void TcpSession::settle() {

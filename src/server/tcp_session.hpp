@@ -35,7 +35,7 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     transport::Standing standing(Clock::time_point now) const override;
     Clock::time_point last_activity() const override { return session_.last_activity(); }
     void close() override;
-    void on_ready(std::uint32_t events) override;
+    bool on_ready(std::uint32_t events) override;
 
   private:
     device::DeferredDone route_deferred(std::uint32_t ticket,

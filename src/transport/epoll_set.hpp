@@ -19,21 +19,13 @@ class EpollSet {
     // ok() is false, with errno set, when the kernel refuses a new set.
     EpollSet() : fd_(::epoll_create1(EPOLL_CLOEXEC)) {}
     ~EpollSet() {
-        if (owned_ && fd_ >= 0) ::close(fd_);
+        if (fd_ >= 0) ::close(fd_);
     }
     EpollSet(const EpollSet&) = delete;
     EpollSet& operator=(const EpollSet&) = delete;
 
     bool ok() const { return fd_ >= 0; }
     int fd() const { return fd_; }
-
-    // For an owner that closes the set's descriptor itself (an Asio descriptor watching it, whose
-    // close also takes it out of the io_context's own epoll set): the set goes on using the
-    // descriptor but no longer closes it, so it must not be used after that owner closed it.
-    int hand_over() {
-        owned_ = false;
-        return fd_;
-    }
 
     // `owner` comes back in epoll_event::data.ptr. False with errno set if epoll refused.
     bool add(int fd, void* owner, std::uint32_t events) {
@@ -58,7 +50,6 @@ class EpollSet {
     }
 
     int fd_;
-    bool owned_ = true;
 };
 
 }  // namespace mblab::transport

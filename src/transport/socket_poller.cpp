@@ -3,7 +3,9 @@
 #include <unistd.h>
 
 #include <asio/error.hpp>
+#include <asio/execution/context.hpp>
 #include <asio/post.hpp>
+#include <asio/query.hpp>
 #include <cerrno>
 #include <system_error>
 
@@ -13,24 +15,65 @@ namespace {
 
 constexpr std::size_t kBatch = 256;  // events taken per wake-up
 
-// The set's descriptor for the io_context to watch and, in the end, to close: closing it also
-// takes it out of the io_context's own epoll set, where a separate close would cost an
-// epoll_ctl first.
-int watched_descriptor(EpollSet& epoll) {
-    if (!epoll.ok()) throw std::system_error(errno, std::generic_category(), "epoll_create1");
-    return epoll.hand_over();
+asio::detail::reactor& reactor_of(const asio::any_io_executor& executor) {
+    auto& reactor =
+        asio::use_service<asio::detail::reactor>(asio::query(executor, asio::execution::context));
+    reactor.init_task();  // the io_context waits in this reactor, as for any descriptor of its
+    return reactor;
 }
 
 }  // namespace
+
+// The set's wait in the reactor. It completes as soon as it is performed: the reactor performs
+// it when the set became ready, or at once, while it is being started, when the set became ready
+// while nothing waited or nothing is known yet (the first wait). Only the first kind is a
+// wake-up; the second is checked with epoll. "Exhausted" keeps the reactor from trying it early
+// the next time.
+class SocketPoller::WaitOperation final : public asio::detail::reactor_op {
+  public:
+    WaitOperation(std::weak_ptr<SocketPoller> poller, const bool& starting)
+        : reactor_op(asio::error_code(), &perform, &complete),
+          poller_(std::move(poller)),
+          starting_(starting) {}
+
+  private:
+    static status perform(reactor_op* base) {
+        auto* operation = static_cast<WaitOperation*>(base);
+        operation->woken_ = !operation->starting_;
+        return done_and_exhausted;
+    }
+    // `owner` is null when the io_context is destroyed with the operation pending.
+    static void complete(void* owner, asio::detail::scheduler_operation* base,
+                         const asio::error_code&, std::size_t) {
+        std::unique_ptr<WaitOperation> operation(static_cast<WaitOperation*>(base));
+        const auto poller = operation->poller_.lock();
+        const auto ec = operation->ec_;
+        const bool woken = operation->woken_;
+        operation.reset();
+        if (owner && poller) poller->on_wait(ec, woken);
+    }
+
+    std::weak_ptr<SocketPoller> poller_;
+    const bool& starting_;  // the poller's: true while start_op() runs
+    bool woken_ = false;
+};
 
 std::shared_ptr<SocketPoller> SocketPoller::create(asio::any_io_executor executor) {
     return std::shared_ptr<SocketPoller>(new SocketPoller(std::move(executor)));
 }
 
 SocketPoller::SocketPoller(asio::any_io_executor executor)
-    : descriptor_(std::move(executor), watched_descriptor(epoll_)), events_(kBatch) {}
+    : executor_(std::move(executor)), reactor_(reactor_of(executor_)), events_(kBatch) {
+    if (!epoll_.ok()) throw std::system_error(errno, std::generic_category(), "epoll_create1");
+    if (const int error = reactor_.register_descriptor(epoll_.fd(), registration_); error != 0)
+        throw std::system_error(error, std::generic_category(), "epoll_ctl");
+}
 
-SocketPoller::~SocketPoller() = default;  // the descriptor closes the epoll set
+SocketPoller::~SocketPoller() {
+    // A pending wait completes as aborted and finds the poller gone.
+    reactor_.deregister_descriptor(epoll_.fd(), registration_, false);
+    reactor_.cleanup_descriptor_data(registration_);
+}
 
 SocketPoller::Entry* SocketPoller::only_entry() const {
     if (live_ != 1) return nullptr;
@@ -66,7 +109,12 @@ bool SocketPoller::add(int fd, const std::shared_ptr<Watcher>& watcher, std::uin
 void SocketPoller::modify(int fd, std::uint32_t events) {
     auto* entry = find(fd);
     if (!entry || entry->events == events) return;
-    if (epoll_.modify(fd, entry, events)) entry->events = events;
+    if (!epoll_.modify(fd, entry, events)) return;
+    const bool more = (events & ~entry->events) != 0;
+    entry->events = events;
+    // Input that came while the socket was not watched for it may wake nobody once it is: the
+    // set's entry for it can still be queued from before, and a queued entry makes no new edge.
+    if (more) look_again();
 }
 
 void SocketPoller::remove(int fd) {
@@ -81,55 +129,64 @@ void SocketPoller::remove(int fd) {
     --live_;
     sole_ = only_entry();
     // Nothing left to watch: no pending wait may keep the io_context running.
-    if (live_ == 0 && waiting_) {
-        asio::error_code ignored;
-        descriptor_.cancel(ignored);
-    }
+    if (live_ == 0 && wait_pending_) reactor_.cancel_ops(epoll_.fd(), registration_);
 }
 
 void SocketPoller::wait() {
-    if (waiting_ || live_ == 0) return;
-    waiting_ = true;
-    descriptor_.async_wait(asio::posix::stream_descriptor::wait_read,
-                           [weak = weak_from_this()](const asio::error_code& ec) {
-                               if (auto self = weak.lock()) self->on_wait(ec);
-                           });
+    if (wait_pending_ || look_pending_ || live_ == 0) return;
+    wait_pending_ = true;
+    starting_ = true;
+    reactor_.start_op(asio::detail::reactor::read_op, epoll_.fd(), registration_,
+                      new WaitOperation(weak_from_this(), starting_), false, true);
+    starting_ = false;
 }
 
-void SocketPoller::on_wait(const asio::error_code& ec) {
-    waiting_ = false;
-    if (!ec && dispatch() > 1) {
-        // Busy: look again after the io_context's other work instead of waiting for a wake-up,
-        // which would cost re-arming the descriptor (epoll_ctl) and a second epoll_wait.
-        waiting_ = true;
-        asio::post(descriptor_.get_executor(), [weak = weak_from_this()] {
-            if (auto self = weak.lock()) self->on_wait({});
-        });
-        return;
-    }
+void SocketPoller::on_wait(const asio::error_code& ec, bool woken) {
+    wait_pending_ = false;
     // After a cancel, a socket added since still needs the wait.
-    if (ec != asio::error::bad_descriptor) wait();
+    if (!ec && dispatch(woken)) {
+        look_again();
+    } else {
+        wait();
+    }
 }
 
-int SocketPoller::dispatch() {
+void SocketPoller::look_again() {
+    if (look_pending_ || live_ == 0) return;
+    // After the io_context's other work; a busy set would otherwise cost a wake-up each time.
+    look_pending_ = true;
+    asio::post(executor_, [weak = weak_from_this()] {
+        const auto self = weak.lock();
+        if (!self) return;
+        self->look_pending_ = false;
+        if (self->dispatch(false)) {
+            self->look_again();
+        } else {
+            self->wait();
+        }
+    });
+}
+
+bool SocketPoller::dispatch(bool woken) {
     int count = 0;
-    if (sole_ && sole_->events == EPOLLIN) {
+    if (woken && sole_ && sole_->events == EPOLLIN) {
         events_[0].events = EPOLLIN;
         events_[0].data.ptr = sole_;
         count = 1;
     } else {
         count = epoll_.wait(events_, 0);
     }
+    bool again = count > 1 || count == static_cast<int>(events_.size());
     dispatching_ = true;
     for (int i = 0; i < count; ++i) {
         const auto& event = events_[static_cast<std::size_t>(i)];
         auto* entry = static_cast<Entry*>(event.data.ptr);
         if (entry->removed) continue;
-        if (auto watcher = entry->watcher.lock()) watcher->on_ready(event.events);
+        if (auto watcher = entry->watcher.lock()) again = watcher->on_ready(event.events) || again;
     }
     dispatching_ = false;
     removed_.clear();
-    return count;
+    return again && live_ > 0;
 }
 
 }  // namespace mblab::transport

@@ -3,7 +3,8 @@
 #include <sys/epoll.h>
 
 #include <asio/any_io_executor.hpp>
-#include <asio/posix/stream_descriptor.hpp>
+#include <asio/error_code.hpp>
+#include <asio/io_context.hpp>  // also asio::detail::reactor, which needs it included first
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -17,6 +18,13 @@
 // only when epoll says it has data, as a bare epoll loop does, and a whole batch of ready sockets
 // costs one wake-up of the io_context. Timers, posts and every other descriptor stay with Asio.
 //
+// The set waits in Asio's reactor as a read operation of its own (asio/detail): its registration
+// there is edge-triggered, and Asio's public async_wait() re-arms it with an epoll_ctl() on every
+// wait, a fourth system call per request beside epoll_wait(), recv() and send(). An operation
+// that is "done and exhausted" each time it is woken needs no re-arming: any socket of the set
+// that becomes ready wakes the reactor again. Input that a watcher leaves unread makes no new
+// edge, so a watcher says when it may have left some and the set is then looked at again.
+//
 // One client is the common case of a device. While only one socket is watched, and only for
 // input, a wake-up can only be that socket's: it is told EPOLLIN without asking epoll, and a
 // hang-up or an error shows in its read. That saves a system call on every request.
@@ -27,7 +35,9 @@ class SocketPoller : public std::enable_shared_from_this<SocketPoller> {
     // What a watched socket is told: the epoll events (EPOLLIN, EPOLLOUT, EPOLLERR, ...).
     class Watcher {
       public:
-        virtual void on_ready(std::uint32_t events) = 0;
+        // True when the watcher may have left input unread (it read only part of what came, or
+        // nothing): the poller looks at its socket again instead of waiting for new input.
+        virtual bool on_ready(std::uint32_t events) = 0;
 
       protected:
         ~Watcher() = default;
@@ -55,23 +65,31 @@ class SocketPoller : public std::enable_shared_from_this<SocketPoller> {
         std::weak_ptr<Watcher> watcher;
         bool removed = false;
     };
+    class WaitOperation;
     explicit SocketPoller(asio::any_io_executor executor);
     Entry* find(int fd) const;
     // The only entry, when exactly one is watched.
     Entry* only_entry() const;
     void wait();
-    void on_wait(const asio::error_code& ec);
-    // Delivers the ready events; returns how many.
-    int dispatch();
+    void on_wait(const asio::error_code& ec, bool woken);
+    // Delivers the ready events. `woken`: the reactor saw the set become ready, so a sole
+    // socket watched for input is ready without asking epoll. True when the set should be
+    // looked at again at once (a busy batch, or input left unread).
+    bool dispatch(bool woken);
+    void look_again();
 
-    EpollSet epoll_;                               // handed over: descriptor_ closes it
-    asio::posix::stream_descriptor descriptor_;    // epoll_ as the io_context sees it
-    std::vector<std::unique_ptr<Entry>> entries_;  // by descriptor number
+    asio::any_io_executor executor_;
+    asio::detail::reactor& reactor_;
+    EpollSet epoll_;
+    asio::detail::reactor::per_descriptor_data registration_ = nullptr;  // epoll_ in the reactor
+    std::vector<std::unique_ptr<Entry>> entries_;                        // by descriptor number
     std::vector<std::unique_ptr<Entry>> removed_;  // entries an undelivered event may name
     std::vector<epoll_event> events_;
     std::size_t live_ = 0;
-    Entry* sole_ = nullptr;  // the entry when live_ == 1
-    bool waiting_ = false;
+    Entry* sole_ = nullptr;      // the entry when live_ == 1
+    bool wait_pending_ = false;  // a WaitOperation is in the reactor
+    bool look_pending_ = false;  // a look_again() is posted
+    bool starting_ = false;      // a WaitOperation is being started
     bool dispatching_ = false;
 };
 

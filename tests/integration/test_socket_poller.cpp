@@ -36,9 +36,12 @@ struct SocketPair {
 struct RecordingWatcher final : SocketPoller::Watcher {
     std::vector<std::uint32_t> events;
     std::function<void(std::uint32_t)> action;
-    void on_ready(std::uint32_t ready) override {
+    // What on_ready() answers: whether input may have been left unread.
+    bool leaves_input = true;
+    bool on_ready(std::uint32_t ready) override {
         events.push_back(ready);
         if (action) action(ready);
+        return leaves_input;
     }
 };
 
@@ -164,8 +167,11 @@ TEST_F(SocketPollerTest, WithOneSocketAHangUpArrivesAsInputThatReadsTheEnd) {
         poller->remove(pair.ours);
     };
     ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
-    ::close(pair.theirs);
-    pair.theirs = -1;
+    // Once the poller waits: its first look, when added, asks epoll.
+    asio::post(io, [&] {
+        ::close(pair.theirs);
+        pair.theirs = -1;
+    });
     io.run();
     ASSERT_EQ(watcher->events.size(), 1U);
     EXPECT_EQ(watcher->events[0], static_cast<std::uint32_t>(EPOLLIN));
@@ -218,6 +224,94 @@ TEST_F(SocketPollerTest, AfterABusyBatchInputThatComesLaterIsDelivered) {
     io.run();
     EXPECT_EQ(reads, 3);
     EXPECT_EQ(poller->watched(), 0U);
+}
+
+// A watcher that reads everything says so, and the poller then waits without looking again: each
+// new message must still wake it (the set stays armed in the reactor from one wait to the next).
+TEST_F(SocketPollerTest, AWatcherThatReadsAllIsWokenByEachNewMessage) {
+    constexpr int kMessages = 200;
+    int received = 0;
+    watcher->leaves_input = false;
+    watcher->action = [&](std::uint32_t) {
+        char byte = 0;
+        while (::recv(pair.ours, &byte, 1, MSG_DONTWAIT) == 1) {
+            ++received;
+        }
+        if (received == kMessages) {
+            poller->remove(pair.ours);
+            return;
+        }
+        // Answered: the peer sends its next message only now, as a client waiting for answers.
+        asio::post(io, [&] { pair.send_byte(); });
+    };
+    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
+    pair.send_byte();
+    io.run_for(std::chrono::seconds(10));  // a lost wake-up would wait for ever
+    EXPECT_EQ(received, kMessages);
+}
+
+// The same with two sockets, which the poller asks epoll about.
+TEST_F(SocketPollerTest, WithTwoSocketsEachNewMessageWakesTheReader) {
+    SocketPair other;
+    int received = 0;
+    watcher->leaves_input = false;
+    watcher->action = [&](std::uint32_t) {
+        char byte = 0;
+        while (::recv(other.ours, &byte, 1, MSG_DONTWAIT) == 1) {
+            ++received;
+        }
+        if (received == 100) {
+            poller->remove(pair.ours);
+            poller->remove(other.ours);
+            return;
+        }
+        asio::post(io, [&] { other.send_byte(); });
+    };
+    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
+    ASSERT_TRUE(poller->add(other.ours, watcher, EPOLLIN));
+    other.send_byte();
+    io.run_for(std::chrono::seconds(10));  // a lost wake-up would wait for ever
+    EXPECT_EQ(received, 100);
+}
+
+// A session that stops taking input (its queue of answers is full) and takes it again later:
+// what came meanwhile must be reported when input is watched again, although no new byte comes.
+TEST_F(SocketPollerTest, InputThatCameWhileNotWatchedIsReportedWhenWatchedAgain) {
+    watcher->leaves_input = false;
+    asio::steady_timer later(io);
+    watcher->action = [&](std::uint32_t) {
+        if (watcher->events.size() == 1) {
+            EXPECT_EQ(read_byte(pair.ours), 'a');
+            poller->modify(pair.ours, 0);  // not watched for input any more
+            pair.send_byte('b');
+            later.expires_after(std::chrono::milliseconds(20));
+            later.async_wait([&](const asio::error_code& ec) {
+                if (!ec) poller->modify(pair.ours, EPOLLIN);
+            });
+            return;
+        }
+        EXPECT_EQ(read_byte(pair.ours), 'b');
+        poller->remove(pair.ours);
+    };
+    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
+    pair.send_byte('a');
+    io.run_for(std::chrono::seconds(10));  // a lost wake-up would wait for ever
+    EXPECT_EQ(watcher->events.size(), 2U);
+}
+
+// A watcher that reads only part of what came says it may have left input: it is told again
+// though nothing new arrives.
+TEST_F(SocketPollerTest, AWatcherThatLeavesInputIsToldAgain) {
+    int received = 0;
+    watcher->action = [&](std::uint32_t) {
+        received += read_byte(pair.ours) == 'x';
+        if (received == 3) poller->remove(pair.ours);
+    };
+    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
+    const char three[3] = {'x', 'x', 'x'};
+    ASSERT_EQ(::write(pair.theirs, three, 3), 3);
+    io.run_for(std::chrono::seconds(10));  // a lost wake-up would wait for ever
+    EXPECT_EQ(received, 3);
 }
 
 TEST_F(SocketPollerTest, RefusesADescriptorWatchedTwiceOrInvalid) {
