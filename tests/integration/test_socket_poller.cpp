@@ -228,50 +228,40 @@ TEST_F(SocketPollerTest, AfterABusyBatchInputThatComesLaterIsDelivered) {
 
 // A watcher that reads everything says so, and the poller then waits without looking again: each
 // new message must still wake it (the set stays armed in the reactor from one wait to the next).
-TEST_F(SocketPollerTest, AWatcherThatReadsAllIsWokenByEachNewMessage) {
-    constexpr int kMessages = 200;
+// Messages go over `talker`, the next one sent only once the last was read, as a client waiting
+// for answers; all of `watched` is watched. Returns how many were read.
+int closed_loop(asio::io_context& io, SocketPoller& poller, RecordingWatcher& watcher,
+                SocketPair& talker, const std::vector<int>& watched, int messages) {
     int received = 0;
-    watcher->leaves_input = false;
-    watcher->action = [&](std::uint32_t) {
+    watcher.leaves_input = false;
+    watcher.action = [&](std::uint32_t) {
         char byte = 0;
-        while (::recv(pair.ours, &byte, 1, MSG_DONTWAIT) == 1) {
+        while (::recv(talker.ours, &byte, 1, MSG_DONTWAIT) == 1) {
             ++received;
         }
-        if (received == kMessages) {
-            poller->remove(pair.ours);
+        if (received == messages) {
+            for (const int fd : watched)
+                poller.remove(fd);
             return;
         }
-        // Answered: the peer sends its next message only now, as a client waiting for answers.
-        asio::post(io, [&] { pair.send_byte(); });
+        asio::post(io, [&] { talker.send_byte(); });
     };
-    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
-    pair.send_byte();
+    talker.send_byte();
     io.run_for(std::chrono::seconds(10));  // a lost wake-up would wait for ever
-    EXPECT_EQ(received, kMessages);
+    return received;
+}
+
+TEST_F(SocketPollerTest, AWatcherThatReadsAllIsWokenByEachNewMessage) {
+    ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
+    EXPECT_EQ(closed_loop(io, *poller, *watcher, pair, {pair.ours}, 200), 200);
 }
 
 // The same with two sockets, which the poller asks epoll about.
 TEST_F(SocketPollerTest, WithTwoSocketsEachNewMessageWakesTheReader) {
     SocketPair other;
-    int received = 0;
-    watcher->leaves_input = false;
-    watcher->action = [&](std::uint32_t) {
-        char byte = 0;
-        while (::recv(other.ours, &byte, 1, MSG_DONTWAIT) == 1) {
-            ++received;
-        }
-        if (received == 100) {
-            poller->remove(pair.ours);
-            poller->remove(other.ours);
-            return;
-        }
-        asio::post(io, [&] { other.send_byte(); });
-    };
     ASSERT_TRUE(poller->add(pair.ours, watcher, EPOLLIN));
     ASSERT_TRUE(poller->add(other.ours, watcher, EPOLLIN));
-    other.send_byte();
-    io.run_for(std::chrono::seconds(10));  // a lost wake-up would wait for ever
-    EXPECT_EQ(received, 100);
+    EXPECT_EQ(closed_loop(io, *poller, *watcher, other, {pair.ours, other.ours}, 100), 100);
 }
 
 // A session that stops taking input (its queue of answers is full) and takes it again later:
