@@ -70,7 +70,7 @@ class MbapDriver {
     const bool tls_;
     Clock::time_point handshake_deadline_ = Clock::time_point::max();
     bool closed_ = false;
-    bool write_blocked_ = false;   // the channel took less than it was given
+    bool write_blocked_ = false;  // the channel took less than it was given
     bool input_may_remain_ = false;
     bool input_ended_ = false;     // the session was told the client sends nothing more
     bool seen_plaintext_ = false;  // the first plaintext was checked for a bare PDU
