@@ -9,7 +9,8 @@
 #
 # Usage: bench/run_server_bench.sh [MBLAB] [SECONDS_PER_RUN] [ROUNDS]   (defaults: build/mblab, 5, 3)
 # SERVERS="mblab libmodbus" CONNECTIONS=1 narrow the run (mblab must stay in SERVERS); SKIP_RSS=1
-# leaves out the memory measurement.
+# leaves out the memory measurement. BASE=OTHER_MBLAB adds a server "base" run from another build
+# in the same rounds: before and after a change, side by side, each time beside the same ceiling.
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 MBLAB=$(realpath "${1:-$HERE/../build/mblab}")
@@ -55,8 +56,10 @@ wait_line() {
 # start_server NAME: sets SERVER_PID and PORT. $PIN, when set, prefixes the server's command.
 start_server() {
     case $1 in
-        mblab)
-            $PIN "$MBLAB" serve --listen tcp://127.0.0.1:0 --max-connections 20000 --idle-timeout 0 \
+        mblab | base)
+            binary=$MBLAB
+            [ "$1" = base ] && binary=$BASE
+            $PIN "$binary" serve --listen tcp://127.0.0.1:0 --max-connections 20000 --idle-timeout 0 \
                 >"$WORK/server.out" 2>&1 &
             SERVER_PID=$!
             PORT=$(wait_line "$WORK/server.out" 's/.* on tcp:\/\/127\.0\.0\.1:\([0-9]*\).*/\1/p') ;;
@@ -84,6 +87,8 @@ stop_server() {
 field() { sed -n "s/.*$1=\([0-9]*\).*/\1/p" <<<"$2"; }
 
 SERVERS=${SERVERS:-mblab libmodbus pymodbus canned}
+BASE=${BASE:+$(realpath "$BASE")}
+[ -n "$BASE" ] && [[ " $SERVERS " != *" base "* ]] && SERVERS="$SERVERS base"
 # "1/1core" runs the server and the load generator on core 0 only. Across two cores every round
 # trip of a single connection pays two cross-core wake-ups (about 70 us in a VM), which hides
 # what the servers themselves cost; on one core that cost is what remains.
