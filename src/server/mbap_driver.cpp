@@ -92,7 +92,7 @@ bool MbapDriver::take(Clock::time_point now) {
     const bool was_handshaking = channel_.handshaking();
     const auto space = session_.input_space();
     const auto io = channel_.read(space);
-    input_may_remain_ = io.status == Status::Done && (tls_ || io.bytes == space.size());
+    input_may_remain_ = io.status == Status::Done && channel_.input_may_remain();
     if (was_handshaking && !channel_.handshaking()) {
         if (const auto peer = channel_.peer(); peer.tls != nullptr) on_handshake(*peer.tls);
     }

@@ -10,6 +10,7 @@ namespace mblab::transport {
 Io SocketChannel::read(std::span<std::uint8_t> out) {
     for (;;) {
         const auto n = ::recv(fd_, out.data(), out.size(), MSG_DONTWAIT);
+        read_filled_ = n > 0 && static_cast<std::size_t>(n) == out.size();
         if (n > 0) return Io::done(static_cast<std::size_t>(n));
         if (n == 0) return Io::end_of_input();
         if (errno == EINTR) continue;

@@ -19,6 +19,7 @@ class SocketChannel final : public Channel {
 
     Io read(std::span<std::uint8_t> out) override;
     Io writev(std::span<const iovec> buffers) override;
+    bool input_may_remain() const override { return read_filled_; }
     void shutdown_write() override;
     void close() override;
     PeerIdentity peer() const override;
@@ -26,6 +27,7 @@ class SocketChannel final : public Channel {
 
   private:
     int fd_ = -1;
+    bool read_filled_ = false;
     std::string error_;  // always "": errno says why a socket call failed
 };
 

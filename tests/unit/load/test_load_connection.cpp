@@ -33,6 +33,7 @@ class EndChannel final : public transport::Channel {
     ~EndChannel() override { end_.close(); }
     transport::Io read(std::span<std::uint8_t> out) override { return end_.read(out); }
     transport::Io writev(std::span<const iovec> buffers) override { return end_.writev(buffers); }
+    bool input_may_remain() const override { return end_.input_may_remain(); }
     void shutdown_write() override { end_.shutdown_write(); }
     void close() override { end_.close(); }
     transport::PeerIdentity peer() const override { return end_.peer(); }

@@ -1,6 +1,7 @@
 // TLS over a memory pair, both sides transport::TlsStream: the handshake through short writes
 // and a stalled reader, a peer that resets or closes in the middle of it, a refused name,
-// gathered writes as one record, and close_notify read as the end of input.
+// gathered writes as one record, close_notify read as the end of input, and what a read says of
+// the ciphertext it left below.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -151,6 +152,27 @@ TEST(TlsStream, WriteWaitsWhileTheRecordsBeforeItAreHeldBack) {
     }
     EXPECT_EQ(got, std::string(100, 'x'));
     EXPECT_FALSE(p.client.wants_write());
+}
+
+// A read takes at most a record's worth of ciphertext from below; while more waits there, an owner
+// woken only by new input must be told to read again.
+TEST(TlsStream, InputMayRemainWhileTheChannelBelowHoldsCiphertext) {
+    TlsPair p;
+    ASSERT_TRUE(p.handshake());
+    const std::string plain(3 * TlsStream::kPlainBatch, 'r');  // three full records
+    ASSERT_EQ(p.client.write(bytes_of(plain)).status, Status::Done);
+    ASSERT_GT(p.pair.server().pending(), TlsStream::kCipherChunk);
+
+    EXPECT_EQ(read_text(p.server).size(), 256U);
+    EXPECT_TRUE(p.server.input_may_remain()) << "two records still below";
+
+    std::size_t total = 256;
+    for (Status status = Status::Done; status == Status::Done;) {
+        total += read_text(p.server, &status).size();
+    }
+    EXPECT_EQ(total, plain.size());
+    EXPECT_EQ(p.pair.server().pending(), 0U);
+    EXPECT_FALSE(p.server.input_may_remain()) << "the last read below took what was there";
 }
 
 TEST(TlsStream, CloseNotifyIsReadAsTheEndOfInput) {
