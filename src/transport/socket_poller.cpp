@@ -47,10 +47,12 @@ class SocketPoller::WaitOperation final : public asio::detail::reactor_op {
                          const asio::error_code&, std::size_t) {
         std::unique_ptr<WaitOperation> operation(static_cast<WaitOperation*>(base));
         const auto poller = operation->poller_.lock();
+        if (!owner || !poller) return;
         const auto ec = operation->ec_;
         const bool woken = operation->woken_;
-        operation.reset();
-        if (owner && poller) poller->on_wait(ec, woken);
+        // Kept for the next wait: no allocation per request.
+        if (!ec) poller->spare_ = std::move(operation);
+        poller->on_wait(ec, woken);
     }
 
     std::weak_ptr<SocketPoller> poller_;
@@ -136,8 +138,10 @@ void SocketPoller::wait() {
     if (wait_pending_ || look_pending_ || live_ == 0) return;
     wait_pending_ = true;
     starting_ = true;
+    auto operation = std::move(spare_);
+    if (!operation) operation = std::make_unique<WaitOperation>(weak_from_this(), starting_);
     reactor_.start_op(asio::detail::reactor::read_op, epoll_.fd(), registration_,
-                      new WaitOperation(weak_from_this(), starting_), false, true);
+                      operation.release(), false, true);
     starting_ = false;
 }
 

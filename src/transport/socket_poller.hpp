@@ -85,6 +85,7 @@ class SocketPoller : public std::enable_shared_from_this<SocketPoller> {
     std::vector<std::unique_ptr<Entry>> entries_;                        // by descriptor number
     std::vector<std::unique_ptr<Entry>> removed_;  // entries an undelivered event may name
     std::vector<epoll_event> events_;
+    std::unique_ptr<WaitOperation> spare_;  // the last wait, out of the reactor
     std::size_t live_ = 0;
     Entry* sole_ = nullptr;      // the entry when live_ == 1
     bool wait_pending_ = false;  // a WaitOperation is in the reactor
