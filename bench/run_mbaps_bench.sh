@@ -7,14 +7,20 @@
 #   3. the server's memory per idle connection, tcp:// and mbaps://, from its RSS before and after
 #      N idle connections (bench/idle_tls_connections.py).
 #   bench/run_mbaps_bench.sh [MBLAB] [SECONDS]     (default build/mblab, 5 s per measurement)
-# Environment: IDLE (connections for the memory figure, default 500).
+# Environment: IDLE (connections for the memory figure, default 500); ROUNDS (default 1): the
+# answers/s are the median of that many rounds; BASE=OTHER_MBLAB adds a row per connection count
+# from another build (its own servers and client) in the same rounds, so before and after a change
+# share the machine's moment.
 set -euo pipefail
 
 here=$(cd "$(dirname "$0")" && pwd)
 mblab=${1:-$here/../build/mblab}
 seconds=${2:-5}
 idle=${IDLE:-500}
+rounds=${ROUNDS:-1}
+base=${BASE:-}
 [[ -x $mblab ]] || { echo "run_mbaps_bench: no mblab binary at $mblab" >&2; exit 2; }
+[[ -z $base || -x $base ]] || { echo "run_mbaps_bench: no mblab binary at BASE=$base" >&2; exit 2; }
 
 work=$(mktemp -d)
 pids=()
@@ -29,11 +35,12 @@ trap cleanup EXIT
 pki=$work/pki
 client=(--cert "$pki/client-Administrator.pem" --key "$pki/client-Administrator.key" --ca "$pki/ca.pem")
 
-# serve URL: starts mblab serve on an ephemeral port, sets $port and $pid.
+# serve BINARY URL: starts BINARY serve on an ephemeral port, sets $port and $pid.
 serve() {
     local out=$work/serve.$RANDOM
-    "$mblab" serve --listen "$1" --cert "$pki/server.pem" --key "$pki/server.key" --ca "$pki/ca.pem" \
-        --max-connections 0 >"$out" 2>/dev/null &
+    local security=()
+    [[ $2 == mbaps://* ]] && security=(--cert "$pki/server.pem" --key "$pki/server.key" --ca "$pki/ca.pem")
+    "$1" serve --listen "$2" "${security[@]}" --max-connections 0 >"$out" 2>/dev/null &
     pid=$!
     pids+=("$pid")
     for _ in $(seq 100); do
@@ -41,39 +48,59 @@ serve() {
         [[ -n $port ]] && return 0
         sleep 0.1
     done
-    echo "run_mbaps_bench: mblab serve $1 did not start" >&2
+    echo "run_mbaps_bench: $1 serve $2 did not start" >&2
     exit 1
 }
-serve_plain() {
-    "$mblab" serve --listen tcp://127.0.0.1:0 --max-connections 0 >"$work/plain.out" 2>/dev/null &
-    plain_pid=$!
-    pids+=("$plain_pid")
-    for _ in $(seq 100); do
-        plain_port=$(sed -nE 's/.* on tcp:\/\/127\.0\.0\.1:([0-9]+).*/\1/p' "$work/plain.out")
-        [[ -n $plain_port ]] && return 0
-        sleep 0.1
-    done
-    exit 1
-}
-serve mbaps://127.0.0.1:0
+serve "$mblab" mbaps://127.0.0.1:0
 tls_port=$port tls_pid=$pid
-serve_plain
+serve "$mblab" tcp://127.0.0.1:0
+plain_port=$port plain_pid=$pid
+if [[ -n $base ]]; then
+    serve "$base" mbaps://127.0.0.1:0
+    base_tls_port=$port
+    serve "$base" tcp://127.0.0.1:0
+    base_plain_port=$port
+fi
 
-answers() {  # TARGET CONNECTIONS [ARGS...]
-    local target=$1 connections=$2
-    shift 2
-    "$mblab" load "$target" --no-tests --duration "${seconds}s" --connections "$connections" \
+answers() {  # BINARY TARGET CONNECTIONS [ARGS...]
+    local binary=$1 target=$2 connections=$3
+    shift 3
+    "$binary" load "$target" --no-tests --duration "${seconds}s" --connections "$connections" \
         --mix fc3:125=100 --threads 1 --json "$work/load.json" "$@" >/dev/null 2>&1 || true
     python3 -c 'import json,sys; print(round(json.load(open(sys.argv[1]))["nodes"][0]["requests_per_s"]))' "$work/load.json"
 }
+median() { printf '%s\n' "$@" | sort -n | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
 
-echo "== answers/s, FC 03 x125, ${seconds} s each"
-printf '%-12s %12s %12s %8s\n' connections tcp:// mbaps:// "TLS cost"
+declare -A plain_runs tls_runs
+builds=(mblab)
+[[ -n $base ]] && builds+=(base)
+for ((round = 1; round <= rounds; round++)); do
+    for connections in 1 16; do
+        for build in "${builds[@]}"; do
+            if [[ $build == base ]]; then
+                binary=$base p=$base_plain_port t=$base_tls_port
+            else
+                binary=$mblab p=$plain_port t=$tls_port
+            fi
+            key=$build/$connections
+            plain_runs[$key]+=" $(answers "$binary" "tcp://127.0.0.1:$p" "$connections")"
+            tls_runs[$key]+=" $(answers "$binary" "mbaps://localhost:$t" "$connections" "${client[@]}")"
+        done
+    done
+done
+
+echo "== answers/s, FC 03 x125, ${seconds} s each, median of $rounds round(s)"
+printf '%-8s %-12s %12s %12s %8s\n' build connections tcp:// mbaps:// "TLS cost"
 for connections in 1 16; do
-    plain=$(answers "tcp://127.0.0.1:$plain_port" "$connections")
-    tls=$(answers "mbaps://localhost:$tls_port" "$connections" "${client[@]}")
-    printf '%-12s %12s %12s %7.1f%%\n' "$connections" "$plain" "$tls" \
-        "$(python3 -c "print(100 * (1 - $tls / $plain))")"
+    for build in "${builds[@]}"; do
+        key=$build/$connections
+        # shellcheck disable=SC2086 # the runs are words on purpose
+        plain=$(median ${plain_runs[$key]})
+        # shellcheck disable=SC2086
+        tls=$(median ${tls_runs[$key]})
+        printf '%-8s %-12s %12s %12s %7.1f%%\n' "$build" "$connections" "$plain" "$tls" \
+            "$(python3 -c "print(100 * (1 - $tls / $plain))")"
+    done
 done
 
 handshakes() {  # PORT -new|-reuse [-tls1_2]
