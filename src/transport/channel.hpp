@@ -58,8 +58,9 @@ class Channel {
 
     // Bytes ready to read without waiting for the descriptor (records TLS has not handed out).
     virtual bool has_input() const { return false; }
-    // Whether the descriptor may still hold input after the last read: that read filled all the
-    // room it had. An owner woken only by new input (an edge) reads again instead of waiting.
+    // Whether input may be left after the last read. A socket can only tell that its read filled
+    // all the room it had. An owner woken only by new input (an edge) reads again instead of
+    // waiting.
     virtual bool input_may_remain() const = 0;
     // Output the channel holds back until the descriptor takes more; flush() sends it.
     virtual bool wants_write() const { return false; }

@@ -36,7 +36,8 @@ class MemoryPair {
         Io read(std::span<std::uint8_t> out) override;
         // Taken in order, as far as room goes.
         Io writev(std::span<const iovec> buffers) override;
-        bool input_may_remain() const override { return !in_.bytes.empty(); }
+        // The pair knows: bytes, or an end of input, still to read.
+        bool input_may_remain() const override { return readable(); }
         // The other end reads the end of input once it has read what came before.
         void shutdown_write() override { out_.shut = true; }
         // As a socket's close: the other end reads the end of input; this end moves no more.

@@ -1,7 +1,8 @@
 #!/bin/sh
 # Interop for Modbus/TCP Security (mbaps://) with peers nobody here wrote:
-#  - Debian's openssl s_client against `mblab serve`: MBAP bytes in, the answer's bytes out;
-#    TLS 1.1, no client certificate and a foreign CA refused.
+#  - Debian's openssl s_client against `mblab serve`: MBAP bytes in, the answer's bytes out (one
+#    request, and 3000 pipelined in one burst); TLS 1.1, no client certificate and a foreign CA
+#    refused.
 #  - pymodbus 3.0's TLS client (MBAP framing) against `mblab serve`: roles enforced; its default
 #    bare-PDU framing refused with the reason logged.
 #  - pymodbus 3.0's TLS server against `mblab read mbaps://`.
@@ -39,6 +40,29 @@ answer=$(request | s_client -cert "$PKI/client-Operator.pem" -key "$PKI/client-O
 [ "$answer" = "00010000000701030453454d49" ] ||
     fail "openssl s_client: expected 00010000000701030453454d49, got '$answer' ($(cat "$WORK/s_client.err"))"
 echo "ok: openssl s_client with client-Operator gets the MBAP answer"
+
+# 3000 pipelined requests in one burst (36 kB: more than one read of a TLS record's worth takes,
+# and more than the server queues at once, so it pauses reading and reads again): every answer
+# comes back, in order.
+burst() {
+    /usr/bin/python3 -c 'import sys
+for t in range(3000):
+    sys.stdout.buffer.write(bytes([t >> 8, t & 255, 0, 0, 0, 6, 1, 3, 0, 0, 0, 2]))'
+    sleep 3
+}
+burst | s_client -cert "$PKI/client-Operator.pem" -key "$PKI/client-Operator.key" \
+    2>"$WORK/burst.err" >"$WORK/burst.out" || true
+/usr/bin/python3 - "$WORK/burst.out" <<'PY' || fail "openssl s_client burst: $(cat "$WORK/burst.err")"
+import sys
+data = open(sys.argv[1], "rb").read()
+answers = [data[i:i + 13] for i in range(0, len(data), 13)]
+if len(data) != 3000 * 13:
+    sys.exit(f"{len(data)} bytes of answers, not {3000 * 13}")
+for t, answer in enumerate(answers):
+    if answer[:2] != bytes([t >> 8, t & 255]) or answer[2:9] != bytes([0, 0, 0, 7, 1, 3, 4]):
+        sys.exit(f"answer {t} is {answer.hex(' ')}")
+PY
+echo "ok: openssl s_client's 3000 pipelined requests in one burst are all answered, in order"
 
 for version in -tls1 -tls1_1; do
     if request | s_client "$version" -cipher 'DEFAULT:@SECLEVEL=0' \
