@@ -11,6 +11,9 @@
 # SERVERS="mblab libmodbus" CONNECTIONS=1 narrow the run (mblab must stay in SERVERS); SKIP_RSS=1
 # leaves out the memory measurement. BASE=OTHER_MBLAB adds a server "base" run from another build
 # in the same rounds: before and after a change, side by side, each time beside the same ceiling.
+# Server "bare" is bench/bare_mbap_server from MBLAB's build (ninja bare_mbap_server): mblab's own
+# session core and reference device in canned_server.c's loop, to split mblab's distance to the
+# ceiling into the Modbus work (bare / canned) and the run loop (mblab / bare).
 set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 MBLAB=$(realpath "${1:-$HERE/../build/mblab}")
@@ -63,6 +66,10 @@ start_server() {
                 >"$WORK/server.out" 2>&1 &
             SERVER_PID=$!
             PORT=$(wait_line "$WORK/server.out" 's/.* on tcp:\/\/127\.0\.0\.1:\([0-9]*\).*/\1/p') ;;
+        bare)
+            $PIN "$(dirname "$MBLAB")/bench/bare_mbap_server" 0 >"$WORK/server.out" 2>&1 &
+            SERVER_PID=$!
+            PORT=$(wait_line "$WORK/server.out" 's/^port=//p') ;;
         canned)
             $PIN "$TOOLS/canned_server" 0 >"$WORK/server.out" 2>&1 &
             SERVER_PID=$!
@@ -93,20 +100,33 @@ BASE=${BASE:+$(realpath "$BASE")}
 # trip of a single connection pays two cross-core wake-ups (about 70 us in a VM), which hides
 # what the servers themselves cost; on one core that cost is what remains.
 CONNECTIONS=${CONNECTIONS:-1 1/1core 16 1000}
-declare -A RUNS
+declare -A RUNS ROUND_RPS PAIRED
 for round in $(seq "$ROUNDS"); do
+    # Every other round runs the servers in the reverse order: a run is not always the one
+    # after the same other server.
+    order=$SERVERS
+    [ $((round % 2)) -eq 0 ] && order=$(tr ' ' '\n' <<<"$SERVERS" | tac | tr '\n' ' ')
     for n in $CONNECTIONS; do
-        for server in $SERVERS; do
+        for server in $order; do
             PIN=""
             [[ $n == */1core ]] && PIN="taskset -c 0"
             start_server "$server"
             if result=$($PIN "$TOOLS/server_load" 127.0.0.1 "$PORT" "${n%%/*}" "$RUN_SECONDS" 2>&1); then
                 RUNS[$server.$n]+="$(field rps "$result") $(field p50_us "$result") $(field p99_us "$result")"$'\n'
+                ROUND_RPS[$server.$n]=$(field rps "$result")
             else
                 echo "$server, $n connections, round $round: $result" >&2
             fi
             stop_server
         done
+        # mblab against each server in this round: runs seconds apart share the machine's state,
+        # so these ratios hold still when the machine's speed drifts between rounds.
+        for server in $SERVERS; do
+            a=${ROUND_RPS[mblab.$n]:-0} b=${ROUND_RPS[$server.$n]:-0}
+            [ "$a" -gt 0 ] && [ "$b" -gt 0 ] &&
+                PAIRED[$server.$n]+="$(awk -v a="$a" -v b="$b" 'BEGIN { printf "%.4f", a / b }')"$'\n'
+        done
+        ROUND_RPS=()
     done
 done
 
@@ -123,16 +143,25 @@ for server in $SERVERS; do
     done
 done
 
+# The median of a server's per-round ratios, as "0.93x (0.88-0.97)": median, lowest, highest.
+paired() {
+    local ratios=${PAIRED[$1]:-}
+    [ -z "$ratios" ] && { echo "-"; return; }
+    sort -n <<<"${ratios%$'\n'}" |
+        awk '{ r[NR] = $1 } END { printf "%.2fx (%.2f-%.2f)", r[int((NR + 1) / 2)], r[1], r[NR] }'
+}
+
 echo
 echo "FC 03 x125, closed loop, median of $ROUNDS runs of ${RUN_SECONDS}s ($(nproc) cores; client and server share them)"
-printf "%-10s %8s %10s %8s %8s %12s\n" server conns "req/s" "p50 us" "p99 us" "mblab / it"
+echo "(\"mblab / it\": the medians' ratio; \"paired\": the median, lowest and highest of the rounds' ratios)"
+printf "%-10s %8s %10s %8s %8s %12s  %s\n" server conns "req/s" "p50 us" "p99 us" "mblab / it" paired
 for n in $CONNECTIONS; do
     for server in $SERVERS; do
         rps=${RPS[$server.$n]}
         ratio="-"
         [ "$rps" -gt 0 ] && ratio=$(awk -v a="${RPS[mblab.$n]}" -v b="$rps" 'BEGIN { printf "%.2fx", a / b }')
-        printf "%-10s %8s %10s %8s %8s %12s\n" "$server" "$n" "$rps" "${P50[$server.$n]}" \
-            "${P99[$server.$n]}" "$ratio"
+        printf "%-10s %8s %10s %8s %8s %12s  %s\n" "$server" "$n" "$rps" "${P50[$server.$n]}" \
+            "${P99[$server.$n]}" "$ratio" "$(paired "$server.$n")"
     done
 done
 

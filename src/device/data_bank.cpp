@@ -4,6 +4,10 @@
 #include <bit>
 #include <cstring>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace mblab::device {
 
 DataBank::DataBank(const std::vector<RangeSpec>& ranges) {
@@ -80,6 +84,15 @@ void DataBank::read_be(std::uint32_t address, std::span<std::uint8_t> out,
                   }
                   const std::uint16_t* from = values_.data() + stored;
                   std::uint32_t i = 0;
+#if defined(__SSE2__)
+                  // Eight registers per step (a read of 125 is most of a request's own work):
+                  // swap the bytes of each 16-bit lane with two shifts.
+                  for (; i + 8 <= n; i += 8) {
+                      __m128i lanes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(from + i));
+                      lanes = _mm_or_si128(_mm_slli_epi16(lanes, 8), _mm_srli_epi16(lanes, 8));
+                      _mm_storeu_si128(reinterpret_cast<__m128i*>(to + 2 * i), lanes);
+                  }
+#endif
                   // Four registers at a time on little-endian hosts: swap the bytes of each
                   // 16-bit lane of a word.
                   constexpr std::uint64_t kLow = 0x00FF00FF00FF00FFULL;
