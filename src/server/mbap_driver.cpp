@@ -77,8 +77,12 @@ void MbapDriver::answer_deferred(std::uint32_t ticket, const protocol::MbapHeade
 }
 
 void MbapDriver::drain(Clock::time_point now) {
-    while (!closed_ && session_.wants_input() && channel_.has_input() && take(now)) {
+    while (!closed_ && session_.wants_input() && channel_.has_input()) {
+        const bool took = take(now);
+        // Also after a read that found the end (a close_notify behind the last request): the
+        // answers and the end go out now, as nothing on the socket would bring them later.
         flush(now);
+        if (!took) return;
     }
 }
 

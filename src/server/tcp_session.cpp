@@ -19,6 +19,9 @@ MbapSessionLimits limits_of(const ServerOptions& options) {
             options.max_outstanding};
 }
 
+// Input, and the client's FIN (which may come with its last request, and stay unread).
+constexpr std::uint32_t kInput = EPOLLIN | EPOLLRDHUP;
+
 int take_descriptor(asio::ip::tcp::socket& socket) {
     asio::error_code ec;
     const int fd = socket.release(ec);  // on failure the socket closes with the argument
@@ -68,7 +71,7 @@ void TcpSession::start() {
     core_->listener->connections().add(*this);
     in_table_ = true;
     ServerStats::bump(core_->stats.connections_open);
-    if (fd_ < 0 || !core_->poller->add(fd_, shared_from_this(), EPOLLIN)) {
+    if (fd_ < 0 || !core_->poller->add(fd_, shared_from_this(), kInput)) {
         close();
         return;
     }
@@ -106,11 +109,14 @@ bool TcpSession::on_ready(std::uint32_t events) {
     }
     const auto now = Clock::now();
     if (events & EPOLLOUT) driver_.writable(now);
-    if (events & (EPOLLIN | EPOLLHUP)) driver_.readable(now);
+    if (events & (EPOLLIN | EPOLLRDHUP | EPOLLHUP)) driver_.readable(now);
     // Both directions shut: no answer can go out, and a level-triggered hang-up would repeat.
     if (events & EPOLLHUP) close();
     settle();
-    return !closed_ && (events & EPOLLIN) != 0 && driver_.input_may_remain();
+    // After the client's FIN, read on until the end is read: a read that returned its last
+    // request did not take the end, and no new input will come to say it is there.
+    return !closed_ && (events & (EPOLLIN | EPOLLRDHUP)) != 0 &&
+           (driver_.input_may_remain() || (events & EPOLLRDHUP) != 0);
 }
 
 void TcpSession::settle() {
@@ -120,7 +126,7 @@ void TcpSession::settle() {
         return;
     }
     std::uint32_t events = 0;
-    if (driver_.wants_read()) events |= EPOLLIN;
+    if (driver_.wants_read()) events |= kInput;
     if (driver_.wants_write()) events |= EPOLLOUT;
     core_->poller->modify(fd_, events);
     arm_timer();

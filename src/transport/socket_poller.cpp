@@ -24,24 +24,16 @@ asio::detail::reactor& reactor_of(const asio::any_io_executor& executor) {
 
 }  // namespace
 
-// The set's wait in the reactor. It completes as soon as it is performed: the reactor performs
-// it when the set became ready, or at once, while it is being started, when the set became ready
-// while nothing waited or nothing is known yet (the first wait). Only the first kind is a
-// wake-up; the second is checked with epoll. "Exhausted" keeps the reactor from trying it early
-// the next time.
+// The set's wait in the reactor. It completes as soon as it is performed: when the set became
+// ready, or at once while it is being started when the set became ready while nothing waited.
+// "Exhausted" keeps the reactor from trying it early the next time.
 class SocketPoller::WaitOperation final : public asio::detail::reactor_op {
   public:
-    WaitOperation(std::weak_ptr<SocketPoller> poller, const bool& starting)
-        : reactor_op(asio::error_code(), &perform, &complete),
-          poller_(std::move(poller)),
-          starting_(starting) {}
+    explicit WaitOperation(std::weak_ptr<SocketPoller> poller)
+        : reactor_op(asio::error_code(), &perform, &complete), poller_(std::move(poller)) {}
 
   private:
-    static status perform(reactor_op* base) {
-        auto* operation = static_cast<WaitOperation*>(base);
-        operation->woken_ = !operation->starting_;
-        return done_and_exhausted;
-    }
+    static status perform(reactor_op*) { return done_and_exhausted; }
     // `owner` is null when the io_context is destroyed with the operation pending.
     static void complete(void* owner, asio::detail::scheduler_operation* base,
                          const asio::error_code&, std::size_t) {
@@ -49,15 +41,12 @@ class SocketPoller::WaitOperation final : public asio::detail::reactor_op {
         const auto poller = operation->poller_.lock();
         if (!owner || !poller) return;
         const auto ec = operation->ec_;
-        const bool woken = operation->woken_;
         // Kept for the next wait: no allocation per request.
         if (!ec) poller->spare_ = std::move(operation);
-        poller->on_wait(ec, woken);
+        poller->on_wait(ec);
     }
 
     std::weak_ptr<SocketPoller> poller_;
-    const bool& starting_;  // the poller's: true while start_op() runs
-    bool woken_ = false;
 };
 
 std::shared_ptr<SocketPoller> SocketPoller::create(asio::any_io_executor executor) {
@@ -75,14 +64,6 @@ SocketPoller::~SocketPoller() {
     // A pending wait completes as aborted and finds the poller gone.
     reactor_.deregister_descriptor(epoll_.fd(), registration_, false);
     reactor_.cleanup_descriptor_data(registration_);
-}
-
-SocketPoller::Entry* SocketPoller::only_entry() const {
-    if (live_ != 1) return nullptr;
-    for (const auto& entry : entries_) {
-        if (entry) return entry.get();
-    }
-    return nullptr;
 }
 
 SocketPoller::Entry* SocketPoller::find(int fd) const {
@@ -103,7 +84,6 @@ bool SocketPoller::add(int fd, const std::shared_ptr<Watcher>& watcher, std::uin
     if (index >= entries_.size()) entries_.resize(index + 1);
     entries_[index] = std::move(entry);
     ++live_;
-    sole_ = only_entry();
     wait();
     return true;
 }
@@ -129,7 +109,6 @@ void SocketPoller::remove(int fd) {
     if (dispatching_) removed_.push_back(std::move(slot));
     slot.reset();
     --live_;
-    sole_ = only_entry();
     // Nothing left to watch: no pending wait may keep the io_context running.
     if (live_ == 0 && wait_pending_) reactor_.cancel_ops(epoll_.fd(), registration_);
 }
@@ -137,18 +116,16 @@ void SocketPoller::remove(int fd) {
 void SocketPoller::wait() {
     if (wait_pending_ || look_pending_ || live_ == 0) return;
     wait_pending_ = true;
-    starting_ = true;
     auto operation = std::move(spare_);
-    if (!operation) operation = std::make_unique<WaitOperation>(weak_from_this(), starting_);
+    if (!operation) operation = std::make_unique<WaitOperation>(weak_from_this());
     reactor_.start_op(asio::detail::reactor::read_op, epoll_.fd(), registration_,
                       operation.release(), false, true);
-    starting_ = false;
 }
 
-void SocketPoller::on_wait(const asio::error_code& ec, bool woken) {
+void SocketPoller::on_wait(const asio::error_code& ec) {
     wait_pending_ = false;
     // After a cancel, a socket added since still needs the wait.
-    if (!ec && dispatch(woken)) {
+    if (!ec && dispatch()) {
         look_again();
     } else {
         wait();
@@ -163,7 +140,7 @@ void SocketPoller::look_again() {
         const auto self = weak.lock();
         if (!self) return;
         self->look_pending_ = false;
-        if (self->dispatch(false)) {
+        if (self->dispatch()) {
             self->look_again();
         } else {
             self->wait();
@@ -171,15 +148,8 @@ void SocketPoller::look_again() {
     });
 }
 
-bool SocketPoller::dispatch(bool woken) {
-    int count = 0;
-    if (woken && sole_ && sole_->events == EPOLLIN) {
-        events_[0].events = EPOLLIN;
-        events_[0].data.ptr = sole_;
-        count = 1;
-    } else {
-        count = epoll_.wait(events_, 0);
-    }
+bool SocketPoller::dispatch() {
+    const int count = epoll_.wait(events_, 0);
     bool again = count > 1 || count == static_cast<int>(events_.size());
     dispatching_ = true;
     for (int i = 0; i < count; ++i) {

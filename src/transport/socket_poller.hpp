@@ -25,9 +25,10 @@
 // that becomes ready wakes the reactor again. Input that a watcher leaves unread makes no new
 // edge, so a watcher says when it may have left some and the set is then looked at again.
 //
-// One client is the common case of a device. While only one socket is watched, and only for
-// input, a wake-up can only be that socket's: it is told EPOLLIN without asking epoll, and a
-// hang-up or an error shows in its read. That saves a system call on every request.
+// Every wake-up asks the set which sockets are ready and with what, even when only one is
+// watched: a peer's FIN that came with its last request is consumed by no read that returns the
+// request, and only the set's EPOLLRDHUP tells the watcher to read on to the end (a wake-up
+// taken as "the one socket has input" left a third of such connections open, unread).
 namespace mblab::transport {
 
 class SocketPoller : public std::enable_shared_from_this<SocketPoller> {
@@ -68,14 +69,11 @@ class SocketPoller : public std::enable_shared_from_this<SocketPoller> {
     class WaitOperation;
     explicit SocketPoller(asio::any_io_executor executor);
     Entry* find(int fd) const;
-    // The only entry, when exactly one is watched.
-    Entry* only_entry() const;
     void wait();
-    void on_wait(const asio::error_code& ec, bool woken);
-    // Delivers the ready events. `woken`: the reactor saw the set become ready, so a sole
-    // socket watched for input is ready without asking epoll. True when the set should be
-    // looked at again at once (a busy batch, or input left unread).
-    bool dispatch(bool woken);
+    void on_wait(const asio::error_code& ec);
+    // Delivers the ready events. True when the set should be looked at again at once (a busy
+    // batch, or input left unread).
+    bool dispatch();
     void look_again();
 
     asio::any_io_executor executor_;
@@ -87,10 +85,8 @@ class SocketPoller : public std::enable_shared_from_this<SocketPoller> {
     std::vector<epoll_event> events_;
     std::unique_ptr<WaitOperation> spare_;  // the last wait, out of the reactor
     std::size_t live_ = 0;
-    Entry* sole_ = nullptr;      // the entry when live_ == 1
     bool wait_pending_ = false;  // a WaitOperation is in the reactor
     bool look_pending_ = false;  // a look_again() is posted
-    bool starting_ = false;      // a WaitOperation is being started
     bool dispatching_ = false;
 };
 

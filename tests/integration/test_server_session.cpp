@@ -135,6 +135,22 @@ TEST_F(ServerSession, AnswersEarlierRequestsThenClosesOnLengthZero) {
     EXPECT_TRUE(client.closed_by_peer());
 }
 
+// A request and the FIN right behind it, as `nc -N` sends them: when both came before the
+// server read, its one read took the request and the end stayed unread; a third of such
+// connections then waited for the idle timeout (here none) instead of closing.
+TEST_F(ServerSession, ClosesAfterAnsweringARequestWhoseFinCameWithIt) {
+    server::ServerOptions options;
+    options.idle_timeout = std::chrono::milliseconds(0);
+    start(options);
+    for (int i = 0; i < 60; ++i) {
+        auto client = connect();
+        ASSERT_TRUE(client.send_hex("00 01 00 00 00 03 01 08 00"));
+        client.shutdown_send();
+        ASSERT_EQ(client.read_adu(), "00 01 00 00 00 03 01 08 00") << "connection " << i;
+        ASSERT_TRUE(client.closed_by_peer(std::chrono::seconds(5))) << "connection " << i;
+    }
+}
+
 // Bad input 10: several requests in one segment, one split over segments, byte at a time.
 TEST_F(ServerSession, AnswersSeveralRequestsInOneSegmentInOrder) {
     start();

@@ -5,6 +5,7 @@
 #include <memory>
 
 #include "mbap_session_trace.hpp"
+#include "support/hex.hpp"
 #include "support/lab_tls.hpp"
 
 namespace mblab::test {
@@ -109,6 +110,22 @@ TEST(MbapDriverTls, CloseNotifyEndsTheSessionAfterItsAnswers) {
     t.client_shuts_down();
     EXPECT_TRUE(t.closed());
     t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+}
+
+// The last request and the close_notify in one read: the answer goes out, then the server's
+// close_notify, and the session ends (it used to wait for the idle timeout, reading nothing).
+TEST(MbapDriverTls, ARequestAndCloseNotifyReadTogetherAreAnsweredThenClosed) {
+    SessionTrace t(operator_may_read());
+    t.client_sends("00 01 00 00 00 06 01 03 00 07 00 01");
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    const auto request = hex("00 02 00 00 00 06 01 03 00 08 00 01");
+    ASSERT_EQ(t.client_channel().write(request).bytes, request.size());
+    t.client_channel().shutdown_write();
+    t.run();
+    EXPECT_TRUE(t.closed());
+    t.device_answers("00 02 00 00 00 05 01 03 02 00 08");
+    std::array<std::uint8_t, 16> buffer{};
+    EXPECT_EQ(t.client_channel().read(buffer).status, transport::Io::Status::EndOfInput);
 }
 
 }  // namespace
