@@ -71,26 +71,35 @@ answers() {  # BINARY TARGET CONNECTIONS [ARGS...]
 }
 median() { printf '%s\n' "$@" | sort -n | awk '{ v[NR] = $1 } END { print v[int((NR + 1) / 2)] }'; }
 
-declare -A plain_runs tls_runs
+declare -A plain_runs tls_runs round_costs
 builds=(mblab)
 [[ -n $base ]] && builds+=(base)
 for ((round = 1; round <= rounds; round++)); do
+    # Every other round runs the builds in the reverse order: a build is not always the one that
+    # runs first, on a machine whose speed drifts from one run to the next.
+    order=("${builds[@]}")
+    ((round % 2 == 0)) && mapfile -t order < <(printf '%s\n' "${builds[@]}" | tac)
     for connections in 1 16; do
-        for build in "${builds[@]}"; do
+        for build in "${order[@]}"; do
             if [[ $build == base ]]; then
                 binary=$base p=$base_plain_port t=$base_tls_port
             else
                 binary=$mblab p=$plain_port t=$tls_port
             fi
             key=$build/$connections
-            plain_runs[$key]+=" $(answers "$binary" "tcp://127.0.0.1:$p" "$connections")"
-            tls_runs[$key]+=" $(answers "$binary" "mbaps://localhost:$t" "$connections" "${client[@]}")"
+            plain=$(answers "$binary" "tcp://127.0.0.1:$p" "$connections")
+            tls=$(answers "$binary" "mbaps://localhost:$t" "$connections" "${client[@]}")
+            plain_runs[$key]+=" $plain"
+            tls_runs[$key]+=" $tls"
+            # The round's own cost: its tcp:// and mbaps:// runs are seconds apart.
+            round_costs[$key]+=" $(python3 -c "print(round(100 * (1 - $tls / $plain), 1))")"
         done
     done
 done
 
 echo "== answers/s, FC 03 x125, ${seconds} s each, median of $rounds round(s)"
-printf '%-8s %-12s %12s %12s %8s\n' build connections tcp:// mbaps:// "TLS cost"
+echo "(TLS cost: from the medians; by round: the median, lowest and highest of each round's own)"
+printf '%-8s %-12s %12s %12s %8s  %s\n' build connections tcp:// mbaps:// "TLS cost" "by round"
 for connections in 1 16; do
     for build in "${builds[@]}"; do
         key=$build/$connections
@@ -98,8 +107,11 @@ for connections in 1 16; do
         plain=$(median ${plain_runs[$key]})
         # shellcheck disable=SC2086
         tls=$(median ${tls_runs[$key]})
-        printf '%-8s %-12s %12s %12s %7.1f%%\n' "$build" "$connections" "$plain" "$tls" \
-            "$(python3 -c "print(100 * (1 - $tls / $plain))")"
+        # shellcheck disable=SC2086
+        by_round=$(printf '%s\n' ${round_costs[$key]} | sort -n |
+            awk '{ v[NR] = $1 } END { printf "%.1f%% (%.1f-%.1f)", v[int((NR + 1) / 2)], v[1], v[NR] }')
+        printf '%-8s %-12s %12s %12s %7.1f%%  %s\n' "$build" "$connections" "$plain" "$tls" \
+            "$(python3 -c "print(100 * (1 - $tls / $plain))")" "$by_round"
     done
 done
 
