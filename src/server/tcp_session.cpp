@@ -71,7 +71,7 @@ void TcpSession::start() {
     core_->listener->connections().add(*this);
     in_table_ = true;
     ServerStats::bump(core_->stats.connections_open);
-    if (fd_ < 0 || !core_->poller->add(fd_, shared_from_this(), kInput)) {
+    if (fd_ < 0 || !core_->poller->add(fd_, *this, kInput)) {
         close();
         return;
     }

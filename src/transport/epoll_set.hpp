@@ -27,12 +27,19 @@ class EpollSet {
     bool ok() const { return fd_ >= 0; }
     int fd() const { return fd_; }
 
-    // `owner` comes back in epoll_event::data.ptr. False with errno set if epoll refused.
+    // `owner` comes back in epoll_event::data.ptr, a `key` in data.u64. False with errno set if
+    // epoll refused.
     bool add(int fd, void* owner, std::uint32_t events) {
-        return control(EPOLL_CTL_ADD, fd, owner, events);
+        return control(EPOLL_CTL_ADD, fd, {.ptr = owner}, events);
+    }
+    bool add(int fd, std::uint64_t key, std::uint32_t events) {
+        return control(EPOLL_CTL_ADD, fd, {.u64 = key}, events);
     }
     bool modify(int fd, void* owner, std::uint32_t events) {
-        return control(EPOLL_CTL_MOD, fd, owner, events);
+        return control(EPOLL_CTL_MOD, fd, {.ptr = owner}, events);
+    }
+    bool modify(int fd, std::uint64_t key, std::uint32_t events) {
+        return control(EPOLL_CTL_MOD, fd, {.u64 = key}, events);
     }
     void remove(int fd) { ::epoll_ctl(fd_, EPOLL_CTL_DEL, fd, nullptr); }
 
@@ -42,10 +49,10 @@ class EpollSet {
     }
 
   private:
-    bool control(int op, int fd, void* owner, std::uint32_t events) {
+    bool control(int op, int fd, epoll_data_t data, std::uint32_t events) {
         epoll_event event{};
         event.events = events;
-        event.data.ptr = owner;
+        event.data = data;
         return ::epoll_ctl(fd_, op, fd, &event) == 0;
     }
 

@@ -66,48 +66,54 @@ SocketPoller::~SocketPoller() {
     reactor_.cleanup_descriptor_data(registration_);
 }
 
-SocketPoller::Entry* SocketPoller::find(int fd) const {
-    if (fd < 0 || static_cast<std::size_t>(fd) >= entries_.size()) return nullptr;
-    return entries_[static_cast<std::size_t>(fd)].get();
+SocketPoller::Slot* SocketPoller::find(int fd) {
+    if (fd < 0 || static_cast<std::size_t>(fd) >= slots_.size()) return nullptr;
+    auto& slot = slots_[static_cast<std::size_t>(fd)];
+    return slot.watcher ? &slot : nullptr;
 }
 
-bool SocketPoller::add(int fd, const std::shared_ptr<Watcher>& watcher, std::uint32_t events) {
+namespace {
+
+std::uint64_t key_of(int fd, std::uint32_t generation) {
+    return (std::uint64_t{generation} << 32) | static_cast<std::uint32_t>(fd);
+}
+
+}  // namespace
+
+bool SocketPoller::add(int fd, Watcher& watcher, std::uint32_t events) {
     if (fd < 0 || find(fd)) {
         errno = fd < 0 ? EBADF : EEXIST;
         return false;
     }
-    auto entry = std::make_unique<Entry>();
-    entry->events = events;
-    entry->watcher = watcher;
-    if (!epoll_.add(fd, entry.get(), events)) return false;
-    auto index = static_cast<std::size_t>(fd);
-    if (index >= entries_.size()) entries_.resize(index + 1);
-    entries_[index] = std::move(entry);
+    const auto index = static_cast<std::size_t>(fd);
+    if (index >= slots_.size()) slots_.resize(index + 1);
+    auto& slot = slots_[index];
+    // Events still queued for the descriptor's last watcher carry the old generation.
+    const std::uint32_t generation = slot.generation + 1;
+    if (!epoll_.add(fd, key_of(fd, generation), events)) return false;
+    slot = {&watcher, events, generation};
     ++live_;
     wait();
     return true;
 }
 
 void SocketPoller::modify(int fd, std::uint32_t events) {
-    auto* entry = find(fd);
-    if (!entry || entry->events == events) return;
-    if (!epoll_.modify(fd, entry, events)) return;
-    const bool more = (events & ~entry->events) != 0;
-    entry->events = events;
+    auto* slot = find(fd);
+    if (!slot || slot->events == events) return;
+    if (!epoll_.modify(fd, key_of(fd, slot->generation), events)) return;
+    const bool more = (events & ~slot->events) != 0;
+    slot->events = events;
     // Input that came while the socket was not watched for it may wake nobody once it is: the
     // set's entry for it can still be queued from before, and a queued entry makes no new edge.
     if (more) look_again();
 }
 
 void SocketPoller::remove(int fd) {
-    auto* entry = find(fd);
-    if (!entry) return;
+    auto* slot = find(fd);
+    if (!slot) return;
     epoll_.remove(fd);
-    entry->removed = true;
-    auto& slot = entries_[static_cast<std::size_t>(fd)];
-    // An event of the batch being delivered may still point at the entry.
-    if (dispatching_) removed_.push_back(std::move(slot));
-    slot.reset();
+    slot->watcher = nullptr;
+    slot->events = 0;
     --live_;
     // Nothing left to watch: no pending wait may keep the io_context running.
     if (live_ == 0 && wait_pending_) reactor_.cancel_ops(epoll_.fd(), registration_);
@@ -151,15 +157,19 @@ void SocketPoller::look_again() {
 bool SocketPoller::dispatch() {
     const int count = epoll_.wait(events_, 0);
     bool again = count > 1 || count == static_cast<int>(events_.size());
-    dispatching_ = true;
+    // The watchers of a batch are fetched from memory together, not one miss after another.
+    for (int i = 0; i < count; ++i) {
+        const auto key = events_[static_cast<std::size_t>(i)].data.u64;
+        __builtin_prefetch(slots_[static_cast<std::uint32_t>(key)].watcher);
+    }
     for (int i = 0; i < count; ++i) {
         const auto& event = events_[static_cast<std::size_t>(i)];
-        auto* entry = static_cast<Entry*>(event.data.ptr);
-        if (entry->removed) continue;
-        if (auto watcher = entry->watcher.lock()) again = watcher->on_ready(event.events) || again;
+        const auto& slot = slots_[static_cast<std::uint32_t>(event.data.u64)];
+        // Removed during this batch, and perhaps added again since: not for this watcher.
+        if (!slot.watcher || slot.generation != static_cast<std::uint32_t>(event.data.u64 >> 32))
+            continue;
+        again = slot.watcher->on_ready(event.events) || again;
     }
-    dispatching_ = false;
-    removed_.clear();
     return again && live_ > 0;
 }
 
