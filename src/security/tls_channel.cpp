@@ -171,7 +171,7 @@ void TlsChannel::fail(const char* fallback) {
 
 std::size_t TlsChannel::read(std::span<std::uint8_t> out) {
     if (state_ == State::Handshaking) handshake();
-    if (state_ != State::Open || out.empty()) return 0;
+    if (state_ != State::Open || input_ended_ || out.empty()) return 0;
     clear_error_queue();
     std::size_t got = 0;
     const int result = SSL_read_ex(ssl_, out.data(), out.size(), &got);
@@ -181,7 +181,15 @@ std::size_t TlsChannel::read(std::span<std::uint8_t> out) {
         case SSL_ERROR_WANT_WRITE:
             break;
         case SSL_ERROR_ZERO_RETURN:
-            // close_notify: answered with ours, as TLS asks, so the peer sees a clean end.
+            ERR_clear_error();
+            // TLS 1.3 closes each direction on its own (RFC 8446 6.1): a server still sends the
+            // answers it owes (a gateway's, a delayed one), then its close_notify. TLS 1.2 asks
+            // for ours at once, pending writes discarded (RFC 5246 7.2.1), and a client gets
+            // nothing more to wait for than the end.
+            if (side_ == Side::Server && SSL_version(ssl_) >= TLS1_3_VERSION) {
+                input_ended_ = true;
+                break;
+            }
             state_ = State::Closed;
             SSL_shutdown(ssl_);
             ERR_clear_error();
@@ -193,7 +201,7 @@ std::size_t TlsChannel::read(std::span<std::uint8_t> out) {
 }
 
 bool TlsChannel::has_input() const {
-    return ssl_ && (SSL_pending(ssl_) > 0 || BIO_ctrl_pending(in_) > 0);
+    return ssl_ && !input_ended_ && (SSL_pending(ssl_) > 0 || BIO_ctrl_pending(in_) > 0);
 }
 
 bool TlsChannel::write(std::span<const std::uint8_t> plain) {
@@ -215,6 +223,8 @@ void TlsChannel::close() {
     ERR_clear_error();
     SSL_shutdown(ssl_);
     ERR_clear_error();
+    // Both sides have now said close_notify.
+    if (input_ended_) state_ = State::Closed;
 }
 
 std::span<const std::uint8_t> TlsChannel::output() const {

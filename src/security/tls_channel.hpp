@@ -64,6 +64,9 @@ class TlsChannel {
     std::size_t read(std::span<std::uint8_t> out);
     // Whether plaintext or records are waiting that read() has not taken.
     bool has_input() const;
+    // A TLS 1.3 server read the peer's close_notify and may still write until close(); the
+    // state stays Open meanwhile. (TLS 1.2, and a client, answer close_notify at once: Closed.)
+    bool input_ended() const { return input_ended_; }
     // Encrypts every byte (an open channel only); false when the channel cannot take them.
     bool write(std::span<const std::uint8_t> plain);
     // Queues close_notify; the channel ends when the peer answers (or the owner stops waiting).
@@ -104,6 +107,7 @@ class TlsChannel {
     std::string role_refusal_;  // why the verification refused the client's role
     TlsPeer peer_;
     TlsAlert alert_;
+    bool input_ended_ = false;
 
     friend void note_alert(const SSL* ssl, int where, int value);
 };

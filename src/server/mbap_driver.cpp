@@ -107,8 +107,9 @@ bool MbapDriver::take(Clock::time_point now) {
             return false;
         case Status::EndOfInput:
             // A FIN without close_notify, or close_notify: the requests that came whole are
-            // still answered. Before the handshake ended nothing can come any more.
-            if (channel_.handshaking()) {
+            // still answered, unless the end took output with it (TLS 1.2's close_notify).
+            // Before the handshake ended nothing can come any more.
+            if (channel_.handshaking() || channel_.output_ended()) {
                 closed_ = true;
             } else {
                 end_input(now);

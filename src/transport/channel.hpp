@@ -68,6 +68,9 @@ class Channel {
     // Still setting up (a TLS handshake): no application bytes yet, and it needs to read.
     virtual bool handshaking() const { return false; }
 
+    // Nothing can be written any more, for good: a TLS 1.2 session answered the peer's
+    // close_notify with its own, as that version requires, and the end of input also ends output.
+    virtual bool output_ended() const { return false; }
     // Ends this side's output in order; the peer reads the end of input.
     virtual void shutdown_write() = 0;
     // Releases the connection; nothing moves afterwards.

@@ -52,7 +52,7 @@ Io TlsStream::pull() {
 }
 
 Io TlsStream::ended() {
-    if (tls_.state() == State::Closed) return Io::end_of_input();
+    if (tls_.state() == State::Closed || tls_.input_ended()) return Io::end_of_input();
     error_ = tls_.error();
     flush();  // the alert that tells the peer why
     return Io::failed();
@@ -82,7 +82,7 @@ Io TlsStream::read(std::span<std::uint8_t> out) {
     if (tls_.has_input()) {
         if (const auto got = tls_.read(out); got > 0) return Io::done(got);
     }
-    if (tls_.state() != State::Open) return ended();
+    if (tls_.state() != State::Open || tls_.input_ended()) return ended();
     const auto io = pull();
     if (io.status != Io::Status::Done) return io;
     const auto got = tls_.read(out);
@@ -90,7 +90,7 @@ Io TlsStream::read(std::span<std::uint8_t> out) {
     const auto sent = flush();
     if (got > 0) return Io::done(got);
     if (sent.status == Io::Status::Failed) return sent;
-    return tls_.state() == State::Open ? Io::would_block() : ended();
+    return tls_.state() == State::Open && !tls_.input_ended() ? Io::would_block() : ended();
 }
 
 Io TlsStream::writev(std::span<const iovec> buffers) {

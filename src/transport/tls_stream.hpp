@@ -48,6 +48,9 @@ class TlsStream final : public Channel {
     // records before it are out; WouldBlock while they are not.
     Io writev(std::span<const iovec> buffers) override;
     bool has_input() const override { return tls_.has_input(); }
+    bool output_ended() const override {
+        return tls_.state() == security::TlsChannel::State::Closed;
+    }
     // The last read of the lower channel filled a record's worth.
     bool input_may_remain() const override { return lower_->input_may_remain(); }
     bool wants_write() const override { return !tls_.output().empty(); }

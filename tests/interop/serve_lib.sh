@@ -27,14 +27,30 @@ trap cleanup EXIT
 start_serve() {
     "$MBLAB" serve --listen tcp://127.0.0.1:0 "$@" >"$WORK/serve.out" 2>"$WORK/serve.err" &
     SERVE_PID=$!
+    wait_for_serve tcp
+}
+
+# start_serve_tls PKI [ARGS...]: the same over mbaps://, with the server files of the PKI
+# directory (as `mblab pki` or the openssl CLI wrote them: server.pem, server.key, ca.pem).
+start_serve_tls() {
+    pki=$1
+    shift
+    "$MBLAB" serve --listen mbaps://127.0.0.1:0 --cert "$pki/server.pem" --key "$pki/server.key" \
+        --ca "$pki/ca.pem" "$@" >"$WORK/serve.out" 2>"$WORK/serve.err" &
+    SERVE_PID=$!
+    wait_for_serve mbaps
+}
+
+# wait_for_serve SCHEME: SERVE_PORT from the line `mblab serve` prints once it listens.
+wait_for_serve() {
     for _ in $(seq 100); do
-        SERVE_PORT=$(sed -n 's/.* on tcp:\/\/127\.0\.0\.1:\([0-9]*\).*/\1/p' "$WORK/serve.out")
+        SERVE_PORT=$(sed -n "s/.* on $1:\/\/127\.0\.0\.1:\([0-9]*\).*/\1/p" "$WORK/serve.out")
         [ -n "$SERVE_PORT" ] && return 0
         kill -0 "$SERVE_PID" 2>/dev/null || break
         sleep 0.1
     done
     cat "$WORK/serve.err" >&2
-    fail "mblab serve did not start"
+    fail "mblab serve $1:// did not start"
 }
 
 # stop_serve: SIGTERM by PID; mblab must exit 0.

@@ -18,15 +18,7 @@ trap '[ -n "$PEER_PID" ] && kill "$PEER_PID" 2>/dev/null; cleanup' EXIT
 PKI="$WORK/pki"
 "$MBLAB" pki "$PKI" >/dev/null || fail "mblab pki"
 
-"$MBLAB" serve --listen mbaps://127.0.0.1:0 --cert "$PKI/server.pem" --key "$PKI/server.key" \
-    --ca "$PKI/ca.pem" >"$WORK/serve.out" 2>"$WORK/serve.err" &
-SERVE_PID=$!
-for _ in $(seq 100); do
-    SERVE_PORT=$(sed -n 's/.* on mbaps:\/\/127\.0\.0\.1:\([0-9]*\).*/\1/p' "$WORK/serve.out")
-    [ -n "$SERVE_PORT" ] && break
-    sleep 0.1
-done
-[ -n "$SERVE_PORT" ] || fail "mblab serve mbaps:// did not start: $(cat "$WORK/serve.err")"
+start_serve_tls "$PKI"
 
 # s_client -quiet prints only what the server sends; the request is FC 03, holding 0..1.
 s_client() {
@@ -110,16 +102,7 @@ mkdir "$O"
     openssl x509 -req -in client.csr -CA ca.pem -CAkey ca.key -CAcreateserial -days 2 \
         -extfile client.ext -out client.pem
 ) >"$WORK/openssl-pki.log" 2>&1 || fail "openssl CLI PKI: $(cat "$WORK/openssl-pki.log")"
-"$MBLAB" serve --listen mbaps://127.0.0.1:0 --cert "$O/server.pem" --key "$O/server.key" \
-    --ca "$O/ca.pem" >"$WORK/serve2.out" 2>"$WORK/serve2.err" &
-SERVE_PID=$!
-SERVE_PORT=""
-for _ in $(seq 100); do
-    SERVE_PORT=$(sed -n 's/.* on mbaps:\/\/127\.0\.0\.1:\([0-9]*\).*/\1/p' "$WORK/serve2.out")
-    [ -n "$SERVE_PORT" ] && break
-    sleep 0.1
-done
-[ -n "$SERVE_PORT" ] || fail "mblab serve with openssl CLI certificates: $(cat "$WORK/serve2.err")"
+start_serve_tls "$O"
 "$MBLAB" write "mbaps://localhost:$SERVE_PORT" register 40 7 --cert "$O/client.pem" \
     --key "$O/client.key" --ca "$O/ca.pem" -v >"$WORK/cli.out" 2>"$WORK/cli.err" ||
     fail "mblab write with openssl CLI certificates: $(cat "$WORK/cli.err")"

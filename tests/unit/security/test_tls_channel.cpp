@@ -201,15 +201,37 @@ TEST(TlsChannel, ServerNameMustBeInTheServersCertificate) {
     EXPECT_NE(client.error().find("hostname mismatch"), std::string::npos) << client.error();
 }
 
-TEST(TlsChannel, CloseNotifyEndsBothSides) {
-    Pair p("client-Operator");
+// TLS 1.2 (RFC 5246 7.2.1): the server answers the client's close_notify at once.
+TEST(TlsChannel, OverTls12CloseNotifyIsAnsweredAtOnce) {
+    Pair p("client-Operator", {ClientVersions::Tls12, true});
     ASSERT_EQ(p.server.state(), State::Open);
     p.client.close();
     exchange(p.client, p.server);
     EXPECT_EQ(read_all(p.server), "");
     EXPECT_EQ(p.server.state(), State::Closed);
+    const std::string late = "too late";
+    EXPECT_FALSE(p.server.write({reinterpret_cast<const std::uint8_t*>(late.data()), late.size()}));
     exchange(p.client, p.server);
     EXPECT_EQ(read_all(p.client), "");
+    EXPECT_EQ(p.client.state(), State::Closed);
+}
+
+// TLS 1.3 closes each direction on its own (RFC 8446 6.1): after the client's close_notify the
+// server still writes what it owes, and its own close_notify ends the session.
+TEST(TlsChannel, OverTls13TheServerWritesWhatItOwesAfterTheClientsCloseNotify) {
+    Pair p("client-Operator");
+    ASSERT_EQ(p.server.peer().version, "TLSv1.3");
+    p.client.close();
+    exchange(p.client, p.server);
+    EXPECT_EQ(read_all(p.server), "");
+    EXPECT_TRUE(p.server.input_ended());
+    EXPECT_EQ(p.server.state(), State::Open);
+    EXPECT_FALSE(p.server.has_input());
+    write(p.server, "owed answer");
+    p.server.close();
+    EXPECT_EQ(p.server.state(), State::Closed);
+    exchange(p.client, p.server);
+    EXPECT_EQ(read_all(p.client), "owed answer");
     EXPECT_EQ(p.client.state(), State::Closed);
 }
 

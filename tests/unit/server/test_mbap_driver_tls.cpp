@@ -128,5 +128,39 @@ TEST(MbapDriverTls, ARequestAndCloseNotifyReadTogetherAreAnsweredThenClosed) {
     EXPECT_EQ(t.client_channel().read(buffer).status, transport::Io::Status::EndOfInput);
 }
 
+// TLS 1.3 closes each direction on its own (RFC 8446 6.1): an answer still owed when the client's
+// close_notify comes (here a serial line's, through the gateway) goes out before the server's.
+TEST(MbapDriverTls, OverTls13AnAnswerOwedAtCloseNotifyIsSentBeforeTheServersCloseNotify) {
+    SessionTrace t(operator_may_read());
+    t.client_sends("00 01 00 00 00 06 09 03 00 07 00 01");
+    ASSERT_EQ(t.device().waiting_on_line(), 1U);
+    t.client_shuts_down();
+    EXPECT_FALSE(t.closed()) << "an answer is owed";
+    t.device().line_answers();
+    t.device_answers("00 01 00 00 00 05 09 03 02 00 07");
+    EXPECT_TRUE(t.closed());
+    std::array<std::uint8_t, 16> buffer{};
+    EXPECT_EQ(t.client_channel().read(buffer).status, transport::Io::Status::EndOfInput);
+    EXPECT_EQ(t.client_tls()->session().state(), security::TlsChannel::State::Closed);
+}
+
+// TLS 1.2 answers close_notify at once and discards what is pending (RFC 5246 7.2.1).
+TEST(MbapDriverTls, OverTls12CloseNotifyIsAnsweredAtOnceAndTheOwedAnswerDropped) {
+    auto tls = operator_may_read();
+    auto client = security::make_client_context(lab_files("client-Operator"),
+                                                {security::ClientVersions::Tls12, true});
+    ASSERT_TRUE(client) << client.error();
+    tls.client = *client;
+    SessionTrace t(tls);
+    ASSERT_EQ(t.client_tls()->session().peer().version, "TLSv1.2");
+    t.client_sends("00 01 00 00 00 06 09 03 00 07 00 01");
+    ASSERT_EQ(t.device().waiting_on_line(), 1U);
+    t.client_shuts_down();
+    EXPECT_TRUE(t.closed());
+    t.device().line_answers();
+    std::array<std::uint8_t, 16> buffer{};
+    EXPECT_EQ(t.client_channel().read(buffer).status, transport::Io::Status::EndOfInput);
+}
+
 }  // namespace
 }  // namespace mblab::test
