@@ -115,6 +115,7 @@ TlsChannel::~TlsChannel() {
 }
 
 void TlsChannel::start() {
+    const OutputNote note{*this};
     if (state_ == State::Handshaking) handshake();
 }
 
@@ -170,6 +171,7 @@ void TlsChannel::fail(const char* fallback) {
 }
 
 std::size_t TlsChannel::read(std::span<std::uint8_t> out) {
+    const OutputNote note{*this};
     if (state_ == State::Handshaking) handshake();
     if (state_ != State::Open || input_ended_ || out.empty()) return 0;
     clear_error_queue();
@@ -205,6 +207,7 @@ bool TlsChannel::has_input() const {
 }
 
 bool TlsChannel::write(std::span<const std::uint8_t> plain) {
+    const OutputNote note{*this};
     if (state_ != State::Open) return false;
     clear_error_queue();
     while (!plain.empty()) {
@@ -219,6 +222,7 @@ bool TlsChannel::write(std::span<const std::uint8_t> plain) {
 }
 
 void TlsChannel::close() {
+    const OutputNote note{*this};
     if (state_ != State::Open) return;
     ERR_clear_error();
     SSL_shutdown(ssl_);
@@ -227,17 +231,19 @@ void TlsChannel::close() {
     if (input_ended_) state_ = State::Closed;
 }
 
-std::span<const std::uint8_t> TlsChannel::output() const {
-    if (!out_) return {};
+void TlsChannel::note_output() {
+    output_ = {};
+    if (!out_) return;
     char* data = nullptr;
     const long size = BIO_get_mem_data(out_, &data);
-    if (size <= 0) return {};
-    return {reinterpret_cast<const std::uint8_t*>(data), static_cast<std::size_t>(size)};
+    if (size > 0)
+        output_ = {reinterpret_cast<const std::uint8_t*>(data), static_cast<std::size_t>(size)};
 }
 
 void TlsChannel::sent(std::size_t count) {
+    const OutputNote note{*this};
     // Usually the socket took everything: empty the buffer rather than read it out.
-    if (count > 0 && count == output().size()) {
+    if (count > 0 && count == output_.size()) {
         (void)BIO_reset(out_);
         return;
     }
@@ -259,6 +265,7 @@ SSL_SESSION* TlsChannel::take_session() const {
 }
 
 bool TlsChannel::request_renegotiation() {
+    const OutputNote note{*this};
     if (state_ != State::Open) return false;
     ERR_clear_error();
     // TLS 1.3 has no renegotiation; its nearest is a key update, which a server must accept.

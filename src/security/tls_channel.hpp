@@ -73,7 +73,7 @@ class TlsChannel {
     void close();
 
     // Bytes for the network, in order; sent() drops what the socket took.
-    std::span<const std::uint8_t> output() const;
+    std::span<const std::uint8_t> output() const { return output_; }
     void sent(std::size_t count);
 
     State state() const { return state_; }
@@ -95,6 +95,14 @@ class TlsChannel {
     void handshake();
     void fail(const char* fallback);
     void finish_handshake();
+    // output() is asked several times per record (is there any? send it, what is left?), and
+    // each look into the memory BIO costs a BIO_ctrl() through OpenSSL's dispatch: the view is
+    // taken once when a call that may have written returns.
+    void note_output();
+    struct OutputNote {
+        TlsChannel& channel;
+        ~OutputNote() { channel.note_output(); }
+    };
     // Why the peer's certificate was refused, from the verification result.
     std::string verify_failure() const;
 
@@ -108,6 +116,7 @@ class TlsChannel {
     TlsPeer peer_;
     TlsAlert alert_;
     bool input_ended_ = false;
+    std::span<const std::uint8_t> output_;  // what output() shows: the output BIO's bytes
 
     friend void note_alert(const SSL* ssl, int where, int value);
 };
