@@ -15,6 +15,11 @@ using Status = transport::Io::Status;
 // Roles without rules: every request is refused (deny by default).
 const device::RoleRules kNoRules;
 
+// How long a session that ended its output reads what the client still sends, and how much it
+// reads in one go (the rest waits for the next readiness, so a flood cannot hold the loop).
+constexpr auto kLinger = std::chrono::seconds(2);
+constexpr int kDiscardReads = 16;
+
 }  // namespace
 
 MbapDriver::MbapDriver(transport::Channel& channel, MbapSession& session,
@@ -29,17 +34,23 @@ MbapDriver::MbapDriver(transport::Channel& channel, MbapSession& session,
 
 bool MbapDriver::wants_read() const {
     if (closed_) return false;
+    if (lingering()) return true;
     if (channel_.handshaking()) return true;
     return session_.wants_input();
 }
 
 Clock::time_point MbapDriver::deadline() const {
+    if (lingering()) return linger_deadline_;
     return std::min(session_.deadline(), handshake_deadline_);
 }
 
 void MbapDriver::readable(Clock::time_point now) {
     input_may_remain_ = false;
     if (!wants_read()) return;
+    if (lingering()) {
+        discard();
+        return;
+    }
     take(now);
     flush(now);
     drain(now);
@@ -47,12 +58,18 @@ void MbapDriver::readable(Clock::time_point now) {
 
 void MbapDriver::writable(Clock::time_point now) {
     write_blocked_ = false;
+    if (lingering()) return;
     flush(now);
     drain(now);
 }
 
 void MbapDriver::on_time(Clock::time_point now) {
     if (closed_) return;
+    if (lingering()) {
+        // A client that neither ends nor stops sending: its reset cannot cost it much now.
+        if (now >= linger_deadline_) closed_ = true;
+        return;
+    }
     if (now >= handshake_deadline_) {
         refuse_handshake("the TLS handshake did not finish within the handshake limit");
         closed_ = true;
@@ -70,7 +87,7 @@ void MbapDriver::on_time(Clock::time_point now) {
 void MbapDriver::answer_deferred(std::uint32_t ticket, const protocol::MbapHeader& request,
                                  const device::Reply& reply, std::span<const std::uint8_t> pdu,
                                  Clock::time_point now) {
-    if (closed_) return;
+    if (closed_ || lingering()) return;
     session_.answer_deferred(ticket, request, reply, pdu, now);
     flush(now);
     drain(now);
@@ -138,7 +155,7 @@ bool MbapDriver::take(Clock::time_point now) {
 
 void MbapDriver::flush(Clock::time_point now) {
     std::array<iovec, MbapSession::kMaxGather> buffers;
-    while (!closed_ && !write_blocked_) {
+    while (!closed_ && !write_blocked_ && !lingering()) {
         if (channel_.wants_write()) {
             if (channel_.flush().status == Status::Failed) {
                 closed_ = true;
@@ -157,7 +174,7 @@ void MbapDriver::flush(Clock::time_point now) {
                     return;
                 case MbapSession::Ending::AfterAnswers:
                     channel_.shutdown_write();
-                    closed_ = true;
+                    linger(now);
                     return;
                 case MbapSession::Ending::Now:
                     closed_ = true;
@@ -179,6 +196,33 @@ void MbapDriver::flush(Clock::time_point now) {
             write_blocked_ = true;
         }
     }
+}
+
+void MbapDriver::linger(Clock::time_point now) {
+    // A client that ended its input has nothing left to send, and one refused over TLS 1.2 has
+    // had the whole session ended by its own close_notify.
+    if (input_ended_ || channel_.output_ended()) {
+        closed_ = true;
+        return;
+    }
+    linger_deadline_ = now + kLinger;
+    discard();
+}
+
+void MbapDriver::discard() {
+    for (int reads = 0; reads < kDiscardReads; ++reads) {
+        switch (channel_.discard_input().status) {
+            case Status::Done:
+                continue;
+            case Status::WouldBlock:
+                return;
+            case Status::EndOfInput:
+            case Status::Failed:
+                closed_ = true;
+                return;
+        }
+    }
+    input_may_remain_ = true;
 }
 
 void MbapDriver::on_handshake(const security::TlsPeer& peer) {

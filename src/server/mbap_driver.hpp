@@ -47,6 +47,10 @@ class MbapDriver {
     Clock::time_point deadline() const;
     bool handshaking() const { return channel_.handshaking(); }
     bool closed() const { return closed_; }
+    // The session ended its output after its answers and reads what the client still sends until
+    // the client ends too or kLinger passes, so that the close leaves no input unread to make
+    // the kernel reset the connection under the last answers.
+    bool lingering() const { return !closed_ && linger_deadline_ != Clock::time_point::max(); }
 
   private:
     // One read of the channel into the session; false when nothing was handed over.
@@ -58,6 +62,10 @@ class MbapDriver {
     // socket event would bring them.
     void drain(Clock::time_point now);
     void end_input(Clock::time_point now);
+    // After this side's end of output: closes when the client has ended too, else lingers.
+    void linger(Clock::time_point now);
+    // Reads and drops a bounded amount of what the lingering client sent; closes at its end.
+    void discard();
     void on_handshake(const security::TlsPeer& peer);
     void refuse_handshake(const std::string& reason);
     // Counts and reports a client refused after its handshake, then ends its session.
@@ -69,6 +77,7 @@ class MbapDriver {
     ServerStats& stats_;
     const bool tls_;
     Clock::time_point handshake_deadline_ = Clock::time_point::max();
+    Clock::time_point linger_deadline_ = Clock::time_point::max();
     bool closed_ = false;
     bool write_blocked_ = false;  // the channel took less than it was given
     bool input_may_remain_ = false;

@@ -3,6 +3,7 @@
 #include <sys/socket.h>
 #include <sys/uio.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -73,6 +74,13 @@ class Channel {
     virtual bool output_ended() const { return false; }
     // Ends this side's output in order; the peer reads the end of input.
     virtual void shutdown_write() = 0;
+    // After shutdown_write(): reads and drops what the peer still sends, below any TLS, until it
+    // ends. Closing a socket with input unread makes the kernel answer with a reset, which throws
+    // away the answers it has not yet delivered (RFC 1122 4.2.2.13).
+    virtual Io discard_input() {
+        std::array<std::uint8_t, 4096> sink;
+        return read(sink);
+    }
     // Releases the connection; nothing moves afterwards.
     virtual void close() = 0;
 

@@ -48,6 +48,8 @@ void MemoryPair::End::close() {
     if (closed_) return;
     closed_ = true;
     out_.shut = true;
+    // As a socket closed with input unread: a reset, which loses what the peer has not read.
+    if (!in_.bytes.empty()) reset();
 }
 
 void MemoryPair::End::reset() {

@@ -40,7 +40,8 @@ class MemoryPair {
         bool input_may_remain() const override { return readable(); }
         // The other end reads the end of input once it has read what came before.
         void shutdown_write() override { out_.shut = true; }
-        // As a socket's close: the other end reads the end of input; this end moves no more.
+        // As a socket's close: the other end reads the end of input, or a reset when input was
+        // left unread here (RFC 1122 4.2.2.13); this end moves no more.
         void close() override;
         PeerIdentity peer() const override { return {}; }
         const std::string& error() const override { return error_; }

@@ -58,6 +58,7 @@ class TlsStream final : public Channel {
     bool handshaking() const override;
     // close_notify, then the lower channel's end of output.
     void shutdown_write() override;
+    Io discard_input() override { return lower_->discard_input(); }
     void close() override { lower_->close(); }
     PeerIdentity peer() const override;
     const std::string& error() const override { return error_; }

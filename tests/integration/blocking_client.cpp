@@ -14,9 +14,12 @@
 
 namespace mblab::test {
 
-BlockingClient::BlockingClient(std::uint16_t port) {
+BlockingClient::BlockingClient(std::uint16_t port, int receive_buffer) {
     fd_ = ::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0);
     if (fd_ < 0) return;
+    if (receive_buffer > 0) {
+        ::setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof receive_buffer);
+    }
     sockaddr_in address{};
     address.sin_family = AF_INET;
     address.sin_port = htons(port);
@@ -36,12 +39,13 @@ BlockingClient::~BlockingClient() {
 }
 
 BlockingClient::BlockingClient(BlockingClient&& other) noexcept
-    : fd_(std::exchange(other.fd_, -1)) {}
+    : fd_(std::exchange(other.fd_, -1)), end_error_(other.end_error_) {}
 
 BlockingClient& BlockingClient::operator=(BlockingClient&& other) noexcept {
     if (this != &other) {
         if (fd_ >= 0) ::close(fd_);
         fd_ = std::exchange(other.fd_, -1);
+        end_error_ = other.end_error_;
     }
     return *this;
 }
@@ -72,7 +76,9 @@ long BlockingClient::read_some(std::uint8_t* out, std::size_t count,
     if (ready == 0) return 0;
     if (ready < 0) return errno == EINTR ? 0 : -1;
     auto n = ::recv(fd_, out, count, 0);
-    return n > 0 ? n : -1;
+    if (n > 0) return n;
+    end_error_ = n == 0 ? 0 : errno;
+    return -1;
 }
 
 std::vector<std::uint8_t> BlockingClient::read(std::size_t count,

@@ -16,8 +16,9 @@ using namespace std::chrono_literals;
 class BlockingClient {
   public:
     BlockingClient() = default;
-    // Connects to 127.0.0.1:port; connected() tells whether it worked.
-    explicit BlockingClient(std::uint16_t port);
+    // Connects to 127.0.0.1:port; connected() tells whether it worked. A receive_buffer (bytes)
+    // shrinks the socket's, and with it the window the server may fill before the client reads.
+    explicit BlockingClient(std::uint16_t port, int receive_buffer = 0);
     ~BlockingClient();
     BlockingClient(BlockingClient&& other) noexcept;
     BlockingClient& operator=(BlockingClient&& other) noexcept;
@@ -38,12 +39,16 @@ class BlockingClient {
     // True when the server closed the connection (EOF or reset) within `timeout`; bytes that
     // arrive first are discarded.
     bool closed_by_peer(std::chrono::milliseconds timeout = 5s);
+    // How the last read that found the connection's end failed: errno (ECONNRESET for a reset),
+    // or 0 for an orderly end (the server's FIN) and while no read has found one.
+    int end_error() const { return end_error_; }
 
   private:
     // -1: error or EOF, 0: timeout, else bytes read.
     long read_some(std::uint8_t* out, std::size_t count, std::chrono::milliseconds timeout);
 
     int fd_ = -1;
+    int end_error_ = 0;
 };
 
 }  // namespace mblab::test

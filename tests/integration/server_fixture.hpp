@@ -44,7 +44,9 @@ class ServerFixture : public ::testing::Test {
         device_ = std::move(loaded.value());
         start_server(*device_, std::move(options));
     }
-    BlockingClient connect() const { return BlockingClient(port_); }
+    BlockingClient connect(int receive_buffer = 0) const {
+        return BlockingClient(port_, receive_buffer);
+    }
     const server::ServerStats& stats() const { return server_->stats(); }
 
     std::unique_ptr<device::ReferenceDevice> device_;  // outlives the server

@@ -210,7 +210,7 @@ void SessionTrace::client_resets() {
 
 void SessionTrace::after(std::chrono::milliseconds time) {
     const auto until = clock_.now() + time;
-    for (int wakeups = 0; !closed(); ++wakeups) {
+    for (int wakeups = 0; !released(); ++wakeups) {
         const auto at = driver_.deadline();
         if (at > until) break;
         if (wakeups == 10'000) {

@@ -99,8 +99,12 @@ class SessionTrace final : private server::MbapSession::Host {
 
     // Whether the session reads its socket.
     bool reading() const { return !closed() && session_.wants_input(); }
-    // The driver closed the connection (after its answers, or at once).
-    bool closed() const { return driver_.closed(); }
+    // The session is over: the driver closed the connection at once, or it ended its output
+    // after its answers (and may still read what the client sends, until the client ends).
+    bool closed() const { return driver_.closed() || driver_.lingering(); }
+    // The driver let the connection go: its owner closes the descriptor now.
+    bool released() const { return driver_.closed(); }
+    bool lingering() const { return driver_.lingering(); }
     bool client_sees_end_of_input() const { return stream_.client().at_end_of_input(); }
 
     TraceDevice& device() { return device_; }

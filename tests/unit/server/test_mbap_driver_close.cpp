@@ -1,0 +1,110 @@
+// How the server's driver lets a connection go after the session ended it with its answers:
+// its output ends at once, then it reads and drops what the client still sends until the
+// client ends too (or the linger time passes), because a socket closed with input unread is
+// reset (RFC 1122 4.2.2.13) and a reset loses the answers the client has not read yet.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <memory>
+
+#include "mbap_session_trace.hpp"
+#include "support/hex.hpp"
+#include "support/lab_tls.hpp"
+
+namespace mblab::test {
+namespace {
+
+using namespace std::chrono_literals;
+
+// Unit 1's FC 43 closes the connection (the trace device's fault "close").
+constexpr const char* kAnsweredThenClose =
+    "00 01 00 00 00 06 01 03 00 07 00 01"
+    "00 02 00 00 00 02 01 43"
+    "00 03 00 00 00 06 01 03 00 08 00 01";
+
+// The memory pair resets as a socket does when closed with input unread: without the lingering
+// the client's request 4, sent while the answer waited, would reset the connection and lose it.
+TEST(MbapDriverClose, AfterItsAnswersTheSessionReadsWhatTheClientStillSendsUntilItEnds) {
+    SessionTrace t;
+    t.server_end().set_window(4);  // the answer waits for the client to read it
+    t.client_sends(kAnsweredThenClose);
+    EXPECT_FALSE(t.closed()) << "the answer is still on its way";
+    t.server_end().set_window(4096);
+    t.client_sends("00 04 00 00 00 06 01 03 00 09 00 01");
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    EXPECT_TRUE(t.client_sees_end_of_input());
+    EXPECT_TRUE(t.lingering());
+    t.client_sends("00 05 00 00 00 06 01 03 00 0A 00 01");
+    t.device_says_nothing();
+    EXPECT_FALSE(t.released());
+    t.client_shuts_down();
+    EXPECT_TRUE(t.released());
+    EXPECT_FALSE(t.client().is_reset());
+}
+
+TEST(MbapDriverClose, ASessionLetsGoOfAClientThatNeverEndsAtTheLingerLimit) {
+    SessionTrace t;
+    t.client_sends(kAnsweredThenClose);
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    ASSERT_TRUE(t.lingering());
+    t.after(1999ms);
+    EXPECT_TRUE(t.lingering());
+    t.after(1ms);
+    EXPECT_TRUE(t.released());
+}
+
+// A flood while lingering is read in bounded pieces: the readiness loop comes back for the
+// rest (the trace's run() fails if the driver never gives the loop back).
+TEST(MbapDriverClose, AFloodWhileLingeringIsDroppedInPieces) {
+    SessionTrace t;
+    t.client_sends(kAnsweredThenClose);
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    std::string flood;
+    for (int i = 0; i < 20'000; ++i)
+        flood += "00 06 00 00 00 06 01 03 00 0B 00 01";
+    t.client_sends(flood);
+    EXPECT_EQ(t.server_end().pending(), 0U);
+    t.device_says_nothing();
+    EXPECT_TRUE(t.lingering());
+}
+
+TEST(MbapDriverClose, AClientThatEndedFirstIsLetGoWithTheLastAnswer) {
+    SessionTrace t;
+    t.client_sends("00 01 00 00 00 03 01 41 03");
+    t.client_shuts_down();
+    EXPECT_FALSE(t.closed());
+    t.after(30ms);
+    t.device_answers("00 01 00 00 00 03 01 41 03");
+    EXPECT_TRUE(t.released());
+}
+
+TEST(MbapDriverClose, AClientThatResetsWhileTheSessionLingersIsLetGo) {
+    SessionTrace t;
+    t.client_sends(kAnsweredThenClose);
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    ASSERT_TRUE(t.lingering());
+    t.client_resets();
+    EXPECT_TRUE(t.released());
+}
+
+// Over TLS the session's end is close_notify and the FIN; what follows is dropped as it comes,
+// below TLS: records, the client's close_notify, then its FIN.
+TEST(MbapDriverClose, OverTlsTheClientsLaterRecordsAreDroppedUntilItsFin) {
+    SessionTrace t(TraceTls{lab_server_context(), lab_client_context("client-Operator"),
+                            std::make_shared<const device::RoleRules>(std::vector{
+                                device::RoleRule{"Operator", {0x03, 0x43}, {}, {}, {}, {}}})});
+    t.client_sends(kAnsweredThenClose);
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    std::array<std::uint8_t, 16> buffer{};
+    EXPECT_EQ(t.client_channel().read(buffer).status, transport::Io::Status::EndOfInput);
+    ASSERT_TRUE(t.lingering());
+    t.run();  // the client's close_notify, which answered the server's
+    EXPECT_TRUE(t.lingering());
+    t.client().shutdown_write();
+    t.run();
+    EXPECT_TRUE(t.released());
+    EXPECT_FALSE(t.client().is_reset());
+}
+
+}  // namespace
+}  // namespace mblab::test
