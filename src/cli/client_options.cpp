@@ -13,6 +13,7 @@
 #include "cli/tls_options.hpp"
 #include "client/target.hpp"
 #include "client/transactor.hpp"
+#include "support/json_document.hpp"
 
 namespace mblab::cli {
 
@@ -145,7 +146,7 @@ int CommandOutput::finish(int status) {
     if (json_) {
         document_["ok"] = status == kExitOk;
         document_["status"] = status;
-        fmt::print("{}\n", document_.dump(2));
+        fmt::print("{}\n", json_document(document_));
     }
     std::fflush(stdout);
     return status;

@@ -21,6 +21,7 @@
 #include "conformance/console_report.hpp"
 #include "conformance/provenance.hpp"
 #include "conformance/reports.hpp"
+#include "support/json_document.hpp"
 #include "transport/serial_url.hpp"
 #include "transport/tcp_url.hpp"
 #include "web/client_html_report.hpp"
@@ -99,7 +100,7 @@ std::string client_json(const conf::RunResult& result, const conf::ClientDeclara
         declared.timeout ? nlohmann::json(declared.timeout->count()) : nlohmann::json();
     client["retries"] = declared.retries ? nlohmann::json(*declared.retries) : nlohmann::json();
     report["client"] = client;
-    return report.dump(2) + "\n";
+    return json_document(report) + "\n";
 }
 
 // conform's JUnit report, its <testsuites> named for this command.

@@ -13,6 +13,7 @@
 #include "conformance/reports.hpp"
 #include "robustness/fuzz_report.hpp"
 #include "robustness/reproducer.hpp"
+#include "support/json_document.hpp"
 
 namespace mblab::cli {
 
@@ -112,7 +113,7 @@ int write_fuzz_outputs(const rb::FuzzResult& result, const client::Target& targe
     if (outputs.monitor) {
         auto document = nlohmann::json::parse(json);
         document["monitor"] = *outputs.monitor;
-        json = document.dump(2) + "\n";
+        json = json_document(document) + "\n";
     }
     if (!outputs.files.json.empty() && !ReportFiles::write(outputs.files.json, json, failed))
         return write_failed(failed);

@@ -14,6 +14,7 @@
 #include "cli/commands.hpp"
 #include "cli/help_format.hpp"
 #include "cli/number_text.hpp"
+#include "support/json_document.hpp"
 #include "support/suggestion.hpp"
 
 namespace {
@@ -251,7 +252,7 @@ int main(int argc, char** argv) {
                                              {"ok", false},
                                              {"status", kExitUsage},
                                              {"error", {{"kind", "usage"}, {"message", message}}}};
-            fmt::print("{}\n", document.dump(2));
+            fmt::print("{}\n", mblab::json_document(document));
         }
         return kExitUsage;
     }

@@ -16,6 +16,7 @@
 #include "cli/read_query.hpp"
 #include "cli/stop_signals.hpp"
 #include "cli/terminal_style.hpp"
+#include "support/json_document.hpp"
 
 // `mblab watch TARGET KIND ARGS...`: the read of `mblab read`, repeated every --interval, drawn in
 // place on a terminal and as plain lines otherwise, counting what went wrong; or streamed one
@@ -161,7 +162,7 @@ std::string stream_line(const std::string& format, const ReadQuery& query, unsig
             line["error"] = {{"kind", client::error_kind_name(reading.error().kind)},
                              {"message", reading.error().message}};
         }
-        return line.dump();
+        return json_document(line, -1);
     }
     std::string line = fmt::format("{},{},", time, poll);
     if (!reading) {

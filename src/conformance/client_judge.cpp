@@ -6,6 +6,7 @@
 #include <cctype>
 #include <regex>
 #include <set>
+#include <string_view>
 
 namespace mblab::conformance {
 
@@ -26,15 +27,28 @@ std::string hex_bytes(std::span<const std::uint8_t> bytes) {
     return text;
 }
 
-// The client's output on one line, cut to a readable length, for a reason.
-std::string quoted(const std::string& output) {
+// The client's output on one line, cut to a readable length, for a reason. A client may print
+// what it received as it came (openssl s_client does): bytes that are not printable ASCII are
+// shown as \xNN, so that the reason stays text a report can carry.
+std::string quoted(std::string_view output) {
     constexpr std::size_t kShown = 160;
+    while (!output.empty() && std::isspace(static_cast<unsigned char>(output.back())))
+        output.remove_suffix(1);
     std::string line;
-    for (const char c : output)
-        line += (c == '\n' || c == '\r' || c == '\t') ? ' ' : c;
-    while (!line.empty() && line.back() == ' ')
-        line.pop_back();
-    if (line.size() > kShown) line = line.substr(0, kShown) + "...";
+    for (const char c : output) {
+        if (line.size() >= kShown) {
+            line += "...";
+            break;
+        }
+        const auto byte = static_cast<unsigned char>(c);
+        if (c == '\n' || c == '\r' || c == '\t') {
+            line += ' ';
+        } else if (byte < 0x20 || byte >= 0x7F) {
+            line += fmt::format("\\x{:02X}", byte);
+        } else {
+            line += c;
+        }
+    }
     return "output: \"" + line + "\"";
 }
 

@@ -4,6 +4,7 @@
 #include "conformance/line_evidence.hpp"
 #include "conformance/reports.hpp"
 #include "protocol/adu.hpp"
+#include "support/json_document.hpp"
 #include "support/name_table.hpp"
 
 namespace mblab::conformance {
@@ -142,11 +143,11 @@ json run_json(const RunResult& result) {
 std::string json_report(const RunResult& result, const Provenance& provenance) {
     json report = run_json(result);
     report["provenance"] = provenance_json(provenance);
-    return report.dump(2) + "\n";
+    return json_document(report) + "\n";
 }
 
 std::string json_report(const RunResult& result) {
-    return run_json(result).dump(2) + "\n";
+    return json_document(run_json(result)) + "\n";
 }
 
 }  // namespace mblab::conformance

@@ -8,6 +8,7 @@
 #include "conformance/evidence_text.hpp"
 #include "conformance/reports.hpp"
 #include "load/line_use.hpp"
+#include "support/json_document.hpp"
 
 namespace mblab::load {
 
@@ -384,7 +385,7 @@ std::string load_json_report(const LoadPlan& plan, const LoadResult& result) {
                      {"failures", result.failures()},
                      {"requests_per_s", rate(result.answered(), result.elapsed)}}},
                    {"nodes", nodes}};
-    return report.dump(2) + "\n";
+    return json_document(report) + "\n";
 }
 
 std::string load_junit_report(const LoadPlan& plan, const LoadResult& result) {

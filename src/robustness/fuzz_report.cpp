@@ -8,6 +8,7 @@
 #include "conformance/reports.hpp"
 #include "robustness/iec62443_report.hpp"
 #include "robustness/reproducer.hpp"
+#include "support/json_document.hpp"
 
 namespace mblab::robustness {
 
@@ -239,7 +240,7 @@ std::string json_report(const FuzzResult& result, const conformance::Provenance&
     // "finding" is the first, as before --keep-going; "findings" has them all.
     if (!result.findings.empty()) document["finding"] = findings.front();
     document["findings"] = findings;
-    return document.dump(2) + "\n";
+    return json_document(document) + "\n";
 }
 
 std::string junit_report(const FuzzResult& result, const conformance::Provenance& provenance,

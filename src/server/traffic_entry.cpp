@@ -9,6 +9,7 @@
 #include "protocol/function_code.hpp"
 #include "protocol/request.hpp"
 #include "protocol/response.hpp"
+#include "support/json_document.hpp"
 
 namespace mblab::server {
 
@@ -180,7 +181,7 @@ nlohmann::json traffic_json(const TrafficEntry& entry) {
 std::string traffic_ndjson(const TrafficEntry& entry) {
     // A peer's text comes from the system and the names from tables: all ASCII, but a bad byte
     // must not throw on the Modbus thread.
-    return traffic_json(entry).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    return json_document(traffic_json(entry), -1);
 }
 
 }  // namespace mblab::server

@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include "support/json_document.hpp"
+
 namespace mblab::web {
 
 namespace {
@@ -39,7 +41,7 @@ int nesting(std::string_view text, int limit) {
 }  // namespace
 
 std::string json_text(const nlohmann::json& value) {
-    return value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    return json_document(value, -1);
 }
 
 std::optional<nlohmann::json> parse_json_body(std::string_view body, std::string& error) {

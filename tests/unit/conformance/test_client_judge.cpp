@@ -57,6 +57,22 @@ TEST(ClientJudge, ADecoyInTheOutputFailsWithTheBytesItCameFrom) {
     EXPECT_EQ(judge_client(exam, d, ran(1, "bad transaction id\n")).verdict, Verdict::Fail);
 }
 
+// openssl s_client prints the answer's bytes as they came: the reason shows them as escapes,
+// and stays valid UTF-8 (a JSON report of such a run once failed to be written at all).
+TEST(ClientJudge, BytesTheClientPrintedRawAreQuotedAsEscapes) {
+    const auto d = declared();
+    const auto exam = examined(ClientScenario::WrongTransaction, d, {0});
+    constexpr char kRaw[] =
+        "40100 40101\n\0\x01\x9C\xA4"
+        "DONE\n";
+    const auto outcome = judge_client(exam, d, ran(0, std::string(kRaw, sizeof kRaw - 1)));
+    EXPECT_EQ(outcome.verdict, Verdict::Fail);
+    EXPECT_THAT(outcome.reason, HasSubstr(R"(output: "40100 40101 \x00\x01\x9C\xA4DONE")"));
+    const auto long_output = judge_client(exam, d, ran(0, "40100 " + std::string(400, '\xFF')));
+    EXPECT_THAT(long_output.reason, HasSubstr(R"(\xFF\xFF...")"));
+    EXPECT_LT(long_output.reason.size(), 400U);
+}
+
 TEST(ClientJudge, HexValuesCountToo) {
     const auto d = declared();
     const auto exam = examined(ClientScenario::WrongUnit, d, {0});
