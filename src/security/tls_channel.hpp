@@ -67,6 +67,8 @@ class TlsChannel {
     // A TLS 1.3 server read the peer's close_notify and may still write until close(); the
     // state stays Open meanwhile. (TLS 1.2, and a client, answer close_notify at once: Closed.)
     bool input_ended() const { return input_ended_; }
+    // Application data may still come: open, and no close_notify read.
+    bool input_open() const { return state_ == State::Open && !input_ended_; }
     // Encrypts every byte (an open channel only); false when the channel cannot take them.
     bool write(std::span<const std::uint8_t> plain);
     // Queues close_notify; the channel ends when the peer answers (or the owner stops waiting).

@@ -6,9 +6,7 @@
 #include <cstring>
 #include <vector>
 
-#include "transport/socket_channel.hpp"
 #include "transport/tcp_url.hpp"
-#include "transport/tls_stream.hpp"
 
 namespace mblab::server {
 
@@ -29,10 +27,10 @@ int take_descriptor(asio::ip::tcp::socket& socket) {
 }
 
 // Modbus/TCP Security: the socket carries a TLS session and the MBAP session sees plaintext.
-std::unique_ptr<transport::Channel> channel_for(int fd, const ServerOptions& options) {
-    auto socket = std::make_unique<transport::SocketChannel>(fd);
-    if (!options.tls) return socket;
-    return std::make_unique<transport::TlsStream>(std::move(socket), options.tls,
+std::unique_ptr<transport::TlsStream> tls_over(transport::SocketChannel& socket,
+                                               const ServerOptions& options) {
+    if (!options.tls) return nullptr;
+    return std::make_unique<transport::TlsStream>(socket, options.tls,
                                                   transport::TlsStream::Side::Server);
 }
 
@@ -42,11 +40,13 @@ TcpSession::TcpSession(asio::ip::tcp::socket socket, std::shared_ptr<ServerCore>
     : executor_(socket.get_executor()),
       fd_(take_descriptor(socket)),
       core_(std::move(core)),
-      channel_(channel_for(fd_, core_->options)),
+      socket_(fd_),
+      tls_(tls_over(socket_, core_->options)),
+      channel_(tls_ ? static_cast<transport::Channel&>(*tls_) : socket_),
       session_(core_->handler, limits_of(core_->options), core_->stats, *this, Clock::now()),
-      driver_(*channel_, session_, core_->options, core_->stats, Clock::now()),
+      driver_(channel_, session_, core_->options, core_->stats, Clock::now()),
       timer_(executor_) {
-    const auto peer = channel_->peer();
+    const auto peer = channel_.peer();
     asio::ip::tcp::endpoint endpoint;
     if (peer.address_size > 0 && peer.address_size <= endpoint.capacity()) {
         std::memcpy(endpoint.data(), &peer.address, peer.address_size);
@@ -98,7 +98,7 @@ void TcpSession::close() {
 void TcpSession::close_socket() {
     if (fd_ < 0) return;
     core_->poller->remove(fd_);
-    channel_->close();
+    channel_.close();
     fd_ = -1;
 }
 

@@ -11,7 +11,9 @@
 #include "server/server_core.hpp"
 #include "transport/channel.hpp"
 #include "transport/connection_table.hpp"
+#include "transport/socket_channel.hpp"
 #include "transport/socket_poller.hpp"
+#include "transport/tls_stream.hpp"
 
 namespace mblab::server {
 
@@ -56,8 +58,12 @@ class TcpSession final : public std::enable_shared_from_this<TcpSession>,
     asio::any_io_executor executor_;
     int fd_ = -1;
     std::shared_ptr<ServerCore> core_;
+    // Kept in the session, not behind a pointer of its own: the driver reaches it on every
+    // request.
+    transport::SocketChannel socket_;
+    std::unique_ptr<transport::TlsStream> tls_;  // Modbus/TCP Security: TLS over socket_
     // The socket, or TLS over it: the driver's only way to the client.
-    std::unique_ptr<transport::Channel> channel_;
+    transport::Channel& channel_;
     MbapSession session_;
     MbapDriver driver_;
     asio::steady_timer timer_;

@@ -157,11 +157,6 @@ void SocketPoller::look_again() {
 bool SocketPoller::dispatch() {
     const int count = epoll_.wait(events_, 0);
     bool again = count > 1 || count == static_cast<int>(events_.size());
-    // The watchers of a batch are fetched from memory together, not one miss after another.
-    for (int i = 0; i < count; ++i) {
-        const auto key = events_[static_cast<std::size_t>(i)].data.u64;
-        __builtin_prefetch(slots_[static_cast<std::uint32_t>(key)].watcher);
-    }
     for (int i = 0; i < count; ++i) {
         const auto& event = events_[static_cast<std::size_t>(i)];
         const auto& slot = slots_[static_cast<std::uint32_t>(event.data.u64)];

@@ -82,7 +82,7 @@ Io TlsStream::read(std::span<std::uint8_t> out) {
     if (tls_.has_input()) {
         if (const auto got = tls_.read(out); got > 0) return Io::done(got);
     }
-    if (tls_.state() != State::Open || tls_.input_ended()) return ended();
+    if (!tls_.input_open()) return ended();
     const auto io = pull();
     if (io.status != Io::Status::Done) return io;
     const auto got = tls_.read(out);
@@ -90,7 +90,7 @@ Io TlsStream::read(std::span<std::uint8_t> out) {
     const auto sent = flush();
     if (got > 0) return Io::done(got);
     if (sent.status == Io::Status::Failed) return sent;
-    return tls_.state() == State::Open && !tls_.input_ended() ? Io::would_block() : ended();
+    return tls_.input_open() ? Io::would_block() : ended();
 }
 
 Io TlsStream::writev(std::span<const iovec> buffers) {
