@@ -24,6 +24,7 @@
 #include <string>
 
 #include "device/reference_device.hpp"
+#include "immediate_host.hpp"
 #include "server/mbap_session.hpp"
 
 namespace {
@@ -31,15 +32,7 @@ namespace {
 using mblab::server::Clock;
 using mblab::server::MbapSession;
 
-class Host final : public MbapSession::Host {
-  public:
-    mblab::device::DeferredDone route_deferred(std::uint32_t,
-                                               const mblab::protocol::MbapHeader&) override {
-        return {};
-    }
-    void on_own_answer(const mblab::device::RequestContext&, std::span<const std::uint8_t>,
-                       mblab::protocol::ExceptionCode) override {}
-};
+using Host = mblab::bench::ImmediateHost;
 
 struct Connection {
     Connection(int descriptor, mblab::device::RequestHandler& device,

@@ -12,21 +12,12 @@
 #include <string>
 
 #include "device/reference_device.hpp"
+#include "immediate_host.hpp"
 #include "protocol/adu_writer.hpp"
 #include "server/mbap_session.hpp"
 
 namespace mblab::server {
 namespace {
-
-// The session's host for answers given at once: nothing is deferred or refused here.
-class Host final : public MbapSession::Host {
-  public:
-    device::DeferredDone route_deferred(std::uint32_t, const protocol::MbapHeader&) override {
-        return {};
-    }
-    void on_own_answer(const device::RequestContext&, std::span<const std::uint8_t>,
-                       protocol::ExceptionCode) override {}
-};
 
 void BM_SessionFc03x125(benchmark::State& state) {
     auto loaded = device::load_profile(std::string(MBLAB_SOURCE_DIR) + "/profiles/reference.toml");
@@ -36,7 +27,7 @@ void BM_SessionFc03x125(benchmark::State& state) {
     }
     auto& device = **loaded;
     ServerStats stats;
-    Host host;
+    bench::ImmediateHost host;
     const auto now = Clock::now();
     MbapSession session(device, MbapSessionLimits{}, stats, host, now);
     constexpr std::array<std::uint8_t, 5> kPdu{0x03, 0x00, 0x00, 0x00, 0x7D};
