@@ -80,6 +80,7 @@ void TcpSession::start() {
 
 transport::Standing TcpSession::standing(Clock::time_point now) const {
     if (closed_) return transport::Standing::Busy;
+    if (driver_.lingering()) return transport::Standing::Ending;
     if (driver_.handshaking()) return transport::Standing::Handshaking;
     return session_.standing(now);
 }

@@ -29,8 +29,8 @@ void ConnectionTable::remove(TrackedConnection& connection) {
 Standing ConnectionTable::close_one_for_newcomer(Clock::time_point now) {
     // A linear scan: it runs only when the table is full, and a full table is rare.
     // The kinds a newcomer may displace, the first to go first; the oldest of a kind goes.
-    constexpr Standing kOrder[] = {Standing::Handshaking, Standing::Stalled, Standing::Unused,
-                                   Standing::Idle};
+    constexpr Standing kOrder[] = {Standing::Ending, Standing::Handshaking, Standing::Stalled,
+                                   Standing::Unused, Standing::Idle};
     TrackedConnection* oldest[std::size(kOrder)] = {};
     for (auto* c = head_; c; c = c->next_) {
         if (c->closing_) continue;

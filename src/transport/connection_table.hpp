@@ -26,6 +26,10 @@ enum class Standing : unsigned char {
     // It goes before every other kind, or handshakes opened faster than they finish would
     // evict an authenticated session before each of its polls.
     Handshaking,
+    // Its session is over: its last answer and its end went out, and it only reads what the
+    // client still sends until the client ends too (a lingering close). It goes first: a session
+    // still open is worth more than the reset its close may now cause.
+    Ending,
 };
 
 class TrackedConnection {

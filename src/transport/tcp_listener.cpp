@@ -119,6 +119,7 @@ bool TcpListener::admit(asio::ip::tcp::socket& socket) {
                 return false;
             case Standing::Idle:
             case Standing::Unused:
+            case Standing::Ending:
                 counters_.evicted_idle.fetch_add(1, std::memory_order_relaxed);
                 break;
             case Standing::Stalled:

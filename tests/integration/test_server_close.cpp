@@ -71,5 +71,21 @@ TEST_F(ServerClose, ServerLetsGoOfAClientThatNeverEnds) {
     EXPECT_EQ(stats().connections_open.load(), 0U);
 }
 
+// A full table gives up the connection whose session is over before a session still open,
+// even one that is idle and older.
+TEST_F(ServerClose, AFullTableGivesUpALingeringConnectionFirst) {
+    server::ServerOptions options;
+    options.max_connections = 2;
+    start_server(handler_, options);
+    auto idle = connect();
+    EXPECT_EQ(idle.transact("00 01 00 00 00 03 01 08 00"), "00 01 00 00 00 03 01 08 00");
+    auto ending = connect();
+    ASSERT_TRUE(ending.send_hex("00 02 00 00 00 02 01 43"));
+    EXPECT_TRUE(ending.closed_by_peer(1s));
+    auto newcomer = connect();
+    EXPECT_EQ(newcomer.transact("00 03 00 00 00 03 01 08 00"), "00 03 00 00 00 03 01 08 00");
+    EXPECT_EQ(idle.transact("00 04 00 00 00 03 01 08 00"), "00 04 00 00 00 03 01 08 00");
+}
+
 }  // namespace
 }  // namespace mblab::test

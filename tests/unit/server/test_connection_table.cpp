@@ -1,6 +1,7 @@
-// Which connection a full table gives up for a newcomer: one still in its TLS handshake first (the
-// oldest of them), then the oldest stalled, then the oldest that never carried a request, then the
-// oldest idle; a busy one never.
+// Which connection a full table gives up for a newcomer: one whose session is over and that only
+// waits for the client's end first, then one still in its TLS handshake (the oldest of them), then
+// the oldest stalled, then the oldest that never carried a request, then the oldest idle; a busy
+// one never.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -45,6 +46,9 @@ TEST(ConnectionTable, AHandshakeInProgressGoesBeforeAnEstablishedSession) {
     FakeConnection newer(table, Standing::Handshaking, t0 + 3s);
     FakeConnection older(table, Standing::Handshaking, t0 + 2s);
     FakeConnection busy(table, Standing::Busy, t0);
+    FakeConnection ending(table, Standing::Ending, t0 + 3s);
+    EXPECT_EQ(table.close_one_for_newcomer(t0 + 4s), Standing::Ending);
+    EXPECT_TRUE(ending.closed);
     EXPECT_EQ(table.close_one_for_newcomer(t0 + 4s), Standing::Handshaking);
     EXPECT_TRUE(older.closed);
     EXPECT_EQ(table.close_one_for_newcomer(t0 + 4s), Standing::Handshaking);
