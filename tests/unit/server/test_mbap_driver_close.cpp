@@ -68,16 +68,6 @@ TEST(MbapDriverClose, AFloodWhileLingeringIsDroppedInPieces) {
     EXPECT_TRUE(t.lingering());
 }
 
-TEST(MbapDriverClose, AClientThatEndedFirstIsLetGoWithTheLastAnswer) {
-    SessionTrace t;
-    t.client_sends("00 01 00 00 00 03 01 41 03");
-    t.client_shuts_down();
-    EXPECT_FALSE(t.closed());
-    t.after(30ms);
-    t.device_answers("00 01 00 00 00 03 01 41 03");
-    EXPECT_TRUE(t.released());
-}
-
 TEST(MbapDriverClose, AClientThatResetsWhileTheSessionLingersIsLetGo) {
     SessionTrace t;
     t.client_sends(kAnsweredThenClose);
