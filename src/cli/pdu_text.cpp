@@ -205,8 +205,7 @@ struct ResponseFields {
         std::size_t offset = 0;
         DeviceIdObject object;
         while (r.next(offset, object)) {
-            text += fmt::format("; object 0x{:02X} \"{}\"", object.id,
-                                std::string(object.value.begin(), object.value.end()));
+            text += fmt::format("; object 0x{:02X} \"{}\"", object.id, object.text());
         }
         return text;
     }

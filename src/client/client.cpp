@@ -297,8 +297,7 @@ CallResult<DeviceIdentification> Client::read_device_identification(std::uint8_t
                 DeviceIdObject object;
                 std::size_t offset = 0;
                 while (answer.next(offset, object)) {
-                    out.objects.push_back(
-                        {object.id, std::string(object.value.begin(), object.value.end())});
+                    out.objects.push_back({object.id, object.text()});
                 }
                 return out;
             });

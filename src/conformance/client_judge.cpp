@@ -8,6 +8,8 @@
 #include <set>
 #include <string_view>
 
+#include "support/printable_text.hpp"
+
 namespace mblab::conformance {
 
 namespace {
@@ -40,13 +42,10 @@ std::string quoted(std::string_view output) {
             line += "...";
             break;
         }
-        const auto byte = static_cast<unsigned char>(c);
         if (c == '\n' || c == '\r' || c == '\t') {
             line += ' ';
-        } else if (byte < 0x20 || byte >= 0x7F) {
-            line += fmt::format("\\x{:02X}", byte);
         } else {
-            line += c;
+            append_printable(line, static_cast<std::uint8_t>(c));
         }
     }
     return "output: \"" + line + "\"";

@@ -48,7 +48,7 @@ bool take_objects(const protocol::ReadDeviceIdResponse& answer, DeviceIdentity& 
     std::uint8_t last = 0;
     bool any = false;
     while (answer.next(offset, object)) {
-        std::string value(object.value.begin(), object.value.end());
+        auto value = object.text();
         if (object.id == kVendorName) identity.vendor_name = std::move(value);
         if (object.id == kProductCode) identity.product_code = std::move(value);
         if (object.id == kRevision) identity.revision = std::move(value);

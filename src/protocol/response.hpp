@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string>
 #include <variant>
 
 #include "protocol/cursor.hpp"
@@ -87,6 +88,10 @@ struct ReadFifoQueueResponse {  // 18
 struct DeviceIdObject {
     std::uint8_t id = 0;
     std::span<const std::uint8_t> value;
+
+    // The value as text (support/printable_text.hpp): the basic and regular objects are ASCII
+    // strings (MB App Protocol 6.21), but nothing makes a device send them so.
+    std::string text() const;
 };
 
 struct ReadDeviceIdResponse {  // 2B / 0E

@@ -100,6 +100,13 @@ TEST(ResponseWalks, ReadDeviceIdentification) {
     EXPECT_EQ(encoded(ReadDeviceIdResponse{1, 1, 0, 0, 3, objects.written()}), pdu);
 }
 
+// A Latin-1 vendor name and a terminal escape: shown as \xNN, never as the raw bytes.
+TEST(ResponseWalks, DeviceIdObjectTextShowsBytesThatAreNotPrintableAsciiAsEscapes) {
+    const auto value = hex("4D FC 6C 6C 65 72 1B 5B 32 4A 5C 7F 00");
+    const DeviceIdObject object{0, value};
+    EXPECT_EQ(object.text(), R"(M\xFCller\x1B[2J\\x7F\x00)");
+}
+
 TEST(ResponseWalks, DeviceIdObjectLongerThan255BytesIsRefused) {
     const std::vector<std::uint8_t> value(256, 'x');
     std::array<std::uint8_t, 300> scratch{};
