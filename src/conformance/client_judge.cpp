@@ -8,7 +8,7 @@
 #include <set>
 #include <string_view>
 
-#include "support/printable_text.hpp"
+#include "support/escaped_text.hpp"
 
 namespace mblab::conformance {
 
@@ -45,7 +45,7 @@ std::string quoted(std::string_view output) {
         if (c == '\n' || c == '\r' || c == '\t') {
             line += ' ';
         } else {
-            append_printable(line, static_cast<std::uint8_t>(c));
+            append_escaped(line, static_cast<std::uint8_t>(c));
         }
     }
     return "output: \"" + line + "\"";

@@ -3,7 +3,7 @@
 #include "protocol/limits.hpp"
 #include "protocol/message_checks.hpp"
 #include "protocol/response.hpp"
-#include "support/printable_text.hpp"
+#include "support/escaped_text.hpp"
 
 namespace mblab::protocol {
 
@@ -23,7 +23,7 @@ bool read_object(std::span<const std::uint8_t> objects, std::size_t offset, Devi
 }  // namespace
 
 std::string DeviceIdObject::text() const {
-    return printable_text(value);
+    return escaped_text(value);
 }
 
 bool ReadDeviceIdResponse::next(std::size_t& offset, DeviceIdObject& out) const {

@@ -89,7 +89,7 @@ struct DeviceIdObject {
     std::uint8_t id = 0;
     std::span<const std::uint8_t> value;
 
-    // The value as text (support/printable_text.hpp): the basic and regular objects are ASCII
+    // The value as text (support/escaped_text.hpp): the basic and regular objects are ASCII
     // strings (MB App Protocol 6.21), but nothing makes a device send them so.
     std::string text() const;
 };

@@ -11,7 +11,7 @@
 // cannot carry), or terminal escapes, into a console line or a report.
 namespace mblab {
 
-inline void append_printable(std::string& out, std::uint8_t byte) {
+inline void append_escaped(std::string& out, std::uint8_t byte) {
     if (byte >= 0x20 && byte < 0x7F) {
         out += static_cast<char>(byte);
     } else {
@@ -19,11 +19,11 @@ inline void append_printable(std::string& out, std::uint8_t byte) {
     }
 }
 
-inline std::string printable_text(std::span<const std::uint8_t> bytes) {
+inline std::string escaped_text(std::span<const std::uint8_t> bytes) {
     std::string out;
     out.reserve(bytes.size());
     for (const auto byte : bytes)
-        append_printable(out, byte);
+        append_escaped(out, byte);
     return out;
 }
 
