@@ -10,6 +10,7 @@
 #include "cli/number_text.hpp"
 #include "cli/pdu_text.hpp"
 #include "protocol/limits.hpp"
+#include "support/escaped_text.hpp"
 
 namespace mblab::cli {
 
@@ -129,7 +130,8 @@ Reading register_reading(std::span<const std::uint16_t> registers, const ValueFo
     reading.json["type"] = value_type_name(format.type);
     if (format.type == ValueType::Ascii) {
         const std::string text = ascii_text(registers, format);
-        reading.notes.push_back(nlohmann::json(text).dump());
+        const auto* bytes = reinterpret_cast<const std::uint8_t*>(text.data());
+        reading.notes.push_back("\"" + escaped_text({bytes, text.size()}) + "\"");
         reading.json["text"] = text;
     }
     check_whole_values(reading, registers.size(), format);

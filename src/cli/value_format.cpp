@@ -7,6 +7,7 @@
 #include <cstring>
 
 #include "cli/number_text.hpp"
+#include "support/escaped_text.hpp"
 
 namespace mblab::cli {
 
@@ -65,11 +66,6 @@ std::array<std::uint8_t, 2> characters(std::uint16_t word, const ValueFormat& fo
     return {static_cast<std::uint8_t>(word >> 8), static_cast<std::uint8_t>(word & 0xFF)};
 }
 
-std::string printable(std::uint8_t c) {
-    if (c >= 0x20 && c < 0x7F) return std::string(1, static_cast<char>(c));
-    return fmt::format("\\x{:02X}", c);
-}
-
 std::string bad_value(std::string_view text, ValueType type, std::string_view range) {
     return fmt::format("'{}' is not a {} value ({})", text, info(type).name, range);
 }
@@ -121,8 +117,8 @@ std::string format_value(std::span<const std::uint16_t> registers, const ValueFo
         case ValueType::Hex:
             return fmt::format("0x{:04X}", bits);
         case ValueType::Ascii: {
-            auto chars = characters(registers[0], format);
-            return "\"" + printable(chars[0]) + printable(chars[1]) + "\"";
+            const auto chars = characters(registers[0], format);
+            return "\"" + escaped_text(chars) + "\"";
         }
     }
     return {};

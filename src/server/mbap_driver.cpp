@@ -15,9 +15,12 @@ using Status = transport::Io::Status;
 // Roles without rules: every request is refused (deny by default).
 const device::RoleRules kNoRules;
 
-// How long a session that ended its output reads what the client still sends, and how much it
-// reads in one go (the rest waits for the next readiness, so a flood cannot hold the loop).
+// How long a session that ended its output waits for more of what the client still sends, at
+// most in all, and how much it reads in one go (the rest waits for the next readiness, so a flood
+// cannot hold the loop). A client that keeps sending keeps it reading: its bytes would otherwise
+// meet a closed socket and reset the answers it has not read yet.
 constexpr auto kLinger = std::chrono::seconds(2);
+constexpr auto kLingerAtMost = std::chrono::seconds(30);
 constexpr int kDiscardReads = 16;
 
 }  // namespace
@@ -48,7 +51,7 @@ void MbapDriver::readable(Clock::time_point now) {
     input_may_remain_ = false;
     if (!wants_read()) return;
     if (lingering()) {
-        discard();
+        discard(now);
         return;
     }
     take(now);
@@ -205,14 +208,16 @@ void MbapDriver::linger(Clock::time_point now) {
         closed_ = true;
         return;
     }
+    linger_until_ = now + kLingerAtMost;
     linger_deadline_ = now + kLinger;
-    discard();
+    discard(now);
 }
 
-void MbapDriver::discard() {
+void MbapDriver::discard(Clock::time_point now) {
     for (int reads = 0; reads < kDiscardReads; ++reads) {
         switch (channel_.discard_input().status) {
             case Status::Done:
+                linger_deadline_ = std::min(now + kLinger, linger_until_);
                 continue;
             case Status::WouldBlock:
                 return;

@@ -48,8 +48,8 @@ class MbapDriver {
     bool handshaking() const { return channel_.handshaking(); }
     bool closed() const { return closed_; }
     // The session ended its output after its answers and reads what the client still sends until
-    // the client ends too or kLinger passes, so that the close leaves no input unread to make
-    // the kernel reset the connection under the last answers.
+    // the client ends too, or sends nothing for kLinger (kLingerAtMost in all), so that the close
+    // leaves no input unread to make the kernel reset the connection under the last answers.
     bool lingering() const { return !closed_ && linger_deadline_ != Clock::time_point::max(); }
 
   private:
@@ -65,7 +65,7 @@ class MbapDriver {
     // After this side's end of output: closes when the client has ended too, else lingers.
     void linger(Clock::time_point now);
     // Reads and drops a bounded amount of what the lingering client sent; closes at its end.
-    void discard();
+    void discard(Clock::time_point now);
     void on_handshake(const security::TlsPeer& peer);
     void refuse_handshake(const std::string& reason);
     // Counts and reports a client refused after its handshake, then ends its session.
@@ -78,6 +78,7 @@ class MbapDriver {
     const bool tls_;
     Clock::time_point handshake_deadline_ = Clock::time_point::max();
     Clock::time_point linger_deadline_ = Clock::time_point::max();
+    Clock::time_point linger_until_ = Clock::time_point::max();  // however much the client sends
     bool closed_ = false;
     bool write_blocked_ = false;  // the channel took less than it was given
     bool input_may_remain_ = false;

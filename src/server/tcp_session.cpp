@@ -112,7 +112,9 @@ bool TcpSession::on_ready(std::uint32_t events) {
     if (events & EPOLLOUT) driver_.writable(now);
     if (events & (EPOLLIN | EPOLLRDHUP | EPOLLHUP)) driver_.readable(now);
     // Both directions shut: no answer can go out, and a level-triggered hang-up would repeat.
-    if (events & EPOLLHUP) close();
+    // A lingering session reads on to the end (a read never waits after a hang-up): closing with
+    // input unread would reset the connection.
+    if ((events & EPOLLHUP) && !driver_.lingering()) close();
     settle();
     // After the client's FIN, read on until the end is read: a read that returned its last
     // request did not take the end, and no new input will come to say it is there.

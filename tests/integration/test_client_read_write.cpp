@@ -82,6 +82,13 @@ TEST_F(ClientReadWrite, SignedAsciiAndDoubleValues) {
          "21 (0x0015)  0x6C61  \"la\"\n"
          "22 (0x0016)  0x6200  \"b\\x00\"\n"
          "\"mblab\"\n"},
+        // Bytes that are not text (here Latin-1 and a backslash) are escaped, in the rows and
+        // in the whole text; the text once ended the command with a JSON exception.
+        {{"24", "0xFC5C"},
+         {"24", "1", "--type", "ascii"},
+         "address      raw     ascii\n"
+         "24 (0x0018)  0xFC5C  \"\\xFC\\\\\"\n"
+         "\"\\xFC\\\\\"\n"},
         {{"30", "-0.125", "--type", "f64"},
          {"30", "1", "--type", "f64"},
          "address      raw                          f64\n"

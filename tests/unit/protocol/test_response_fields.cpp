@@ -104,7 +104,7 @@ TEST(ResponseWalks, ReadDeviceIdentification) {
 TEST(ResponseWalks, DeviceIdObjectTextShowsBytesThatAreNotPrintableAsciiAsEscapes) {
     const auto value = hex("4D FC 6C 6C 65 72 1B 5B 32 4A 5C 7F 00");
     const DeviceIdObject object{0, value};
-    EXPECT_EQ(object.text(), R"(M\xFCller\x1B[2J\\x7F\x00)");
+    EXPECT_EQ(object.text(), R"(M\xFCller\x1B[2J\\\x7F\x00)");
 }
 
 TEST(ResponseWalks, DeviceIdObjectLongerThan255BytesIsRefused) {

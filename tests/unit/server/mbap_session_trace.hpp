@@ -116,6 +116,7 @@ class SessionTrace final : private server::MbapSession::Host {
     transport::Channel& client_channel();
     transport::TlsStream* client_tls() { return client_tls_.get(); }
     server::MbapSession& session() { return session_; }
+    server::MbapDriver& driver() { return driver_; }
     const server::ServerStats& stats() const { return stats_; }
     ManualClock& clock() { return clock_; }
     int busy_replies() const { return busy_replies_; }
