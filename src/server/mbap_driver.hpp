@@ -62,12 +62,12 @@ class MbapDriver {
     // socket event would bring them.
     void drain(Clock::time_point now);
     void end_input(Clock::time_point now);
+    void on_handshake(const security::TlsPeer& peer);
+    void refuse_handshake(const std::string& reason);
     // After this side's end of output: closes when the client has ended too, else lingers.
     void linger(Clock::time_point now);
     // Reads and drops a bounded amount of what the lingering client sent; closes at its end.
     void discard(Clock::time_point now);
-    void on_handshake(const security::TlsPeer& peer);
-    void refuse_handshake(const std::string& reason);
     // Counts and reports a client refused after its handshake, then ends its session.
     void refuse_client(const std::string& reason);
 

@@ -22,6 +22,14 @@ constexpr const char* kAnsweredThenClose =
     "00 02 00 00 00 02 01 43"
     "00 03 00 00 00 06 01 03 00 08 00 01";
 
+// The client's first request answered, its second closed by the device, its third dropped: the
+// session lingers from then on.
+void answer_then_close(SessionTrace& t) {
+    t.client_sends(kAnsweredThenClose);
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    ASSERT_TRUE(t.lingering());
+}
+
 // The memory pair resets as a socket does when closed with input unread: without the lingering
 // the client's request 4, sent while the answer waited, would reset the connection and lose it.
 TEST(MbapDriverClose, AfterItsAnswersTheSessionReadsWhatTheClientStillSendsUntilItEnds) {
@@ -44,9 +52,7 @@ TEST(MbapDriverClose, AfterItsAnswersTheSessionReadsWhatTheClientStillSendsUntil
 
 TEST(MbapDriverClose, ASessionLetsGoOfAClientThatNeverEndsAtTheLingerLimit) {
     SessionTrace t;
-    t.client_sends(kAnsweredThenClose);
-    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
-    ASSERT_TRUE(t.lingering());
+    answer_then_close(t);
     t.after(1999ms);
     EXPECT_TRUE(t.lingering());
     t.after(1ms);
@@ -57,8 +63,7 @@ TEST(MbapDriverClose, ASessionLetsGoOfAClientThatNeverEndsAtTheLingerLimit) {
 // may remain, and the readiness loop comes back for the rest.
 TEST(MbapDriverClose, AFloodWhileLingeringIsDroppedInPieces) {
     SessionTrace t;
-    t.client_sends(kAnsweredThenClose);
-    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    answer_then_close(t);
     std::string flood;
     for (int i = 0; i < 20'000; ++i)
         flood += "00 06 00 00 00 06 01 03 00 0B 00 01";
@@ -77,8 +82,7 @@ TEST(MbapDriverClose, AFloodWhileLingeringIsDroppedInPieces) {
 // would meet a closed socket and reset the answers the client has not read yet.
 TEST(MbapDriverClose, AClientStillSendingKeepsTheSessionReadingUpToThirtySeconds) {
     SessionTrace t;
-    t.client_sends(kAnsweredThenClose);
-    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    answer_then_close(t);
     for (int i = 0; i < 19; ++i) {
         t.after(1500ms);
         ASSERT_TRUE(t.lingering()) << "at " << t.clock().elapsed();
@@ -90,9 +94,7 @@ TEST(MbapDriverClose, AClientStillSendingKeepsTheSessionReadingUpToThirtySeconds
 
 TEST(MbapDriverClose, AClientThatResetsWhileTheSessionLingersIsLetGo) {
     SessionTrace t;
-    t.client_sends(kAnsweredThenClose);
-    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
-    ASSERT_TRUE(t.lingering());
+    answer_then_close(t);
     t.client_resets();
     EXPECT_TRUE(t.released());
 }
