@@ -1,14 +1,46 @@
 #include "device/data_bank.hpp"
 
 #include <algorithm>
-#include <bit>
-#include <cstring>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 
 namespace mblab::device {
+
+namespace {
+
+// Writes n registers as Modbus puts them on the wire, high byte first.
+void copy_big_endian(const std::uint16_t* from, std::uint8_t* to, std::size_t n) {
+#if defined(__SSE2__)
+    // Eight registers per step (a read of 125 is most of a request's own work): swap the bytes
+    // of each 16-bit lane with two shifts.
+    const auto eight = [](const std::uint16_t* in, std::uint8_t* out) {
+        __m128i lanes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(in));
+        lanes = _mm_or_si128(_mm_slli_epi16(lanes, 8), _mm_srli_epi16(lanes, 8));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(out), lanes);
+    };
+    if (n >= 8) {
+        const std::uint16_t* const last = from + n - 8;
+        std::uint8_t* const last_out = to + 2 * (n - 8);
+        for (; from + 16 <= last + 8; from += 16, to += 32) {
+            eight(from, to);
+            eight(from + 8, to + 16);
+        }
+        if (from + 8 <= last + 8) eight(from, to);
+        // The last few as one more step over the last eight: the registers it writes again get
+        // the same bytes, and no one-at-a-time tail is left.
+        eight(last, last_out);
+        return;
+    }
+#endif
+    for (std::size_t i = 0; i < n; ++i) {
+        to[2 * i] = static_cast<std::uint8_t>(from[i] >> 8);
+        to[2 * i + 1] = static_cast<std::uint8_t>(from[i] & 0xFF);
+    }
+}
+
+}  // namespace
 
 DataBank::DataBank(const std::vector<RangeSpec>& ranges) {
     std::size_t total = 0;
@@ -82,31 +114,7 @@ void DataBank::read_be(std::uint32_t address, std::span<std::uint8_t> out,
                       std::fill_n(to, 2 * n, 0);
                       return;
                   }
-                  const std::uint16_t* from = values_.data() + stored;
-                  std::uint32_t i = 0;
-#if defined(__SSE2__)
-                  // Eight registers per step (a read of 125 is most of a request's own work):
-                  // swap the bytes of each 16-bit lane with two shifts.
-                  for (; i + 8 <= n; i += 8) {
-                      __m128i lanes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(from + i));
-                      lanes = _mm_or_si128(_mm_slli_epi16(lanes, 8), _mm_srli_epi16(lanes, 8));
-                      _mm_storeu_si128(reinterpret_cast<__m128i*>(to + 2 * i), lanes);
-                  }
-#endif
-                  // Four registers at a time on little-endian hosts: swap the bytes of each
-                  // 16-bit lane of a word.
-                  constexpr std::uint64_t kLow = 0x00FF00FF00FF00FFULL;
-                  constexpr bool kLittle = std::endian::native == std::endian::little;
-                  for (; kLittle && i + 4 <= n; i += 4) {
-                      std::uint64_t word = 0;
-                      std::memcpy(&word, from + i, sizeof word);
-                      word = ((word & kLow) << 8) | ((word >> 8) & kLow);
-                      std::memcpy(to + 2 * i, &word, sizeof word);
-                  }
-                  for (; i < n; ++i) {
-                      to[2 * i] = static_cast<std::uint8_t>(from[i] >> 8);
-                      to[2 * i + 1] = static_cast<std::uint8_t>(from[i] & 0xFF);
-                  }
+                  copy_big_endian(values_.data() + stored, to, n);
               });
 }
 
