@@ -37,7 +37,7 @@ MbapDriver::MbapDriver(transport::Channel& channel, MbapSession& session,
 
 bool MbapDriver::wants_read() const {
     if (closed_) return false;
-    if (lingering()) return true;
+    if (lingering()) return !input_ended_;
     if (channel_.handshaking()) return true;
     return session_.wants_input();
 }
@@ -61,7 +61,10 @@ void MbapDriver::readable(Clock::time_point now) {
 
 void MbapDriver::writable(Clock::time_point now) {
     write_blocked_ = false;
-    if (lingering()) return;
+    if (lingering()) {
+        send_end();
+        return;
+    }
     flush(now);
     drain(now);
 }
@@ -202,15 +205,26 @@ void MbapDriver::flush(Clock::time_point now) {
 }
 
 void MbapDriver::linger(Clock::time_point now) {
-    // A client that ended its input has nothing left to send, and one refused over TLS 1.2 has
-    // had the whole session ended by its own close_notify.
-    if (input_ended_ || channel_.output_ended()) {
+    // One refused over TLS 1.2 has had the whole session ended by its own close_notify.
+    if (channel_.output_ended()) {
         closed_ = true;
         return;
     }
     linger_until_ = now + kLingerAtMost;
     linger_deadline_ = now + kLinger;
-    discard(now);
+    send_end();
+    if (!closed_ && !input_ended_) discard(now);
+}
+
+void MbapDriver::send_end() {
+    // The rest of a close_notify, then the FIN behind it (transport::TlsStream).
+    if (channel_.wants_write() && channel_.flush().status == Status::Failed) {
+        closed_ = true;
+        return;
+    }
+    write_blocked_ = channel_.wants_write();
+    // A client that ended its input has nothing left to send: the end out is all that was owed.
+    if (input_ended_ && !write_blocked_) closed_ = true;
 }
 
 void MbapDriver::discard(Clock::time_point now) {
@@ -222,6 +236,9 @@ void MbapDriver::discard(Clock::time_point now) {
             case Status::WouldBlock:
                 return;
             case Status::EndOfInput:
+                input_ended_ = true;
+                send_end();
+                return;
             case Status::Failed:
                 closed_ = true;
                 return;

@@ -66,6 +66,9 @@ class MbapDriver {
     void refuse_handshake(const std::string& reason);
     // After this side's end of output: closes when the client has ended too, else lingers.
     void linger(Clock::time_point now);
+    // While lingering: sends what is left of this side's end (a close_notify that found the
+    // socket full); closes once it is out and the client has ended too.
+    void send_end();
     // Reads and drops a bounded amount of what the lingering client sent; closes at its end.
     void discard(Clock::time_point now);
     // Counts and reports a client refused after its handshake, then ends its session.
@@ -82,7 +85,7 @@ class MbapDriver {
     bool closed_ = false;
     bool write_blocked_ = false;  // the channel took less than it was given
     bool input_may_remain_ = false;
-    bool input_ended_ = false;     // the session was told the client sends nothing more
+    bool input_ended_ = false;     // the client sends nothing more
     bool seen_plaintext_ = false;  // the first plaintext was checked for a bare PDU
 };
 

@@ -39,6 +39,10 @@ Io TlsStream::flush() {
         tls_.sent(io.bytes);
         total += io.bytes;
     }
+    if (end_owed_ && !wants_write()) {
+        end_owed_ = false;
+        lower_->shutdown_write();
+    }
     return Io::done(total);
 }
 
@@ -132,8 +136,10 @@ Io TlsStream::close_notify() {
 }
 
 void TlsStream::shutdown_write() {
+    // The lower end goes once the close_notify is all out: a FIN in the middle of its record is
+    // a truncation, which the peer's TLS reports as an attack, not as the end of the session.
+    end_owed_ = true;
     close_notify();
-    lower_->shutdown_write();
 }
 
 PeerIdentity TlsStream::peer() const {

@@ -56,7 +56,8 @@ class TlsStream final : public Channel {
     bool wants_write() const override { return !tls_.output().empty(); }
     Io flush() override;
     bool handshaking() const override;
-    // close_notify, then the lower channel's end of output.
+    // close_notify, then the lower channel's end of output: at once, or from the flush() that
+    // sends the rest of a close_notify the lower channel had no room for (wants_write() till then).
     void shutdown_write() override;
     Io discard_input() override { return lower_->discard_input(); }
     void close() override { lower_->close(); }
@@ -78,6 +79,7 @@ class TlsStream final : public Channel {
     security::TlsChannel tls_;
     std::string error_;
     bool heard_ = false;
+    bool end_owed_ = false;  // shutdown_write() waits for the lower channel to take the rest
 };
 
 }  // namespace mblab::transport

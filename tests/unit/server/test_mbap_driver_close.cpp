@@ -118,5 +118,30 @@ TEST(MbapDriverClose, OverTlsTheClientsLaterRecordsAreDroppedUntilItsFin) {
     EXPECT_FALSE(t.client().is_reset());
 }
 
+// The close_notify waits for room as the answers do, and the FIN goes behind it: a FIN inside
+// its record would be a truncation, which the client's TLS reports as an attack on the session.
+TEST(MbapDriverClose, OverTlsACloseNotifyThatFindsTheSocketFullGoesOutWholeBeforeTheFin) {
+    SessionTrace t(TraceTls{lab_server_context(), lab_client_context("client-Operator"),
+                            std::make_shared<const device::RoleRules>(std::vector{
+                                device::RoleRule{"Operator", {0x03, 0x43}, {}, {}, {}, {}}})});
+    // Room for the answer's record (33 bytes in TLS 1.3), not for the close_notify's 24 after it.
+    EXPECT_EQ(t.client_reads(), "");  // the session tickets
+    t.server_end().set_window(40);
+    t.client_sends(kAnsweredThenClose);
+    ASSERT_TRUE(t.lingering());
+    EXPECT_TRUE(t.driver().wants_write());
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    std::array<std::uint8_t, 16> buffer{};
+    const auto end = t.client_channel().read(buffer);
+    EXPECT_EQ(end.status, transport::Io::Status::EndOfInput) << t.client_channel().error();
+    // A FIN alone would also read as the end here; the session closed means close_notify came.
+    EXPECT_EQ(t.client_tls()->session().state(), security::TlsChannel::State::Closed);
+    EXPECT_FALSE(t.driver().wants_write());
+    t.client().shutdown_write();
+    t.run();
+    EXPECT_TRUE(t.released());
+    EXPECT_FALSE(t.client().is_reset());
+}
+
 }  // namespace
 }  // namespace mblab::test
