@@ -15,14 +15,6 @@ using Status = transport::Io::Status;
 // Roles without rules: every request is refused (deny by default).
 const device::RoleRules kNoRules;
 
-// How long a session that ended its output waits for more of what the client still sends, at
-// most in all, and how much it reads in one go (the rest waits for the next readiness, so a flood
-// cannot hold the loop). A client that keeps sending keeps it reading: its bytes would otherwise
-// meet a closed socket and reset the answers it has not read yet.
-constexpr auto kLinger = std::chrono::seconds(2);
-constexpr auto kLingerAtMost = std::chrono::seconds(30);
-constexpr int kDiscardReads = 16;
-
 }  // namespace
 
 MbapDriver::MbapDriver(transport::Channel& channel, MbapSession& session,
@@ -43,7 +35,7 @@ bool MbapDriver::wants_read() const {
 }
 
 Clock::time_point MbapDriver::deadline() const {
-    if (lingering()) return linger_deadline_;
+    if (lingering()) return linger_.deadline();
     return std::min(session_.deadline(), handshake_deadline_);
 }
 
@@ -73,7 +65,7 @@ void MbapDriver::on_time(Clock::time_point now) {
     if (closed_) return;
     if (lingering()) {
         // A client that neither ends nor stops sending: its reset cannot cost it much now.
-        if (now >= linger_deadline_) closed_ = true;
+        if (linger_.over(now)) closed_ = true;
         return;
     }
     if (now >= handshake_deadline_) {
@@ -210,8 +202,7 @@ void MbapDriver::linger(Clock::time_point now) {
         closed_ = true;
         return;
     }
-    linger_until_ = now + kLingerAtMost;
-    linger_deadline_ = now + kLinger;
+    linger_.start(now);
     send_end();
     if (!closed_ && !input_ended_) discard(now);
 }
@@ -228,10 +219,10 @@ void MbapDriver::send_end() {
 }
 
 void MbapDriver::discard(Clock::time_point now) {
-    for (int reads = 0; reads < kDiscardReads; ++reads) {
+    for (int reads = 0; reads < transport::Linger::kReadsPerWake; ++reads) {
         switch (channel_.discard_input().status) {
             case Status::Done:
-                linger_deadline_ = std::min(now + kLinger, linger_until_);
+                linger_.heard(now);
                 continue;
             case Status::WouldBlock:
                 return;

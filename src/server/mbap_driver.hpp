@@ -9,6 +9,7 @@
 #include "server/server_options.hpp"
 #include "server/server_stats.hpp"
 #include "transport/channel.hpp"
+#include "transport/linger.hpp"
 
 namespace mblab::server {
 
@@ -47,10 +48,10 @@ class MbapDriver {
     Clock::time_point deadline() const;
     bool handshaking() const { return channel_.handshaking(); }
     bool closed() const { return closed_; }
-    // The session ended its output after its answers and reads what the client still sends until
-    // the client ends too, or sends nothing for kLinger (kLingerAtMost in all), so that the close
-    // leaves no input unread to make the kernel reset the connection under the last answers.
-    bool lingering() const { return !closed_ && linger_deadline_ != Clock::time_point::max(); }
+    // The session ended its output after its answers and reads what the client still sends
+    // (transport::Linger), so that the close leaves no input unread to make the kernel reset the
+    // connection under the last answers.
+    bool lingering() const { return !closed_ && linger_.active(); }
 
   private:
     // One read of the channel into the session; false when nothing was handed over.
@@ -80,8 +81,7 @@ class MbapDriver {
     ServerStats& stats_;
     const bool tls_;
     Clock::time_point handshake_deadline_ = Clock::time_point::max();
-    Clock::time_point linger_deadline_ = Clock::time_point::max();
-    Clock::time_point linger_until_ = Clock::time_point::max();  // however much the client sends
+    transport::Linger linger_;
     bool closed_ = false;
     bool write_blocked_ = false;  // the channel took less than it was given
     bool input_may_remain_ = false;

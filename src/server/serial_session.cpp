@@ -68,7 +68,9 @@ void LineSession<Stream>::start() {
 
 template <class Stream>
 transport::Standing LineSession<Stream>::standing(LineClock::time_point now) const {
-    return closed_ ? transport::Standing::Busy : line_.standing(now);
+    if (closed_) return transport::Standing::Busy;
+    if (linger_.active()) return transport::Standing::Ending;
+    return line_.standing(now);
 }
 
 template <class Stream>
@@ -95,7 +97,7 @@ void LineSession<Stream>::settle() {
     const auto now = LineClock::now();
     line_.on_time(now);
     if (line_.ending()) {
-        close();
+        end();
         return;
     }
     if (!writing_) {
@@ -103,6 +105,43 @@ void LineSession<Stream>::settle() {
     }
     if (!reading_ && line_.wants_input()) read();
     arm_timer(line_.deadline());
+}
+
+template <class Stream>
+void LineSession<Stream>::end() {
+    if constexpr (kIsSerialPort<Stream>) {
+        close();
+    } else {
+        // An answer still being written goes out first; written() comes back here.
+        if (writing_) return;
+        const auto now = LineClock::now();
+        if (!linger_.active()) {
+            if (input_ended_) {
+                close();
+                return;
+            }
+            asio::error_code ignored;
+            stream_.shutdown(asio::ip::tcp::socket::shutdown_send, ignored);
+            linger_.start(now);
+        }
+        if (linger_.over(now)) {
+            close();
+            return;
+        }
+        if (!reading_) read();
+        arm_timer(linger_.deadline());
+    }
+}
+
+template <class Stream>
+void LineSession<Stream>::discarded(const asio::error_code& ec) {
+    // The client's end, or a reset: nothing can reset the answers any more.
+    if (ec) {
+        close();
+        return;
+    }
+    linger_.heard(LineClock::now());
+    end();
 }
 
 template <class Stream>
@@ -114,7 +153,12 @@ void LineSession<Stream>::read() {
         [self = this->shared_from_this()](const asio::error_code& ec, std::size_t size) {
             self->reading_ = false;
             if (self->closed_ || ec == asio::error::operation_aborted) return;
+            if (self->linger_.active()) {
+                self->discarded(ec);
+                return;
+            }
             if (ec == asio::error::eof && !kIsSerialPort<Stream>) {
+                self->input_ended_ = true;
                 self->line_.end_of_input();
             } else if (ec) {
                 self->fail(line_failure_text(ec));

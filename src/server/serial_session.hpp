@@ -11,6 +11,7 @@
 #include "server/line_session_core.hpp"
 #include "server/server_core.hpp"
 #include "transport/connection_table.hpp"
+#include "transport/linger.hpp"
 #include "transport/serial_port.hpp"
 
 namespace mblab::server {
@@ -42,6 +43,11 @@ class LineSession final : public std::enable_shared_from_this<LineSession<Stream
     // After any event: the core woken, its answer written, a read started and the timer set as
     // it says.
     void settle();
+    // The core ended the connection. A TCP connection ends its output, then reads and drops what
+    // the client still sends (transport::Linger) before it closes, so that no input left unread
+    // makes the kernel reset it under the answers the client has not read yet.
+    void end();
+    void discarded(const asio::error_code& ec);
     void read();
     void write(std::span<const std::uint8_t> answer);
     // Writes answer[index] (and any later character already due) once `start` + index + 1
@@ -64,7 +70,9 @@ class LineSession final : public std::enable_shared_from_this<LineSession<Stream
     std::chrono::nanoseconds pace_;
     asio::steady_timer pace_timer_;
     LineClock::time_point timer_at_ = LineClock::time_point::max();
+    transport::Linger linger_;
     bool closed_ = false;
+    bool input_ended_ = false;  // the TCP client sent its FIN
     bool in_table_ = false;
     bool reading_ = false;
     bool writing_ = false;

@@ -12,6 +12,8 @@
 #include <cerrno>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "device/profile_paths.hpp"
 #include "server/rtu_tcp_server.hpp"
@@ -197,8 +199,11 @@ std::string DeviceOnLine::start(const std::string& profile_name, const std::stri
     return master_->ok() ? "" : "cannot open " + pty_->client_end();
 }
 
-std::string DeviceOnRtuTcp::start(server::ServerOptions options) {
-    auto loaded = device::load_profile(device::default_profile_path());
+std::string DeviceOnRtuTcp::start(server::ServerOptions options, const std::string& extra) {
+    std::ifstream file(device::default_profile_path());
+    std::stringstream text;
+    text << file.rdbuf() << "\n" << extra;
+    auto loaded = device::load_profile_text(text.str(), "reference");
     if (!loaded) return loaded.error();
     device_ = std::move(loaded.value());
     server_ = std::make_unique<server::TcpServer>(

@@ -121,8 +121,8 @@ class DeviceOnLine {
 // on its own thread.
 class DeviceOnRtuTcp {
   public:
-    // "" or what failed.
-    std::string start(server::ServerOptions options = {});
+    // "" or what failed. `extra`: TOML appended to the reference profile (a fault rule).
+    std::string start(server::ServerOptions options = {}, const std::string& extra = "");
     ~DeviceOnRtuTcp();
 
     std::uint16_t port() const { return port_; }

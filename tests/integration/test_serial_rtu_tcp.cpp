@@ -2,8 +2,11 @@
 // with serial addressing.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <memory>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "blocking_client.hpp"
 #include "device/reference_device.hpp"
@@ -90,6 +93,56 @@ TEST_F(RtuOverTcp, ClosesAClientThatTricklesAFrame) {
         closed = !client.send(std::span(&byte, 1)) || client.closed_by_peer(30ms);
     }
     EXPECT_TRUE(closed);
+}
+
+// A client with a small window pipelines reads of 125 registers, then an FC 06 the profile
+// answers by closing, then more. The answers wait in the server's socket for the window: closed
+// with the client's later frames unread, the connection would be reset under them (RFC 1122
+// 4.2.2.13). The server ends its output and reads on until the client ends.
+TEST(RtuOverTcpClose, AnswersWaitingForTheClientsWindowArriveBeforeAnOrderlyEnd) {
+    DeviceOnRtuTcp device;
+    server::ServerOptions options;
+    options.partial_frame_timeout = 50ms;
+    ASSERT_EQ(device.start(options, "[[unit.faults]]\naction = \"close\"\nfunctions = [6]\n"), "");
+    BlockingClient client(device.port(), 4096);
+    ASSERT_TRUE(client.connected());
+    constexpr int kAnswered = 100;
+    std::vector<std::uint8_t> bytes;
+    const auto append = [&](const std::string& frame) {
+        const auto more = hex(frame);
+        bytes.insert(bytes.end(), more.begin(), more.end());
+    };
+    for (int i = 0; i < kAnswered; ++i)
+        append(rtu("01 03 00 00 00 7D"));
+    append(rtu("01 06 00 00 00 01"));
+    for (int i = 0; i < 4000; ++i)
+        append(rtu("01 03 00 00 00 01"));
+    ASSERT_TRUE(client.send(bytes));
+    std::this_thread::sleep_for(300ms);  // the server has answered, closed and sent its end
+
+    constexpr std::size_t kAnswer = 3 + 250 + 2;
+    int answers = 0;
+    while (client.read(kAnswer, 2s).size() == kAnswer)
+        ++answers;
+    EXPECT_EQ(answers, kAnswered);
+    EXPECT_EQ(client.end_error(), 0) << std::strerror(client.end_error());
+}
+
+// A client that reads the server's end but never sends its own is let go after the linger time:
+// a connection that is over cannot hold its place in the table.
+TEST(RtuOverTcpClose, ServerLetsGoOfAClientThatNeverEnds) {
+    DeviceOnRtuTcp device;
+    ASSERT_EQ(device.start({}, "[[unit.faults]]\naction = \"close\"\nfunctions = [6]\n"), "");
+    BlockingClient client(device.port());
+    ASSERT_TRUE(client.send_hex(rtu("01 06 00 00 00 01")));
+    EXPECT_TRUE(client.closed_by_peer(1s));
+    EXPECT_EQ(client.end_error(), 0);
+    EXPECT_EQ(device.server().stats().connections_open.load(), 1U) << "it lingers";
+    const auto until = std::chrono::steady_clock::now() + 10s;
+    while (device.server().stats().connections_open.load() != 0 &&
+           std::chrono::steady_clock::now() < until)
+        std::this_thread::sleep_for(50ms);
+    EXPECT_EQ(device.server().stats().connections_open.load(), 0U);
 }
 
 TEST_F(RtuOverTcp, ServesPymodbusRtuFramerOverTcp) {
