@@ -92,7 +92,7 @@ void MbapDriver::answer_deferred(std::uint32_t ticket, const protocol::MbapHeade
 }
 
 void MbapDriver::drain(Clock::time_point now) {
-    while (!closed_ && session_.wants_input() && channel_.has_input()) {
+    while (!closed_ && !lingering() && session_.wants_input() && channel_.has_input()) {
         const bool took = take(now);
         // Also after a read that found the end (a close_notify behind the last request): the
         // answers and the end go out now, as nothing on the socket would bring them later.
@@ -122,10 +122,14 @@ bool MbapDriver::take(Clock::time_point now) {
             return false;
         case Status::EndOfInput:
             // A FIN without close_notify, or close_notify: the requests that came whole are
-            // still answered, unless the end took output with it (TLS 1.2's close_notify).
-            // Before the handshake ended nothing can come any more.
-            if (channel_.handshaking() || channel_.output_ended()) {
+            // still answered, unless the end took output with it (TLS 1.2's close_notify: ours
+            // answers it, then the FIN). Before the handshake ended nothing can come any more.
+            if (channel_.handshaking()) {
                 closed_ = true;
+            } else if (channel_.output_ended()) {
+                input_ended_ = true;
+                channel_.shutdown_write();
+                linger(now);
             } else {
                 end_input(now);
             }
@@ -197,11 +201,8 @@ void MbapDriver::flush(Clock::time_point now) {
 }
 
 void MbapDriver::linger(Clock::time_point now) {
-    // One refused over TLS 1.2 has had the whole session ended by its own close_notify.
-    if (channel_.output_ended()) {
-        closed_ = true;
-        return;
-    }
+    // A session whose close_notify met the client's has nothing more to read.
+    if (channel_.output_ended()) input_ended_ = true;
     linger_.start(now);
     send_end();
     if (!closed_ && !input_ended_) discard(now);

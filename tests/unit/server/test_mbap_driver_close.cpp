@@ -143,5 +143,27 @@ TEST(MbapDriverClose, OverTlsACloseNotifyThatFindsTheSocketFullGoesOutWholeBefor
     EXPECT_FALSE(t.client().is_reset());
 }
 
+// The same when the client closes first (TLS 1.3): the answer it is owed, then the close_notify
+// that answers its own, whole, then the FIN.
+TEST(MbapDriverClose, OverTlsTheCloseNotifyAnsweringTheClientsWaitsForRoomToo) {
+    SessionTrace t(TraceTls{lab_server_context(), lab_client_context("client-Operator"),
+                            std::make_shared<const device::RoleRules>(std::vector{
+                                device::RoleRule{"Operator", {0x03}, {}, {}, {}, {}}})});
+    EXPECT_EQ(t.client_reads(), "");  // the session tickets
+    t.server_end().set_window(40);
+    const auto request = hex("00 01 00 00 00 06 01 03 00 07 00 01");
+    ASSERT_EQ(t.client_channel().write(request).bytes, request.size());
+    t.client_tls()->close_notify();
+    t.run();
+    EXPECT_FALSE(t.released());
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    std::array<std::uint8_t, 16> buffer{};
+    EXPECT_EQ(t.client_channel().read(buffer).status, transport::Io::Status::EndOfInput);
+    EXPECT_EQ(t.client_tls()->session().state(), security::TlsChannel::State::Closed);
+    t.run();
+    EXPECT_TRUE(t.released());
+    EXPECT_FALSE(t.client().is_reset());
+}
+
 }  // namespace
 }  // namespace mblab::test

@@ -144,14 +144,19 @@ TEST(MbapDriverTls, OverTls13AnAnswerOwedAtCloseNotifyIsSentBeforeTheServersClos
     EXPECT_EQ(t.client_tls()->session().state(), security::TlsChannel::State::Closed);
 }
 
-// TLS 1.2 answers close_notify at once and discards what is pending (RFC 5246 7.2.1).
-TEST(MbapDriverTls, OverTls12CloseNotifyIsAnsweredAtOnceAndTheOwedAnswerDropped) {
+// The Operator's session, its client offering TLS 1.2 only.
+TraceTls operator_over_tls12() {
     auto tls = operator_may_read();
     auto client = security::make_client_context(lab_files("client-Operator"),
                                                 {security::ClientVersions::Tls12, true});
-    ASSERT_TRUE(client) << client.error();
-    tls.client = *client;
-    SessionTrace t(tls);
+    EXPECT_TRUE(client) << client.error();
+    if (client) tls.client = *client;
+    return tls;
+}
+
+// TLS 1.2 answers close_notify at once and discards what is pending (RFC 5246 7.2.1).
+TEST(MbapDriverTls, OverTls12CloseNotifyIsAnsweredAtOnceAndTheOwedAnswerDropped) {
+    SessionTrace t(operator_over_tls12());
     ASSERT_EQ(t.client_tls()->session().peer().version, "TLSv1.2");
     t.client_sends("00 01 00 00 00 06 09 03 00 07 00 01");
     ASSERT_EQ(t.device().waiting_on_line(), 1U);
@@ -160,6 +165,26 @@ TEST(MbapDriverTls, OverTls12CloseNotifyIsAnsweredAtOnceAndTheOwedAnswerDropped)
     t.device().line_answers();
     std::array<std::uint8_t, 16> buffer{};
     EXPECT_EQ(t.client_channel().read(buffer).status, transport::Io::Status::EndOfInput);
+}
+
+// The close_notify that answers the client's waits for room like any record, and the FIN goes
+// behind it whole: cut, the client's TLS would read a truncation instead of the end.
+TEST(MbapDriverTls, OverTls12TheAnsweringCloseNotifyGoesOutWholeBeforeTheFin) {
+    SessionTrace t(operator_over_tls12());
+    EXPECT_EQ(t.client_reads(), "");
+    t.server_end().set_window(10);  // a third of the close_notify's record
+    t.client_shuts_down();
+    EXPECT_FALSE(t.released());
+    std::array<std::uint8_t, 16> buffer{};
+    auto io = t.client_channel().read(buffer);
+    for (int i = 0; i < 8 && io.status == transport::Io::Status::WouldBlock; ++i) {
+        t.run();
+        io = t.client_channel().read(buffer);
+    }
+    EXPECT_EQ(io.status, transport::Io::Status::EndOfInput);
+    EXPECT_EQ(t.client_tls()->session().state(), security::TlsChannel::State::Closed);
+    t.run();
+    EXPECT_TRUE(t.released());
 }
 
 }  // namespace
