@@ -13,24 +13,23 @@ namespace {
 // Writes n registers as Modbus puts them on the wire, high byte first.
 void copy_big_endian(const std::uint16_t* from, std::uint8_t* to, std::size_t n) {
 #if defined(__SSE2__)
-    // Eight registers per step (a read of 125 is most of a request's own work): swap the bytes
+    // Eight registers at a time (a read of 125 is most of a request's own work): swap the bytes
     // of each 16-bit lane with two shifts.
-    const auto eight = [](const std::uint16_t* in, std::uint8_t* out) {
-        __m128i lanes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(in));
+    const auto eight = [from, to](std::size_t at) {
+        __m128i lanes = _mm_loadu_si128(reinterpret_cast<const __m128i*>(from + at));
         lanes = _mm_or_si128(_mm_slli_epi16(lanes, 8), _mm_srli_epi16(lanes, 8));
-        _mm_storeu_si128(reinterpret_cast<__m128i*>(out), lanes);
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(to + 2 * at), lanes);
     };
     if (n >= 8) {
-        const std::uint16_t* const last = from + n - 8;
-        std::uint8_t* const last_out = to + 2 * (n - 8);
-        for (; from + 16 <= last + 8; from += 16, to += 32) {
-            eight(from, to);
-            eight(from + 8, to + 16);
+        std::size_t i = 0;
+        for (; i + 16 <= n; i += 16) {
+            eight(i);
+            eight(i + 8);
         }
-        if (from + 8 <= last + 8) eight(from, to);
+        if (i + 8 <= n) eight(i);
         // The last few as one more step over the last eight: the registers it writes again get
         // the same bytes, and no one-at-a-time tail is left.
-        eight(last, last_out);
+        eight(n - 8);
         return;
     }
 #endif
