@@ -30,6 +30,30 @@ void answer_then_close(SessionTrace& t) {
     ASSERT_TRUE(t.lingering());
 }
 
+// The Operator's session over TLS 1.3, allowed FC 03 and the closing FC 43.
+TraceTls operator_over_tls() {
+    return TraceTls{lab_server_context(), lab_client_context("client-Operator"),
+                    std::make_shared<const device::RoleRules>(
+                        std::vector{device::RoleRule{"Operator", {0x03, 0x43}, {}, {}, {}, {}}})};
+}
+
+// The client reads the end of the session. A FIN alone would also read as the end; its TLS
+// session closed means a whole close_notify came first.
+void expect_close_notify_then_fin(SessionTrace& t) {
+    std::array<std::uint8_t, 16> buffer{};
+    const auto end = t.client_channel().read(buffer);
+    EXPECT_EQ(end.status, transport::Io::Status::EndOfInput) << t.client_channel().error();
+    EXPECT_EQ(t.client_tls()->session().state(), security::TlsChannel::State::Closed);
+}
+
+// The client ends too: the server lets go, with nothing left unread to reset the connection.
+void client_ends_and_is_let_go(SessionTrace& t) {
+    t.client().shutdown_write();
+    t.run();
+    EXPECT_TRUE(t.released());
+    EXPECT_FALSE(t.client().is_reset());
+}
+
 // The memory pair resets as a socket does when closed with input unread: without the lingering
 // the client's request 4, sent while the answer waited, would reset the connection and lose it.
 TEST(MbapDriverClose, AfterItsAnswersTheSessionReadsWhatTheClientStillSendsUntilItEnds) {
@@ -102,9 +126,7 @@ TEST(MbapDriverClose, AClientThatResetsWhileTheSessionLingersIsLetGo) {
 // Over TLS the session's end is close_notify and the FIN; what follows is dropped as it comes,
 // below TLS: records, the client's close_notify, then its FIN.
 TEST(MbapDriverClose, OverTlsTheClientsLaterRecordsAreDroppedUntilItsFin) {
-    SessionTrace t(TraceTls{lab_server_context(), lab_client_context("client-Operator"),
-                            std::make_shared<const device::RoleRules>(std::vector{
-                                device::RoleRule{"Operator", {0x03, 0x43}, {}, {}, {}, {}}})});
+    SessionTrace t(operator_over_tls());
     t.client_sends(kAnsweredThenClose);
     t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
     std::array<std::uint8_t, 16> buffer{};
@@ -112,18 +134,13 @@ TEST(MbapDriverClose, OverTlsTheClientsLaterRecordsAreDroppedUntilItsFin) {
     ASSERT_TRUE(t.lingering());
     t.run();  // the client's close_notify, which answered the server's
     EXPECT_TRUE(t.lingering());
-    t.client().shutdown_write();
-    t.run();
-    EXPECT_TRUE(t.released());
-    EXPECT_FALSE(t.client().is_reset());
+    client_ends_and_is_let_go(t);
 }
 
 // The close_notify waits for room as the answers do, and the FIN goes behind it: a FIN inside
 // its record would be a truncation, which the client's TLS reports as an attack on the session.
 TEST(MbapDriverClose, OverTlsACloseNotifyThatFindsTheSocketFullGoesOutWholeBeforeTheFin) {
-    SessionTrace t(TraceTls{lab_server_context(), lab_client_context("client-Operator"),
-                            std::make_shared<const device::RoleRules>(std::vector{
-                                device::RoleRule{"Operator", {0x03, 0x43}, {}, {}, {}, {}}})});
+    SessionTrace t(operator_over_tls());
     // Room for the answer's record (33 bytes in TLS 1.3), not for the close_notify's 24 after it.
     EXPECT_EQ(t.client_reads(), "");  // the session tickets
     t.server_end().set_window(40);
@@ -131,24 +148,15 @@ TEST(MbapDriverClose, OverTlsACloseNotifyThatFindsTheSocketFullGoesOutWholeBefor
     ASSERT_TRUE(t.lingering());
     EXPECT_TRUE(t.driver().wants_write());
     t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
-    std::array<std::uint8_t, 16> buffer{};
-    const auto end = t.client_channel().read(buffer);
-    EXPECT_EQ(end.status, transport::Io::Status::EndOfInput) << t.client_channel().error();
-    // A FIN alone would also read as the end here; the session closed means close_notify came.
-    EXPECT_EQ(t.client_tls()->session().state(), security::TlsChannel::State::Closed);
+    expect_close_notify_then_fin(t);
     EXPECT_FALSE(t.driver().wants_write());
-    t.client().shutdown_write();
-    t.run();
-    EXPECT_TRUE(t.released());
-    EXPECT_FALSE(t.client().is_reset());
+    client_ends_and_is_let_go(t);
 }
 
 // The same when the client closes first (TLS 1.3): the answer it is owed, then the close_notify
 // that answers its own, whole, then the FIN.
 TEST(MbapDriverClose, OverTlsTheCloseNotifyAnsweringTheClientsWaitsForRoomToo) {
-    SessionTrace t(TraceTls{lab_server_context(), lab_client_context("client-Operator"),
-                            std::make_shared<const device::RoleRules>(std::vector{
-                                device::RoleRule{"Operator", {0x03}, {}, {}, {}, {}}})});
+    SessionTrace t(operator_over_tls());
     EXPECT_EQ(t.client_reads(), "");  // the session tickets
     t.server_end().set_window(40);
     const auto request = hex("00 01 00 00 00 06 01 03 00 07 00 01");
@@ -157,9 +165,7 @@ TEST(MbapDriverClose, OverTlsTheCloseNotifyAnsweringTheClientsWaitsForRoomToo) {
     t.run();
     EXPECT_FALSE(t.released());
     t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
-    std::array<std::uint8_t, 16> buffer{};
-    EXPECT_EQ(t.client_channel().read(buffer).status, transport::Io::Status::EndOfInput);
-    EXPECT_EQ(t.client_tls()->session().state(), security::TlsChannel::State::Closed);
+    expect_close_notify_then_fin(t);
     t.run();
     EXPECT_TRUE(t.released());
     EXPECT_FALSE(t.client().is_reset());
