@@ -147,7 +147,8 @@ bool MbapDriver::take(Clock::time_point now) {
         if (is_bare_pdu(space.first(io.bytes))) {
             refuse_client(
                 "it sent a bare PDU without the MBAP header (an early draft's framing, "
-                "pymodbus's TLS framer); Modbus/TCP Security carries MBAP inside TLS");
+                "pymodbus's TLS framer); Modbus/TCP Security carries MBAP inside TLS",
+                now);
             return false;
         }
     }
@@ -248,11 +249,13 @@ void MbapDriver::on_handshake(const security::TlsPeer& peer) {
     session_.authorize(options_.roles ? *options_.roles : kNoRules, std::move(role));
 }
 
-void MbapDriver::refuse_client(const std::string& reason) {
+void MbapDriver::refuse_client(const std::string& reason, Clock::time_point now) {
     ServerStats::bump(stats_.tls_refused);
     if (options_.on_tls_refused) options_.on_tls_refused(reason);
-    channel_.shutdown_write();  // close_notify
-    closed_ = true;
+    // close_notify, then the lingering end: closed at once, the rest of what the client sent
+    // would reset the connection and the client would read a reset, not the refusal.
+    channel_.shutdown_write();
+    linger(now);
 }
 
 void MbapDriver::refuse_handshake(const std::string& reason) {

@@ -73,7 +73,7 @@ class MbapDriver {
     // Reads and drops a bounded amount of what the lingering client sent; closes at its end.
     void discard(Clock::time_point now);
     // Counts and reports a client refused after its handshake, then ends its session.
-    void refuse_client(const std::string& reason);
+    void refuse_client(const std::string& reason, Clock::time_point now);
 
     transport::Channel& channel_;
     MbapSession& session_;

@@ -72,6 +72,22 @@ TEST(MbapDriverTls, BarePduIsRefusedWithCloseNotify) {
     EXPECT_EQ(t.client_tls()->session().state(), security::TlsChannel::State::Closed);
 }
 
+// The refusal ends as any session does: close_notify and the FIN, then the session reads and
+// drops what the client still sends until it ends, since bytes that met a closed socket would
+// reset the connection under the close_notify still on its way.
+TEST(MbapDriverTls, BarePduRefusalLingersUntilTheClientEnds) {
+    SessionTrace t(operator_may_read());
+    t.client_sends("03 00 00 00 02");
+    t.client_sends("03 00 00 00 03");
+    EXPECT_FALSE(t.released());
+    std::array<std::uint8_t, 16> buffer{};
+    EXPECT_EQ(t.client_channel().read(buffer).status, transport::Io::Status::EndOfInput);
+    EXPECT_EQ(t.client_tls()->session().state(), security::TlsChannel::State::Closed);
+    EXPECT_FALSE(t.client().is_reset());
+    t.client_shuts_down();
+    EXPECT_TRUE(t.released());
+}
+
 TEST(MbapDriverTls, HandshakeNotFinishedInTheLimitIsRefused) {
     auto tls = operator_may_read();
     tls.handshake = false;
