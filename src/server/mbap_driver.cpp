@@ -127,8 +127,6 @@ bool MbapDriver::take(Clock::time_point now) {
             if (channel_.handshaking()) {
                 closed_ = true;
             } else if (channel_.output_ended()) {
-                input_ended_ = true;
-                channel_.shutdown_write();
                 linger(now);
             } else {
                 end_input(now);
@@ -176,7 +174,6 @@ void MbapDriver::flush(Clock::time_point now) {
                 case MbapSession::Ending::Open:
                     return;
                 case MbapSession::Ending::AfterAnswers:
-                    channel_.shutdown_write();
                     linger(now);
                     return;
                 case MbapSession::Ending::Now:
@@ -202,6 +199,7 @@ void MbapDriver::flush(Clock::time_point now) {
 }
 
 void MbapDriver::linger(Clock::time_point now) {
+    channel_.shutdown_write();
     // A session whose close_notify met the client's has nothing more to read.
     if (channel_.output_ended()) input_ended_ = true;
     linger_.start(now);
@@ -252,9 +250,8 @@ void MbapDriver::on_handshake(const security::TlsPeer& peer) {
 void MbapDriver::refuse_client(const std::string& reason, Clock::time_point now) {
     ServerStats::bump(stats_.tls_refused);
     if (options_.on_tls_refused) options_.on_tls_refused(reason);
-    // close_notify, then the lingering end: closed at once, the rest of what the client sent
-    // would reset the connection and the client would read a reset, not the refusal.
-    channel_.shutdown_write();
+    // The lingering end: closed at once, the rest of what the client sent would reset the
+    // connection and the client would read a reset, not the refusal.
     linger(now);
 }
 

@@ -65,7 +65,8 @@ class MbapDriver {
     void end_input(Clock::time_point now);
     void on_handshake(const security::TlsPeer& peer);
     void refuse_handshake(const std::string& reason);
-    // After this side's end of output: closes when the client has ended too, else lingers.
+    // Ends this side's output (over TLS close_notify first), then closes when the client has
+    // ended too, else lingers.
     void linger(Clock::time_point now);
     // While lingering: sends what is left of this side's end (a close_notify that found the
     // socket full); closes once it is out and the client has ended too.
