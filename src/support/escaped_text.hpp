@@ -7,9 +7,8 @@
 #include "support/hex_digits.hpp"
 
 // Bytes from a peer shown as text: printable ASCII as it is (a backslash doubled), any other byte
-// as \xNN. What a
-// device or a client sends then cannot put bytes that are not text (which a JSON or XML report
-// cannot carry), or terminal escapes, into a console line or a report.
+// as \xNN. What a device or a client sends then cannot put bytes that are not text (which a JSON
+// or XML report cannot carry), or terminal escapes, into a console line or a report.
 namespace mblab {
 
 inline void append_escaped(std::string& out, std::uint8_t byte) {
