@@ -9,6 +9,8 @@
 #
 # Usage: bench/run_instruction_count.sh [MBLAB] [CONNECTIONS] [SECONDS]  (defaults: build/mblab, 16, 5)
 #   SERVERS="mblab canned" to choose (mblab, canned; base with BASE=path-to-another-mblab)
+#   TLS=1: over mbaps:// (a lab PKI from `mblab pki`), the load from each build's own `mblab load`
+#   (server_load speaks no TLS); the canned server has no TLS and is left out.
 # Needs valgrind (apt-get install valgrind).
 set -euo pipefail
 
@@ -16,7 +18,12 @@ HERE=$(cd "$(dirname "$0")" && pwd)
 MBLAB=$(realpath "${1:-build/mblab}")
 CONNECTIONS=${2:-16}
 SECONDS_RUN=${3:-5}
-SERVERS=${SERVERS:-"mblab canned${BASE:+ base}"}
+TLS=${TLS:-}
+if [ -n "$TLS" ]; then
+    SERVERS=${SERVERS:-"mblab${BASE:+ base}"} WARM=4 SETTLE=2
+else
+    SERVERS=${SERVERS:-"mblab canned${BASE:+ base}"} WARM=2 SETTLE=0.5
+fi
 command -v valgrind >/dev/null || { echo "valgrind is not installed" >&2; exit 2; }
 
 WORK=$(mktemp -d)
@@ -24,9 +31,24 @@ trap 'kill $(jobs -p) 2>/dev/null || true; rm -rf "$WORK"' EXIT
 cc -std=c11 -O2 -Wall -Wextra -o "$WORK/server_load" "$HERE/server_load.c"
 cc -std=c11 -O2 -Wall -Wextra -o "$WORK/canned_server" "$HERE/canned_server.c"
 
-# The port a server printed: mblab's "listening on tcp://127.0.0.1:PORT", canned's "port=PORT".
+# The port a server printed: mblab's "listening on tcp://127.0.0.1:PORT" (or mbaps://), canned's
+# "port=PORT".
 port_of() {
-    sed -n 's/.* on tcp:\/\/127\.0\.0\.1:\([0-9]*\).*/\1/p; s/^port=\([0-9]*\)$/\1/p' "$1" | head -1
+    sed -nE 's/.* on [a-z]+:\/\/127\.0\.0\.1:([0-9]+).*/\1/p; s/^port=([0-9]+)$/\1/p' "$1" | head -1
+}
+if [ -n "$TLS" ]; then
+    "$MBLAB" pki "$WORK/pki" >/dev/null
+    SERVE_TLS=(--cert "$WORK/pki/server.pem" --key "$WORK/pki/server.key" --ca "$WORK/pki/ca.pem")
+fi
+# load BINARY PORT SECONDS: closed-loop FC 03 x125 reads on CONNECTIONS connections.
+load() {
+    if [ -z "$TLS" ]; then
+        "$WORK/server_load" 127.0.0.1 "$2" "$CONNECTIONS" "$3" >/dev/null
+        return
+    fi
+    "$1" load "mbaps://127.0.0.1:$2" --cert "$WORK/pki/client-Administrator.pem" \
+        --key "$WORK/pki/client-Administrator.key" --ca "$WORK/pki/ca.pem" --no-tests \
+        --duration "$3s" --connections "$CONNECTIONS" --mix fc3:125=100 --threads 1 >/dev/null 2>&1
 }
 
 # How often send() ran in a callgrind dump made with --dump-instr=yes: the count of its first
@@ -46,13 +68,19 @@ sends_in() {
         END { print total + 0 }' "$1"
 }
 
-echo "== user-space instructions per FC 03 x125 request ($CONNECTIONS connections, ${SECONDS_RUN} s, callgrind)"
+echo "== user-space instructions per FC 03 x125 request ($CONNECTIONS connections${TLS:+, mbaps://}, ${SECONDS_RUN} s, callgrind)"
 printf '%-8s %12s %16s %14s\n' server requests instructions per_request
 for server in $SERVERS; do
     case $server in
-        mblab) cmd=("$MBLAB" serve --listen tcp://127.0.0.1:0 --idle-timeout 0 --max-connections 20000) ;;
-        base) cmd=("$(realpath "$BASE")" serve --listen tcp://127.0.0.1:0 --idle-timeout 0 --max-connections 20000) ;;
-        canned) cmd=("$WORK/canned_server" 0) ;;
+        mblab | base)
+            binary=$MBLAB
+            [ "$server" = base ] && binary=$(realpath "$BASE")
+            if [ -n "$TLS" ]; then
+                cmd=("$binary" serve --listen mbaps://127.0.0.1:0 "${SERVE_TLS[@]}" --idle-timeout 0 --max-connections 20000)
+            else
+                cmd=("$binary" serve --listen tcp://127.0.0.1:0 --idle-timeout 0 --max-connections 20000)
+            fi ;;
+        canned) binary="" cmd=("$WORK/canned_server" 0) ;;
         *) echo "unknown server $server" >&2; exit 2 ;;
     esac
     out="$WORK/$server.out"
@@ -65,12 +93,13 @@ for server in $SERVERS; do
         sleep 0.2
     done
     [ -n "$port" ] || { echo "$server did not start: $(tail -2 "$WORK/$server.err")" >&2; exit 1; }
-    "$WORK/server_load" 127.0.0.1 "$port" "$CONNECTIONS" 2 >/dev/null
+    # Warmed first (over TLS the handshakes under callgrind take seconds).
+    load "$binary" "$port" "$WARM"
     # Zeroed and dumped while the load runs: a server idle in epoll_wait would take the command
     # only at its next request.
-    "$WORK/server_load" 127.0.0.1 "$port" "$CONNECTIONS" $((SECONDS_RUN + 2)) >/dev/null &
+    load "$binary" "$port" $((SECONDS_RUN + 3)) &
     load=$!
-    sleep 0.5
+    sleep "$SETTLE"
     callgrind_control -z "$pid" >/dev/null 2>&1
     sleep "$SECONDS_RUN"
     callgrind_control -d "$pid" >/dev/null 2>&1

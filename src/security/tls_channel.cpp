@@ -78,19 +78,15 @@ void note_alert(const SSL* ssl, int where, int value) {
 TlsChannel::TlsChannel(const SharedContext& context, Side side, std::string_view server_name)
     : side_(side) {
     ssl_ = SSL_new(context.get());
-    in_ = BIO_new(BIO_s_mem());
-    out_ = BIO_new(BIO_s_mem());
-    if (!ssl_ || !in_ || !out_) {
-        BIO_free(in_);
-        BIO_free(out_);
-        in_ = out_ = nullptr;
+    BIO* in = new_queue_bio(input_);
+    BIO* out = new_queue_bio(output_);
+    if (!ssl_ || !in || !out) {
+        BIO_free(in);
+        BIO_free(out);
         fail("out of memory for a TLS session");
         return;
     }
-    // An empty memory BIO means "wait for more", not end of file.
-    BIO_set_mem_eof_return(in_, -1);
-    BIO_set_mem_eof_return(out_, -1);
-    SSL_set_bio(ssl_, in_, out_);
+    SSL_set_bio(ssl_, in, out);
     SSL_set_ex_data(ssl_, channel_index(), this);
     SSL_set_info_callback(ssl_, note_alert);
     if (side == Side::Server) {
@@ -115,14 +111,11 @@ TlsChannel::~TlsChannel() {
 }
 
 void TlsChannel::start() {
-    const OutputNote note{*this};
     if (state_ == State::Handshaking) handshake();
 }
 
 void TlsChannel::received(std::span<const std::uint8_t> bytes) {
-    if (!in_ || bytes.empty()) return;
-    // A memory BIO takes every byte it is given (it grows), so one call is enough.
-    BIO_write(in_, bytes.data(), static_cast<int>(bytes.size()));
+    if (ssl_) input_.append(bytes);
 }
 
 void TlsChannel::handshake() {
@@ -171,7 +164,6 @@ void TlsChannel::fail(const char* fallback) {
 }
 
 std::size_t TlsChannel::read(std::span<std::uint8_t> out) {
-    const OutputNote note{*this};
     if (state_ == State::Handshaking) handshake();
     if (state_ != State::Open || input_ended_ || out.empty()) return 0;
     clear_error_queue();
@@ -203,11 +195,10 @@ std::size_t TlsChannel::read(std::span<std::uint8_t> out) {
 }
 
 bool TlsChannel::has_input() const {
-    return ssl_ && !input_ended_ && (SSL_pending(ssl_) > 0 || BIO_ctrl_pending(in_) > 0);
+    return ssl_ && !input_ended_ && (!input_.empty() || SSL_pending(ssl_) > 0);
 }
 
 bool TlsChannel::write(std::span<const std::uint8_t> plain) {
-    const OutputNote note{*this};
     if (state_ != State::Open) return false;
     clear_error_queue();
     while (!plain.empty()) {
@@ -222,38 +213,12 @@ bool TlsChannel::write(std::span<const std::uint8_t> plain) {
 }
 
 void TlsChannel::close() {
-    const OutputNote note{*this};
     if (state_ != State::Open) return;
     ERR_clear_error();
     SSL_shutdown(ssl_);
     ERR_clear_error();
     // Both sides have now said close_notify.
     if (input_ended_) state_ = State::Closed;
-}
-
-void TlsChannel::note_output() {
-    output_ = {};
-    if (!out_) return;
-    char* data = nullptr;
-    const long size = BIO_get_mem_data(out_, &data);
-    if (size > 0)
-        output_ = {reinterpret_cast<const std::uint8_t*>(data), static_cast<std::size_t>(size)};
-}
-
-void TlsChannel::sent(std::size_t count) {
-    const OutputNote note{*this};
-    // Usually the socket took everything: empty the buffer rather than read it out.
-    if (count > 0 && count == output_.size()) {
-        (void)BIO_reset(out_);
-        return;
-    }
-    std::array<std::uint8_t, 4096> discard;
-    while (count > 0) {
-        const int n =
-            BIO_read(out_, discard.data(), static_cast<int>(std::min(count, discard.size())));
-        if (n <= 0) return;
-        count -= static_cast<std::size_t>(n);
-    }
 }
 
 void TlsChannel::offer_session(SSL_SESSION* session) {
@@ -265,7 +230,6 @@ SSL_SESSION* TlsChannel::take_session() const {
 }
 
 bool TlsChannel::request_renegotiation() {
-    const OutputNote note{*this};
     if (state_ != State::Open) return false;
     ERR_clear_error();
     // TLS 1.3 has no renegotiation; its nearest is a key update, which a server must accept.

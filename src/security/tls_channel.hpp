@@ -9,12 +9,14 @@
 #include <string_view>
 
 #include "security/certificate_role.hpp"
+#include "security/queue_bio.hpp"
 #include "security/tls_context.hpp"
 
 // One TLS session without I/O: bytes from the network and plaintext in, bytes for the network and
-// plaintext out, over OpenSSL's memory BIOs. The owner moves cipher bytes between the socket and
-// received()/output(); the MBAP session above reads and writes plaintext and never knows TLS is
-// there. Tests drive a client and a server channel into each other with no socket at all.
+// plaintext out, over two byte queues (security/queue_bio). The owner moves cipher bytes between
+// the socket and received()/output(); the MBAP session above reads and writes plaintext and never
+// knows TLS is there. Tests drive a client and a server channel into each other with no socket at
+// all.
 namespace mblab::security {
 
 // The last TLS alert the peer sent: how a server says why it ended a handshake or refused a
@@ -74,9 +76,10 @@ class TlsChannel {
     // Queues close_notify; the channel ends when the peer answers (or the owner stops waiting).
     void close();
 
-    // Bytes for the network, in order; sent() drops what the socket took.
-    std::span<const std::uint8_t> output() const { return output_; }
-    void sent(std::size_t count);
+    // Bytes for the network, in order; sent() drops what the socket took. Valid until the next
+    // call into the channel.
+    std::span<const std::uint8_t> output() const { return output_.bytes(); }
+    void sent(std::size_t count) { output_.drop(count); }
 
     State state() const { return state_; }
     const std::string& error() const { return error_; }
@@ -97,20 +100,13 @@ class TlsChannel {
     void handshake();
     void fail(const char* fallback);
     void finish_handshake();
-    // output() is asked several times per record (is there any? send it, what is left?), and
-    // each look into the memory BIO costs a BIO_ctrl() through OpenSSL's dispatch: the view is
-    // taken once when a call that may have written returns.
-    void note_output();
-    struct OutputNote {
-        TlsChannel& channel;
-        ~OutputNote() { channel.note_output(); }
-    };
     // Why the peer's certificate was refused, from the verification result.
     std::string verify_failure() const;
 
+    // Before ssl_, so that they outlive the BIOs SSL_free() frees.
+    ByteQueue input_;   // network -> OpenSSL
+    ByteQueue output_;  // OpenSSL -> network
     SSL* ssl_ = nullptr;
-    BIO* in_ = nullptr;   // network -> OpenSSL (owned by ssl_)
-    BIO* out_ = nullptr;  // OpenSSL -> network (owned by ssl_)
     Side side_;
     State state_ = State::Handshaking;
     std::string error_;
@@ -118,7 +114,6 @@ class TlsChannel {
     TlsPeer peer_;
     TlsAlert alert_;
     bool input_ended_ = false;
-    std::span<const std::uint8_t> output_;  // what output() shows: the output BIO's bytes
 
     friend void note_alert(const SSL* ssl, int where, int value);
 };

@@ -122,6 +122,32 @@ TEST(TlsChannel, CarriesBytesBothWaysUnchanged) {
     EXPECT_EQ(read_all(p.client), answer);
 }
 
+// The socket takes part of what the channel has for it, and the peer's bytes come a few at a time:
+// every record is still read whole, once, in order.
+TEST(TlsChannel, RecordsLeavingInPartsAndArrivingInPiecesAreReadWhole) {
+    Pair p("client-ReadOnly");
+    ASSERT_EQ(p.server.state(), State::Open);
+    std::string sent_text;
+    for (int i = 0; i < 3; ++i) {
+        const std::string request = "request " + std::to_string(i) + std::string(40 + i, 'x');
+        write(p.client, request);
+        sent_text += request;
+    }
+    std::string got;
+    std::vector<std::uint8_t> plain(64);
+    while (!p.client.output().empty()) {
+        const auto out = p.client.output();
+        const std::size_t part = std::min<std::size_t>(out.size(), 5);
+        p.server.received(out.first(part));
+        p.client.sent(part);  // the rest stays for the next send, its first byte first
+        while (std::size_t n = p.server.read(plain))
+            got.append(plain.begin(), plain.begin() + n);
+    }
+    EXPECT_EQ(got, sent_text);
+    EXPECT_FALSE(p.server.has_input());
+    EXPECT_EQ(p.server.state(), State::Open) << p.server.error();
+}
+
 TEST(TlsChannel, TlsTwelveOnlyClientGetsTlsTwelve) {
     Pair p("client-Operator", {ClientVersions::Tls12, true});
     ASSERT_EQ(p.server.state(), State::Open) << p.server.error();
