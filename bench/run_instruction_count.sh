@@ -48,7 +48,8 @@ load() {
     fi
     "$1" load "mbaps://127.0.0.1:$2" --cert "$WORK/pki/client-Administrator.pem" \
         --key "$WORK/pki/client-Administrator.key" --ca "$WORK/pki/ca.pem" --no-tests \
-        --duration "$3s" --connections "$CONNECTIONS" --mix fc3:125=100 --threads 1 >/dev/null 2>&1
+        --duration "$3s" --connections "$CONNECTIONS" --mix fc3:125=100 --threads 1 >/dev/null 2>&1 ||
+        true  # its verdict (slow answers from a server under callgrind) is not the figure here
 }
 
 # How often send() ran in a callgrind dump made with --dump-instr=yes: the count of its first
