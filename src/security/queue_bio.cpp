@@ -56,7 +56,7 @@ int read(BIO* bio, char* data, int size) {
     return -1;
 }
 
-long control(BIO* bio, int command, long, void*) {
+long control(BIO* bio, int command, long number, void*) {
     switch (command) {
         case BIO_CTRL_PENDING:
         case BIO_CTRL_WPENDING:
@@ -66,6 +66,7 @@ long control(BIO* bio, int command, long, void*) {
         case BIO_CTRL_GET_CLOSE:
             return BIO_get_shutdown(bio);
         case BIO_CTRL_SET_CLOSE:
+            BIO_set_shutdown(bio, static_cast<int>(number));
             return 1;
         default:
             // Not a socket, a datagram, kTLS or a filter: OpenSSL falls back on its own.
