@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <new>
 
 namespace mblab::security {
 
@@ -39,7 +40,14 @@ ByteQueue& queue_of(BIO* bio) {
 
 int write_ex(BIO* bio, const char* data, std::size_t size, std::size_t* written) {
     BIO_clear_retry_flags(bio);
-    queue_of(bio).append({reinterpret_cast<const std::uint8_t*>(data), size});
+    *written = 0;
+    // No exception may cross OpenSSL's C frames: out of memory is a failed write, as a memory
+    // BIO reports it.
+    try {
+        queue_of(bio).append({reinterpret_cast<const std::uint8_t*>(data), size});
+    } catch (const std::bad_alloc&) {
+        return 0;
+    }
     *written = size;
     return 1;
 }

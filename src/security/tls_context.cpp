@@ -104,7 +104,8 @@ protocol::Result<SharedContext, std::string> make_server_context(const TlsFiles&
     SSL_CTX_set1_groups_list(ctx, kGroups);
     // The record buffers stay with the session (no SSL_MODE_RELEASE_BUFFERS): giving them back
     // whenever they are empty cost an allocation and a free of each per request and answer, 7 %
-    // of the server's instructions over mbaps://, for about 10 KB less per idle connection.
+    // of the server's instructions over mbaps://. Kept, they are about 33 KB of heap per
+    // connection, of which about 10 KB is resident while records are Modbus-sized.
     SSL_CTX_set_mode(ctx, SSL_MODE_ENABLE_PARTIAL_WRITE);
     std::string error;
     if (!load_own(ctx, files, error) || !load_ca(ctx, files, error)) return error;
