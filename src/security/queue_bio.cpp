@@ -32,6 +32,10 @@ void ByteQueue::drop(std::size_t count) {
     }
 }
 
+void ByteQueue::release() {
+    if (empty()) std::vector<std::uint8_t>().swap(bytes_);
+}
+
 namespace {
 
 ByteQueue& queue_of(BIO* bio) {

@@ -26,6 +26,8 @@ class ByteQueue {
     std::size_t take(std::span<std::uint8_t> out);
     // Drops `count` bytes from the front (at most all of them).
     void drop(std::size_t count);
+    // Gives the storage back when nothing is queued (the capacity a handshake's flights left).
+    void release();
 
   private:
     // Bytes before head_ are taken; the vector keeps its capacity, so a session that sends and

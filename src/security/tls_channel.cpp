@@ -115,7 +115,19 @@ void TlsChannel::start() {
 }
 
 void TlsChannel::received(std::span<const std::uint8_t> bytes) {
+    resting_ = false;
     if (ssl_) input_.append(bytes);
+}
+
+bool TlsChannel::release_buffers() {
+    if (state_ != State::Open || !input_.empty() || !output_.empty()) return false;
+    // OpenSSL refuses while a record, or part of one, is in its buffers (3.0.14 and later also
+    // count a record read but not yet handed out).
+    if (SSL_free_buffers(ssl_) != 1) return false;
+    input_.release();
+    output_.release();
+    resting_ = true;
+    return true;
 }
 
 void TlsChannel::handshake() {
@@ -200,6 +212,7 @@ bool TlsChannel::has_input() const {
 
 bool TlsChannel::write(std::span<const std::uint8_t> plain) {
     if (state_ != State::Open) return false;
+    resting_ = false;
     clear_error_queue();
     while (!plain.empty()) {
         std::size_t written = 0;

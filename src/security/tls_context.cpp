@@ -102,10 +102,10 @@ protocol::Result<SharedContext, std::string> make_server_context(const TlsFiles&
     SSL_CTX_set_options(ctx, SSL_OP_NO_RENEGOTIATION | SSL_OP_CIPHER_SERVER_PREFERENCE);
     SSL_CTX_set_cipher_list(ctx, kTls12Ciphers);
     SSL_CTX_set1_groups_list(ctx, kGroups);
-    // The record buffers stay with the session (no SSL_MODE_RELEASE_BUFFERS): giving them back
+    // The record buffers stay with a busy session (no SSL_MODE_RELEASE_BUFFERS): giving them back
     // whenever they are empty cost an allocation and a free of each per request and answer, 7 %
-    // of the server's instructions over mbaps://. Kept, they are about 33 KB of heap per
-    // connection, of which about 10 KB is resident while records are Modbus-sized.
+    // of the server's instructions over mbaps://. They are about 33 KB of heap per connection;
+    // the server's driver gives them back when a session rests (server/mbap_driver).
     SSL_CTX_set_mode(ctx, SSL_MODE_ENABLE_PARTIAL_WRITE);
     std::string error;
     if (!load_own(ctx, files, error) || !load_ca(ctx, files, error)) return error;

@@ -36,7 +36,7 @@ bool MbapDriver::wants_read() const {
 
 Clock::time_point MbapDriver::deadline() const {
     if (lingering()) return linger_.deadline();
-    return std::min(session_.deadline(), handshake_deadline_);
+    return std::min({session_.deadline(), handshake_deadline_, rest_at_});
 }
 
 void MbapDriver::readable(Clock::time_point now) {
@@ -46,9 +46,11 @@ void MbapDriver::readable(Clock::time_point now) {
         discard(now);
         return;
     }
+    moved(now);
     take(now);
     flush(now);
     drain(now);
+    rest_if_due(now);
 }
 
 void MbapDriver::writable(Clock::time_point now) {
@@ -57,8 +59,14 @@ void MbapDriver::writable(Clock::time_point now) {
         send_end();
         return;
     }
+    moved(now);
     flush(now);
     drain(now);
+}
+
+void MbapDriver::rest_if_due(Clock::time_point now) {
+    if (now < rest_at_ || closed_ || lingering()) return;
+    rest_at_ = channel_.rest() ? Clock::time_point::max() : now + kRestAfter;
 }
 
 void MbapDriver::on_time(Clock::time_point now) {
@@ -80,12 +88,14 @@ void MbapDriver::on_time(Clock::time_point now) {
     }
     flush(now);
     drain(now);
+    rest_if_due(now);
 }
 
 void MbapDriver::answer_deferred(std::uint32_t ticket, const protocol::MbapHeader& request,
                                  const device::Reply& reply, std::span<const std::uint8_t> pdu,
                                  Clock::time_point now) {
     if (closed_ || lingering()) return;
+    moved(now);
     session_.answer_deferred(ticket, request, reply, pdu, now);
     flush(now);
     drain(now);
@@ -240,6 +250,9 @@ void MbapDriver::discard(Clock::time_point now) {
 
 void MbapDriver::on_handshake(const security::TlsPeer& peer) {
     handshake_deadline_ = Clock::time_point::max();
+    // The handshake filled the buffers; the client has shown no use for them yet (many connect
+    // once and poll seldom), so they go back at once, and its first request takes them again.
+    rest_at_ = Clock::time_point::min();
     ServerStats::bump(stats_.tls_handshakes);
     if (peer.resumed) ServerStats::bump(stats_.tls_resumed);
     std::optional<std::string> role;

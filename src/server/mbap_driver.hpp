@@ -1,5 +1,6 @@
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -21,9 +22,14 @@ namespace mblab::server {
 //
 // Over TLS (options.tls set, the channel a transport::TlsStream) it also bounds the handshake by
 // options.handshake_limit, authorizes the session by the role in the client's certificate, and
-// refuses a client whose first plaintext is a bare PDU.
+// refuses a client whose first plaintext is a bare PDU. A TLS session gives its record buffers
+// back (Channel::rest()) after its handshake and whenever nothing has moved for kRestAfter.
 class MbapDriver {
   public:
+    // A Modbus poller asks again within a second or two at most: a session quiet longer is
+    // probably idle, and its next record can afford the allocations it brings.
+    static constexpr std::chrono::seconds kRestAfter{1};
+
     MbapDriver(transport::Channel& channel, MbapSession& session, const ServerOptions& options,
                ServerStats& stats, Clock::time_point now);
 
@@ -75,6 +81,12 @@ class MbapDriver {
     void discard(Clock::time_point now);
     // Counts and reports a client refused after its handshake, then ends its session.
     void refuse_client(const std::string& reason, Clock::time_point now);
+    // Bytes moved over TLS: the session rests kRestAfter from now unless more move.
+    void moved(Clock::time_point now) {
+        if (tls_ && handshake_deadline_ == Clock::time_point::max()) rest_at_ = now + kRestAfter;
+    }
+    // Rests the channel once rest_at_ is reached; refused (a record on its way), tries again later.
+    void rest_if_due(Clock::time_point now);
 
     transport::Channel& channel_;
     MbapSession& session_;
@@ -82,6 +94,7 @@ class MbapDriver {
     ServerStats& stats_;
     const bool tls_;
     Clock::time_point handshake_deadline_ = Clock::time_point::max();
+    Clock::time_point rest_at_ = Clock::time_point::max();  // over TLS, once open
     transport::Linger linger_;
     bool closed_ = false;
     bool write_blocked_ = false;  // the channel took less than it was given

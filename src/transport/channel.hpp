@@ -81,6 +81,9 @@ class Channel {
         std::array<std::uint8_t, 4096> sink;
         return read(sink);
     }
+    // The owner expects nothing to move for a while: gives back memory the next bytes allocate
+    // again (a TLS session's record buffers). False when nothing could be given back now.
+    virtual bool rest() { return false; }
     // Releases the connection; nothing moves afterwards.
     virtual void close() = 0;
 

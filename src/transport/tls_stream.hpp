@@ -60,6 +60,7 @@ class TlsStream final : public Channel {
     // sends the rest of a close_notify the lower channel had no room for (wants_write() till then).
     void shutdown_write() override;
     Io discard_input() override { return lower_->discard_input(); }
+    bool rest() override { return tls_.release_buffers(); }
     void close() override { lower_->close(); }
     PeerIdentity peer() const override;
     const std::string& error() const override { return error_; }

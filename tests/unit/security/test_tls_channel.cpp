@@ -1,6 +1,7 @@
 // A client and a server TlsChannel driven into each other through memory, without a socket: the
 // handshake, the role the server reads, plaintext both ways, the refusals and their reasons.
 #include <gtest/gtest.h>
+#include <malloc.h>
 
 #include <filesystem>
 #include <string>
@@ -146,6 +147,67 @@ TEST(TlsChannel, RecordsLeavingInPartsAndArrivingInPiecesAreReadWhole) {
     EXPECT_EQ(got, sent_text);
     EXPECT_FALSE(p.server.has_input());
     EXPECT_EQ(p.server.state(), State::Open) << p.server.error();
+}
+
+// Heap in use, for the release test; the sanitizers' allocator does not keep glibc's count.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kHeapCounted = false;
+#else
+constexpr bool kHeapCounted = true;
+#endif
+
+std::size_t heap_in_use() {
+    return mallinfo2().uordblks;
+}
+
+TEST(TlsChannel, AChannelAtRestGivesItsRecordBuffersBackAndCarriesRecordsAfter) {
+    Pair p("client-ReadOnly");
+    ASSERT_EQ(p.server.state(), State::Open);
+    write(p.client, "request 1");
+    exchange(p.client, p.server);
+    EXPECT_EQ(read_all(p.server), "request 1");
+    EXPECT_FALSE(p.server.resting());
+    const auto before = heap_in_use();
+    ASSERT_TRUE(p.server.release_buffers());
+    EXPECT_TRUE(p.server.resting());
+    // OpenSSL's read and write buffers are about 16.7 KB each.
+    if (kHeapCounted) {
+        EXPECT_GE(before - heap_in_use(), 30'000U) << before - heap_in_use();
+    }
+    write(p.client, "request 2");
+    exchange(p.client, p.server);
+    EXPECT_FALSE(p.server.resting());
+    EXPECT_EQ(read_all(p.server), "request 2");
+    write(p.server, "answer 2");
+    exchange(p.client, p.server);
+    EXPECT_EQ(read_all(p.client), "answer 2");
+    EXPECT_EQ(p.server.state(), State::Open) << p.server.error();
+}
+
+// A record that came in part, or came and was not read, is in the buffers: they stay, and the
+// record is read whole once the rest comes.
+TEST(TlsChannel, ARecordOnItsWayKeepsTheBuffers) {
+    Pair p("client-ReadOnly");
+    ASSERT_EQ(p.server.state(), State::Open);
+    write(p.client, "request 1");
+    p.server.received(p.client.output().first(10));
+    p.client.sent(10);
+    EXPECT_EQ(read_all(p.server), "");
+    EXPECT_FALSE(p.server.release_buffers());
+    EXPECT_FALSE(p.server.resting());
+    exchange(p.client, p.server);
+    EXPECT_FALSE(p.server.release_buffers()) << "a record received, not read";
+    EXPECT_EQ(read_all(p.server), "request 1");
+    write(p.server, "answer 1");
+    EXPECT_FALSE(p.server.release_buffers()) << "a record not yet sent";
+    exchange(p.client, p.server);
+    EXPECT_TRUE(p.server.release_buffers());
+    EXPECT_EQ(read_all(p.client), "answer 1");
+}
+
+TEST(TlsChannel, AHandshakingChannelDoesNotRest) {
+    TlsChannel server(server_context(), TlsChannel::Side::Server);
+    EXPECT_FALSE(server.release_buffers());
 }
 
 TEST(TlsChannel, TlsTwelveOnlyClientGetsTlsTwelve) {

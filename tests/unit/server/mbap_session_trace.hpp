@@ -115,6 +115,7 @@ class SessionTrace final : private server::MbapSession::Host {
     // What the client reads and writes through: its TLS session, or its end of the pair.
     transport::Channel& client_channel();
     transport::TlsStream* client_tls() { return client_tls_.get(); }
+    transport::TlsStream* server_tls() { return server_tls_.get(); }
     server::MbapSession& session() { return session_; }
     server::MbapDriver& driver() { return driver_; }
     const server::ServerStats& stats() const { return stats_; }

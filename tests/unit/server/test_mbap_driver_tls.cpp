@@ -49,6 +49,40 @@ TEST(MbapDriverTls, AnswersReadyInOnePassGoOutAsOneRecord) {
         "00 04 00 00 00 05 01 03 02 00 09");
 }
 
+// TLS record buffers (about 35 KB) go back after the handshake and after a quiet second; the
+// next request takes them again and is answered as ever.
+TEST(MbapDriverTls, AQuietSessionRestsItsTlsBuffers) {
+    SessionTrace t(operator_may_read());
+    const auto& server = t.server_tls()->session();
+    EXPECT_TRUE(server.resting()) << "after the handshake";
+    t.client_sends("00 01 00 00 00 06 01 03 00 07 00 01");
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    EXPECT_FALSE(server.resting());
+    t.after(std::chrono::milliseconds(999));
+    EXPECT_FALSE(server.resting());
+    t.after(std::chrono::milliseconds(1));
+    EXPECT_TRUE(server.resting());
+    t.client_sends("00 02 00 00 00 06 01 03 00 08 00 01");
+    t.device_answers("00 02 00 00 00 05 01 03 02 00 08");
+    EXPECT_FALSE(server.resting());
+    EXPECT_FALSE(t.closed());
+}
+
+// An answer the client does not take keeps its record in the buffers: no rest until it is out.
+TEST(MbapDriverTls, AnAnswerWaitingForRoomKeepsTheBuffers) {
+    SessionTrace t(operator_may_read());
+    t.server_end().set_window(10);
+    t.client_sends("00 01 00 00 00 06 01 03 00 07 00 01");
+    t.after(std::chrono::milliseconds(2'500));
+    EXPECT_FALSE(t.server_tls()->session().resting());
+    EXPECT_FALSE(t.closed());
+    t.server_end().set_window(64 * 1024);
+    t.run();
+    t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
+    t.after(std::chrono::milliseconds(1'000));
+    EXPECT_TRUE(t.server_tls()->session().resting());
+}
+
 TEST(MbapDriverTls, ShortWritesOnTheServersSideLoseNothing) {
     SessionTrace t(operator_may_read());
     t.server_end().set_max_write(5);
