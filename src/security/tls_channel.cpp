@@ -121,9 +121,9 @@ void TlsChannel::received(std::span<const std::uint8_t> bytes) {
 
 bool TlsChannel::release_buffers() {
     if (state_ != State::Open || !input_.empty() || !output_.empty()) return false;
-    // OpenSSL refuses while a record, or part of one, is in its buffers (3.0.14 and later also
-    // count a record read but not yet handed out).
-    if (SSL_free_buffers(ssl_) != 1) return false;
+    // Plaintext not yet handed out points into the read buffer: OpenSSL before 3.0.14
+    // (CVE-2024-4741) freed it anyway. It refuses on its own while part of a record is there.
+    if (SSL_pending(ssl_) > 0 || SSL_free_buffers(ssl_) != 1) return false;
     input_.release();
     output_.release();
     resting_ = true;

@@ -80,9 +80,9 @@ class TlsChannel {
     // call into the channel.
     std::span<const std::uint8_t> output() const { return output_.bytes(); }
     void sent(std::size_t count) { output_.drop(count); }
-    // Gives back the record buffers and queues of an open session with nothing in them, about
-    // 35 KB: a session at rest holds no record, and the next one allocates them again. False
-    // (and nothing changed) while any record or byte is in them.
+    // Gives back the record buffers (about 33 KB) and the queues' storage of an open session
+    // with nothing in them: a session at rest holds no record, and the next one allocates them
+    // again. False (and nothing changed) while any record, byte or plaintext is in them.
     bool release_buffers();
     // A release_buffers() gave the buffers back and no byte has moved since.
     bool resting() const { return resting_; }

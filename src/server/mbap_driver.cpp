@@ -59,7 +59,6 @@ void MbapDriver::writable(Clock::time_point now) {
         send_end();
         return;
     }
-    moved(now);
     flush(now);
     drain(now);
 }
@@ -95,7 +94,6 @@ void MbapDriver::answer_deferred(std::uint32_t ticket, const protocol::MbapHeade
                                  const device::Reply& reply, std::span<const std::uint8_t> pdu,
                                  Clock::time_point now) {
     if (closed_ || lingering()) return;
-    moved(now);
     session_.answer_deferred(ticket, request, reply, pdu, now);
     flush(now);
     drain(now);
@@ -200,6 +198,9 @@ void MbapDriver::flush(Clock::time_point now) {
             return;
         }
         session_.sent(io.bytes, now);
+        // Also an answer the session's clock let out (a delayed one): its record took the
+        // buffers again.
+        if (io.bytes > 0) moved(now);
         // The client is not reading fast enough: wait for room. A TLS record takes at most a
         // batch of answers; the rest goes in the next one at once.
         if (tls_ ? channel_.wants_write() || io.status == Status::WouldBlock : io.bytes < wanted) {

@@ -81,7 +81,7 @@ class MbapDriver {
     void discard(Clock::time_point now);
     // Counts and reports a client refused after its handshake, then ends its session.
     void refuse_client(const std::string& reason, Clock::time_point now);
-    // Bytes moved over TLS: the session rests kRestAfter from now unless more move.
+    // Bytes came or went over TLS: the session rests kRestAfter from now unless more move.
     void moved(Clock::time_point now) {
         if (tls_ && handshake_deadline_ == Clock::time_point::max()) rest_at_ = now + kRestAfter;
     }

@@ -33,8 +33,8 @@ answer=$(request | s_client -cert "$PKI/client-Operator.pem" -key "$PKI/client-O
     fail "openssl s_client: expected 00010000000701030453454d49, got '$answer' ($(cat "$WORK/s_client.err"))"
 echo "ok: openssl s_client with client-Operator gets the MBAP answer"
 
-# Requests 1.5 s apart: between them the session rests and gives its record buffers back, and
-# each next record takes them again (TLS 1.3 and TLS 1.2).
+# Requests 1.5 s apart: between them the server's session rests and gives its record buffers back
+# (docs/security.md), and each next record must take them again (TLS 1.3 and TLS 1.2).
 paced() {
     for t in 1 2 3; do
         printf "\\000\\00$t\\000\\000\\000\\006\\001\\003\\000\\000\\000\\002"
@@ -48,7 +48,7 @@ for version in -tls1_3 -tls1_2; do
     for t in 1 2 3; do expected="${expected}000${t}0000000701030453454d49"; done
     [ "$answers" = "$expected" ] ||
         fail "openssl s_client $version, requests 1.5 s apart: got '$answers' ($(cat "$WORK/paced.err"))"
-    echo "ok: openssl s_client $version gets every answer to requests 1.5 s apart (the session rests between)"
+    echo "ok: openssl s_client $version gets every answer to requests 1.5 s apart"
 done
 
 # 3000 pipelined requests in one burst (36 kB: more than one read of a TLS record's worth takes,

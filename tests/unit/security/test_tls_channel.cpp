@@ -205,6 +205,20 @@ TEST(TlsChannel, ARecordOnItsWayKeepsTheBuffers) {
     EXPECT_EQ(read_all(p.client), "answer 1");
 }
 
+// Plaintext decrypted and not yet read lives in the read buffer: no rest until it is read.
+TEST(TlsChannel, UnreadPlaintextKeepsTheBuffers) {
+    Pair p("client-ReadOnly");
+    ASSERT_EQ(p.server.state(), State::Open);
+    write(p.client, "a request longer than one read");
+    exchange(p.client, p.server);
+    std::vector<std::uint8_t> first(7);
+    ASSERT_EQ(p.server.read(first), 7U);
+    EXPECT_FALSE(p.server.release_buffers());
+    EXPECT_EQ(std::string(first.begin(), first.end()) + read_all(p.server),
+              "a request longer than one read");
+    EXPECT_TRUE(p.server.release_buffers());
+}
+
 TEST(TlsChannel, AHandshakingChannelDoesNotRest) {
     TlsChannel server(server_context(), TlsChannel::Side::Server);
     EXPECT_FALSE(server.release_buffers());

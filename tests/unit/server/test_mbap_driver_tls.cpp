@@ -49,7 +49,7 @@ TEST(MbapDriverTls, AnswersReadyInOnePassGoOutAsOneRecord) {
         "00 04 00 00 00 05 01 03 02 00 09");
 }
 
-// TLS record buffers (about 35 KB) go back after the handshake and after a quiet second; the
+// TLS record buffers (about 33 KB) go back after the handshake and after a quiet second; the
 // next request takes them again and is answered as ever.
 TEST(MbapDriverTls, AQuietSessionRestsItsTlsBuffers) {
     SessionTrace t(operator_may_read());
@@ -81,6 +81,24 @@ TEST(MbapDriverTls, AnAnswerWaitingForRoomKeepsTheBuffers) {
     t.device_answers("00 01 00 00 00 05 01 03 02 00 07");
     t.after(std::chrono::milliseconds(1'000));
     EXPECT_TRUE(t.server_tls()->session().resting());
+}
+
+// The session rested while the device took its time; the delayed answer's record took the
+// buffers again, and they go back a quiet second after it.
+TEST(MbapDriverTls, ADelayedAnswerRestsAgainAfterIt) {
+    auto tls = operator_may_read();
+    tls.roles = std::make_shared<const device::RoleRules>(
+        std::vector{device::RoleRule{"Operator", {3, 0x41}, {}, {}, {}, {}}});
+    SessionTrace t(tls);
+    const auto& server = t.server_tls()->session();
+    t.client_sends("00 01 00 00 00 03 01 41 96");  // answered after 1.5 s
+    t.after(std::chrono::milliseconds(1'200));
+    EXPECT_TRUE(server.resting()) << "quiet for a second, the answer not yet due";
+    t.after(std::chrono::milliseconds(300));
+    t.device_answers("00 01 00 00 00 03 01 41 96");
+    EXPECT_FALSE(server.resting());
+    t.after(std::chrono::milliseconds(1'000));
+    EXPECT_TRUE(server.resting());
 }
 
 TEST(MbapDriverTls, ShortWritesOnTheServersSideLoseNothing) {
