@@ -26,8 +26,8 @@ namespace mblab::server {
 // back (Channel::rest()) after its handshake and whenever nothing has moved for kRestAfter.
 class MbapDriver {
   public:
-    // A Modbus poller asks again within a second or two at most: a session quiet longer is
-    // probably idle, and its next record can afford the allocations it brings.
+    // A client that polls more often than this keeps its buffers; one that polls more seldom
+    // pays an allocation and a free per record, as every session did with the release mode.
     static constexpr std::chrono::seconds kRestAfter{1};
 
     MbapDriver(transport::Channel& channel, MbapSession& session, const ServerOptions& options,
